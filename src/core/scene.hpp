@@ -1,0 +1,79 @@
+#pragma once
+// The scene: one TOML file shared by every stage (mesh, solve, sweep, fit, export).
+// Every key is validated; an unknown key, a wrong type or a value out of range is an
+// InputError naming the file, the line, the key, the value and the allowed range.
+// All keys and their defaults are documented in README.md ("Scene files").
+#include <array>
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace dualcell {
+
+// Linear isotropic material, plane strain (METHOD §1).
+struct Material {
+  double E = 0;
+  double nu = 0;
+};
+
+struct Geometry {
+  std::array<int, 2> cells{1, 1};         // ex, ey
+  double cell_size = 1.0;                 // edge length of one square cell
+  double fibre_radius = 0.3;              // r
+  std::array<double, 2> fibre_offset{0, 0};  // fibre centre minus cell centre
+  int degree = 1;                         // k: 4k+1 nodes on each cell edge (thesis §6.2)
+};
+
+// Interface strengths per unit interface length (force/length); 0 = no adhesion (METHOD §6).
+struct Interface {
+  double normal_strength = 0;
+  double tangential_strength = 0;
+  bool has_adhesion() const { return normal_strength > 0 || tangential_strength > 0; }
+};
+
+enum class Boundary { symmetry, traction, periodic };
+const char* to_string(Boundary b);
+
+struct Load {
+  Boundary boundary = Boundary::symmetry;
+  std::array<double, 2> body_force{0, 0};  // force per unit area, both materials
+};
+
+struct Sweep {
+  std::vector<double> directions_deg{0.0, 90.0};
+  std::vector<double> magnitudes{-1.0, 1.0};  // signed macro-stress values
+  double fuse_tolerance = 1e-3;                // relative load bracket of the debond jump
+};
+
+struct SolverSettings {
+  double tolerance = 1e-8;                 // relative KKT tolerance of the dual QP
+  int max_outer_iterations = 200;          // SMALBE outer iterations
+  long max_operator_applications = 200000; // applications of F = B K+ B^T
+  double rho_factor = 1.0;                 // SMALBE penalty rho = rho_factor * ||F||
+  double Gamma = 1.0;                      // MPRGP proportioning parameter
+  int max_debond_rounds = 1000;            // break / re-solve rounds per load (METHOD §6)
+};
+
+struct Scene {
+  std::filesystem::path file;   // where it was read from ("<string>" when parsed from text)
+  std::string text;             // the scene file verbatim, for provenance
+  std::string material_file;    // resolved path of `material = "..."`, empty when inline
+  std::string material_text;    // that file verbatim
+  Geometry geometry;
+  Material fibre;
+  Material matrix;
+  Interface interface;
+  Load load;
+  Sweep sweep;
+  SolverSettings solver;
+
+  int n_cells() const { return geometry.cells[0] * geometry.cells[1]; }
+};
+
+// Reads and validates a scene file; relative material paths resolve against its folder.
+Scene load_scene(const std::filesystem::path& file);
+// Same from text; `file` is used in messages and to resolve relative paths.
+Scene parse_scene(std::string_view text, const std::filesystem::path& file);
+
+}  // namespace dualcell

@@ -1,0 +1,269 @@
+#include "io/hdf5.hpp"
+
+#include <numeric>
+
+#include "core/error.hpp"
+
+namespace dualcell::io {
+
+namespace {
+
+// HDF5 prints its error stack to stderr by default; the project reports one clear line instead.
+void silence_hdf5() {
+  static const bool silenced = [] {
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+    return true;
+  }();
+  (void)silenced;
+}
+
+hsize_t product(const std::vector<hsize_t>& dims) {
+  return std::accumulate(dims.begin(), dims.end(), hsize_t{1}, std::multiplies<>());
+}
+
+std::string shape_text(const std::vector<hsize_t>& dims) {
+  std::string s = "(";
+  for (std::size_t i = 0; i < dims.size(); ++i) {
+    if (i) s += "×";
+    s += std::to_string(dims[i]);
+  }
+  return s + ")";
+}
+
+}  // namespace
+
+Handle& Handle::operator=(Handle&& o) noexcept {
+  if (this != &o) {
+    if (id_ >= 0 && close_) close_(id_);
+    id_ = o.id_;
+    close_ = o.close_;
+    o.id_ = H5I_INVALID_HID;
+  }
+  return *this;
+}
+
+Handle::~Handle() {
+  if (id_ >= 0 && close_) close_(id_);
+}
+
+void File::fail(const std::string& object, const std::string& what) const {
+  throw InputError(path_.string() + ": " + object + ": " + what);
+}
+
+File File::create(const std::filesystem::path& path) {
+  silence_hdf5();
+  Handle f(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
+  if (!f.valid()) throw InputError(path.string() + ": cannot create HDF5 file");
+  return File(std::move(f), path);
+}
+
+File File::open_read(const std::filesystem::path& path) {
+  silence_hdf5();
+  if (!std::filesystem::exists(path)) throw InputError(path.string() + ": file not found");
+  if (H5Fis_hdf5(path.c_str()) <= 0) throw InputError(path.string() + ": not an HDF5 file (or truncated/corrupt)");
+  Handle f(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+  if (!f.valid()) throw InputError(path.string() + ": cannot open HDF5 file (truncated or corrupt?)");
+  return File(std::move(f), path);
+}
+
+File File::open_write(const std::filesystem::path& path) {
+  silence_hdf5();
+  if (H5Fis_hdf5(path.c_str()) <= 0) throw InputError(path.string() + ": not an HDF5 file (or truncated/corrupt)");
+  Handle f(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose);
+  if (!f.valid()) throw InputError(path.string() + ": cannot open HDF5 file for writing");
+  return File(std::move(f), path);
+}
+
+bool File::exists(const std::string& object) const {
+  if (object == "/") return true;
+  // Check each prefix: H5Lexists fails on a path whose intermediate group is missing.
+  std::size_t pos = 0;
+  while ((pos = object.find('/', pos + 1)) != std::string::npos)
+    if (H5Lexists(file_.get(), object.substr(0, pos).c_str(), H5P_DEFAULT) <= 0) return false;
+  return H5Lexists(file_.get(), object.c_str(), H5P_DEFAULT) > 0;
+}
+
+void File::create_group(const std::string& group) {
+  Handle lcpl(H5Pcreate(H5P_LINK_CREATE), H5Pclose);
+  H5Pset_create_intermediate_group(lcpl.get(), 1);
+  Handle g(H5Gcreate2(file_.get(), group.c_str(), lcpl.get(), H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
+  if (!g.valid()) fail(group, "cannot create group");
+}
+
+void File::remove(const std::string& object) {
+  if (exists(object) && H5Ldelete(file_.get(), object.c_str(), H5P_DEFAULT) < 0) fail(object, "cannot delete");
+}
+
+namespace {
+
+void write_dataset(hid_t file, const std::string& name, const void* data, hid_t type,
+                   const std::vector<hsize_t>& dims, const std::filesystem::path& path) {
+  Handle space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), H5Sclose);
+  Handle lcpl(H5Pcreate(H5P_LINK_CREATE), H5Pclose);
+  H5Pset_create_intermediate_group(lcpl.get(), 1);
+  Handle set(H5Dcreate2(file, name.c_str(), type, space.get(), lcpl.get(), H5P_DEFAULT, H5P_DEFAULT), H5Dclose);
+  if (!set.valid() || H5Dwrite(set.get(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0)
+    throw InputError(path.string() + ": " + name + ": cannot write dataset");
+}
+
+}  // namespace
+
+void File::write(const std::string& name, const std::vector<double>& data, const std::vector<hsize_t>& dims) {
+  if (product(dims) != data.size()) fail(name, "internal error: data size does not match shape " + shape_text(dims));
+  write_dataset(file_.get(), name, data.data(), H5T_NATIVE_DOUBLE, dims, path_);
+}
+
+void File::write(const std::string& name, const std::vector<std::int64_t>& data, const std::vector<hsize_t>& dims) {
+  if (product(dims) != data.size()) fail(name, "internal error: data size does not match shape " + shape_text(dims));
+  write_dataset(file_.get(), name, data.data(), H5T_NATIVE_INT64, dims, path_);
+}
+
+std::vector<hsize_t> File::shape(const std::string& name) const {
+  if (!exists(name)) fail(name, "missing dataset");
+  Handle set(H5Dopen2(file_.get(), name.c_str(), H5P_DEFAULT), H5Dclose);
+  if (!set.valid()) fail(name, "not a dataset");
+  Handle space(H5Dget_space(set.get()), H5Sclose);
+  const int rank = H5Sget_simple_extent_ndims(space.get());
+  if (rank < 0) fail(name, "unreadable dataspace");
+  std::vector<hsize_t> dims(rank);
+  H5Sget_simple_extent_dims(space.get(), dims.data(), nullptr);
+  return dims;
+}
+
+namespace {
+
+template <typename T>
+std::vector<T> read_dataset(const File& file, hid_t fid, const std::string& name, hid_t type,
+                            std::vector<hsize_t>* dims_out, const char* type_name) {
+  const std::vector<hsize_t> dims = file.shape(name);
+  Handle set(H5Dopen2(fid, name.c_str(), H5P_DEFAULT), H5Dclose);
+  Handle stored(H5Dget_type(set.get()), H5Tclose);
+  const H5T_class_t cls = H5Tget_class(stored.get());
+  const bool want_float = type == H5T_NATIVE_DOUBLE;
+  if ((want_float && cls != H5T_FLOAT && cls != H5T_INTEGER) || (!want_float && cls != H5T_INTEGER))
+    throw InputError(file.path().string() + ": " + name + ": expected " + type_name + " data");
+  std::vector<T> data(product(dims));
+  if (!data.empty() && H5Dread(set.get(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()) < 0)
+    throw InputError(file.path().string() + ": " + name + ": cannot read dataset (truncated or corrupt?)");
+  if (dims_out) *dims_out = dims;
+  return data;
+}
+
+}  // namespace
+
+std::vector<double> File::read_doubles(const std::string& name, std::vector<hsize_t>* dims) const {
+  return read_dataset<double>(*this, file_.get(), name, H5T_NATIVE_DOUBLE, dims, "floating-point");
+}
+
+std::vector<std::int64_t> File::read_ints(const std::string& name, std::vector<hsize_t>* dims) const {
+  return read_dataset<std::int64_t>(*this, file_.get(), name, H5T_NATIVE_INT64, dims, "integer");
+}
+
+namespace {
+
+void write_attr(hid_t file, const std::string& object, const std::string& name, hid_t type, hid_t space,
+                const void* data, const std::filesystem::path& path) {
+  if (H5Aexists_by_name(file, object.c_str(), name.c_str(), H5P_DEFAULT) > 0)
+    H5Adelete_by_name(file, object.c_str(), name.c_str(), H5P_DEFAULT);
+  Handle attr(H5Acreate_by_name(file, object.c_str(), name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT,
+                                H5P_DEFAULT), H5Aclose);
+  if (!attr.valid() || H5Awrite(attr.get(), type, data) < 0)
+    throw InputError(path.string() + ": " + object + ": cannot write attribute " + name);
+}
+
+}  // namespace
+
+void File::write_attribute(const std::string& object, const std::string& name, const std::string& value) {
+  Handle type(H5Tcopy(H5T_C_S1), H5Tclose);
+  H5Tset_size(type.get(), value.empty() ? 1 : value.size());
+  H5Tset_strpad(type.get(), H5T_STR_NULLPAD);
+  H5Tset_cset(type.get(), H5T_CSET_UTF8);
+  Handle space(H5Screate(H5S_SCALAR), H5Sclose);
+  const char empty = '\0';
+  write_attr(file_.get(), object, name, type.get(), space.get(), value.empty() ? &empty : value.data(), path_);
+}
+
+void File::write_attribute(const std::string& object, const std::string& name, double value) {
+  Handle space(H5Screate(H5S_SCALAR), H5Sclose);
+  write_attr(file_.get(), object, name, H5T_NATIVE_DOUBLE, space.get(), &value, path_);
+}
+
+void File::write_attribute(const std::string& object, const std::string& name, std::int64_t value) {
+  Handle space(H5Screate(H5S_SCALAR), H5Sclose);
+  write_attr(file_.get(), object, name, H5T_NATIVE_INT64, space.get(), &value, path_);
+}
+
+void File::write_attribute(const std::string& object, const std::string& name, const std::vector<double>& value) {
+  const hsize_t n = value.size();
+  Handle space(H5Screate_simple(1, &n, nullptr), H5Sclose);
+  write_attr(file_.get(), object, name, H5T_NATIVE_DOUBLE, space.get(), value.data(), path_);
+}
+
+void File::write_attribute(const std::string& object, const std::string& name,
+                           const std::vector<std::int64_t>& value) {
+  const hsize_t n = value.size();
+  Handle space(H5Screate_simple(1, &n, nullptr), H5Sclose);
+  write_attr(file_.get(), object, name, H5T_NATIVE_INT64, space.get(), value.data(), path_);
+}
+
+bool File::has_attribute(const std::string& object, const std::string& name) const {
+  return exists(object) && H5Aexists_by_name(file_.get(), object.c_str(), name.c_str(), H5P_DEFAULT) > 0;
+}
+
+Handle File::open_attribute(const std::string& object, const std::string& name) const {
+  if (!has_attribute(object, name)) fail(object, "missing attribute " + name);
+  Handle attr(H5Aopen_by_name(file_.get(), object.c_str(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
+  if (!attr.valid()) fail(object, "cannot open attribute " + name);
+  return attr;
+}
+
+std::string File::read_string_attribute(const std::string& object, const std::string& name) const {
+  Handle attr = open_attribute(object, name);
+  Handle type(H5Aget_type(attr.get()), H5Tclose);
+  if (H5Tget_class(type.get()) != H5T_STRING) fail(object, "attribute " + name + " is not a string");
+  if (H5Tis_variable_str(type.get()) > 0) {
+    char* text = nullptr;
+    Handle memtype(H5Tcopy(H5T_C_S1), H5Tclose);
+    H5Tset_size(memtype.get(), H5T_VARIABLE);
+    if (H5Aread(attr.get(), memtype.get(), &text) < 0) fail(object, "cannot read attribute " + name);
+    std::string value = text ? text : "";
+    H5free_memory(text);
+    return value;
+  }
+  const std::size_t size = H5Tget_size(type.get());
+  std::string value(size, '\0');
+  if (H5Aread(attr.get(), type.get(), value.data()) < 0) fail(object, "cannot read attribute " + name);
+  value.resize(value.find('\0') == std::string::npos ? size : value.find('\0'));
+  return value;
+}
+
+namespace {
+
+template <typename T>
+std::vector<T> read_numeric_attribute(const Handle& attr, hid_t type) {
+  Handle space(H5Aget_space(attr.get()), H5Sclose);
+  const hssize_t n = H5Sget_simple_extent_npoints(space.get());
+  std::vector<T> value(n > 0 ? n : 0);
+  if (!value.empty() && H5Aread(attr.get(), type, value.data()) < 0) value.clear();
+  return value;
+}
+
+}  // namespace
+
+std::vector<double> File::read_double_attribute(const std::string& object, const std::string& name) const {
+  Handle attr = open_attribute(object, name);
+  auto value = read_numeric_attribute<double>(attr, H5T_NATIVE_DOUBLE);
+  if (value.empty()) fail(object, "cannot read numeric attribute " + name);
+  return value;
+}
+
+std::vector<std::int64_t> File::read_int_attribute(const std::string& object, const std::string& name) const {
+  Handle attr = open_attribute(object, name);
+  auto value = read_numeric_attribute<std::int64_t>(attr, H5T_NATIVE_INT64);
+  if (value.empty()) fail(object, "cannot read integer attribute " + name);
+  return value;
+}
+
+void File::flush() { H5Fflush(file_.get(), H5F_SCOPE_GLOBAL); }
+
+}  // namespace dualcell::io

@@ -1,0 +1,72 @@
+#pragma once
+// A thin RAII layer over the HDF5 C API: one handle type that closes what it owns, and a File
+// with the few typed reads and writes the stages need. Datasets are row-major (C order), as
+// h5dump and every HDF5 reader expect. Reading a missing or mis-shaped object is an
+// InputError naming the file, the object and what was expected.
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <hdf5.h>
+
+namespace dualcell::io {
+
+// Owns one hid_t and closes it with the matching H5*close.
+class Handle {
+ public:
+  Handle() = default;
+  Handle(hid_t id, herr_t (*close)(hid_t)) : id_(id), close_(close) {}
+  Handle(const Handle&) = delete;
+  Handle& operator=(const Handle&) = delete;
+  Handle(Handle&& o) noexcept : id_(o.id_), close_(o.close_) { o.id_ = H5I_INVALID_HID; }
+  Handle& operator=(Handle&& o) noexcept;
+  ~Handle();
+  hid_t get() const { return id_; }
+  bool valid() const { return id_ >= 0; }
+
+ private:
+  hid_t id_ = H5I_INVALID_HID;
+  herr_t (*close_)(hid_t) = nullptr;
+};
+
+class File {
+ public:
+  static File create(const std::filesystem::path& path);  // truncates
+  static File open_read(const std::filesystem::path& path);
+  static File open_write(const std::filesystem::path& path);  // existing file, read-write
+
+  const std::filesystem::path& path() const { return path_; }
+  bool exists(const std::string& object) const;
+  void create_group(const std::string& group);  // with intermediate groups
+  void remove(const std::string& object);
+
+  // Datasets: `dims` is the shape (1 or 2 entries); data is row-major.
+  void write(const std::string& name, const std::vector<double>& data, const std::vector<hsize_t>& dims);
+  void write(const std::string& name, const std::vector<std::int64_t>& data, const std::vector<hsize_t>& dims);
+  std::vector<double> read_doubles(const std::string& name, std::vector<hsize_t>* dims = nullptr) const;
+  std::vector<std::int64_t> read_ints(const std::string& name, std::vector<hsize_t>* dims = nullptr) const;
+  std::vector<hsize_t> shape(const std::string& name) const;
+
+  // Attributes on an existing object ("/" for the root).
+  void write_attribute(const std::string& object, const std::string& name, const std::string& value);
+  void write_attribute(const std::string& object, const std::string& name, double value);
+  void write_attribute(const std::string& object, const std::string& name, std::int64_t value);
+  void write_attribute(const std::string& object, const std::string& name, const std::vector<double>& value);
+  void write_attribute(const std::string& object, const std::string& name, const std::vector<std::int64_t>& value);
+  bool has_attribute(const std::string& object, const std::string& name) const;
+  std::string read_string_attribute(const std::string& object, const std::string& name) const;
+  std::vector<double> read_double_attribute(const std::string& object, const std::string& name) const;
+  std::vector<std::int64_t> read_int_attribute(const std::string& object, const std::string& name) const;
+
+  void flush();
+
+ private:
+  File(Handle file, std::filesystem::path path) : file_(std::move(file)), path_(std::move(path)) {}
+  [[noreturn]] void fail(const std::string& object, const std::string& what) const;
+  Handle open_attribute(const std::string& object, const std::string& name) const;
+  Handle file_;
+  std::filesystem::path path_;
+};
+
+}  // namespace dualcell::io

@@ -1,0 +1,206 @@
+#include "io/mesh_file.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include "core/error.hpp"
+#include "io/atomic_output.hpp"
+#include "io/hdf5.hpp"
+#include "io/xdmf.hpp"
+
+namespace dualcell::io {
+
+namespace {
+
+template <std::size_t N>
+std::vector<std::int64_t> flatten(const std::vector<std::array<int, N>>& rows) {
+  std::vector<std::int64_t> flat;
+  flat.reserve(rows.size() * N);
+  for (const auto& row : rows)
+    for (int v : row) flat.push_back(v);
+  return flat;
+}
+
+std::vector<double> flatten(const std::vector<Eigen::Vector2d>& points) {
+  std::vector<double> flat;
+  flat.reserve(points.size() * 2);
+  for (const auto& p : points) {
+    flat.push_back(p.x());
+    flat.push_back(p.y());
+  }
+  return flat;
+}
+
+template <std::size_t N>
+std::vector<std::array<int, N>> rows_of(const File& f, const std::string& name, std::int64_t max_index) {
+  std::vector<hsize_t> dims;
+  const auto flat = f.read_ints(name, &dims);
+  if (dims.size() != 2 || dims[1] != N)
+    throw InputError(f.path().string() + ": " + name + ": expected shape (n×" + std::to_string(N) + ")");
+  std::vector<std::array<int, N>> rows(dims[0]);
+  for (std::size_t i = 0; i < flat.size(); ++i) {
+    if (flat[i] < 0 || flat[i] >= max_index)
+      throw InputError(f.path().string() + ": " + name + ": node index " + std::to_string(flat[i]) +
+                       " out of range [0, " + std::to_string(max_index) + ")");
+    rows[i / N][i % N] = static_cast<int>(flat[i]);
+  }
+  return rows;
+}
+
+std::vector<std::int64_t> vector_of(const File& f, const std::string& name, std::size_t n) {
+  std::vector<hsize_t> dims;
+  auto v = f.read_ints(name, &dims);
+  if (dims.size() != 1 || dims[0] != n)
+    throw InputError(f.path().string() + ": " + name + ": expected " + std::to_string(n) + " entries");
+  return v;
+}
+
+}  // namespace
+
+void write_mesh(const mesh::Mesh& mesh, const Scene& scene, const std::filesystem::path& h5) {
+  std::filesystem::path xdmf = h5;
+  xdmf.replace_extension(".xdmf");
+  AtomicOutputs outputs;
+  const std::filesystem::path h5_tmp = outputs.add(h5);
+  const std::filesystem::path xdmf_tmp = outputs.add(xdmf);
+  {
+    File f = File::create(h5_tmp);
+    const hsize_t N = mesh.nodes.size(), T = mesh.triangles.size(), S = mesh.subdomains.size();
+    f.create_group("/mesh");
+    f.write("/mesh/nodes", flatten(mesh.nodes), {N, 2});
+    f.write("/mesh/triangles", flatten(mesh.triangles), {T, 3});
+    std::vector<std::int64_t> tri_sub(mesh.triangle_subdomain.begin(), mesh.triangle_subdomain.end());
+    std::vector<std::int64_t> tri_fibre(T);
+    for (std::size_t t = 0; t < T; ++t) tri_fibre[t] = mesh.subdomains[mesh.triangle_subdomain[t]].is_fibre;
+    f.write("/mesh/triangle_subdomain", tri_sub, {T});
+    f.write("/mesh/triangle_is_fibre", tri_fibre, {T});
+    std::vector<std::int64_t> is_fibre, cell, node_range, triangle_range;
+    for (const auto& s : mesh.subdomains) {
+      is_fibre.push_back(s.is_fibre);
+      cell.push_back(s.cell);
+      node_range.insert(node_range.end(), {s.node_begin, s.node_end});
+      triangle_range.insert(triangle_range.end(), {s.triangle_begin, s.triangle_end});
+    }
+    f.write("/mesh/subdomain_is_fibre", is_fibre, {S});
+    f.write("/mesh/subdomain_cell", cell, {S});
+    f.write("/mesh/subdomain_nodes", node_range, {S, 2});
+    f.write("/mesh/subdomain_triangles", triangle_range, {S, 2});
+    f.write("/mesh/fibre_centres", flatten(mesh.fibre_centres), {mesh.fibre_centres.size(), 2});
+    f.write("/mesh/interface_pairs", flatten(mesh.interface_pairs), {mesh.interface_pairs.size(), 2});
+    f.write("/mesh/interface_cell", std::vector<std::int64_t>(mesh.interface_cell.begin(), mesh.interface_cell.end()),
+            {mesh.interface_cell.size()});
+    f.write("/mesh/glue_pairs", flatten(mesh.glue_pairs), {mesh.glue_pairs.size(), 2});
+    for (int side = 0; side < 4; ++side)
+      f.write(std::string("/mesh/boundary/") + mesh::side_names[side], flatten(mesh.boundary_edges[side]),
+              {mesh.boundary_edges[side].size(), 2});
+    const Geometry& g = mesh.geometry;
+    f.write_attribute("/mesh", "cells", std::vector<std::int64_t>{g.cells[0], g.cells[1]});
+    f.write_attribute("/mesh", "cell_size", g.cell_size);
+    f.write_attribute("/mesh", "fibre_radius", g.fibre_radius);
+    f.write_attribute("/mesh", "fibre_offset", std::vector<double>{g.fibre_offset[0], g.fibre_offset[1]});
+    f.write_attribute("/mesh", "degree", std::int64_t{g.degree});
+    f.write_attribute("/", "format", std::string("dualcell mesh 1"));
+    f.write_attribute("/", "code_version", std::string(DUALCELL_VERSION));
+    f.write_attribute("/", "scene", scene.text);
+    f.write_attribute("/", "scene_file", scene.file.string());
+    if (!scene.material_text.empty()) f.write_attribute("/", "material", scene.material_text);
+  }
+  XdmfGrid grid;
+  grid.nodes_dataset = "/mesh/nodes";
+  grid.n_nodes = mesh.nodes.size();
+  grid.triangles_dataset = "/mesh/triangles";
+  grid.n_triangles = mesh.triangles.size();
+  grid.fields.push_back({"subdomain", "/mesh/triangle_subdomain", true, {grid.n_triangles}, true});
+  grid.fields.push_back({"is_fibre", "/mesh/triangle_is_fibre", true, {grid.n_triangles}, true});
+  write_xdmf(xdmf_tmp, h5.filename().string(), {grid});
+  outputs.commit();
+}
+
+MeshFile read_mesh(const std::filesystem::path& h5) {
+  File f = File::open_read(h5);
+  const std::string where = h5.string() + ": ";
+  if (!f.has_attribute("/", "format") || f.read_string_attribute("/", "format") != "dualcell mesh 1")
+    throw InputError(where + "not a dualcell mesh file (root attribute format != \"dualcell mesh 1\")");
+  MeshFile out;
+  mesh::Mesh& m = out.mesh;
+  const auto cells = f.read_int_attribute("/mesh", "cells");
+  const auto offset = f.read_double_attribute("/mesh", "fibre_offset");
+  if (cells.size() != 2 || offset.size() != 2) throw InputError(where + "/mesh: attributes cells and fibre_offset need 2 entries");
+  m.geometry.cells = {static_cast<int>(cells[0]), static_cast<int>(cells[1])};
+  m.geometry.cell_size = f.read_double_attribute("/mesh", "cell_size").at(0);
+  m.geometry.fibre_radius = f.read_double_attribute("/mesh", "fibre_radius").at(0);
+  m.geometry.fibre_offset = {offset[0], offset[1]};
+  m.geometry.degree = static_cast<int>(f.read_int_attribute("/mesh", "degree").at(0));
+  out.scene_text = f.read_string_attribute("/", "scene");
+
+  std::vector<hsize_t> dims;
+  const auto nodes = f.read_doubles("/mesh/nodes", &dims);
+  if (dims.size() != 2 || dims[1] != 2) throw InputError(where + "/mesh/nodes: expected shape (N×2)");
+  const std::int64_t N = dims[0];
+  for (double x : nodes)
+    if (!std::isfinite(x)) throw InputError(where + "/mesh/nodes: non-finite coordinate");
+  m.nodes.resize(N);
+  for (std::int64_t i = 0; i < N; ++i) m.nodes[i] = {nodes[2 * i], nodes[2 * i + 1]};
+  m.triangles = rows_of<3>(f, "/mesh/triangles", N);
+  const std::size_t T = m.triangles.size();
+  const auto tri_sub = vector_of(f, "/mesh/triangle_subdomain", T);
+  const auto S = f.shape("/mesh/subdomain_is_fibre").at(0);
+  const auto is_fibre = vector_of(f, "/mesh/subdomain_is_fibre", S);
+  const auto cell = vector_of(f, "/mesh/subdomain_cell", S);
+  const auto node_range = rows_of<2>(f, "/mesh/subdomain_nodes", N + 1);
+  const auto tri_range = rows_of<2>(f, "/mesh/subdomain_triangles", static_cast<std::int64_t>(T) + 1);
+  if (node_range.size() != S || tri_range.size() != S) throw InputError(where + "/mesh/subdomain_*: inconsistent counts");
+  int next_node = 0, next_tri = 0;
+  for (std::size_t s = 0; s < S; ++s) {
+    mesh::Subdomain sub{is_fibre[s] != 0, static_cast<int>(cell[s]), node_range[s][0], node_range[s][1],
+                        tri_range[s][0], tri_range[s][1]};
+    if (sub.node_begin != next_node || sub.node_end <= sub.node_begin || sub.triangle_begin != next_tri ||
+        sub.triangle_end <= sub.triangle_begin)
+      throw InputError(where + "/mesh/subdomain_nodes or subdomain_triangles: subdomain " + std::to_string(s) +
+                       " ranges are not contiguous");
+    next_node = sub.node_end;
+    next_tri = sub.triangle_end;
+    m.subdomains.push_back(sub);
+  }
+  if (next_node != N || next_tri != static_cast<int>(T)) throw InputError(where + "subdomains do not cover all nodes and triangles");
+  for (std::size_t t = 0; t < T; ++t) {
+    if (tri_sub[t] < 0 || tri_sub[t] >= static_cast<std::int64_t>(S)) throw InputError(where + "/mesh/triangle_subdomain: index out of range");
+    m.triangle_subdomain.push_back(static_cast<int>(tri_sub[t]));
+  }
+  std::vector<hsize_t> cdims;
+  const auto centres = f.read_doubles("/mesh/fibre_centres", &cdims);
+  if (cdims.size() != 2 || cdims[1] != 2) throw InputError(where + "/mesh/fibre_centres: expected shape (C×2)");
+  for (std::size_t c = 0; c < cdims[0]; ++c) m.fibre_centres.emplace_back(centres[2 * c], centres[2 * c + 1]);
+  m.interface_pairs = rows_of<2>(f, "/mesh/interface_pairs", N);
+  for (auto c : vector_of(f, "/mesh/interface_cell", m.interface_pairs.size())) {
+    if (c < 0 || c >= static_cast<std::int64_t>(m.fibre_centres.size())) throw InputError(where + "/mesh/interface_cell: index out of range");
+    m.interface_cell.push_back(static_cast<int>(c));
+  }
+  m.glue_pairs = rows_of<2>(f, "/mesh/glue_pairs", N);
+  for (int side = 0; side < 4; ++side)
+    m.boundary_edges[side] = rows_of<2>(f, std::string("/mesh/boundary/") + mesh::side_names[side], N);
+  if (static_cast<int>(m.fibre_centres.size()) != m.n_cells() || S != 2 * m.fibre_centres.size())
+    throw InputError(where + "cell count does not match /mesh attribute cells");
+  return out;
+}
+
+std::string geometry_mismatch(const mesh::Mesh& mesh, const Scene& scene) {
+  const Geometry& a = mesh.geometry;
+  const Geometry& b = scene.geometry;
+  std::ostringstream s;
+  s.precision(17);
+  if (a.cells != b.cells)
+    s << "[geometry] cells: mesh [" << a.cells[0] << ", " << a.cells[1] << "], scene [" << b.cells[0] << ", " << b.cells[1] << "]";
+  else if (a.degree != b.degree)
+    s << "[geometry] degree: mesh " << a.degree << ", scene " << b.degree;
+  else if (a.cell_size != b.cell_size)
+    s << "[geometry] cell_size: mesh " << a.cell_size << ", scene " << b.cell_size;
+  else if (a.fibre_radius != b.fibre_radius)
+    s << "[geometry] fibre_radius: mesh " << a.fibre_radius << ", scene " << b.fibre_radius;
+  else if (a.fibre_offset != b.fibre_offset)
+    s << "[geometry] fibre_offset: mesh [" << a.fibre_offset[0] << ", " << a.fibre_offset[1] << "], scene ["
+      << b.fibre_offset[0] << ", " << b.fibre_offset[1] << "]";
+  return s.str();
+}
+
+}  // namespace dualcell::io

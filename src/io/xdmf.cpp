@@ -1,0 +1,51 @@
+#include "io/xdmf.hpp"
+
+#include <fstream>
+
+#include "core/error.hpp"
+
+namespace dualcell::io {
+
+namespace {
+
+std::string dims_text(const std::vector<std::uint64_t>& dims) {
+  std::string s;
+  for (std::size_t i = 0; i < dims.size(); ++i) {
+    if (i) s += ' ';
+    s += std::to_string(dims[i]);
+  }
+  return s;
+}
+
+}  // namespace
+
+void write_xdmf(const std::filesystem::path& xdmf, const std::string& h5_name, const std::vector<XdmfGrid>& grids) {
+  std::ofstream out(xdmf);
+  if (!out) throw InputError(xdmf.string() + ": cannot write XDMF file");
+  out << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n  <Domain>\n";
+  for (const XdmfGrid& g : grids) {
+    out << "    <Grid Name=\"" << g.name << "\" GridType=\"Uniform\">\n"
+        << "      <Topology TopologyType=\"Triangle\" NumberOfElements=\"" << g.n_triangles << "\">\n"
+        << "        <DataItem Dimensions=\"" << g.n_triangles << " 3\" NumberType=\"Int\" Precision=\"8\" "
+        << "Format=\"HDF\">" << h5_name << ":" << g.triangles_dataset << "</DataItem>\n"
+        << "      </Topology>\n"
+        << "      <Geometry GeometryType=\"" << (g.geometry_dim == 2 ? "XY" : "XYZ") << "\">\n"
+        << "        <DataItem Dimensions=\"" << g.n_nodes << " " << g.geometry_dim
+        << "\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">" << h5_name << ":" << g.nodes_dataset
+        << "</DataItem>\n      </Geometry>\n";
+    for (const XdmfField& f : g.fields) {
+      const bool vector = f.dims.size() == 2 && f.dims[1] > 1;
+      const char* type = !vector ? "Scalar" : f.dims[1] == 3 ? "Vector" : f.dims[1] == 6 ? "Tensor6" : "Matrix";
+      out << "      <Attribute Name=\"" << f.name << "\" AttributeType=\"" << type << "\" Center=\""
+          << (f.on_cells ? "Cell" : "Node") << "\">\n"
+          << "        <DataItem Dimensions=\"" << dims_text(f.dims) << "\" NumberType=\""
+          << (f.integer ? "Int" : "Float") << "\" Precision=\"8\" Format=\"HDF\">" << h5_name << ":"
+          << f.dataset << "</DataItem>\n      </Attribute>\n";
+    }
+    out << "    </Grid>\n";
+  }
+  out << "  </Domain>\n</Xdmf>\n";
+  if (!out.flush()) throw InputError(xdmf.string() + ": cannot write XDMF file");
+}
+
+}  // namespace dualcell::io

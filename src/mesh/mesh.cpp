@@ -1,0 +1,215 @@
+#include "mesh/mesh.hpp"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <numbers>
+
+namespace dualcell::mesh {
+
+namespace {
+
+// Position along the perimeter of the L∞ ring of level l through grid offset (di, dj),
+// counted counter-clockwise from (l, 0) in units of grid steps: an integer in [0, 8l).
+// Nodes on the fibre rim and on the matrix hole get the same integer, hence the same angle
+// and bitwise identical coordinates.
+int perimeter_position(int di, int dj, int l) {
+  if (di == l && dj >= 0) return dj;
+  if (dj == l) return l + (l - di);
+  if (di == -l) return 3 * l + (l - dj);
+  if (dj == -l) return 5 * l + (di + l);
+  return 7 * l + (dj + l);  // di == l, dj < 0
+}
+
+double ring_angle(int di, int dj, int l) {
+  return std::numbers::pi / 4 * perimeter_position(di, dj, l) / l;
+}
+
+// Fibre ring radius as a fraction of r, pushed slightly towards the rim (thesis §6.2):
+// g(0) = 0, g(1) = 1, g'(1) = 0.8 so the outermost ring of elements is a little thinner.
+double fibre_ring_radius(double x) { return x * (1.2 - 0.2 * x); }
+
+// Appends the two triangles of grid quad (a, b, c, d) (counter-clockwise), split along the
+// shorter diagonal.
+void split_quad(const std::vector<Eigen::Vector2d>& nodes, int a, int b, int c, int d,
+                std::vector<std::array<int, 3>>& triangles) {
+  const double ac = (nodes[a] - nodes[c]).squaredNorm();
+  const double bd = (nodes[b] - nodes[d]).squaredNorm();
+  if (ac <= bd) {
+    triangles.push_back({a, b, c});
+    triangles.push_back({a, c, d});
+  } else {
+    triangles.push_back({a, b, d});
+    triangles.push_back({b, c, d});
+  }
+}
+
+struct CellFrame {
+  int cx, cy;
+  Eigen::Vector2d centre;  // fibre centre
+};
+
+}  // namespace
+
+int matrix_nodes_per_cell(int k) { return (4 * k + 1) * (4 * k + 1) - (2 * k - 1) * (2 * k - 1); }
+int fibre_nodes_per_cell(int k) { return (2 * k + 1) * (2 * k + 1); }
+
+Mesh build_mesh(const Geometry& geometry) {
+  Mesh mesh;
+  mesh.geometry = geometry;
+  const int k = geometry.degree;
+  const int n = 4 * k;  // grid intervals per cell edge
+  const int ex = geometry.cells[0], ey = geometry.cells[1];
+  const double a = geometry.cell_size, r = geometry.fibre_radius;
+  const int n_cells = ex * ey;
+  mesh.nodes.reserve(static_cast<std::size_t>(n_cells) * (matrix_nodes_per_cell(k) + fibre_nodes_per_cell(k)));
+
+  // grid index -> global node of each cell's matrix, for glue pairs
+  std::vector<std::vector<int>> matrix_grid(n_cells);
+
+  for (int cy = 0; cy < ey; ++cy) {
+    for (int cx = 0; cx < ex; ++cx) {
+      const int cell = cx + ex * cy;
+      const Eigen::Vector2d cell_centre((cx + 0.5) * a, (cy + 0.5) * a);
+      const Eigen::Vector2d c = cell_centre + Eigen::Vector2d(geometry.fibre_offset[0], geometry.fibre_offset[1]);
+      mesh.fibre_centres.push_back(c);
+
+      // Matrix subdomain.
+      Subdomain matrix{false, cell, mesh.n_nodes(), 0, static_cast<int>(mesh.triangles.size()), 0};
+      std::vector<int>& grid = matrix_grid[cell];
+      grid.assign((n + 1) * (n + 1), -1);
+      for (int j = 0; j <= n; ++j) {
+        for (int i = 0; i <= n; ++i) {
+          const int di = i - 2 * k, dj = j - 2 * k;
+          const int l = std::max(std::abs(di), std::abs(dj));
+          if (l < k) continue;  // inside the hole
+          Eigen::Vector2d p;
+          // Outer square points from integer grid coordinates of the whole block, so that
+          // neighbouring cells produce bitwise identical shared nodes.
+          const Eigen::Vector2d square(a * static_cast<double>(cx * n + i) / n,
+                                       a * static_cast<double>(cy * n + j) / n);
+          if (l == 2 * k) {
+            p = square;
+          } else {
+            const double theta = ring_angle(di, dj, l);
+            const Eigen::Vector2d circle = c + r * Eigen::Vector2d(std::cos(theta), std::sin(theta));
+            const Eigen::Vector2d s = cell_centre + (a / 2) * Eigen::Vector2d(double(di) / l, double(dj) / l);
+            p = l == k ? circle : Eigen::Vector2d(circle + (double(l - k) / k) * (s - circle));
+          }
+          grid[i + (n + 1) * j] = mesh.n_nodes();
+          mesh.nodes.push_back(p);
+        }
+      }
+      for (int j = 0; j < n; ++j) {
+        for (int i = 0; i < n; ++i) {
+          const int q[4] = {grid[i + (n + 1) * j], grid[i + 1 + (n + 1) * j],
+                            grid[i + 1 + (n + 1) * (j + 1)], grid[i + (n + 1) * (j + 1)]};
+          // A quad belongs to the matrix unless it lies inside the middle block.
+          const bool in_hole = i >= k && i < 3 * k && j >= k && j < 3 * k;
+          if (in_hole) continue;
+          split_quad(mesh.nodes, q[0], q[1], q[2], q[3], mesh.triangles);
+        }
+      }
+      matrix.node_end = mesh.n_nodes();
+      matrix.triangle_end = static_cast<int>(mesh.triangles.size());
+      const int matrix_index = static_cast<int>(mesh.subdomains.size());
+      mesh.subdomains.push_back(matrix);
+
+      // Fibre subdomain.
+      const int m = 2 * k;
+      Subdomain fibre{true, cell, mesh.n_nodes(), 0, static_cast<int>(mesh.triangles.size()), 0};
+      std::vector<int> fgrid((m + 1) * (m + 1));
+      for (int j = 0; j <= m; ++j) {
+        for (int i = 0; i <= m; ++i) {
+          const int di = i - k, dj = j - k;
+          const int l = std::max(std::abs(di), std::abs(dj));
+          Eigen::Vector2d p = c;
+          if (l == k) {
+            const double theta = ring_angle(di, dj, l);
+            p = c + r * Eigen::Vector2d(std::cos(theta), std::sin(theta));
+          } else if (l > 0) {
+            const double theta = ring_angle(di, dj, l);
+            p = c + r * fibre_ring_radius(double(l) / k) * Eigen::Vector2d(std::cos(theta), std::sin(theta));
+          }
+          fgrid[i + (m + 1) * j] = mesh.n_nodes();
+          mesh.nodes.push_back(p);
+        }
+      }
+      for (int j = 0; j < m; ++j)
+        for (int i = 0; i < m; ++i)
+          split_quad(mesh.nodes, fgrid[i + (m + 1) * j], fgrid[i + 1 + (m + 1) * j],
+                     fgrid[i + 1 + (m + 1) * (j + 1)], fgrid[i + (m + 1) * (j + 1)], mesh.triangles);
+      fibre.node_end = mesh.n_nodes();
+      fibre.triangle_end = static_cast<int>(mesh.triangles.size());
+      const int fibre_index = static_cast<int>(mesh.subdomains.size());
+      mesh.subdomains.push_back(fibre);
+      for (int t = matrix.triangle_begin; t < matrix.triangle_end; ++t) mesh.triangle_subdomain.push_back(matrix_index);
+      for (int t = fibre.triangle_begin; t < fibre.triangle_end; ++t) mesh.triangle_subdomain.push_back(fibre_index);
+
+      // Interface pairs: the fibre rim (fibre grid level k) against the hole ring (matrix
+      // grid level k), walked counter-clockwise from angle 0.
+      std::vector<std::pair<int, std::array<int, 2>>> ring;
+      for (int j = 0; j <= m; ++j) {
+        for (int i = 0; i <= m; ++i) {
+          const int di = i - k, dj = j - k;
+          if (std::max(std::abs(di), std::abs(dj)) != k) continue;
+          ring.push_back({perimeter_position(di, dj, k),
+                          {fgrid[i + (m + 1) * j], grid[(i + k) + (n + 1) * (j + k)]}});
+        }
+      }
+      std::sort(ring.begin(), ring.end());
+      for (const auto& [pos, pair] : ring) {
+        mesh.interface_pairs.push_back(pair);
+        mesh.interface_cell.push_back(cell);
+      }
+    }
+  }
+
+  // Glue pairs along shared cell edges. Vertical edges: every node. Horizontal edges: skip the
+  // left end node where a vertical edge already ties it (cx > 0), keeping the rows independent.
+  auto at = [&](int cell, int i, int j) { return matrix_grid[cell][i + (n + 1) * j]; };
+  for (int cy = 0; cy < ey; ++cy)
+    for (int cx = 0; cx + 1 < ex; ++cx)
+      for (int j = 0; j <= n; ++j)
+        mesh.glue_pairs.push_back({at(cx + ex * cy, n, j), at(cx + 1 + ex * cy, 0, j)});
+  for (int cy = 0; cy + 1 < ey; ++cy)
+    for (int cx = 0; cx < ex; ++cx)
+      for (int i = (cx > 0 ? 1 : 0); i <= n; ++i)
+        mesh.glue_pairs.push_back({at(cx + ex * cy, i, n), at(cx + ex * (cy + 1), i, 0)});
+
+  // Outer boundary, counter-clockwise around the block.
+  for (int cy = 0; cy < ey; ++cy)
+    for (int j = 0; j < n; ++j) {
+      mesh.boundary_edges[right].push_back({at(ex - 1 + ex * cy, n, j), at(ex - 1 + ex * cy, n, j + 1)});
+      mesh.boundary_edges[left].push_back({at(ex * cy, 0, j + 1), at(ex * cy, 0, j)});
+    }
+  for (int cx = 0; cx < ex; ++cx)
+    for (int i = 0; i < n; ++i) {
+      mesh.boundary_edges[bottom].push_back({at(cx, i, 0), at(cx, i + 1, 0)});
+      mesh.boundary_edges[top].push_back({at(cx + ex * (ey - 1), i + 1, n), at(cx + ex * (ey - 1), i, n)});
+    }
+  return mesh;
+}
+
+double triangle_area(const Mesh& mesh, int t) {
+  const auto& tri = mesh.triangles[t];
+  const Eigen::Vector2d e1 = mesh.nodes[tri[1]] - mesh.nodes[tri[0]];
+  const Eigen::Vector2d e2 = mesh.nodes[tri[2]] - mesh.nodes[tri[0]];
+  return 0.5 * (e1.x() * e2.y() - e1.y() * e2.x());
+}
+
+double minimum_angle_deg(const Mesh& mesh) {
+  double smallest = 180;
+  for (const auto& tri : mesh.triangles) {
+    for (int v = 0; v < 3; ++v) {
+      const Eigen::Vector2d p = mesh.nodes[tri[v]];
+      const Eigen::Vector2d e1 = mesh.nodes[tri[(v + 1) % 3]] - p;
+      const Eigen::Vector2d e2 = mesh.nodes[tri[(v + 2) % 3]] - p;
+      const double angle = std::atan2(std::abs(e1.x() * e2.y() - e1.y() * e2.x()), e1.dot(e2));
+      smallest = std::min(smallest, angle * 180 / std::numbers::pi);
+    }
+  }
+  return smallest;
+}
+
+}  // namespace dualcell::mesh

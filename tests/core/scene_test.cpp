@@ -1,0 +1,106 @@
+// Scene parsing: every key validated, errors name the file, the key, the value and the range.
+#include "core/scene.hpp"
+
+#include <gtest/gtest.h>
+
+#include "core/error.hpp"
+#include "test_util.hpp"
+
+namespace dualcell {
+namespace {
+
+using testing::scene_text;
+
+std::string error_of(const std::string& text) {
+  try {
+    parse_scene(text, "scene.toml");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Scene, DefaultsAndValues) {
+  const Scene s = parse_scene(scene_text(3, 2, 4, 0.25, "[load]\nboundary = \"periodic\"\n"), "x.toml");
+  EXPECT_EQ(s.geometry.cells[0], 3);
+  EXPECT_EQ(s.geometry.cells[1], 2);
+  EXPECT_EQ(s.geometry.degree, 4);
+  EXPECT_DOUBLE_EQ(s.geometry.fibre_radius, 0.25);
+  EXPECT_EQ(s.load.boundary, Boundary::periodic);
+  EXPECT_DOUBLE_EQ(s.fibre.E, 100.0);
+  EXPECT_DOUBLE_EQ(s.matrix.nu, 0.35);
+  EXPECT_FALSE(s.interface.has_adhesion());
+  EXPECT_EQ(s.text.substr(0, 10), "[geometry]");
+}
+
+TEST(Scene, ErrorsNameFileKeyValueAndRange) {
+  struct Case {
+    std::string text, expected;
+  };
+  const std::vector<Case> cases = {
+      {scene_text(1, 1, 1, -0.1), "[geometry] fibre_radius = -0.100000: out of range: fibre_radius > 0"},
+      {scene_text(1, 1, 1, 0.5), "fibre touches or crosses its cell's edge"},
+      {scene_text(1, 1, 0, 0.3), "[geometry] degree = 0: out of range: an integer in [1, 256]"},
+      {scene_text(0, 1, 1, 0.3), "[geometry] cells = [0, 1]: out of range"},
+      {"[geometry]\nfibre_radius = 0.3\n[fibre]\nE = 1\nnu = 0.5\n[matrix]\nE = 1\nnu = 0.3\n",
+       "[fibre] nu = 0.5: out of range: -1 < nu < 0.5"},
+      {"[geometry]\nfibre_radius = 0.3\n[fibre]\nE = 1\nnu = -1\n[matrix]\nE = 1\nnu = 0.3\n",
+       "[fibre] nu = -1: out of range"},
+      {"[geometry]\nfibre_radius = 0.3\n[fibre]\nE = 0\nnu = 0.2\n[matrix]\nE = 1\nnu = 0.3\n",
+       "[fibre] E = 0: out of range: E > 0"},
+      {scene_text(1, 1, 1, 0.3, "[interface]\nnormal_strenght = 1\n"), "[interface] normal_strenght = 1: unknown key"},
+      {scene_text(1, 1, 1, 0.3, "[bogus]\n"), "bogus: unknown table or key"},
+      {scene_text(1, 1, 1, 0.3, "[load]\nboundary = \"free\"\n"),
+       "[load] boundary = \"free\": must be one of \"symmetry\", \"traction\", \"periodic\""},
+      {scene_text(1, 1, 1, 0.3, "[load\n"), "TOML syntax error"},
+      {"[geometry]\nfibre_radius = \"big\"\n", "[geometry] fibre_radius = \"big\": must be a number"},
+      {"[geometry]\nfibre_radius = 0.3\n", "missing table [fibre]"},
+      {scene_text(1, 1, 1, 0.3, "[solver]\ntolerance = 2\n"), "[solver] tolerance = 2: out of range"},
+      {scene_text(1, 1, 1, 0.3, "[sweep]\nmagnitudes = [1, 0]\n"), "[sweep] magnitudes"},
+  };
+  for (const auto& c : cases) {
+    const std::string message = error_of(c.text);
+    EXPECT_NE(message.find(c.expected), std::string::npos) << "got: " << message << "\nfor:\n" << c.text;
+    EXPECT_EQ(message.rfind("scene.toml", 0), 0u) << message;  // starts with the file name
+    EXPECT_EQ(message.find('\n'), std::string::npos) << "one line: " << message;
+  }
+}
+
+TEST(Scene, LineNumbersPointAtTheKey) {
+  const std::string message = error_of(scene_text(1, 1, 1, 0.3, "[interface]\nnormal_strength = -2\n"));
+  // scene_text has 13 lines, then "[interface]" on line 14 and the key on line 15.
+  EXPECT_NE(message.find("scene.toml:15:"), std::string::npos) << message;
+}
+
+TEST(Scene, MaterialFileResolvesAgainstSceneFolder) {
+  testing::ScratchDir dir;
+  std::filesystem::create_directories(dir / "materials");
+  dir.write("materials/m.toml", "source = \"test\"\n[fibre]\nE = 7\nnu = 0.1\n[matrix]\nE = 2\nnu = 0.3\n");
+  const auto scene = dir.write("s.toml", "material = \"materials/m.toml\"\n[geometry]\nfibre_radius = 0.3\n");
+  const Scene s = load_scene(scene);
+  EXPECT_DOUBLE_EQ(s.fibre.E, 7);
+  EXPECT_DOUBLE_EQ(s.matrix.E, 2);
+  EXPECT_NE(s.material_text.find("source"), std::string::npos);
+
+  const auto both = dir.write("b.toml", "material = \"materials/m.toml\"\n[geometry]\nfibre_radius = 0.3\n"
+                                        "[fibre]\nE = 1\nnu = 0.1\n");
+  EXPECT_THROW(load_scene(both), InputError);
+  const auto missing = dir.write("c.toml", "material = \"nope.toml\"\n[geometry]\nfibre_radius = 0.3\n");
+  try {
+    load_scene(missing);
+    FAIL() << "missing material file accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("material file not found"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(load_scene(dir / "absent.toml"), InputError);
+}
+
+TEST(Scene, CommittedScenesAndMaterialsParse) {
+  for (const auto& entry : std::filesystem::directory_iterator(testing::source_dir() + "/pipelines/scenes")) {
+    if (entry.path().extension() != ".toml") continue;
+    EXPECT_NO_THROW(load_scene(entry.path())) << entry.path();
+  }
+}
+
+}  // namespace
+}  // namespace dualcell

@@ -1,0 +1,103 @@
+// mesh.h5 round trip, its XDMF read by a real reader (meshio, Debian python3-meshio), and
+// refusal of corrupt files.
+#include "io/mesh_file.hpp"
+
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "core/error.hpp"
+#include "io/hdf5.hpp"
+#include "test_util.hpp"
+
+namespace dualcell::io {
+namespace {
+
+TEST(MeshFile, RoundTripKeepsEverything) {
+  testing::ScratchDir dir;
+  const Scene scene = parse_scene(testing::scene_text(3, 2, 2, 0.3), dir / "s.toml");
+  const mesh::Mesh m = mesh::build_mesh(scene.geometry);
+  write_mesh(m, scene, dir / "mesh.h5");
+  EXPECT_TRUE(std::filesystem::exists(dir / "mesh.xdmf"));
+  const MeshFile back = read_mesh(dir / "mesh.h5");
+  EXPECT_EQ(back.mesh.nodes, m.nodes);
+  EXPECT_EQ(back.mesh.triangles, m.triangles);
+  EXPECT_EQ(back.mesh.interface_pairs, m.interface_pairs);
+  EXPECT_EQ(back.mesh.glue_pairs, m.glue_pairs);
+  EXPECT_EQ(back.mesh.boundary_edges, m.boundary_edges);
+  EXPECT_EQ(back.mesh.subdomains.size(), m.subdomains.size());
+  EXPECT_EQ(back.scene_text, scene.text);
+  EXPECT_EQ(geometry_mismatch(back.mesh, scene), "");
+  Scene other = scene;
+  other.geometry.degree = 3;
+  EXPECT_EQ(geometry_mismatch(back.mesh, other), "[geometry] degree: mesh 2, scene 3");
+  // No temporaries left behind.
+  int files = 0;
+  for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(dir.path())) ++files;
+  EXPECT_EQ(files, 2);  // mesh.h5 and mesh.xdmf, no temporaries
+}
+
+TEST(MeshFile, XdmfOpensInMeshioWithSubdomainField) {
+  testing::ScratchDir dir;
+  const Scene scene = parse_scene(testing::scene_text(2, 2, 1, 0.3), dir / "s.toml");
+  const mesh::Mesh m = mesh::build_mesh(scene.geometry);
+  write_mesh(m, scene, dir / "mesh.h5");
+  // Debian's meshio lives in the system Python, not in any other python3 on PATH.
+  const std::string script =
+      "import meshio, sys\n"
+      "m = meshio.read(sys.argv[1])\n"
+      "tri = m.cells_dict['triangle']\n"
+      "sub = m.cell_data['subdomain'][0]\n"
+      "print(len(m.points), len(tri), int(sub.max()) + 1, int(m.cell_data['is_fibre'][0].sum()))\n";
+  const auto py = dir.write("read.py", script);
+  const auto r = testing::run_command("/usr/bin/python3 " + py.string() + " " + (dir / "mesh.xdmf").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  int fibre_triangles = 0;
+  for (const auto& s : m.subdomains)
+    if (s.is_fibre) fibre_triangles += s.n_triangles();
+  EXPECT_EQ(r.output, std::to_string(m.n_nodes()) + " " + std::to_string(m.triangles.size()) + " 8 " +
+                          std::to_string(fibre_triangles) + "\n");
+}
+
+TEST(MeshFile, H5dumpReadsTheLayout) {
+  testing::ScratchDir dir;
+  const Scene scene = parse_scene(testing::scene_text(1, 1, 1, 0.3), dir / "s.toml");
+  write_mesh(mesh::build_mesh(scene.geometry), scene, dir / "mesh.h5");
+  const auto r = testing::run_command("h5dump -H " + (dir / "mesh.h5").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  for (const char* name : {"nodes", "triangles", "triangle_subdomain", "subdomain_is_fibre", "interface_pairs",
+                           "glue_pairs", "left", "right", "bottom", "top"})
+    EXPECT_NE(r.output.find(std::string("DATASET \"") + name + "\""), std::string::npos) << name;
+}
+
+TEST(MeshFile, CorruptOrForeignFilesAreRefused) {
+  testing::ScratchDir dir;
+  const Scene scene = parse_scene(testing::scene_text(1, 1, 1, 0.3), dir / "s.toml");
+  write_mesh(mesh::build_mesh(scene.geometry), scene, dir / "mesh.h5");
+  // Truncated: half the bytes.
+  const auto size = std::filesystem::file_size(dir / "mesh.h5");
+  std::filesystem::copy_file(dir / "mesh.h5", dir / "cut.h5");
+  std::filesystem::resize_file(dir / "cut.h5", size / 2);
+  EXPECT_THROW(read_mesh(dir / "cut.h5"), InputError);
+  // Not HDF5 at all.
+  dir.write("text.h5", "hello");
+  EXPECT_THROW(read_mesh(dir / "text.h5"), InputError);
+  // HDF5, but an index out of range.
+  std::filesystem::copy_file(dir / "mesh.h5", dir / "bad.h5");
+  {
+    File f = File::open_write(dir / "bad.h5");
+    f.remove("/mesh/glue_pairs");
+    f.write("/mesh/glue_pairs", std::vector<std::int64_t>{0, 100000}, {1, 2});
+  }
+  try {
+    read_mesh(dir / "bad.h5");
+    FAIL() << "out-of-range index accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("/mesh/glue_pairs: node index 100000 out of range"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_THROW(read_mesh(dir / "absent.h5"), InputError);
+}
+
+}  // namespace
+}  // namespace dualcell::io

@@ -1,0 +1,62 @@
+#pragma once
+// Shared helpers for tests: a scratch folder per test, scene text, and running a stage.
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+namespace dualcell::testing {
+
+// A fresh folder under the system temp dir, removed at the end of the test.
+class ScratchDir {
+ public:
+  ScratchDir() {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    path_ = std::filesystem::temp_directory_path() /
+            ("dualcell-" + std::string(info->test_suite_name()) + "-" + info->name() + "-" + std::to_string(::getpid()));
+    std::filesystem::remove_all(path_);
+    std::filesystem::create_directories(path_);
+  }
+  ~ScratchDir() { std::filesystem::remove_all(path_); }
+  const std::filesystem::path& path() const { return path_; }
+  std::filesystem::path operator/(const std::string& name) const { return path_ / name; }
+  std::filesystem::path write(const std::string& name, const std::string& text) const {
+    std::ofstream(path_ / name) << text;
+    return path_ / name;
+  }
+
+ private:
+  std::filesystem::path path_;
+};
+
+struct CommandResult {
+  int exit_code = -1;
+  std::string output;  // stdout and stderr together
+};
+
+inline CommandResult run_command(const std::string& command) {
+  CommandResult result;
+  FILE* pipe = ::popen((command + " 2>&1").c_str(), "r");
+  if (!pipe) return result;
+  char buffer[4096];
+  while (std::fgets(buffer, sizeof buffer, pipe)) result.output += buffer;
+  const int status = ::pclose(pipe);
+  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return result;
+}
+
+inline std::string bin(const std::string& stage) { return std::string(DUALCELL_BIN_DIR) + "/" + stage; }
+inline std::string source_dir() { return DUALCELL_SOURCE_DIR; }
+
+// A small valid scene with inline materials; `extra` is appended (tables or keys).
+inline std::string scene_text(int ex = 1, int ey = 1, int degree = 2, double radius = 0.3,
+                              const std::string& extra = "") {
+  return "[geometry]\ncells = [" + std::to_string(ex) + ", " + std::to_string(ey) +
+         "]\ncell_size = 1.0\nfibre_radius = " + std::to_string(radius) + "\ndegree = " + std::to_string(degree) +
+         "\n\n[fibre]\nE = 100.0\nnu = 0.2\n\n[matrix]\nE = 1.0\nnu = 0.35\n" + extra;
+}
+
+}  // namespace dualcell::testing
