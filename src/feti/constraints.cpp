@@ -1,0 +1,205 @@
+#include "feti/constraints.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <numeric>
+
+namespace dualcell::feti {
+
+const char* to_string(RowKind kind) {
+  switch (kind) {
+    case RowKind::glue: return "glue";
+    case RowKind::dirichlet: return "dirichlet";
+    case RowKind::periodic: return "periodic";
+    case RowKind::normal: return "normal";
+    case RowKind::tangential: return "tangential";
+  }
+  return "?";
+}
+
+BondState intact_bonds(const mesh::Mesh& mesh, const Interface& interface) {
+  return BondState(mesh.interface_pairs.size(), interface.has_adhesion() ? 1 : 0);
+}
+
+Eigen::Vector2d interface_normal(const mesh::Mesh& mesh, int p) {
+  const Eigen::Vector2d& x = mesh.nodes[mesh.interface_pairs[p][0]];
+  return (x - mesh.fibre_centres[mesh.interface_cell[p]]) / mesh.geometry.fibre_radius;
+}
+
+std::vector<double> interface_lengths(const mesh::Mesh& mesh) {
+  const int n = static_cast<int>(mesh.interface_pairs.size());
+  std::vector<double> length(n, 0.0);
+  // Pairs are stored cell by cell, counter-clockwise: the neighbours of p on the rim are the
+  // previous and next pair of the same cell, cyclically.
+  int begin = 0;
+  while (begin < n) {
+    int end = begin;
+    while (end < n && mesh.interface_cell[end] == mesh.interface_cell[begin]) ++end;
+    const int m = end - begin;
+    for (int i = 0; i < m; ++i) {
+      const Eigen::Vector2d& a = mesh.nodes[mesh.interface_pairs[begin + i][0]];
+      const Eigen::Vector2d& b = mesh.nodes[mesh.interface_pairs[begin + (i + 1) % m][0]];
+      const double chord = (b - a).norm();
+      length[begin + i] += chord / 2;
+      length[begin + (i + 1) % m] += chord / 2;
+    }
+    begin = end;
+  }
+  return length;
+}
+
+namespace {
+
+// Union-find over nodes tied by glue pairs: the copies of one physical point.
+class NodeClasses {
+ public:
+  explicit NodeClasses(const mesh::Mesh& mesh) : parent_(mesh.n_nodes()) {
+    std::iota(parent_.begin(), parent_.end(), 0);
+    for (const auto& [a, b] : mesh.glue_pairs) parent_[find(a)] = find(b);
+  }
+  int find(int v) {
+    while (parent_[v] != v) v = parent_[v] = parent_[parent_[v]];
+    return v;
+  }
+
+ private:
+  std::vector<int> parent_;
+};
+
+// One node per physical point of a side, ordered along the side.
+std::vector<int> side_points(const mesh::Mesh& mesh, int side, NodeClasses& classes) {
+  std::map<double, int> by_position;
+  const int axis = (side == mesh::left || side == mesh::right) ? 1 : 0;
+  for (const auto& edge : mesh.boundary_edges[side])
+    for (int v : edge) {
+      const double key = mesh.nodes[v][axis];
+      if (!by_position.count(key)) by_position[key] = classes.find(v);
+    }
+  std::vector<int> points;
+  for (const auto& [position, v] : by_position) points.push_back(v);
+  return points;
+}
+
+class RowBuilder {
+ public:
+  RowBuilder(Constraints& out, std::vector<Eigen::Triplet<double>>& triplets) : out_(out), triplets_(triplets) {}
+  // Adds a row with entries (dof, value), unscaled bounds and weight w.
+  void add(RowKind kind, int pair, std::initializer_list<std::pair<int, double>> entries, double lower, double upper,
+           double w) {
+    const int r = static_cast<int>(out_.kind.size());
+    for (const auto& [dof, value] : entries)
+      if (value != 0) triplets_.emplace_back(r, dof, w * value);
+    out_.kind.push_back(kind);
+    out_.pair.push_back(pair);
+    lower_.push_back(lower / w);
+    upper_.push_back(upper / w);
+    weight_.push_back(w);
+  }
+  void finish(int n_dofs) {
+    const int n = static_cast<int>(out_.kind.size());
+    out_.B.resize(n, n_dofs);
+    out_.B.setFromTriplets(triplets_.begin(), triplets_.end());
+    out_.c = Eigen::VectorXd::Zero(n);
+    out_.lower = Eigen::Map<Eigen::VectorXd>(lower_.data(), n);
+    out_.upper = Eigen::Map<Eigen::VectorXd>(upper_.data(), n);
+    out_.weight = Eigen::Map<Eigen::VectorXd>(weight_.data(), n);
+  }
+
+ private:
+  Constraints& out_;
+  std::vector<Eigen::Triplet<double>>& triplets_;
+  std::vector<double> lower_, upper_, weight_;
+};
+
+}  // namespace
+
+Constraints build_constraints(const mesh::Mesh& mesh, const Scene& scene, const BondState& bonds) {
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  Constraints out;
+  std::vector<Eigen::Triplet<double>> triplets;
+  RowBuilder rows(out, triplets);
+  const int dim_u = mesh.dim_u();
+  const bool periodic = scene.load.boundary == Boundary::periodic;
+  out.n_macro_dofs = periodic ? 3 : 0;
+  const int macro = dim_u;  // first macro DOF: εxx, εyy, γxy
+
+  // Row scaling: w² = (1/E_m) / Σ 1/E_i over the subdomains a row couples (see header).
+  const double Em = scene.matrix.E, Ef = scene.fibre.E;
+  const double w_matrix_pair = std::sqrt(0.5);
+  const double w_single = 1.0;
+  const double w_interface = std::sqrt((1 / Em) / (1 / Em + 1 / Ef));
+
+  for (int q = 0; q < static_cast<int>(mesh.glue_pairs.size()); ++q) {
+    const auto [a, b] = mesh.glue_pairs[q];
+    for (int c = 0; c < 2; ++c)
+      rows.add(RowKind::glue, q, {{2 * a + c, 1.0}, {2 * b + c, -1.0}}, -inf, inf, w_matrix_pair);
+  }
+
+  NodeClasses classes(mesh);
+  const std::vector<int> bottom_points = side_points(mesh, mesh::bottom, classes);
+  switch (scene.load.boundary) {
+    case Boundary::symmetry: {
+      // u_x = 0 on x = 0 and u_y = 0 on y = 0 (thesis §2.3), once per physical point: the
+      // other copies follow through their glue rows.
+      for (int v : side_points(mesh, mesh::left, classes)) rows.add(RowKind::dirichlet, -1, {{2 * v, 1.0}}, -inf, inf, w_single);
+      for (int v : bottom_points) rows.add(RowKind::dirichlet, -1, {{2 * v + 1, 1.0}}, -inf, inf, w_single);
+      break;
+    }
+    case Boundary::traction: {
+      // The minimal set that removes the rigid motion: both components at the lower left
+      // corner, the vertical one at the lower right corner.
+      const int a = bottom_points.front(), b = bottom_points.back();
+      rows.add(RowKind::dirichlet, -1, {{2 * a, 1.0}}, -inf, inf, w_single);
+      rows.add(RowKind::dirichlet, -1, {{2 * a + 1, 1.0}}, -inf, inf, w_single);
+      rows.add(RowKind::dirichlet, -1, {{2 * b + 1, 1.0}}, -inf, inf, w_single);
+      break;
+    }
+    case Boundary::periodic: {
+      // u(x + Δx) − u(x) = H Δx with H = [[εxx, γ/2], [γ/2, εyy]] (symmetric: no rigid
+      // rotation). Left–right for every point; bottom–top for all but the right end, whose
+      // corner is already tied through the other three corners.
+      const double Lx = mesh.block_width(), Ly = mesh.block_height();
+      const auto left = side_points(mesh, mesh::left, classes), right = side_points(mesh, mesh::right, classes);
+      const auto top = side_points(mesh, mesh::top, classes);
+      for (std::size_t i = 0; i < left.size(); ++i) {
+        const int l = left[i], r = right[i];
+        rows.add(RowKind::periodic, -1, {{2 * r, 1.0}, {2 * l, -1.0}, {macro + 0, -Lx}}, -inf, inf, w_matrix_pair);
+        rows.add(RowKind::periodic, -1, {{2 * r + 1, 1.0}, {2 * l + 1, -1.0}, {macro + 2, -Lx / 2}}, -inf, inf,
+                 w_matrix_pair);
+      }
+      for (std::size_t i = 0; i + 1 < bottom_points.size(); ++i) {
+        const int b = bottom_points[i], t = top[i];
+        rows.add(RowKind::periodic, -1, {{2 * t, 1.0}, {2 * b, -1.0}, {macro + 2, -Ly / 2}}, -inf, inf, w_matrix_pair);
+        rows.add(RowKind::periodic, -1, {{2 * t + 1, 1.0}, {2 * b + 1, -1.0}, {macro + 1, -Ly}}, -inf, inf,
+                 w_matrix_pair);
+      }
+      // Translation of the whole block.
+      const int a = bottom_points.front();
+      rows.add(RowKind::dirichlet, -1, {{2 * a, 1.0}}, -inf, inf, w_single);
+      rows.add(RowKind::dirichlet, -1, {{2 * a + 1, 1.0}}, -inf, inf, w_single);
+      break;
+    }
+  }
+
+  // Interface rows, pair by pair: normal, then tangential while bonded with shear strength.
+  const std::vector<double> length = interface_lengths(mesh);
+  const double sn = scene.interface.normal_strength, st = scene.interface.tangential_strength;
+  for (int p = 0; p < static_cast<int>(mesh.interface_pairs.size()); ++p) {
+    const auto [f, m] = mesh.interface_pairs[p];
+    const Eigen::Vector2d n = interface_normal(mesh, p);
+    const bool bonded = bonds[p] != 0;
+    rows.add(RowKind::normal, p, {{2 * f, n.x()}, {2 * f + 1, n.y()}, {2 * m, -n.x()}, {2 * m + 1, -n.y()}},
+             bonded ? -sn * length[p] : 0.0, inf, w_interface);
+    if (bonded && st > 0) {
+      const Eigen::Vector2d t(-n.y(), n.x());
+      rows.add(RowKind::tangential, p, {{2 * f, t.x()}, {2 * f + 1, t.y()}, {2 * m, -t.x()}, {2 * m + 1, -t.y()}},
+               -st * length[p], st * length[p], w_interface);
+    }
+  }
+  rows.finish(dim_u + out.n_macro_dofs);
+  return out;
+}
+
+}  // namespace dualcell::feti

@@ -1,0 +1,61 @@
+#pragma once
+// The constraint rows of Total FETI (METHOD §4–6): B u ≤ c (interface non-penetration) and
+// B u = c (gluing, Dirichlet, periodicity), each row with the bounds of its multiplier.
+//
+//   row kind     | B row                               | multiplier bounds  (ℓ ≤ λ ≤ υ)
+//   -------------+-------------------------------------+---------------------------------------
+//   glue         | u_a,c − u_b,c            = 0        | free
+//   dirichlet    | u_a,c                    = 0        | free
+//   periodic     | u_r,c − u_l,c − (H Δx)_c = 0        | free (H: macro strain DOFs)
+//   normal       | n·u_f − n·u_m            ≤ 0        | λ ≥ 0, bonded: λ ≥ −s_n·L_p
+//   tangential   | t·u_f − t·u_m            = 0        | bonded only: −s_t·L_p ≤ λ ≤ s_t·L_p
+//
+// n is the fibre's outward normal at the node from the exact circle, t = (−n_y, n_x), L_p the
+// lumped interface length of pair p (half its two rim edges), s_n and s_t the strengths per
+// unit length: nodal bounds consistent with nodal forces, so results do not depend on the
+// mesh degree. A scene without adhesion has no tangential rows; one cell has no glue rows.
+//
+// Rows are scaled by w_r = sqrt(harmonic mean of the Young's moduli the row couples) so that
+// F = B K⁺ Bᵀ has a diagonal of order one whatever the stiffness contrast; the stored B, c and
+// bounds are the scaled ones (λ_scaled = λ / w, force = w·λ_scaled).
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/SparseCore>
+
+#include "core/scene.hpp"
+#include "mesh/mesh.hpp"
+
+namespace dualcell::feti {
+
+enum class RowKind : std::uint8_t { glue, dirichlet, periodic, normal, tangential };
+const char* to_string(RowKind kind);
+
+// Bond state of every interface pair: true = the adhesive bond holds (normal and tangential).
+// Breaks are irreversible along a load path; without adhesion every entry is false.
+using BondState = std::vector<std::uint8_t>;
+BondState intact_bonds(const mesh::Mesh& mesh, const Interface& interface);
+
+struct Constraints {
+  // B over the global DOFs (2·n_nodes, plus 3 macro-strain DOFs εxx, εyy, γxy at the end for
+  // the periodic boundary), scaled rows.
+  Eigen::SparseMatrix<double, Eigen::RowMajor> B;
+  Eigen::VectorXd c;          // right-hand side (scaled)
+  Eigen::VectorXd lower;      // ℓ (scaled), −inf where free
+  Eigen::VectorXd upper;      // υ (scaled), +inf where free
+  Eigen::VectorXd weight;     // w_r
+  std::vector<RowKind> kind;
+  std::vector<int> pair;      // interface pair of normal/tangential rows, glue pair of glue rows, else −1
+  int n_macro_dofs = 0;       // 3 with the periodic boundary, else 0
+  int n_rows() const { return static_cast<int>(kind.size()); }
+  bool is_equality(int r) const { return kind[r] != RowKind::normal; }
+};
+
+// Exact outward normal of the fibre at the fibre node of interface pair p.
+Eigen::Vector2d interface_normal(const mesh::Mesh& mesh, int p);
+// Lumped interface length of each pair (half of its two neighbouring rim chords).
+std::vector<double> interface_lengths(const mesh::Mesh& mesh);
+
+Constraints build_constraints(const mesh::Mesh& mesh, const Scene& scene, const BondState& bonds);
+
+}  // namespace dualcell::feti

@@ -1,0 +1,140 @@
+#include "feti/dual.hpp"
+
+#include <chrono>
+
+#include <Eigen/Eigenvalues>
+
+namespace dualcell::feti {
+
+DualProblem::DualProblem(const FetiSetup& setup, Constraints constraints)
+    : setup_(setup), constraints_(std::move(constraints)) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto& subs = setup.subdomains();
+  const int S = static_cast<int>(subs.size());
+  locals_.resize(S);
+
+  // Split B by subdomain: which rows touch it, and the local block.
+  const auto& B = constraints_.B;
+  std::vector<std::vector<Eigen::Triplet<double>>> triplets(S);
+  for (int r = 0; r < B.rows(); ++r)
+    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(B, r); it; ++it) {
+      const int s = setup.subdomain_of_dof(static_cast<int>(it.col()));
+      Local& local = locals_[s];
+      if (local.rows.empty() || local.rows.back() != r) local.rows.push_back(r);
+      triplets[s].emplace_back(static_cast<int>(local.rows.size()) - 1, static_cast<int>(it.col()) - subs[s].dof_begin,
+                               it.value());
+    }
+
+  // R̂_i: the rigid modes that B_i sees. The Gram matrix (B_i R_i)ᵀ(B_i R_i) is 3×3; its
+  // eigenvectors with eigenvalues above round-off span what the constraints control.
+  std::vector<Eigen::Triplet<double>> G_triplets;
+  int G_rows = 0;
+  for (int s = 0; s < S; ++s) {
+    Local& local = locals_[s];
+    const int n_local = static_cast<int>(local.rows.size());
+    local.B.resize(n_local, subs[s].n_dofs);
+    local.B.setFromTriplets(triplets[s].begin(), triplets[s].end());
+    const Eigen::MatrixXd BR = local.B * subs[s].R;
+    const Eigen::Matrix3d gram = BR.transpose() * BR;
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(gram);
+    const double largest = eig.eigenvalues().maxCoeff();
+    std::vector<int> keep;
+    for (int j = 0; j < 3; ++j)
+      if (eig.eigenvalues()(j) > 1e-10 * largest) keep.push_back(j);
+    Eigen::MatrixXd V(3, keep.size());
+    for (std::size_t j = 0; j < keep.size(); ++j) V.col(j) = eig.eigenvectors().col(keep[j]);
+    // Keep R itself where nothing is dropped, so that G is exactly Rᵀ Bᵀ in the usual case.
+    local.V = keep.size() == 3 ? Eigen::MatrixXd(Eigen::Matrix3d::Identity()) : V;
+    local.R_hat = keep.size() == 3 ? subs[s].R : Eigen::MatrixXd(subs[s].R * V);
+    local.G_offset = G_rows;
+    const Eigen::MatrixXd M = local.B * local.R_hat;  // n_local × r_i = (G_i)ᵀ
+    for (int k = 0; k < n_local; ++k)
+      for (int j = 0; j < M.cols(); ++j)
+        if (M(k, j) != 0) G_triplets.emplace_back(G_rows + j, local.rows[k], M(k, j));
+    G_rows += static_cast<int>(M.cols());
+    local.lambda_local.resize(n_local);
+    local.z.resize(n_local);
+    local.y.resize(subs[s].n_dofs);
+    local.x.resize(subs[s].n_dofs);
+  }
+  G_.resize(G_rows, constraints_.n_rows());
+  G_.setFromTriplets(G_triplets.begin(), G_triplets.end());
+
+  // GGᵀ: small (3 per subdomain) and sparse (neighbours only); factorised once.
+  const Eigen::SparseMatrix<double> GGt = Eigen::SparseMatrix<double>(G_ * G_.transpose());
+  GGt_.compute(GGt);
+  G_scratch_.resize(G_rows);
+  G_solution_.resize(G_rows);
+  seconds_setup = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+void DualProblem::apply_F(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
+  y.setZero();
+  const auto& subs = setup_.subdomains();
+  for (std::size_t s = 0; s < locals_.size(); ++s) {
+    const Local& local = locals_[s];
+    if (local.rows.empty()) continue;
+    for (std::size_t k = 0; k < local.rows.size(); ++k) local.lambda_local(k) = x(local.rows[k]);
+    local.y.noalias() = local.B.transpose() * local.lambda_local;
+    subs[s].apply_K_plus(local.y, local.x);
+    local.z.noalias() = local.B * local.x;
+    for (std::size_t k = 0; k < local.rows.size(); ++k) y(local.rows[k]) += local.z(k);
+  }
+}
+
+void DualProblem::apply_Q(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
+  G_scratch_.noalias() = G_ * x;
+  GGt_.solve(G_scratch_, G_solution_);
+  y.noalias() = G_.transpose() * G_solution_;
+}
+
+Eigen::VectorXd DualProblem::d(const Eigen::VectorXd& f) const {
+  Eigen::VectorXd d = -constraints_.c;
+  const auto& subs = setup_.subdomains();
+  for (std::size_t s = 0; s < locals_.size(); ++s) {
+    const Local& local = locals_[s];
+    local.y = f.segment(subs[s].dof_begin, subs[s].n_dofs);
+    subs[s].apply_K_plus(local.y, local.x);
+    local.z.noalias() = local.B * local.x;
+    for (std::size_t k = 0; k < local.rows.size(); ++k) d(local.rows[k]) += local.z(k);
+  }
+  return d;
+}
+
+Eigen::VectorXd DualProblem::e(const Eigen::VectorXd& f) const {
+  Eigen::VectorXd e(n_G_rows());
+  const auto& subs = setup_.subdomains();
+  for (std::size_t s = 0; s < locals_.size(); ++s) {
+    const Local& local = locals_[s];
+    e.segment(local.G_offset, local.R_hat.cols()) = local.R_hat.transpose() * f.segment(subs[s].dof_begin, subs[s].n_dofs);
+  }
+  return e;
+}
+
+Eigen::VectorXd DualProblem::lambda_0(const Eigen::VectorXd& e) const {
+  GGt_.solve(e, G_solution_);
+  return G_.transpose() * G_solution_;
+}
+
+Eigen::VectorXd DualProblem::coarse_solve(const Eigen::VectorXd& r) const {
+  G_scratch_.noalias() = G_ * r;
+  Eigen::VectorXd beta;
+  GGt_.solve(G_scratch_, beta);
+  return beta;
+}
+
+Eigen::VectorXd DualProblem::K_plus_residual(const Eigen::VectorXd& f, const Eigen::VectorXd& lambda) const {
+  Eigen::VectorXd u(setup_.n_dofs());
+  const auto& subs = setup_.subdomains();
+  for (std::size_t s = 0; s < locals_.size(); ++s) {
+    const Local& local = locals_[s];
+    for (std::size_t k = 0; k < local.rows.size(); ++k) local.lambda_local(k) = lambda(local.rows[k]);
+    local.y = f.segment(subs[s].dof_begin, subs[s].n_dofs);
+    if (!local.rows.empty()) local.y.noalias() -= local.B.transpose() * local.lambda_local;
+    subs[s].apply_K_plus(local.y, local.x);
+    u.segment(subs[s].dof_begin, subs[s].n_dofs) = local.x;
+  }
+  return u;
+}
+
+}  // namespace dualcell::feti

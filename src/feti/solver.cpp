@@ -1,0 +1,358 @@
+#include "feti/solver.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <map>
+
+#include <Eigen/SVD>
+
+#include "feti/macro.hpp"
+#include "qp/operator.hpp"
+#include "qp/smalbe.hpp"
+
+namespace dualcell::feti {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+bool is_structural(RowKind kind) {
+  return kind == RowKind::glue || kind == RowKind::dirichlet || kind == RowKind::periodic;
+}
+
+// A multiplier strictly inside its bounds: the constraint holds as an equality (active).
+bool is_active(const Constraints& con, const Eigen::VectorXd& lambda_scaled, int r) {
+  return lambda_scaled(r) > con.lower(r) && lambda_scaled(r) < con.upper(r);
+}
+
+// Relative distance within which a bonded multiplier counts as "at its strength": far below
+// any load step a sweep resolves (1e-3), far above the QP's round-off at the bound (MPRGP puts
+// components exactly on the bound).
+constexpr double at_strength_tolerance = 1e-7;
+
+}  // namespace
+
+ContactSolver::ContactSolver(const mesh::Mesh& mesh, const Scene& scene) : setup_(mesh, scene) {}
+
+const DualProblem& ContactSolver::problem(const BondState& bonds) {
+  if (!problem_ || bonds != problem_bonds_) {
+    problem_ = std::make_unique<DualProblem>(setup_, build_constraints(setup_.mesh(), setup_.scene(), bonds));
+    problem_bonds_ = bonds;
+    norm_PFP_ = 0;
+  }
+  return *problem_;
+}
+
+Solution ContactSolver::solve_fixed(const Eigen::Vector3d& sigma, const BondState& bonds,
+                                    const Eigen::VectorXd* warm_lambda) {
+  const auto t0 = Clock::now();
+  const bool rebuilt = !problem_ || bonds != problem_bonds_;
+  const DualProblem& dual = problem(bonds);
+  const double dual_setup = rebuilt ? seconds_since(t0) : 0.0;
+  Solution out = solve_problem(dual, norm_PFP_, sigma, warm_lambda);
+  out.bonds = bonds;
+  out.seconds.dual_setup = dual_setup;
+  return out;
+}
+
+Solution ContactSolver::solve_problem(const DualProblem& dual, double& norm_PFP, const Eigen::Vector3d& sigma,
+                                      const Eigen::VectorXd* warm_lambda) {
+  Solution out;
+  out.sigma = sigma;
+  out.seconds.assembly = setup_.seconds_assembly;
+  out.seconds.factorisation = setup_.seconds_factorisation;
+  const Constraints& con = dual.constraints();
+  const int m = con.n_rows();
+  out.n_rows = m;
+
+  const auto t_qp = Clock::now();
+  const Eigen::VectorXd f = setup_.load(sigma);
+  const Eigen::VectorXd e = dual.e(f);
+  const Eigen::VectorXd lambda0 = dual.lambda_0(e);
+  Eigen::VectorXd b(m), tmp(m), tmp2(m);
+  dual.apply_F(lambda0, tmp);
+  b = dual.d(f) - tmp;
+  dual.apply_Q(b, tmp);
+  b -= tmp;  // b = P(d − Fλ₀)
+
+  // A = PFP with work vectors allocated once per solve, not per application.
+  Eigen::VectorXd Px(m), FPx(m), QFPx(m);
+  const qp::LinearOperator A = [&](const Eigen::VectorXd& x, Eigen::VectorXd& y) {
+    dual.apply_Q(x, Px);
+    Px = x - Px;
+    dual.apply_F(Px, FPx);
+    dual.apply_Q(FPx, QFPx);
+    y = FPx - QFPx;
+  };
+  const qp::LinearOperator Q = [&](const Eigen::VectorXd& x, Eigen::VectorXd& y) { dual.apply_Q(x, y); };
+  long extra_applications = 1;  // Fλ₀
+  if (norm_PFP == 0) {
+    norm_PFP = qp::estimate_norm(A, m);
+    extra_applications += 20;
+  }
+
+  const Eigen::VectorXd lower = con.lower - lambda0, upper = con.upper - lambda0;
+  Eigen::VectorXd mu = Eigen::VectorXd::Zero(m);
+  if (warm_lambda && warm_lambda->size() == m) mu = warm_lambda->cwiseQuotient(con.weight) - lambda0;
+
+  const SolverSettings& settings = setup_.scene().solver;
+  qp::SmalbeOptions options;
+  options.relative_tolerance = settings.tolerance;
+  options.equality_tolerance = settings.tolerance;
+  options.max_outer_iterations = settings.max_outer_iterations;
+  options.max_operator_applications = settings.max_operator_applications;
+  options.rho0_factor = settings.rho_factor;
+  options.inner.Gamma = settings.Gamma;
+  options.inner.norm_A = norm_PFP;
+  options.inner.max_iterations = settings.max_operator_applications;
+  Eigen::VectorXd multiplier = Eigen::VectorXd::Zero(m);  // SMALBE's m = Ĝᵀμ, in λ-space
+  out.qp = qp::smalbe(A, Q, b, lower, upper, mu, multiplier, options);
+  out.seconds.qp = seconds_since(t_qp);
+  out.operator_applications = out.qp.counters.operator_applications + extra_applications;
+  out.outer_iterations = out.qp.counters.outer_iterations;
+  out.cg_steps = out.qp.counters.cg_steps;
+  out.expansion_steps = out.qp.counters.expansion_steps;
+  out.proportioning_steps = out.qp.counters.proportioning_steps;
+
+  const Eigen::VectorXd lambda_scaled = lambda0 + mu;
+  out.lambda = lambda_scaled.cwiseProduct(con.weight);
+  const auto t_rec = Clock::now();
+  recover(dual, f, lambda_scaled, multiplier, out);
+  out.seconds.recovery = seconds_since(t_rec);
+  report(dual, f, lambda_scaled, out);
+  return out;
+}
+
+// u = K⁺(f − Bᵀλ) + Rα (METHOD §5). The KKT amplitudes come from the equality multiplier of
+// SMALBE: with g = Fλ − d and m its multiplier, B u − c = −(P g + m) vanishes on active rows
+// and is ≤ 0 on open ones when α = (GGᵀ)⁻¹G(g − m). They are unique where the active
+// constraints determine the motion. Where they do not (a fibre touching at one point or at
+// none, or spinning freely without adhesion), the undetermined part of the fibre's motion
+// follows the surrounding matrix (the rigid motion that best fits the matrix at the rim),
+// moved there along a straight line only as far as the open gaps allow, so that no gap closes
+// into a penetration.
+void ContactSolver::recover(const DualProblem& dual, const Eigen::VectorXd& f, const Eigen::VectorXd& lambda_scaled,
+                            const Eigen::VectorXd& multiplier, Solution& out) const {
+  const Constraints& con = dual.constraints();
+  const auto& subs = setup_.subdomains();
+  const auto& locals = dual.locals();
+  const int S = static_cast<int>(subs.size());
+  Eigen::VectorXd u = dual.K_plus_residual(f, lambda_scaled);
+  Eigen::VectorXd g(con.n_rows());
+  dual.apply_F(lambda_scaled, g);
+  g -= dual.d(f) + multiplier;
+  const Eigen::VectorXd beta = dual.coarse_solve(g);
+  out.alpha = Eigen::VectorXd::Zero(3 * S);
+  for (int s = 0; s < S; ++s) {
+    const auto& local = locals[s];
+    const Eigen::Vector3d alpha = local.V * beta.segment(local.G_offset, local.V.cols());
+    out.alpha.segment<3>(3 * s) = alpha;
+    u.segment(subs[s].dof_begin, subs[s].n_dofs) += subs[s].R * alpha;
+  }
+
+  const mesh::Mesh& mesh = setup_.mesh();
+  std::vector<int> fibre_of_cell(mesh.n_cells(), -1);
+  for (int s = 0; s < static_cast<int>(mesh.subdomains.size()); ++s)
+    if (mesh.subdomains[s].is_fibre) fibre_of_cell[mesh.subdomains[s].cell] = s;
+  std::vector<std::vector<int>> pairs_of_fibre(S);
+  for (int p = 0; p < static_cast<int>(mesh.interface_pairs.size()); ++p)
+    pairs_of_fibre[fibre_of_cell[mesh.interface_cell[p]]].push_back(p);
+  const Eigen::VectorXd Bu = con.B * u;
+  for (int s = 0; s < S; ++s) {
+    if (!subs[s].is_fibre) continue;
+    const Subdomain& sub = subs[s];
+    const auto& local = locals[s];
+    // Target: the rigid motion that best fits u_matrix − u_fibre at the rim.
+    Eigen::MatrixXd fit(2 * pairs_of_fibre[s].size(), 3);
+    Eigen::VectorXd mismatch(2 * pairs_of_fibre[s].size());
+    for (std::size_t i = 0; i < pairs_of_fibre[s].size(); ++i) {
+      const auto [fn, mn] = mesh.interface_pairs[pairs_of_fibre[s][i]];
+      fit.middleRows<2>(2 * i) = sub.R.middleRows<2>(2 * fn - sub.dof_begin);
+      mismatch.segment<2>(2 * i) = u.segment<2>(2 * mn) - u.segment<2>(2 * fn);
+    }
+    const Eigen::Vector3d shift_target = (fit.transpose() * fit).ldlt().solve(fit.transpose() * mismatch);
+    // Directions the active rows do not see: right singular vectors of B_A R with singular
+    // values below 1e-8 of what all rows of this fibre could give (rank-revealing).
+    const Eigen::MatrixXd BR = local.B * sub.R;
+    std::vector<int> active, open;
+    for (std::size_t k = 0; k < local.rows.size(); ++k)
+      (is_active(con, lambda_scaled, local.rows[k]) ? active : open).push_back(static_cast<int>(k));
+    const double reference = Eigen::JacobiSVD<Eigen::MatrixXd>(BR).singularValues()(0);
+    Eigen::Matrix3d N = Eigen::Matrix3d::Identity();  // projector onto the undetermined directions
+    if (!active.empty()) {
+      Eigen::MatrixXd Ma(active.size(), 3);
+      for (std::size_t i = 0; i < active.size(); ++i) Ma.row(i) = BR.row(active[i]);
+      Eigen::JacobiSVD<Eigen::MatrixXd> svd(Ma, Eigen::ComputeFullV);
+      for (int j = 0; j < svd.singularValues().size(); ++j)
+        if (svd.singularValues()(j) > 1e-8 * reference) N -= svd.matrixV().col(j) * svd.matrixV().col(j).transpose();
+    }
+    const Eigen::Vector3d step = N * shift_target;
+    if (step.norm() == 0) continue;
+    // Largest t in [0, 1] keeping every open row open: gap_r + t (B R step)_r ≤ 0.
+    double t = 1;
+    for (int k : open) {
+      const int row = local.rows[k];
+      const double gap = Bu(row) - con.c(row);
+      const double rate = BR.row(k).dot(step);
+      if (rate > 0) t = std::min(t, std::max(0.0, -gap / rate));
+    }
+    out.alpha.segment<3>(3 * s) += t * step;
+    u.segment(sub.dof_begin, sub.n_dofs) += sub.R * (t * step);
+  }
+  out.u = std::move(u);
+}
+
+void ContactSolver::report(const DualProblem& dual, const Eigen::VectorXd& f, const Eigen::VectorXd& lambda_scaled,
+                           Solution& out) const {
+  const Constraints& con = dual.constraints();
+  const mesh::Mesh& mesh = setup_.mesh();
+  const Scene& scene = setup_.scene();
+  KktReport& kkt = out.kkt;
+  kkt.relative_projected_gradient = out.qp.relative_projected_gradient;
+
+  // Gλ = e, relative to the size of the terms that cancel.
+  const Eigen::VectorXd e = dual.e(f);
+  const Eigen::VectorXd Glambda = dual.G() * lambda_scaled;
+  const double scale = std::max(e.norm(), (dual.G().cwiseAbs() * lambda_scaled.cwiseAbs()).norm());
+  kkt.relative_equality_residual = scale > 0 ? (Glambda - e).norm() / scale : 0.0;
+
+  const Eigen::VectorXd Bu = con.B * out.u;
+  out.normal_force.assign(mesh.interface_pairs.size(), 0.0);
+  out.tangential_force.assign(mesh.interface_pairs.size(), 0.0);
+  for (int r = 0; r < con.n_rows(); ++r) {
+    const double w = con.weight(r);
+    const double gap = (Bu(r) - con.c(r)) / w;  // length units: rows of B have unit coefficients
+    const double lambda = out.lambda(r), lower = con.lower(r) * w, upper = con.upper(r) * w;
+    kkt.bound_violation = std::max({kkt.bound_violation, lower - lambda, lambda - upper});
+    switch (con.kind[r]) {
+      case RowKind::normal:
+        kkt.max_penetration = std::max(kkt.max_penetration, gap);
+        kkt.complementarity = std::max(kkt.complementarity, std::abs((lambda - lower) * gap));
+        out.normal_force[con.pair[r]] = lambda;
+        break;
+      case RowKind::tangential:
+        kkt.complementarity = std::max(kkt.complementarity, std::min(lambda - lower, upper - lambda) * std::abs(gap));
+        out.tangential_force[con.pair[r]] = lambda;
+        break;
+      default:
+        kkt.max_glue_jump = std::max(kkt.max_glue_jump, std::abs(gap));
+    }
+  }
+
+  // Equilibrium of every subdomain: K_i u_i − f_i + B_iᵀλ = 0 (the macro subdomain: K = 0).
+  const auto& subs = setup_.subdomains();
+  const double f_scale = std::max(f.lpNorm<Eigen::Infinity>(), std::numeric_limits<double>::min());
+  double worst = 0;
+  for (std::size_t s = 0; s < subs.size(); ++s) {
+    const auto& local = dual.locals()[s];
+    Eigen::VectorXd residual = -f.segment(subs[s].dof_begin, subs[s].n_dofs);
+    if (!subs[s].is_macro) residual += subs[s].K * out.u.segment(subs[s].dof_begin, subs[s].n_dofs);
+    Eigen::VectorXd lambda_local(local.rows.size());
+    for (std::size_t k = 0; k < local.rows.size(); ++k) lambda_local(k) = lambda_scaled(local.rows[k]);
+    if (!local.rows.empty()) residual += local.B.transpose() * lambda_local;
+    worst = std::max(worst, residual.lpNorm<Eigen::Infinity>());
+  }
+  kkt.relative_equilibrium = worst / f_scale;
+
+  out.strain = boundary_strain(mesh, out.u);
+  out.average_stress = average_stress(mesh, scene.fibre, scene.matrix, out.u);
+}
+
+Solution ContactSolver::solve(const Eigen::Vector3d& sigma, const BondState& bonds, const Eigen::VectorXd* warm_lambda) {
+  BondState current = bonds;
+  Solution total;
+  long applications = 0, outer = 0, cg = 0, expansion = 0, proportioning = 0;
+  Timings seconds;
+  int newly_broken = 0;
+  Eigen::VectorXd warm;
+  if (warm_lambda) warm = *warm_lambda;
+  const int max_rounds = setup_.scene().solver.max_debond_rounds;
+  const bool adhesion = setup_.scene().interface.has_adhesion();
+  for (int round = 1;; ++round) {
+    Solution s = solve_fixed(sigma, current, warm.size() ? &warm : nullptr);
+    applications += s.operator_applications;
+    outer += s.outer_iterations;
+    cg += s.cg_steps;
+    expansion += s.expansion_steps;
+    proportioning += s.proportioning_steps;
+    seconds.dual_setup += s.seconds.dual_setup;
+    seconds.qp += s.seconds.qp;
+    seconds.recovery += s.seconds.recovery;
+    // Bonds at their strength break, normal and tangential together (METHOD §6). No loop at
+    // all without adhesion.
+    std::vector<int> breaking;
+    if (adhesion && s.converged()) {
+      const Constraints& con = problem_->constraints();
+      for (int r = 0; r < con.n_rows(); ++r) {
+        if (con.kind[r] != RowKind::normal && con.kind[r] != RowKind::tangential) continue;
+        if (!current[con.pair[r]]) continue;
+        const double lambda = s.lambda(r) / con.weight(r);
+        const double lo = con.lower(r), hi = con.upper(r);
+        const bool at_lower = std::isfinite(lo) && lo < 0 && lambda <= lo + at_strength_tolerance * std::abs(lo);
+        const bool at_upper = std::isfinite(hi) && hi > 0 && lambda >= hi - at_strength_tolerance * std::abs(hi);
+        if (at_lower || at_upper) breaking.push_back(con.pair[r]);
+      }
+    }
+    if (breaking.empty() || round >= max_rounds) {
+      total = std::move(s);
+      total.debond_rounds = round;
+      if (!breaking.empty()) {
+        total.qp.message = "debonding did not settle within max_debond_rounds = " + std::to_string(max_rounds);
+        total.qp.status = qp::Status::max_iterations;
+      }
+      break;
+    }
+    // Carry the multipliers of the rows that stay over to the next problem as a warm start.
+    const Constraints& old = problem_->constraints();
+    for (int p : breaking) {
+      newly_broken += current[p] ? 1 : 0;
+      current[p] = 0;
+    }
+    const Constraints next = build_constraints(setup_.mesh(), setup_.scene(), current);
+    warm.resize(next.n_rows());
+    // Structural rows keep their order; interface rows are found by (kind, pair).
+    std::map<std::pair<int, int>, double> by_key;
+    for (int r = 0; r < old.n_rows(); ++r) by_key[{static_cast<int>(old.kind[r]), is_structural(old.kind[r]) ? r : old.pair[r]}] = s.lambda(r);
+    for (int r = 0; r < next.n_rows(); ++r) {
+      const auto it = by_key.find({static_cast<int>(next.kind[r]), is_structural(next.kind[r]) ? r : next.pair[r]});
+      warm(r) = it == by_key.end() ? 0.0 : std::clamp(it->second, next.lower(r) * next.weight(r), next.upper(r) * next.weight(r));
+    }
+  }
+  total.newly_broken = newly_broken;
+  total.operator_applications = applications;
+  total.outer_iterations = outer;
+  total.cg_steps = cg;
+  total.expansion_steps = expansion;
+  total.proportioning_steps = proportioning;
+  total.seconds.dual_setup = seconds.dual_setup;
+  total.seconds.qp = seconds.qp;
+  total.seconds.recovery = seconds.recovery;
+  return total;
+}
+
+double ContactSolver::debond_onset(const Eigen::Vector3d& sigma) {
+  if (!setup_.scene().interface.has_adhesion()) return std::numeric_limits<double>::infinity();
+  Constraints con = build_constraints(setup_.mesh(), setup_.scene(), intact());
+  const Eigen::VectorXd lower = con.lower, upper = con.upper;
+  for (int r = 0; r < con.n_rows(); ++r)
+    if (con.kind[r] == RowKind::normal || con.kind[r] == RowKind::tangential) {
+      con.lower(r) = -std::numeric_limits<double>::infinity();
+      con.upper(r) = std::numeric_limits<double>::infinity();
+    }
+  const DualProblem linear(setup_, std::move(con));
+  double norm = 0;
+  const Solution s = solve_problem(linear, norm, sigma, nullptr);
+  double onset = std::numeric_limits<double>::infinity();
+  const Constraints& c = linear.constraints();
+  for (int r = 0; r < c.n_rows(); ++r) {
+    if (c.kind[r] != RowKind::normal && c.kind[r] != RowKind::tangential) continue;
+    const double lambda = s.lambda(r) / c.weight(r);
+    if (lambda < 0 && std::isfinite(lower(r)) && lower(r) < 0) onset = std::min(onset, lower(r) / lambda);
+    if (lambda > 0 && std::isfinite(upper(r)) && upper(r) > 0) onset = std::min(onset, upper(r) / lambda);
+  }
+  return onset;
+}
+
+}  // namespace dualcell::feti

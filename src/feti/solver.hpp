@@ -1,0 +1,98 @@
+#pragma once
+// The contact/adhesion solver: one macroscopic stress σ̄ in, displacements, interface forces,
+// macro strain and a KKT report out (METHOD §5–8). Setup (assembly, K⁺ factorisations) is done
+// once in the constructor and reused for every load case and bond state; the dual problem
+// (B, G, GGᵀ) is rebuilt only when the bond state changes.
+//
+//   symbol | variable               | meaning
+//   -------+------------------------+--------------------------------------------------
+//   σ̄      | sigma                  | applied macro stress (σxx, σyy, σxy)
+//   λ      | Solution::lambda       | interface/gluing forces per row of B (physical units)
+//   α      | Solution::alpha        | rigid-body amplitudes per subdomain (u = K⁺(f−Bᵀλ) + Rα)
+//   ε̄      | Solution::strain       | (1/|Ω|) ∮ sym(u ⊗ n) ds over the outer boundary
+//   s*     | debond_onset()         | load factor at which the first bond reaches its strength
+#include <memory>
+#include <optional>
+
+#include <Eigen/Core>
+
+#include "feti/constraints.hpp"
+#include "feti/dual.hpp"
+#include "feti/setup.hpp"
+#include "qp/result.hpp"
+
+namespace dualcell::feti {
+
+// KKT residuals of a solve, in physical units where stated (all should be ~0).
+struct KktReport {
+  double relative_projected_gradient = 0;  // SMALBE: ‖gᴾ‖/‖b‖ of the dual QP
+  double relative_equality_residual = 0;   // ‖Gλ − e‖ / max(‖e‖, ‖G‖‖λ‖)
+  double bound_violation = 0;              // max (ℓ−λ, λ−υ, 0), force units
+  double complementarity = 0;              // max |(λ−ℓ)·gap| over inequality rows, force × length
+  double max_penetration = 0;              // max (n·(u_f − u_m), 0), length units
+  double max_glue_jump = 0;                // max |B u − c| over glue, Dirichlet, periodic rows, length
+  double relative_equilibrium = 0;         // max_i ‖K_i u_i − f_i + B_iᵀλ‖∞ / ‖f‖∞
+};
+
+struct Timings {
+  double assembly = 0, factorisation = 0;  // once per solver (setup)
+  double dual_setup = 0;                   // B, G, GGᵀ for the bond states used
+  double qp = 0, recovery = 0;
+};
+
+struct Solution {
+  Eigen::Vector3d sigma = Eigen::Vector3d::Zero();           // applied (σxx, σyy, σxy)
+  Eigen::Vector3d strain = Eigen::Vector3d::Zero();          // (εxx, εyy, εxy), tensor shear
+  Eigen::Vector3d average_stress = Eigen::Vector3d::Zero();  // volume average of element stresses
+  Eigen::VectorXd u;              // global DOFs (+3 macro DOFs εxx, εyy, γxy when periodic)
+  Eigen::VectorXd lambda;         // per row of B, physical (force) units
+  Eigen::VectorXd alpha;          // 3 per subdomain
+  std::vector<double> normal_force, tangential_force;  // per interface pair (0 where no row)
+  BondState bonds;                // after this solve (and its breaks)
+  int newly_broken = 0;           // bonds broken by this solve's debonding loop
+  int debond_rounds = 0;          // QP solves in the debonding loop
+  int n_rows = 0;                 // dim λ of the last QP
+  qp::Result qp;                  // of the last QP
+  long operator_applications = 0; // F applications, all QPs of this solve
+  long outer_iterations = 0, cg_steps = 0, expansion_steps = 0, proportioning_steps = 0;
+  KktReport kkt;
+  Timings seconds;
+  bool converged() const { return qp.status == qp::Status::converged; }
+};
+
+class ContactSolver {
+ public:
+  ContactSolver(const mesh::Mesh& mesh, const Scene& scene);
+
+  // One QP for a fixed bond state: no bond breaks even where a multiplier sits at its strength.
+  // `warm_lambda` (physical, same bond state) starts the iteration.
+  Solution solve_fixed(const Eigen::Vector3d& sigma, const BondState& bonds,
+                       const Eigen::VectorXd* warm_lambda = nullptr);
+  // Solve, break every bond at its strength (normal and tangential together), re-solve until
+  // no new break (METHOD §6). `bonds` is the state before the load; the result carries the new one.
+  Solution solve(const Eigen::Vector3d& sigma, const BondState& bonds, const Eigen::VectorXd* warm_lambda = nullptr);
+
+  // s* = min over bonded rows of bound/λ(σ̄): the load factor t at which the first bond of the
+  // intact interface reaches its strength under t·σ̄ (METHOD §8), from one solve of the bonded
+  // problem (interface bounds lifted, so the response is linear). +inf without adhesion.
+  double debond_onset(const Eigen::Vector3d& sigma);
+
+  const FetiSetup& setup() const { return setup_; }
+  const DualProblem& problem(const BondState& bonds);
+  BondState intact() const { return intact_bonds(setup_.mesh(), setup_.scene().interface); }
+
+ private:
+  Solution solve_problem(const DualProblem& problem, double& norm_PFP, const Eigen::Vector3d& sigma,
+                         const Eigen::VectorXd* warm_lambda);
+  void recover(const DualProblem& problem, const Eigen::VectorXd& f, const Eigen::VectorXd& lambda_scaled,
+               const Eigen::VectorXd& multiplier, Solution& out) const;
+  void report(const DualProblem& problem, const Eigen::VectorXd& f, const Eigen::VectorXd& lambda_scaled,
+              Solution& out) const;
+
+  FetiSetup setup_;
+  std::unique_ptr<DualProblem> problem_;
+  BondState problem_bonds_;
+  double norm_PFP_ = 0;  // ‖PFP‖ of problem_, estimated once per problem
+};
+
+}  // namespace dualcell::feti

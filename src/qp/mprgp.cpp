@@ -1,0 +1,304 @@
+// MPRGP — Modified Proportioning with Reduced Gradient Projections.
+//
+// Solves   min f(x) = ½ xᵀA x - bᵀx   s.t.   l ≤ x ≤ u,   A symmetric positive semidefinite.
+//
+// Z. Dostál, J. Schöberl: Minimizing quadratic functions subject to bound constraints with the
+// rate of convergence and finite termination, Comput. Optim. Appl. 30 (2005) 23–43 (MPRGP);
+// lower and upper bounds and the reduced free gradient φ̃ as in Z. Dostál, Optimal Quadratic
+// Programming Algorithms, Springer 2009, ch. 5. Definitions of φ, β, φ̃, gᴾ: qp/bounds.hpp.
+//
+// Every step is one of
+//   x proportional, ‖β‖² ≤ Γ² φ̃ᵀφ (φ̃, not φ, on the right: the paper's test for ᾱ-steps):
+//     CG step          x ← x - α_cg p, α_cg = gᵀp / pᵀAp, if feasible (α_cg ≤ α_f);
+//                      p ← φ - γ p, γ = φᵀAp / pᵀAp
+//     expansion step   x½ ← x - α_f p (half step to the boundary),
+//                      x ← P_Ω(x½ - ᾱ φ(x½)), g ← A x - b, p ← φ
+//   otherwise:
+//     proportioning    x ← x - α β, α = min(α_cg, α_f), α_cg = ‖β‖² / βᵀAβ, p ← φ
+// The proportioning step is capped by the feasible step α_f along -β: with a box, releasing a
+// component from one bound can carry it past the other, and the paper's lower-bound-only α_cg
+// would leave Ω. f is convex along -β with minimiser α_cg, so any α ≤ α_cg still decreases f.
+// All moves go through step_within_box, so every iterate is feasible up to the last bit.
+//
+// Symbol → variable
+//   A, b, l, u, x       A, b, l, u, x
+//   g = A x - b         work.g
+//   φ, β                work.phi, work.beta
+//   φ̃ᵀφ, ‖gᴾ‖           split.phi_tilde_dot_phi, gP_norm
+//   p, A p              work.p, work.Ap
+//   α_cg, α_f, ᾱ        alpha_cg, alpha_f (FeasibleStep), alpha_bar
+//   γ, Γ                gamma, opts.Gamma
+//   ‖A‖, ε              norm_A, tolerance
+#include "qp/mprgp.hpp"
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "qp/bounds.hpp"
+
+namespace dualcell::qp {
+
+namespace {
+
+constexpr double infinity = std::numeric_limits<double>::infinity();
+constexpr double epsilon = std::numeric_limits<double>::epsilon();
+constexpr int power_iterations = 20;
+
+// Stagnation test: a step makes progress when f drops by more than the round-off in computing
+// it, or ‖gᴾ‖ reaches a new minimum. f = ½ xᵀ(g - b) reuses the gradient, so it costs two dots.
+class ProgressMonitor {
+ public:
+  // Returns the number of consecutive steps without progress.
+  long update(const Eigen::VectorXd& x, const Eigen::VectorXd& g, const Eigen::VectorXd& b, double gP_norm) {
+    const double xg = x.dot(g);
+    const double xb = x.dot(b);
+    const double f = 0.5 * (xg - xb);
+    const double noise = 16.0 * epsilon * (std::abs(xg) + std::abs(xb));
+    if (f < best_f_ - noise || gP_norm < best_gP_) {
+      steps_without_progress_ = 0;
+    } else {
+      ++steps_without_progress_;
+    }
+    best_f_ = std::min(best_f_, f);
+    best_gP_ = std::min(best_gP_, gP_norm);
+    return steps_without_progress_;
+  }
+
+ private:
+  double best_f_ = infinity;
+  double best_gP_ = infinity;
+  long steps_without_progress_ = 0;
+};
+
+}  // namespace
+
+std::string check_options(const MprgpOptions& opts) {
+  if (!(opts.relative_tolerance >= 0.0) || !(opts.absolute_tolerance >= 0.0)) {
+    return "tolerances must be non-negative";
+  }
+  if (opts.max_iterations < 0 || opts.stagnation_window < 0) {
+    return "max_iterations and stagnation_window must be non-negative";
+  }
+  if (!(opts.Gamma > 0.0) || !std::isfinite(opts.Gamma)) {
+    return "Gamma must be positive and finite";
+  }
+  if (!(opts.alpha_bar_factor > 0.0 && opts.alpha_bar_factor <= 2.0)) {
+    return "alpha_bar_factor must lie in (0, 2]";
+  }
+  if (!(opts.norm_A >= 0.0) || !std::isfinite(opts.norm_A)) {
+    return "norm_A must be finite and non-negative (0 = estimate)";
+  }
+  return {};
+}
+
+Result mprgp(const LinearOperator& A, const Eigen::VectorXd& b, const Eigen::VectorXd& l, const Eigen::VectorXd& u,
+             Eigen::VectorXd& x, const MprgpOptions& opts) {
+  MprgpWorkspace work;
+  return mprgp(A, b, l, u, x, opts, StoppingTest{}, work);
+}
+
+Result mprgp(const LinearOperator& A, const Eigen::VectorXd& b, const Eigen::VectorXd& l, const Eigen::VectorXd& u,
+             Eigen::VectorXd& x, const MprgpOptions& opts, const StoppingTest& stop, MprgpWorkspace& work) {
+  Result result;
+  std::string problem = check_bound_problem(b, l, u, x);
+  if (problem.empty()) {
+    problem = check_options(opts);
+  }
+  if (!problem.empty()) {
+    result.status = Status::invalid_input;
+    result.message = "mprgp: " + problem;
+    clear_residuals(result);
+    return result;
+  }
+
+  const Eigen::Index n = b.size();
+  const auto observe = [&](const Eigen::VectorXd& iterate) {
+    if (opts.on_iterate) {
+      opts.on_iterate(iterate);
+    }
+  };
+  const auto fail_non_finite = [&](const char* where) {
+    result.status = Status::non_finite;
+    result.message = std::string("mprgp: the operator produced NaN/Inf in ") + where;
+    clear_residuals(result);
+    return result;
+  };
+
+  if (x.size() == 0) {
+    x = Eigen::VectorXd::Zero(n);
+  }
+  project_onto_box(l, u, x);
+  observe(x);
+  work.g.resize(n);
+  work.p.resize(n);
+  work.Ap.resize(n);
+  work.phi.resize(n);
+  work.beta.resize(n);
+
+  Counters& counters = result.counters;
+  double norm_A = opts.norm_A;
+  if (norm_A == 0.0) {
+    norm_A = estimate_norm(A, n, power_iterations);
+    counters.operator_applications += power_iterations;
+    if (!std::isfinite(norm_A)) {
+      return fail_non_finite("the norm estimate");
+    }
+  }
+  // A = 0 leaves ᾱ free (2/‖A‖ = ∞); take ‖A‖ = 1 for it.
+  const double alpha_bar = opts.alpha_bar_factor / (norm_A > 0.0 ? norm_A : 1.0);
+  const double b_norm = b.norm();
+  const double scale = b_norm > 0.0 ? b_norm : 1.0;
+  const double tolerance = std::max(opts.absolute_tolerance, opts.relative_tolerance * scale);
+  // Curvature dᵀA d at the round-off level of ‖A‖ ‖d‖² is treated as zero.
+  const auto negligible_curvature = [&](double dAd, double d_norm2) {
+    return dAd <= 64.0 * epsilon * norm_A * d_norm2;
+  };
+
+  // g ← A x - b through work.Ap, so a failed application leaves g as it was.
+  const auto recompute_gradient = [&]() {
+    A(x, work.Ap);
+    ++counters.operator_applications;
+    if (!work.Ap.allFinite()) {
+      return false;
+    }
+    work.g = work.Ap - b;
+    return true;
+  };
+
+  if (!recompute_gradient()) {
+    return fail_non_finite("A x at the initial guess");
+  }
+  bool gradient_is_fresh = true;
+  GradientSplit split = split_gradient(x, work.g, l, u, alpha_bar, work.phi, work.beta);
+  double gP_norm = split.projected_norm();
+  work.p = work.phi;
+
+  ProgressMonitor progress;
+  long steps_without_progress = 0;
+  long steps = 0;
+  // Why the loop ended, when not converged; formatted after the loop.
+  const char* reason = "";
+  while (true) {
+    // gᴾ = 0 is an exact KKT point: no test can ask for more.
+    const bool done = gP_norm == 0.0 || (stop ? stop(x, work.g, gP_norm) : gP_norm <= tolerance);
+    const bool out_of_budget = steps >= opts.max_iterations;
+    const bool stalled = opts.stagnation_window > 0 && steps_without_progress >= opts.stagnation_window;
+    if ((done || out_of_budget || stalled) && !gradient_is_fresh) {
+      // Decide on the true gradient, not the recursively updated one.
+      if (!recompute_gradient()) {
+        return fail_non_finite("A x");
+      }
+      gradient_is_fresh = true;
+      split = split_gradient(x, work.g, l, u, alpha_bar, work.phi, work.beta);
+      gP_norm = split.projected_norm();
+      work.p = work.phi;
+      continue;
+    }
+    if (done) {
+      result.status = Status::converged;
+      break;
+    }
+    if (out_of_budget) {
+      result.status = Status::max_iterations;
+      reason = "max_iterations reached";
+      break;
+    }
+    if (stalled) {
+      result.status = Status::stagnated;
+      reason =
+          "no progress in stagnation_window steps; the tolerance is below the "
+          "attainable accuracy";
+      break;
+    }
+    ++steps;
+
+    if (split.beta_norm2 <= opts.Gamma * opts.Gamma * split.phi_tilde_dot_phi) {
+      // Proportional: φ ≠ 0 here (φ = 0 would force β = 0, i.e. gᴾ = 0).
+      double g_dot_p = work.g.dot(work.p);
+      if (!(g_dot_p > 0.0)) {
+        // Round-off made p a non-descent direction: restart CG.
+        work.p = work.phi;
+        g_dot_p = split.phi_norm2;
+      }
+      A(work.p, work.Ap);
+      ++counters.operator_applications;
+      const double pAp = work.p.dot(work.Ap);
+      if (!std::isfinite(pAp)) {
+        return fail_non_finite("A p");
+      }
+      const FeasibleStep alpha_f = max_feasible_step(x, work.p, l, u);
+      const double alpha_cg = negligible_curvature(pAp, work.p.squaredNorm()) ? infinity : g_dot_p / pAp;
+
+      if (alpha_cg <= alpha_f.alpha) {
+        step_within_box(alpha_cg, work.p, alpha_f, l, u, x);
+        work.g -= alpha_cg * work.Ap;
+        gradient_is_fresh = false;
+        split = split_gradient(x, work.g, l, u, alpha_bar, work.phi, work.beta);
+        const double gamma = work.phi.dot(work.Ap) / pAp;
+        work.p = work.phi - gamma * work.p;
+        ++counters.cg_steps;
+      } else if (alpha_f.alpha == infinity) {
+        result.status = Status::unbounded;
+        reason =
+            "f decreases without bound along a direction of zero curvature that no "
+            "bound blocks";
+        break;
+      } else {
+        step_within_box(alpha_f.alpha, work.p, alpha_f, l, u, x);
+        work.g -= alpha_f.alpha * work.Ap;
+        observe(x);
+        split_gradient(x, work.g, l, u, alpha_bar, work.phi, work.beta);
+        x -= alpha_bar * work.phi;
+        project_onto_box(l, u, x);
+        if (!recompute_gradient()) {
+          return fail_non_finite("A x after an expansion step");
+        }
+        gradient_is_fresh = true;
+        split = split_gradient(x, work.g, l, u, alpha_bar, work.phi, work.beta);
+        work.p = work.phi;
+        ++counters.expansion_steps;
+      }
+    } else {
+      // Proportioning along the chopped gradient β releases active components.
+      A(work.beta, work.Ap);
+      ++counters.operator_applications;
+      const double dAd = work.beta.dot(work.Ap);
+      if (!std::isfinite(dAd)) {
+        return fail_non_finite("A β");
+      }
+      const FeasibleStep alpha_f = max_feasible_step(x, work.beta, l, u);
+      const double alpha_cg = negligible_curvature(dAd, split.beta_norm2) ? infinity : split.beta_norm2 / dAd;
+      const double alpha = std::min(alpha_cg, alpha_f.alpha);
+      if (alpha == infinity) {
+        result.status = Status::unbounded;
+        reason = "f decreases without bound along a released component";
+        break;
+      }
+      step_within_box(alpha, work.beta, alpha_f, l, u, x);
+      work.g -= alpha * work.Ap;
+      gradient_is_fresh = false;
+      split = split_gradient(x, work.g, l, u, alpha_bar, work.phi, work.beta);
+      work.p = work.phi;
+      ++counters.proportioning_steps;
+    }
+    observe(x);
+    gP_norm = split.projected_norm();
+    steps_without_progress = progress.update(x, work.g, b, gP_norm);
+  }
+
+  if (!gradient_is_fresh && !recompute_gradient()) {
+    return fail_non_finite("A x at the returned point");
+  }
+  fill_bound_residuals(x, work.g, l, u, scale, result);
+  result.equality_residual = 0.0;
+  if (result.status != Status::converged) {
+    std::ostringstream message;
+    message << "mprgp: " << reason << " after " << steps << " steps; ||gP|| = " << result.projected_gradient_norm
+            << ", tolerance = " << tolerance;
+    result.message = message.str();
+  }
+  return result;
+}
+
+}  // namespace dualcell::qp

@@ -1,0 +1,55 @@
+// SMALBE-M: min ½ xᵀA x - bᵀx  s.t.  Q x = 0, l ≤ x ≤ u, with Q the orthogonal projector onto
+// Im Ĝᵀ (Q = Ĝᵀ Ĝ, Ĝ with orthonormal rows) given as an operator (Dostál, Optimal Quadratic
+// Programming Algorithms, Springer 2009, ch. 6). See smalbe.cpp for the method.
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+
+#include "qp/mprgp.hpp"
+#include "qp/operator.hpp"
+#include "qp/result.hpp"
+
+namespace dualcell::qp {
+
+struct SmalbeOptions {
+  // Stop when ‖gᴾ‖ ≤ relative_tolerance·‖b‖ and ‖A‖‖Q x‖ ≤ equality_tolerance·‖b‖ (‖b‖ → 1 if
+  // b = 0). ‖A‖‖Qx‖ is the gradient a residual Qx can cause, so both tests are in units of b
+  // and invariant under scaling of A; for ‖A‖ = 1 it is the plain ‖Qx‖ ≤ tol·‖b‖.
+  double relative_tolerance = 1e-8;
+  double equality_tolerance = 1e-8;
+  long max_outer_iterations = 100;
+  // Budget of applications of A, all included (norm estimates, inner steps); checked between
+  // inner solves and passed down as the inner step budget.
+  long max_operator_applications = 100000;
+  double rho0_factor = 1.0;  // ρ₀ = rho0_factor·‖A‖
+  double eta_factor = 0.1;   // η = eta_factor·‖b‖
+  double M0 = 1.0;           // M₀ = M0·‖A‖ (relative to ‖A‖ like ρ)
+  double beta = 10;          // M ← M/beta when the augmented Lagrangian grows too little
+  // Safeguard beyond SMALBE-M (penalty growth as in Dostál 1997 and the thesis): ρ ← γρ,
+  // γ = rho_growth, when an inner solve converged but ‖Qx‖ fell by less than the factor
+  // feasibility_reduction, up to rho_max_factor·‖A‖. rho_growth = 1 gives plain SMALBE-M.
+  double rho_growth = 10;
+  double feasibility_reduction = 0.1;
+  double rho_max_factor = 100;
+  // Inner MPRGP: Gamma, alpha_bar_factor, max_iterations (per inner solve), stagnation_window,
+  // on_iterate are used; norm_A is ‖A‖ of the caller's A (0 → estimated); its tolerances are
+  // replaced by SMALBE's inner stopping test.
+  MprgpOptions inner;
+};
+
+// Empty when the options are valid, else a one-line description of the first invalid one.
+std::string check_options(const SmalbeOptions& opts);
+
+// x: in, initial guess (empty → 0; projected onto the box); out, the solution (feasible for the
+// bounds, Q x ≈ 0). On invalid_input x is unchanged.
+Result smalbe(const LinearOperator& A, const LinearOperator& Q, const Eigen::VectorXd& b, const Eigen::VectorXd& l,
+              const Eigen::VectorXd& u, Eigen::VectorXd& x, const SmalbeOptions& opts = {});
+
+// As above with the multiplier m = Ĝᵀμ of Q x = 0, kept in x-space: in, initial value (empty →
+// 0; replaced by Q m), out, the final value, so that A x - b + m is the Lagrangian gradient at the
+// solution. Pass the previous m to warm-start a sequence of related solves.
+Result smalbe(const LinearOperator& A, const LinearOperator& Q, const Eigen::VectorXd& b, const Eigen::VectorXd& l,
+              const Eigen::VectorXd& u, Eigen::VectorXd& x, Eigen::VectorXd& m, const SmalbeOptions& opts);
+
+}  // namespace dualcell::qp

@@ -1,0 +1,87 @@
+// dualcell-solve as a user runs it: output layout, XDMF of the deformed shape, refusals.
+#include <gtest/gtest.h>
+
+#include "io/hdf5.hpp"
+#include "test_util.hpp"
+
+namespace dualcell {
+namespace {
+
+using testing::bin;
+using testing::run_command;
+
+struct Prepared {
+  testing::ScratchDir dir;
+  std::filesystem::path scene, mesh;
+};
+
+void prepare(Prepared& p, const std::string& extra) {
+  p.scene = p.dir.write("s.toml", testing::scene_text(2, 1, 2, 0.3, extra));
+  p.mesh = p.dir / "mesh.h5";
+  const auto r = run_command(bin("dualcell-mesh") + " --quiet --config " + p.scene.string() + " --out " + p.mesh.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+}
+
+TEST(SolveStage, WritesTheDocumentedLayout) {
+  Prepared p;
+  prepare(p, "[interface]\nnormal_strength = 0.05\ntangential_strength = 0.05\n[load]\nboundary = \"traction\"\n");
+  const auto out = p.dir / "solution.h5";
+  const auto r = run_command(bin("dualcell-solve") + " --config " + p.scene.string() + " --mesh " + p.mesh.string() +
+                             " --stress 0.2,0,0.05 --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  for (const char* text : {"status converged", "macro strain", "KKT", "seconds: assembly", "debond rounds"})
+    EXPECT_NE(r.output.find(text), std::string::npos) << text << "\n" << r.output;
+  io::File f = io::File::open_read(out);
+  for (const char* name : {"/solution/u", "/solution/element_stress", "/interface/lambda", "/interface/bonded",
+                           "/interface/opening", "/macro/stress", "/macro/strain", "/macro/average_stress"})
+    EXPECT_TRUE(f.exists(name)) << name;
+  EXPECT_EQ(f.read_string_attribute("/solver", "status"), "converged");
+  EXPECT_GT(f.read_int_attribute("/solver", "operator_applications")[0], 0);
+  for (const char* attr : {"relative_projected_gradient", "relative_equality_residual", "bound_violation",
+                           "complementarity", "max_penetration", "max_glue_jump", "relative_equilibrium"})
+    EXPECT_TRUE(f.has_attribute("/kkt", attr)) << attr;
+  const auto stress = f.read_doubles("/macro/stress");
+  EXPECT_EQ(stress, (std::vector<double>{0.2, 0, 0.05}));
+  // The bond state written here is accepted as the input of the next load.
+  const auto r2 = run_command(bin("dualcell-solve") + " --quiet --config " + p.scene.string() + " --mesh " +
+                              p.mesh.string() + " --stress 0.3,0,0 --bonds " + out.string() + " --out " +
+                              (p.dir / "next.h5").string());
+  EXPECT_EQ(r2.exit_code, 0) << r2.output;
+  // ParaView's reader path: meshio opens the XDMF with the deformed geometry and its fields.
+  const auto py = p.dir.write("read.py",
+                              "import meshio, sys\nm = meshio.read(sys.argv[1])\n"
+                              "print(len(m.points), sorted(m.point_data), sorted(m.cell_data))\n");
+  const auto r3 = run_command("/usr/bin/python3 " + py.string() + " " + (p.dir / "solution.xdmf").string());
+  ASSERT_EQ(r3.exit_code, 0) << r3.output;
+  EXPECT_NE(r3.output.find("['displacement'] ['stress', 'subdomain']"), std::string::npos) << r3.output;
+}
+
+TEST(SolveStage, RefusesMismatchedMeshShearOnSymmetryAndBadStress) {
+  Prepared p;
+  prepare(p, "");
+  const auto out = p.dir / "solution.h5";
+  const std::string base = bin("dualcell-solve") + " --config ";
+  struct Case {
+    std::string scene_extra, stress, expected;
+  };
+  // A scene with another degree than the mesh.
+  const auto other = p.dir.write("other.toml", testing::scene_text(2, 1, 3, 0.3));
+  auto r = run_command(base + other.string() + " --mesh " + p.mesh.string() + " --stress 1,0,0 --out " + out.string());
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("made from a different scene"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("[geometry] degree: mesh 2, scene 3"), std::string::npos) << r.output;
+  r = run_command(base + p.scene.string() + " --mesh " + p.mesh.string() + " --stress 1,0,0.5 --out " + out.string());
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("symmetry boundary carries only sxx and syy"), std::string::npos) << r.output;
+  r = run_command(base + p.scene.string() + " --mesh " + p.mesh.string() + " --stress 1,x,0 --out " + out.string());
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("'x' is not a finite number"), std::string::npos) << r.output;
+  r = run_command(base + p.scene.string() + " --mesh " + p.scene.string() + " --stress 1,0,0 --out " + out.string());
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("not an HDF5 file"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(out));
+  EXPECT_FALSE(std::filesystem::exists(p.dir / "solution.xdmf"));
+}
+
+}  // namespace
+}  // namespace dualcell

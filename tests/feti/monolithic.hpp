@@ -1,0 +1,141 @@
+#pragma once
+// Independent oracle for the bonded case: the block as ONE body (coinciding nodes merged,
+// Dirichlet DOFs eliminated, periodic nodes expressed through their masters and the macro
+// strain), K_red = Tᵀ K T solved by CHOLMOD. Built from the mesh directly, not from B, so it
+// shares no constraint code with the dual solver.
+#include <map>
+#include <numeric>
+
+#include <Eigen/SparseCore>
+
+#include "fem/assembly.hpp"
+#include "linalg/cholmod.hpp"
+#include "mesh/mesh.hpp"
+
+namespace dualcell::testing {
+
+// u over all global DOFs (dim u, + 3 macro DOFs εxx, εyy, γxy when periodic). With `holes` the
+// fibres are left out (their DOFs stay 0): the block is the matrix with empty holes.
+inline Eigen::VectorXd monolithic_solve(const mesh::Mesh& m, const Scene& scene, const Eigen::VectorXd& f,
+                                        bool holes = false) {
+  const int N = m.n_nodes();
+  std::vector<int> parent(N);
+  std::iota(parent.begin(), parent.end(), 0);
+  auto find = [&](int v) {
+    while (parent[v] != v) v = parent[v] = parent[parent[v]];
+    return v;
+  };
+  for (const auto& [a, b] : m.glue_pairs) parent[find(a)] = find(b);
+  if (!holes)
+    for (const auto& [a, b] : m.interface_pairs) parent[find(a)] = find(b);
+  std::vector<bool> absent(N, false);
+  if (holes)
+    for (const auto& sub : m.subdomains)
+      if (sub.is_fibre)
+        for (int v = sub.node_begin; v < sub.node_end; ++v) absent[v] = true;
+
+  const bool periodic = scene.load.boundary == Boundary::periodic;
+  const double W = m.block_width(), H = m.block_height();
+  const double tol = 1e-12 * (W + H);
+  // Physical points on the outer boundary by position.
+  auto on = [&](int v, int side) {
+    const auto& x = m.nodes[v];
+    switch (side) {
+      case mesh::left: return std::abs(x.x()) < tol;
+      case mesh::right: return std::abs(x.x() - W) < tol;
+      case mesh::bottom: return std::abs(x.y()) < tol;
+      default: return std::abs(x.y() - H) < tol;
+    }
+  };
+  // Slave map for periodic: root → (master root, H-coefficients of the jump per component).
+  std::map<int, std::pair<int, Eigen::Matrix<double, 2, 3>>> slave;
+  if (periodic) {
+    std::map<std::pair<long, long>, int> at;  // rounded position → root
+    auto key = [&](const Eigen::Vector2d& x) { return std::pair<long, long>(std::lround(x.x() * 1e9), std::lround(x.y() * 1e9)); };
+    for (int v = 0; v < N; ++v) at[key(m.nodes[v])] = find(v);
+    for (int v = 0; v < N; ++v) {
+      const int root = find(v);
+      if (slave.count(root)) continue;
+      Eigen::Matrix<double, 2, 3> J = Eigen::Matrix<double, 2, 3>::Zero();
+      // u_right = u_left + H(W, 0): x: W εxx, y: W γ/2. u_top = u_bottom + H(0, H): x: H γ/2, y: H εyy.
+      if (on(v, mesh::right)) {
+        J << W, 0, 0, 0, 0, W / 2;
+        slave[root] = {at[key(m.nodes[v] - Eigen::Vector2d(W, 0))], J};
+      } else if (on(v, mesh::top)) {
+        J << 0, 0, H / 2, 0, H, 0;
+        slave[root] = {at[key(m.nodes[v] - Eigen::Vector2d(0, H))], J};
+      }
+    }
+  }
+  // Dirichlet DOFs (per root and component).
+  std::map<std::pair<int, int>, bool> fixed;
+  auto corner = [&](double x, double y) {
+    for (int v = 0; v < N; ++v)
+      if ((m.nodes[v] - Eigen::Vector2d(x, y)).norm() < tol) return find(v);
+    return -1;
+  };
+  switch (scene.load.boundary) {
+    case Boundary::symmetry:
+      for (int v = 0; v < N; ++v) {
+        if (on(v, mesh::left)) fixed[{find(v), 0}] = true;
+        if (on(v, mesh::bottom)) fixed[{find(v), 1}] = true;
+      }
+      break;
+    case Boundary::traction:
+      fixed[{corner(0, 0), 0}] = fixed[{corner(0, 0), 1}] = fixed[{corner(W, 0), 1}] = true;
+      break;
+    case Boundary::periodic:
+      fixed[{corner(0, 0), 0}] = fixed[{corner(0, 0), 1}] = true;
+      break;
+  }
+  // Reduced numbering.
+  std::map<std::pair<int, int>, int> index;
+  int n = 0;
+  for (int v = 0; v < N; ++v) {
+    const int root = find(v);
+    if (slave.count(root) || absent[v]) continue;
+    for (int c = 0; c < 2; ++c)
+      if (!fixed.count({root, c}) && !index.count({root, c})) index[{root, c}] = n++;
+  }
+  const int macro = n;
+  if (periodic) n += 3;
+  const int dim = m.dim_u() + (periodic ? 3 : 0);
+  std::vector<Eigen::Triplet<double>> t;
+  for (int v = 0; v < N; ++v)
+    for (int c = 0; c < 2; ++c) {
+      if (absent[v]) continue;
+      int root = find(v);
+      Eigen::RowVector3d jump = Eigen::RowVector3d::Zero();
+      while (slave.count(root)) {
+        jump += slave[root].second.row(c);
+        root = slave[root].first;
+      }
+      if (!fixed.count({root, c})) t.emplace_back(2 * v + c, index.at({root, c}), 1.0);
+      for (int k = 0; k < 3; ++k)
+        if (jump(k) != 0) t.emplace_back(2 * v + c, macro + k, jump(k));
+    }
+  if (periodic)
+    for (int k = 0; k < 3; ++k) t.emplace_back(m.dim_u() + k, macro + k, 1.0);
+  Eigen::SparseMatrix<double> T(dim, n);
+  T.setFromTriplets(t.begin(), t.end());
+  // K over all DOFs (block diagonal of the subdomains; the macro DOFs carry no stiffness).
+  std::vector<Eigen::Triplet<double>> kt;
+  for (int s = 0; s < static_cast<int>(m.subdomains.size()); ++s) {
+    if (holes && m.subdomains[s].is_fibre) continue;
+    const auto K = fem::assemble_stiffness(m, s, m.subdomains[s].is_fibre ? scene.fibre : scene.matrix);
+    const int offset = 2 * m.subdomains[s].node_begin;
+    for (int k = 0; k < K.outerSize(); ++k)
+      for (Eigen::SparseMatrix<double>::InnerIterator it(K, k); it; ++it)
+        kt.emplace_back(offset + it.row(), offset + it.col(), it.value());
+  }
+  Eigen::SparseMatrix<double> K(dim, dim);
+  K.setFromTriplets(kt.begin(), kt.end());
+  const Eigen::SparseMatrix<double> K_red = Eigen::SparseMatrix<double>(T.transpose() * K * T);
+  linalg::SparseCholesky cholesky;
+  cholesky.compute(K_red);
+  Eigen::VectorXd z;
+  cholesky.solve(Eigen::VectorXd(T.transpose() * f), z);
+  return T * z;
+}
+
+}  // namespace dualcell::testing

@@ -1,0 +1,159 @@
+// The dual contact/adhesion solver against independent solutions (METHOD §5–8).
+#include "feti/solver.hpp"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "feti/macro.hpp"
+#include "monolithic.hpp"
+#include "test_util.hpp"
+
+namespace dualcell::feti {
+namespace {
+
+Scene make_scene(int ex, int ey, int degree, Boundary boundary, double Ef, double Em, double strength,
+                 double tolerance = 1e-10) {
+  Scene s = parse_scene(testing::scene_text(ex, ey, degree, 0.3), "test.toml");
+  s.fibre = {Ef, 0.2};
+  s.matrix = {Em, 0.35};
+  s.load.boundary = boundary;
+  s.interface.normal_strength = strength;
+  s.interface.tangential_strength = strength;
+  s.solver.tolerance = tolerance;
+  return s;
+}
+
+double relative_difference(const Eigen::VectorXd& a, const Eigen::VectorXd& b) { return (a - b).norm() / b.norm(); }
+
+// Bonded interfaces (strengths so large that nothing breaks): the dual solution equals the
+// primal solve of the same mesh as one body. Tolerance 1e-8: the QP stops at a relative
+// projected gradient of 1e-10, and the dual error is amplified by at most cond(PFP|ker G)
+// (≈ 1e2 for these meshes), leaving two orders of margin.
+TEST(ContactSolver, BondedEqualsMonolithicPrimalForEveryBoundary) {
+  for (Boundary boundary : {Boundary::symmetry, Boundary::traction, Boundary::periodic}) {
+    for (double Ef : {1.0, 50.0}) {
+      const Scene scene = make_scene(2, 2, 2, boundary, Ef, 1.0, 1e12);
+      const mesh::Mesh m = mesh::build_mesh(scene.geometry);
+      ContactSolver solver(m, scene);
+      const Eigen::Vector3d sigma = boundary == Boundary::symmetry ? Eigen::Vector3d(0.3, -0.1, 0)
+                                                                   : Eigen::Vector3d(0.3, -0.1, 0.2);
+      const Solution s = solver.solve_fixed(sigma, solver.intact());
+      ASSERT_TRUE(s.converged()) << to_string(boundary) << ": " << qp::to_string(s.qp.status) << " " << s.qp.message;
+      const Eigen::VectorXd u_ref = testing::monolithic_solve(m, scene, solver.setup().load(sigma));
+      EXPECT_LE(relative_difference(s.u, u_ref), 1e-8) << to_string(boundary) << ", E_f = " << Ef;
+      EXPECT_EQ(s.newly_broken, 0);
+      // Hill–Mandel: the volume average of the element stresses is the applied stress. With
+      // the symmetry boundary only the normal components: the reactions on the symmetry
+      // edges are not uniform in a heterogeneous block, so they carry an average shear.
+      const int n_components = boundary == Boundary::symmetry ? 2 : 3;
+      EXPECT_LE((s.average_stress - sigma).head(n_components).norm(), 1e-7 * sigma.norm()) << to_string(boundary);
+      if (boundary == Boundary::periodic) {
+        // The boundary formula gives the macro strain DOFs for a periodic field, up to the
+        // residual of the periodic rows (QP tolerance 1e-10 relative).
+        const Eigen::Vector3d H = s.u.tail<3>();
+        EXPECT_NEAR(s.strain(0), H(0), 1e-9 * H.norm());
+        EXPECT_NEAR(s.strain(1), H(1), 1e-9 * H.norm());
+        EXPECT_NEAR(s.strain(2), H(2) / 2, 1e-9 * H.norm());
+      }
+    }
+  }
+}
+
+TEST(ContactSolver, DimensionsOneCellWithoutAdhesion) {
+  // One cell, no adhesion: no glue rows, no tangential rows: dim λ = contact pairs + boundary rows.
+  const Scene scene = make_scene(1, 1, 3, Boundary::symmetry, 100, 1, 0);
+  const mesh::Mesh m = mesh::build_mesh(scene.geometry);
+  ContactSolver solver(m, scene);
+  const Solution s = solver.solve_fixed({-1, 0, 0}, solver.intact());
+  const int boundary_rows = 2 * (4 * 3 + 1);  // u_x on the left edge, u_y on the bottom edge
+  EXPECT_EQ(s.n_rows, 24 + boundary_rows);
+  EXPECT_TRUE(s.converged());
+}
+
+// Without adhesion: KKT holds, tension is softer than compression, positively homogeneous.
+TEST(ContactSolver, NoAdhesionKktBimodularAndHomogeneous) {
+  const Scene scene = make_scene(2, 2, 2, Boundary::symmetry, 100, 1, 0, 1e-9);
+  const mesh::Mesh m = mesh::build_mesh(scene.geometry);
+  ContactSolver solver(m, scene);
+  const Solution tension = solver.solve({1, 0, 0}, solver.intact());
+  const Solution compression = solver.solve({-1, 0, 0}, solver.intact());
+  const Solution tension2 = solver.solve({2, 0, 0}, solver.intact());
+  for (const Solution* s : {&tension, &compression, &tension2}) {
+    ASSERT_TRUE(s->converged()) << s->qp.message;
+    // Primal checks in length units against the strain scale (~1): penetration and gluing
+    // jumps of the order of the QP tolerance times the displacement scale.
+    const double u_scale = s->u.lpNorm<Eigen::Infinity>();
+    EXPECT_LE(s->kkt.max_penetration, 1e-7 * u_scale);
+    EXPECT_LE(s->kkt.max_glue_jump, 1e-7 * u_scale);
+    EXPECT_LE(s->kkt.relative_equilibrium, 1e-7);
+    EXPECT_EQ(s->kkt.bound_violation, 0);
+  }
+  const double E_tension = 1 / tension.strain(0), E_compression = -1 / compression.strain(0);
+  EXPECT_GT(E_compression, 1.2 * E_tension) << E_compression << " vs " << E_tension;
+  // Positive homogeneity: the solution at 2σ̄ is twice the one at σ̄.
+  EXPECT_LE(relative_difference(tension2.u, 2 * tension.u), 1e-6);
+  EXPECT_LE(relative_difference(tension2.lambda, 2 * tension.lambda), 1e-6);
+}
+
+// Equibiaxial tension opens every gap: the fibres carry nothing and the matrix deforms like the
+// same block with empty holes, solved as one body on the same mesh. Uniaxial tension: the hole
+// contracts across the load (Poisson) and pinches the fibre at its poles, so the modulus lies
+// between the holes' and the bonded one, and contact sits where the normal is across the load.
+TEST(ContactSolver, TensionAgainstHolesAndBonded) {
+  for (Boundary boundary : {Boundary::symmetry, Boundary::periodic}) {
+    const Scene scene = make_scene(2, 2, 3, boundary, 100, 1, 0, 1e-10);
+    const mesh::Mesh m = mesh::build_mesh(scene.geometry);
+    ContactSolver solver(m, scene);
+    const Eigen::Vector3d equibiaxial(1, 1, 0);
+    const Solution s = solver.solve(equibiaxial, solver.intact());
+    ASSERT_TRUE(s.converged()) << s.qp.message;
+    for (double force : s.normal_force) EXPECT_EQ(force, 0.0);
+    const Eigen::VectorXd u_holes = testing::monolithic_solve(m, scene, solver.setup().load(equibiaxial), true);
+    Eigen::VectorXd u_matrix = s.u;
+    for (const auto& sub : m.subdomains)
+      if (sub.is_fibre) u_matrix.segment(2 * sub.node_begin, 2 * sub.n_nodes()).setZero();
+    // The QP stops at 1e-10 relative; the matrix displacement follows to within cond(F)·tol.
+    EXPECT_LE(relative_difference(u_matrix, u_holes), 1e-8) << to_string(boundary);
+    EXPECT_LE(s.kkt.max_penetration, 1e-9 * s.u.lpNorm<Eigen::Infinity>());
+
+    const Eigen::Vector3d uniaxial(1, 0, 0);
+    const Solution t = solver.solve(uniaxial, solver.intact());
+    ASSERT_TRUE(t.converged()) << t.qp.message;
+    Scene bonded_scene = scene;
+    bonded_scene.interface = {1e12, 1e12};
+    ContactSolver bonded(m, bonded_scene);
+    const double E_contact = 1 / t.strain(0);
+    const double E_bonded = 1 / bonded.solve_fixed(uniaxial, bonded.intact()).strain(0);
+    const double E_holes = 1 / feti::boundary_strain(m, testing::monolithic_solve(m, scene, solver.setup().load(uniaxial), true))(0);
+    EXPECT_LT(E_holes * 1.001, E_contact) << to_string(boundary);
+    EXPECT_LT(E_contact, E_bonded * 0.999) << to_string(boundary);
+    // Contact only where the normal points across the load (|n_y| > |n_x|), and some there.
+    int touching = 0;
+    for (std::size_t p = 0; p < m.interface_pairs.size(); ++p) {
+      if (t.normal_force[p] <= 0) continue;
+      ++touching;
+      const Eigen::Vector2d n = interface_normal(m, static_cast<int>(p));
+      EXPECT_GT(std::abs(n.y()), std::abs(n.x())) << "contact at angle " << std::atan2(n.y(), n.x()) * 180 / M_PI;
+    }
+    EXPECT_GE(touching, 4) << to_string(boundary);  // at least the two poles of each fibre... of some fibres
+  }
+}
+
+TEST(ContactSolver, DebondOnsetIsExact) {
+  Scene scene = make_scene(1, 1, 2, Boundary::traction, 10, 1, 0.05);
+  const mesh::Mesh m = mesh::build_mesh(scene.geometry);
+  ContactSolver solver(m, scene);
+  const Eigen::Vector3d unit(1, 0, 0);
+  const double onset = solver.debond_onset(unit);
+  ASSERT_TRUE(std::isfinite(onset));
+  const Solution below = solver.solve(0.99 * onset * unit, solver.intact());
+  EXPECT_TRUE(below.converged());
+  EXPECT_EQ(below.newly_broken, 0);
+  const Solution above = solver.solve(1.01 * onset * unit, solver.intact());
+  EXPECT_TRUE(above.converged()) << above.qp.message;
+  EXPECT_GE(above.newly_broken, 1);
+}
+
+}  // namespace
+}  // namespace dualcell::feti
