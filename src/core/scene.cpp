@@ -135,6 +135,34 @@ class TableReader {
     return v;
   }
 
+  // An array of 3-arrays of finite numbers, none all zero.
+  std::vector<std::array<double, 3>> triples(std::string_view key) {
+    const toml::node* n = node(key);
+    std::vector<std::array<double, 3>> out;
+    if (!n) return out;
+    const std::string what = "an array of [sxx, syy, sxy] stress tensors, each finite and not all zero";
+    auto a = n->as_array();
+    if (!a) fail(n, key, show(*n, lines_), "must be " + what);
+    for (const toml::node& e : *a) {
+      auto t = e.as_array();
+      if (!t || t->size() != 3) fail(n, key, show(*n, lines_), "must be " + what);
+      std::array<double, 3> v{};
+      for (std::size_t i = 0; i < 3; ++i) {
+        const toml::node& x = *t->get(i);
+        if (auto iv = x.as_integer())
+          v[i] = static_cast<double>(iv->get());
+        else if (auto fv = x.as_floating_point())
+          v[i] = fv->get();
+        else
+          fail(n, key, show(*n, lines_), "must be " + what);
+        if (!std::isfinite(v[i])) fail(n, key, show(*n, lines_), "must be " + what);
+      }
+      if (v[0] == 0 && v[1] == 0 && v[2] == 0) fail(n, key, show(*n, lines_), "must be " + what);
+      out.push_back(v);
+    }
+    return out;
+  }
+
   std::string string(std::string_view key, std::string fallback,
                      const std::vector<std::string>& allowed = {}) {
     const toml::node* n = node(key);
@@ -307,6 +335,7 @@ Scene parse_scene(std::string_view text, const std::filesystem::path& file) {
                                         "in [-360, 360] degrees", 1, 3600);
   scene.sweep.magnitudes = st.reals("magnitudes", scene.sweep.magnitudes,
                                     [](double v) { return v != 0; }, "non-zero", 1, 100000);
+  scene.sweep.stress_directions = st.triples("stress_directions");
   scene.sweep.fuse_tolerance = st.real("fuse_tolerance", scene.sweep.fuse_tolerance,
                                        [](double v) { return v > 0 && v < 1; }, "0 < fuse_tolerance < 1");
   st.finish();

@@ -43,6 +43,9 @@ struct Load {
 struct Sweep {
   std::vector<double> directions_deg{0.0, 90.0};
   std::vector<double> magnitudes{-1.0, 1.0};  // signed macro-stress values
+  // General load paths besides the uniaxial ones: stress tensors (σxx, σyy, σxy), normalised
+  // to unit Frobenius norm, each swept with the same signed magnitudes.
+  std::vector<std::array<double, 3>> stress_directions;
   double fuse_tolerance = 1e-3;                // relative load bracket of the debond jump
 };
 

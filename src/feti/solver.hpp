@@ -77,6 +77,13 @@ class ContactSolver {
   // problem (interface bounds lifted, so the response is linear). +inf without adhesion.
   double debond_onset(const Eigen::Vector3d& sigma);
 
+  // Drops the cached dual problem (and its norm estimate), so that what follows does not
+  // depend on what was solved before: a resumed sweep then repeats an uninterrupted one.
+  void forget_dual() {
+    problem_.reset();
+    norm_PFP_ = 0;
+  }
+
   const FetiSetup& setup() const { return setup_; }
   const DualProblem& problem(const BondState& bonds);
   BondState intact() const { return intact_bonds(setup_.mesh(), setup_.scene().interface); }

@@ -1,5 +1,6 @@
 #include "io/mesh_file.hpp"
 
+#include <charconv>
 #include <cmath>
 #include <sstream>
 
@@ -184,22 +185,32 @@ MeshFile read_mesh(const std::filesystem::path& h5) {
   return out;
 }
 
+namespace {
+
+// Shortest text that reads back to the same double ("0.3", not "0.29999999999999999").
+std::string shortest(double x) {
+  char buffer[32];
+  const auto end = std::to_chars(buffer, buffer + sizeof buffer, x).ptr;
+  return std::string(buffer, end);
+}
+
+}  // namespace
+
 std::string geometry_mismatch(const mesh::Mesh& mesh, const Scene& scene) {
   const Geometry& a = mesh.geometry;
   const Geometry& b = scene.geometry;
   std::ostringstream s;
-  s.precision(17);
   if (a.cells != b.cells)
     s << "[geometry] cells: mesh [" << a.cells[0] << ", " << a.cells[1] << "], scene [" << b.cells[0] << ", " << b.cells[1] << "]";
   else if (a.degree != b.degree)
     s << "[geometry] degree: mesh " << a.degree << ", scene " << b.degree;
   else if (a.cell_size != b.cell_size)
-    s << "[geometry] cell_size: mesh " << a.cell_size << ", scene " << b.cell_size;
+    s << "[geometry] cell_size: mesh " << shortest(a.cell_size) << ", scene " << shortest(b.cell_size);
   else if (a.fibre_radius != b.fibre_radius)
-    s << "[geometry] fibre_radius: mesh " << a.fibre_radius << ", scene " << b.fibre_radius;
+    s << "[geometry] fibre_radius: mesh " << shortest(a.fibre_radius) << ", scene " << shortest(b.fibre_radius);
   else if (a.fibre_offset != b.fibre_offset)
-    s << "[geometry] fibre_offset: mesh [" << a.fibre_offset[0] << ", " << a.fibre_offset[1] << "], scene ["
-      << b.fibre_offset[0] << ", " << b.fibre_offset[1] << "]";
+    s << "[geometry] fibre_offset: mesh [" << shortest(a.fibre_offset[0]) << ", " << shortest(a.fibre_offset[1])
+      << "], scene [" << shortest(b.fibre_offset[0]) << ", " << shortest(b.fibre_offset[1]) << "]";
   return s.str();
 }
 

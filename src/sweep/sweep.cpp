@@ -1,0 +1,180 @@
+#include "sweep/sweep.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include "core/error.hpp"
+
+namespace dualcell::sweep {
+
+namespace {
+
+Step make_step(double load, const feti::Solution& s, int broken, double seconds) {
+  Step step;
+  step.load = load;
+  step.stress = s.sigma;
+  step.strain = s.strain;
+  step.broken_bonds = broken;
+  step.outer_iterations = s.outer_iterations;
+  step.operator_applications = s.operator_applications;
+  step.kkt_residual = std::max({s.kkt.relative_projected_gradient, s.kkt.relative_equality_residual,
+                                s.kkt.relative_equilibrium});
+  step.seconds = seconds;
+  step.converged = s.converged();
+  return step;
+}
+
+// N:ε with tensor shear: N_xx ε_xx + N_yy ε_yy + 2 N_xy ε_xy.
+double along_load(const PathSpec& spec, const Eigen::Vector3d& strain) {
+  return spec.unit_stress(0) * strain(0) + spec.unit_stress(1) * strain(1) + 2 * spec.unit_stress(2) * strain(2);
+}
+
+double jump_ratio(const PathSpec& spec, const Fuse& fuse) {
+  const double before = along_load(spec, fuse.strain_before);
+  return before != 0 ? along_load(spec, fuse.strain_after) / before : std::numeric_limits<double>::infinity();
+}
+
+int count_broken(const feti::BondState& intact, const feti::BondState& now) {
+  int broken = 0;
+  for (std::size_t p = 0; p < now.size(); ++p) broken += intact[p] && !now[p];
+  return broken;
+}
+
+}  // namespace
+
+std::vector<PathSpec> plan_paths(const Scene& scene) {
+  std::vector<double> tension, compression;
+  for (double m : scene.sweep.magnitudes) (m > 0 ? tension : compression).push_back(m);
+  std::sort(tension.begin(), tension.end());
+  std::sort(compression.begin(), compression.end(), std::greater<>());
+  tension.erase(std::unique(tension.begin(), tension.end()), tension.end());
+  compression.erase(std::unique(compression.begin(), compression.end()), compression.end());
+
+  std::vector<PathSpec> paths;
+  auto add = [&](double direction_deg, const Eigen::Vector3d& unit) {
+    for (int sign : {1, -1}) {
+      const auto& loads = sign > 0 ? tension : compression;
+      if (loads.empty()) continue;
+      PathSpec spec;
+      spec.index = static_cast<int>(paths.size());
+      spec.direction_deg = direction_deg;
+      spec.sign = sign;
+      spec.unit_stress = unit;
+      spec.loads = loads;
+      paths.push_back(spec);
+    }
+  };
+  const bool symmetry = scene.load.boundary == Boundary::symmetry;
+  for (double theta : scene.sweep.directions_deg) {
+    const double t = theta * std::numbers::pi / 180;
+    const double c = std::cos(t), s = std::sin(t);
+    Eigen::Vector3d unit(c * c, s * s, c * s);
+    // Shear below round-off of cos·sin counts as none (θ a multiple of 90°).
+    if (std::abs(unit(2)) < 1e-12) unit(2) = 0;
+    if (std::abs(unit(0)) < 1e-12) unit(0) = 0;
+    if (std::abs(unit(1)) < 1e-12) unit(1) = 0;
+    if (symmetry && unit(2) != 0)
+      throw InputError(scene.file.string() + ": [sweep] directions_deg contains " + std::to_string(theta) +
+                       ": the symmetry boundary carries only shear-free directions (multiples of 90°); use "
+                       "boundary = \"traction\" or \"periodic\"");
+    add(theta, unit);  // n⊗n has unit Frobenius norm already
+  }
+  for (const auto& t : scene.sweep.stress_directions) {
+    Eigen::Vector3d unit(t[0], t[1], t[2]);
+    // Frobenius norm of the symmetric tensor: sqrt(σxx² + σyy² + 2σxy²).
+    if (symmetry && unit(2) != 0)
+      throw InputError(scene.file.string() + ": [sweep] stress_directions has a tensor with sxy != 0: the symmetry "
+                       "boundary carries only sxx and syy");
+    unit /= std::sqrt(unit(0) * unit(0) + unit(1) * unit(1) + 2 * unit(2) * unit(2));
+    add(std::numeric_limits<double>::quiet_NaN(), unit);
+  }
+  return paths;
+}
+
+PathResult run_path(feti::ContactSolver& solver, const PathSpec& spec, double fuse_tolerance,
+                    const Progress& progress) {
+  using Clock = std::chrono::steady_clock;
+  PathResult result;
+  result.spec = spec;
+  solver.forget_dual();
+  const feti::BondState intact = solver.intact();
+  const bool adhesion = solver.setup().scene().interface.has_adhesion();
+
+  // The schedule, with the exact onset inserted where it falls inside it.
+  std::vector<double> loads = spec.loads;
+  double onset = std::numeric_limits<double>::infinity();
+  if (adhesion) {
+    onset = spec.sign * solver.debond_onset(spec.unit_stress);
+    if (std::isfinite(onset) && std::abs(onset) <= std::abs(loads.back()) &&
+        std::find(loads.begin(), loads.end(), onset) == loads.end()) {
+      loads.push_back(onset);
+      std::sort(loads.begin(), loads.end(), [](double a, double b) { return std::abs(a) < std::abs(b); });
+    }
+  }
+
+  feti::BondState bonds = intact;
+  Eigen::VectorXd lambda;  // multipliers of the last recorded state, for the warm start
+  double previous_load = 0;
+  Eigen::Vector3d previous_strain = Eigen::Vector3d::Zero();
+  auto record = [&](double load, const feti::Solution& s, double seconds) {
+    result.steps.push_back(make_step(load, s, count_broken(intact, s.bonds), seconds));
+    if (progress) progress(spec, static_cast<int>(result.steps.size()) - 1, result.steps.back());
+  };
+  auto solve_at = [&](double load, const feti::BondState& from, const Eigen::VectorXd* warm, double from_load) {
+    Eigen::VectorXd scaled;
+    if (warm && warm->size() > 0 && from_load != 0) scaled = *warm * (load / from_load);
+    return solver.solve(load * spec.unit_stress, from, scaled.size() ? &scaled : nullptr);
+  };
+
+  // Each scheduled load is reached from the last recorded state. Whenever the solve there
+  // breaks new bonds, the jump is bracketed by bisection from that state, both sides are
+  // recorded, and the walk continues from the state after the jump (at most
+  // max_events_per_step brackets per scheduled load; a progressive debonding beyond that is
+  // recorded at the scheduled loads only).
+  constexpr int max_events_per_step = 20;
+  for (double load : loads) {
+    for (int event = 0;; ++event) {
+      const auto t0 = Clock::now();
+      feti::Solution s = solve_at(load, bonds, &lambda, previous_load);
+      if (!(adhesion && s.newly_broken > 0) || event >= max_events_per_step) {
+        record(load, s, std::chrono::duration<double>(Clock::now() - t0).count());
+        bonds = s.bonds;
+        lambda = s.lambda;
+        previous_load = load;
+        previous_strain = s.strain;
+        break;
+      }
+      double lo = previous_load, hi = load;
+      std::optional<feti::Solution> at_lo;
+      feti::Solution at_hi = std::move(s);
+      while (std::abs(hi - lo) > fuse_tolerance * std::abs(hi)) {
+        const double mid = 0.5 * (lo + hi);
+        feti::Solution m = solve_at(mid, bonds, &lambda, previous_load);
+        if (m.newly_broken > 0) {
+          hi = mid;
+          at_hi = std::move(m);
+        } else {
+          lo = mid;
+          at_lo = std::move(m);
+        }
+      }
+      const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+      // The fuse is the jump with the largest growth of the strain along the load, N:ε.
+      const Fuse jump{onset, lo, hi, at_lo ? at_lo->strain : previous_strain, at_hi.strain};
+      if (!result.fuse || jump_ratio(spec, jump) > jump_ratio(spec, *result.fuse)) result.fuse = jump;
+      if (at_lo) record(lo, *at_lo, seconds / 2);
+      record(hi, at_hi, at_lo ? seconds / 2 : seconds);
+      bonds = at_hi.bonds;
+      lambda = at_hi.lambda;
+      previous_load = hi;
+      previous_strain = at_hi.strain;
+      if (hi == load) break;
+    }
+  }
+  return result;
+}
+
+}  // namespace dualcell::sweep

@@ -1,0 +1,71 @@
+#pragma once
+// Load paths in magnitude and direction (issue: the sweep stage). A path is a unit macro
+// stress N (uniaxial n⊗n with n = (cos θ, sin θ), or a general tensor) and a sign; its steps
+// follow the scene's magnitudes of that sign in increasing size, carry the bond state (breaks
+// are irreversible) and warm-start from the previous multipliers scaled to the new load.
+// Tension and compression each start from the unloaded, intact state.
+//
+// The fuse: with adhesion, the exact debond onset s* (METHOD §8) is inserted as a step, and
+// wherever new breaks appear between two steps the load is bisected until the jump is
+// bracketed within fuse_tolerance·load; the states just before and after are recorded.
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/scene.hpp"
+#include "feti/solver.hpp"
+
+namespace dualcell::sweep {
+
+struct PathSpec {
+  int index = 0;
+  double direction_deg = 0;     // NaN for a general stress direction
+  int sign = 1;                 // +1 tension, −1 compression
+  Eigen::Vector3d unit_stress;  // N: (σxx, σyy, σxy), unit Frobenius norm
+  std::vector<double> loads;    // signed loads s, |s| increasing; σ̄ = s·N
+};
+
+struct Step {
+  double load = 0;
+  Eigen::Vector3d stress = Eigen::Vector3d::Zero();
+  Eigen::Vector3d strain = Eigen::Vector3d::Zero();  // tensor shear
+  int broken_bonds = 0;                              // broken so far along the path
+  long outer_iterations = 0;
+  long operator_applications = 0;
+  double kkt_residual = 0;  // max of the relative projected gradient, ‖Gλ−e‖ and equilibrium residuals
+  double seconds = 0;
+  bool converged = true;
+};
+
+// The largest jump along a path: the bracket whose strain along the load (N:ε) grows most.
+struct Fuse {
+  double onset_load = 0;    // predicted s* (signed): the first bond reaches its strength
+  double load_before = 0;   // largest bracketed load without the jump
+  double load_after = 0;    // smallest bracketed load with it
+  Eigen::Vector3d strain_before = Eigen::Vector3d::Zero();
+  Eigen::Vector3d strain_after = Eigen::Vector3d::Zero();
+};
+
+struct PathResult {
+  PathSpec spec;
+  std::vector<Step> steps;
+  std::optional<Fuse> fuse;
+};
+
+// The paths of a scene, in file order: per direction θ, tension then compression (where the
+// magnitudes have that sign), then the general stress directions likewise. Throws InputError
+// for a direction the boundary condition cannot carry (symmetry: shear-free only).
+std::vector<PathSpec> plan_paths(const Scene& scene);
+
+// Called after every step: path, step index, the step, bisections so far.
+using Progress = std::function<void(const PathSpec&, int step, const Step&)>;
+
+// Runs one path from the intact, unloaded state. Deterministic: the same solver and spec give
+// the same numbers whatever ran before.
+PathResult run_path(feti::ContactSolver& solver, const PathSpec& spec, double fuse_tolerance,
+                    const Progress& progress = {});
+
+}  // namespace dualcell::sweep

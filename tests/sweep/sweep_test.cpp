@@ -1,0 +1,126 @@
+// Load paths: linearity without adhesion, bimodularity, directional symmetry, the bonded
+// response below the onset, and the fuse (METHOD §8, thesis §7.2).
+#include "sweep/sweep.hpp"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "core/error.hpp"
+#include "test_util.hpp"
+
+namespace dualcell::sweep {
+namespace {
+
+Scene make_scene(int cells, int degree, double radius, Boundary boundary, double Ef, double Em, double strength,
+                 std::vector<double> directions, std::vector<double> magnitudes) {
+  Scene s = parse_scene(testing::scene_text(cells, cells, degree, radius), "test.toml");
+  s.fibre = {Ef, 0.2};
+  s.matrix = {Em, 0.35};
+  s.load.boundary = boundary;
+  s.interface = {strength, strength};
+  s.sweep.directions_deg = std::move(directions);
+  s.sweep.magnitudes = std::move(magnitudes);
+  s.solver.tolerance = 1e-9;
+  return s;
+}
+
+// Apparent modulus along the load: s / (N:ε).
+double modulus(const PathSpec& spec, const Step& step) {
+  const Eigen::Vector3d& N = spec.unit_stress;
+  return step.load / (N(0) * step.strain(0) + N(1) * step.strain(1) + 2 * N(2) * step.strain(2));
+}
+
+TEST(Sweep, PlansPathsAndRefusesDirectionsTheBoundaryCannotCarry) {
+  Scene s = make_scene(1, 1, 0.3, Boundary::traction, 10, 1, 0, {0, 45}, {-2, 1, -1, 2});
+  s.sweep.stress_directions = {{1, 1, 0}};
+  const auto paths = plan_paths(s);
+  ASSERT_EQ(paths.size(), 6u);
+  EXPECT_EQ(paths[0].sign, 1);
+  EXPECT_EQ(paths[0].loads, (std::vector<double>{1, 2}));
+  EXPECT_EQ(paths[1].loads, (std::vector<double>{-1, -2}));
+  EXPECT_NEAR(paths[2].unit_stress(2), 0.5, 1e-15);  // 45°: n⊗n = [[1/2, 1/2], [1/2, 1/2]]
+  EXPECT_NEAR(paths[4].unit_stress(0), std::sqrt(0.5), 1e-15);
+  EXPECT_TRUE(std::isnan(paths[4].direction_deg));
+  s.load.boundary = Boundary::symmetry;
+  try {
+    plan_paths(s);
+    FAIL() << "45° accepted with the symmetry boundary";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("directions_deg contains 45"), std::string::npos) << e.what();
+  }
+  s.sweep.directions_deg = {0, 90, 180};
+  s.sweep.stress_directions.clear();
+  EXPECT_EQ(plan_paths(s).size(), 6u);
+}
+
+TEST(Sweep, WithoutAdhesionLinearBimodularAndDirectional) {
+  const Scene scene = make_scene(1, 2, 0.35, Boundary::traction, 100, 1, 0, {0, 45, 90}, {-2, -1, 1, 2, 3});
+  const mesh::Mesh m = mesh::build_mesh(scene.geometry);
+  feti::ContactSolver solver(m, scene);
+  std::vector<PathResult> results;
+  for (const auto& spec : plan_paths(scene)) results.push_back(run_path(solver, spec, scene.sweep.fuse_tolerance));
+  ASSERT_EQ(results.size(), 6u);
+  std::vector<double> E(6);
+  for (std::size_t i = 0; i < results.size(); ++i) {
+    const auto& r = results[i];
+    EXPECT_FALSE(r.fuse.has_value());
+    // Positive homogeneity: every step has the same modulus (QP tolerance 1e-9).
+    E[i] = modulus(r.spec, r.steps.front());
+    for (const auto& step : r.steps) {
+      EXPECT_TRUE(step.converged);
+      EXPECT_NEAR(modulus(r.spec, step) / E[i], 1.0, 1e-7);
+    }
+  }
+  // Stiff fibres: softer in tension than in compression, in every direction.
+  for (int d = 0; d < 3; ++d) EXPECT_LT(E[2 * d] * 1.2, E[2 * d + 1]) << "direction " << d;
+  // 0° and 90° on a centred square cell: the mesh is symmetric under the 90° rotation up to
+  // the shorter-diagonal choice in exactly square quads, so equal to discretisation level.
+  EXPECT_NEAR(E[0] / E[4], 1.0, 1e-3);
+  EXPECT_NEAR(E[1] / E[5], 1.0, 1e-3);
+  // 45° differs (square symmetry, not isotropy).
+  EXPECT_GT(std::abs(E[2] / E[0] - 1), 0.01);
+}
+
+// The thesis §7.2 fuse on a smaller block: stiff fibres, weak adhesion, tension along x.
+TEST(Sweep, AdhesionBondedBelowOnsetThenAFuse) {
+  const Scene scene = make_scene(2, 2, 0.4, Boundary::symmetry, 1e5, 1e3, 10, {0}, {3, 6.5});
+  const mesh::Mesh m = mesh::build_mesh(scene.geometry);
+  feti::ContactSolver solver(m, scene);
+  const auto paths = plan_paths(scene);
+  ASSERT_EQ(paths.size(), 1u);
+  const double onset = solver.debond_onset(paths[0].unit_stress);
+  const PathResult r = run_path(solver, paths[0], scene.sweep.fuse_tolerance);
+  // Bonded modulus from one solve with unbreakable bonds.
+  Scene bonded = scene;
+  bonded.interface = {1e12, 1e12};
+  feti::ContactSolver bonded_solver(m, bonded);
+  const double E_bonded = 1 / bonded_solver.solve_fixed({1, 0, 0}, bonded_solver.intact()).strain(0);
+  bool saw_first_break = false;
+  for (std::size_t i = 0; i < r.steps.size(); ++i) {
+    const Step& step = r.steps[i];
+    EXPECT_TRUE(step.converged);
+    if (step.broken_bonds == 0) {
+      EXPECT_NEAR(modulus(r.spec, step) / E_bonded, 1.0, 1e-7) << "load " << step.load;
+    } else if (!saw_first_break) {
+      saw_first_break = true;
+      // The first break happens at the predicted onset, inserted as a step, and the step before
+      // it is within the bracket tolerance.
+      EXPECT_EQ(step.load, onset);
+      ASSERT_GT(i, 0u);
+      EXPECT_EQ(r.steps[i - 1].broken_bonds, 0);
+      EXPECT_LE(onset - r.steps[i - 1].load, scene.sweep.fuse_tolerance * onset);
+    }
+  }
+  EXPECT_TRUE(saw_first_break);
+  ASSERT_TRUE(r.fuse.has_value());
+  const Fuse& f = *r.fuse;
+  EXPECT_EQ(f.onset_load, onset);
+  EXPECT_LE(f.load_after - f.load_before, scene.sweep.fuse_tolerance * f.load_after);
+  EXPECT_GE(f.strain_after(0), 1.5 * f.strain_before(0)) << "before " << f.strain_before(0) << " after " << f.strain_after(0);
+  // Loads along the path never decrease (history is monotone).
+  for (std::size_t i = 1; i < r.steps.size(); ++i) EXPECT_GE(r.steps[i].load, r.steps[i - 1].load);
+}
+
+}  // namespace
+}  // namespace dualcell::sweep
