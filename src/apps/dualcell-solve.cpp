@@ -74,12 +74,16 @@ int main(int argc, char** argv) {
                        "use boundary = \"traction\" or \"periodic\" for shear");
     const mesh::Mesh& mesh = mesh_in.mesh;
     feti::ContactSolver solver(mesh, scene);
-    const feti::BondState bonds = bonds_file.empty() ? solver.intact() : io::read_bonds(bonds_file, mesh);
+    const std::string mesh_hash = io::file_hash(mesh_file);
+    const feti::BondState bonds = bonds_file.empty() ? solver.intact() : io::read_bonds(bonds_file, mesh, mesh_hash);
     const feti::Solution s = solver.solve(sigma, bonds);
-    io::write_solution(out, mesh, scene, s, {mesh_file, io::file_hash(mesh_file)});
-    if (!s.converged()) {
+    io::write_solution(out, mesh, scene, s, {mesh_file, mesh_hash});
+    if (!s.qp_converged()) {
       std::fprintf(stderr, "dualcell-solve: warning: the solver stopped with status %s: %s (output written)\n",
                    qp::to_string(s.qp.status), s.qp.message.c_str());
+      exit_code = 4;
+    } else if (!s.primal_ok) {
+      std::fprintf(stderr, "dualcell-solve: warning: %s (output written)\n", s.primal_message.c_str());
       exit_code = 4;
     }
     if (quiet) return;

@@ -10,6 +10,7 @@
 //   dualcell-sweep --config scene.toml --mesh mesh.h5 --out sweep.h5
 #include <chrono>
 #include <cmath>
+#include <numbers>
 #include <cstdio>
 #include <sstream>
 
@@ -65,6 +66,12 @@ int main(int argc, char** argv) {
     const std::vector<sweep::PathSpec> specs = sweep::plan_paths(scene);
     io::SweepProvenance provenance{scene.text, scene.material_text, config, mesh_file, io::file_hash(mesh_file),
                                    solver_options(scene), DUALCELL_VERSION};
+    provenance.fibre_E = scene.fibre.E;
+    provenance.fibre_nu = scene.fibre.nu;
+    provenance.matrix_E = scene.matrix.E;
+    provenance.matrix_nu = scene.matrix.nu;
+    const double r = scene.geometry.fibre_radius, a = scene.geometry.cell_size;
+    provenance.fibre_volume_fraction = std::numbers::pi * r * r / (a * a);
     {
       // Fail on an unwritable output before any work, not after hours of it.
       io::AtomicOutputs probe;

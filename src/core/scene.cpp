@@ -326,6 +326,17 @@ Scene parse_scene(std::string_view text, const std::filesystem::path& file) {
                                                  : Boundary::periodic;
   const auto bf = lt.reals("body_force", {0, 0}, any_value, "a finite number", 2, 2);
   scene.load.body_force = {bf[0], bf[1]};
+  // A body force is carried only by the symmetry edges' reactions, and the debond onset
+  // formula s* = bound/λ(σ̄) assumes λ linear in σ̄ alone: refuse the combinations where either
+  // would silently be wrong.
+  if (bf[0] != 0 || bf[1] != 0) {
+    if (scene.load.boundary != Boundary::symmetry)
+      lt.fail(lt.node("body_force"), "body_force", "", "a body force needs boundary = \"symmetry\" (the traction and "
+              "periodic boundaries have no reactions to carry its resultant)");
+    if (scene.interface.has_adhesion())
+      lt.fail(lt.node("body_force"), "body_force", "", "a body force cannot be combined with adhesion (the debond "
+              "onset is computed for the macro stress alone)");
+  }
   lt.finish();
 
   // [sweep]

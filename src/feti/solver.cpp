@@ -7,6 +7,7 @@
 
 #include <Eigen/SVD>
 
+#include "core/error.hpp"
 #include "feti/macro.hpp"
 #include "qp/operator.hpp"
 #include "qp/smalbe.hpp"
@@ -47,6 +48,11 @@ const DualProblem& ContactSolver::problem(const BondState& bonds) {
 
 Solution ContactSolver::solve_fixed(const Eigen::Vector3d& sigma, const BondState& bonds,
                                     const Eigen::VectorXd* warm_lambda) {
+  if (setup_.scene().load.boundary == Boundary::symmetry && sigma(2) != 0)
+    throw InputError("the symmetry boundary carries only sxx and syy (sxy must be 0)");
+  if (bonds.size() != setup_.mesh().interface_pairs.size())
+    throw InputError("bond state has " + std::to_string(bonds.size()) + " entries, the mesh " +
+                     std::to_string(setup_.mesh().interface_pairs.size()) + " interface pairs");
   const auto t0 = Clock::now();
   const bool rebuilt = !problem_ || bonds != problem_bonds_;
   const DualProblem& dual = problem(bonds);
@@ -71,9 +77,10 @@ Solution ContactSolver::solve_problem(const DualProblem& dual, double& norm_PFP,
   const Eigen::VectorXd f = setup_.load(sigma);
   const Eigen::VectorXd e = dual.e(f);
   const Eigen::VectorXd lambda0 = dual.lambda_0(e);
-  Eigen::VectorXd b(m), tmp(m), tmp2(m);
+  const Eigen::VectorXd d = dual.d(f);
+  Eigen::VectorXd b(m), tmp(m);
   dual.apply_F(lambda0, tmp);
-  b = dual.d(f) - tmp;
+  b = d - tmp;
   dual.apply_Q(b, tmp);
   b -= tmp;  // b = P(d − Fλ₀)
 
@@ -107,6 +114,7 @@ Solution ContactSolver::solve_problem(const DualProblem& dual, double& norm_PFP,
   options.inner.Gamma = settings.Gamma;
   options.inner.norm_A = norm_PFP;
   options.inner.max_iterations = settings.max_operator_applications;
+  options.projected_operator = true;  // A = PFP: ‖A + ρQ‖ = max(‖A‖, ρ)
   Eigen::VectorXd multiplier = Eigen::VectorXd::Zero(m);  // SMALBE's m = Ĝᵀμ, in λ-space
   out.qp = qp::smalbe(A, Q, b, lower, upper, mu, multiplier, options);
   out.seconds.qp = seconds_since(t_qp);
@@ -119,7 +127,7 @@ Solution ContactSolver::solve_problem(const DualProblem& dual, double& norm_PFP,
   const Eigen::VectorXd lambda_scaled = lambda0 + mu;
   out.lambda = lambda_scaled.cwiseProduct(con.weight);
   const auto t_rec = Clock::now();
-  recover(dual, f, lambda_scaled, multiplier, out);
+  recover(dual, f, d, lambda_scaled, multiplier, out);
   out.seconds.recovery = seconds_since(t_rec);
   report(dual, f, lambda_scaled, out);
   return out;
@@ -133,8 +141,9 @@ Solution ContactSolver::solve_problem(const DualProblem& dual, double& norm_PFP,
 // follows the surrounding matrix (the rigid motion that best fits the matrix at the rim),
 // moved there along a straight line only as far as the open gaps allow, so that no gap closes
 // into a penetration.
-void ContactSolver::recover(const DualProblem& dual, const Eigen::VectorXd& f, const Eigen::VectorXd& lambda_scaled,
-                            const Eigen::VectorXd& multiplier, Solution& out) const {
+void ContactSolver::recover(const DualProblem& dual, const Eigen::VectorXd& f, const Eigen::VectorXd& d,
+                            const Eigen::VectorXd& lambda_scaled, const Eigen::VectorXd& multiplier,
+                            Solution& out) const {
   const Constraints& con = dual.constraints();
   const auto& subs = setup_.subdomains();
   const auto& locals = dual.locals();
@@ -142,7 +151,7 @@ void ContactSolver::recover(const DualProblem& dual, const Eigen::VectorXd& f, c
   Eigen::VectorXd u = dual.K_plus_residual(f, lambda_scaled);
   Eigen::VectorXd g(con.n_rows());
   dual.apply_F(lambda_scaled, g);
-  g -= dual.d(f) + multiplier;
+  g -= d + multiplier;
   const Eigen::VectorXd beta = dual.coarse_solve(g);
   out.alpha = Eigen::VectorXd::Zero(3 * S);
   for (int s = 0; s < S; ++s) {
@@ -180,26 +189,40 @@ void ContactSolver::recover(const DualProblem& dual, const Eigen::VectorXd& f, c
     for (std::size_t k = 0; k < local.rows.size(); ++k)
       (is_active(con, lambda_scaled, local.rows[k]) ? active : open).push_back(static_cast<int>(k));
     const double reference = Eigen::JacobiSVD<Eigen::MatrixXd>(BR).singularValues()(0);
-    Eigen::Matrix3d N = Eigen::Matrix3d::Identity();  // projector onto the undetermined directions
+    // Undetermined directions: an orthonormal basis of the null space of the active rows.
+    Eigen::MatrixXd undetermined = Eigen::Matrix3d::Identity();
     if (!active.empty()) {
       Eigen::MatrixXd Ma(active.size(), 3);
       for (std::size_t i = 0; i < active.size(); ++i) Ma.row(i) = BR.row(active[i]);
       Eigen::JacobiSVD<Eigen::MatrixXd> svd(Ma, Eigen::ComputeFullV);
-      for (int j = 0; j < svd.singularValues().size(); ++j)
-        if (svd.singularValues()(j) > 1e-8 * reference) N -= svd.matrixV().col(j) * svd.matrixV().col(j).transpose();
+      int rank = 0;
+      for (int j = 0; j < svd.singularValues().size(); ++j) rank += svd.singularValues()(j) > 1e-8 * reference;
+      undetermined = svd.matrixV().rightCols(3 - rank);
     }
-    const Eigen::Vector3d step = N * shift_target;
-    if (step.norm() == 0) continue;
-    // Largest t in [0, 1] keeping every open row open: gap_r + t (B R step)_r ≤ 0.
-    double t = 1;
-    for (int k : open) {
-      const int row = local.rows[k];
-      const double gap = Bu(row) - con.c(row);
-      const double rate = BR.row(k).dot(step);
-      if (rate > 0) t = std::min(t, std::max(0.0, -gap / rate));
+    // Move along each undetermined direction separately, as far as the rows at a bound allow:
+    // at a lower bound (open contact, a bond at its tensile or negative shear strength)
+    // gap + t·rate ≤ 0; at an upper bound (shear at +strength) gap + t·rate ≥ 0. A rate at
+    // round-off level (a spin seen by normal rows) limits nothing: dividing a gap of ~0 by it
+    // would pick an arbitrary step.
+    Eigen::VectorXd gap(local.rows.size());
+    for (std::size_t k = 0; k < local.rows.size(); ++k) gap(k) = Bu(local.rows[k]) - con.c(local.rows[k]);
+    for (int j = 0; j < undetermined.cols(); ++j) {
+      const Eigen::Vector3d direction = undetermined.col(j);
+      const double amount = direction.dot(shift_target);
+      if (amount == 0) continue;
+      const Eigen::Vector3d step = amount * direction;
+      double t = 1;
+      for (int k : open) {
+        const double rate = BR.row(k).dot(step);
+        if (std::abs(rate) <= 1e-10 * BR.row(k).norm() * step.norm()) continue;
+        const bool at_upper = lambda_scaled(local.rows[k]) >= con.upper(local.rows[k]);
+        if (!at_upper && rate > 0) t = std::min(t, std::max(0.0, -gap(k) / rate));
+        if (at_upper && rate < 0) t = std::min(t, std::max(0.0, gap(k) / -rate));
+      }
+      out.alpha.segment<3>(3 * s) += t * step;
+      u.segment(sub.dof_begin, sub.n_dofs) += sub.R * (t * step);
+      gap += t * (BR * step);
     }
-    out.alpha.segment<3>(3 * s) += t * step;
-    u.segment(sub.dof_begin, sub.n_dofs) += sub.R * (t * step);
   }
   out.u = std::move(u);
 }
@@ -218,6 +241,13 @@ void ContactSolver::report(const DualProblem& dual, const Eigen::VectorXd& f, co
   const double scale = std::max(e.norm(), (dual.G().cwiseAbs() * lambda_scaled.cwiseAbs()).norm());
   kkt.relative_equality_residual = scale > 0 ? (Glambda - e).norm() / scale : 0.0;
 
+  // Complementarity of a bounded row: its gap times its distance to the nearest bound, the
+  // distance capped at ‖λ‖∞ so that a row far inside huge (or infinite) bounds, which must hold
+  // as an equality, counts its gap at the scale of the interface forces.
+  const double lambda_cap = std::max(out.lambda.lpNorm<Eigen::Infinity>(), std::numeric_limits<double>::min());
+  auto complementarity = [&](double lambda, double lower, double upper, double gap) {
+    return std::min({lambda - lower, upper - lambda, lambda_cap}) * std::abs(gap);
+  };
   const Eigen::VectorXd Bu = con.B * out.u;
   out.normal_force.assign(mesh.interface_pairs.size(), 0.0);
   out.tangential_force.assign(mesh.interface_pairs.size(), 0.0);
@@ -229,11 +259,11 @@ void ContactSolver::report(const DualProblem& dual, const Eigen::VectorXd& f, co
     switch (con.kind[r]) {
       case RowKind::normal:
         kkt.max_penetration = std::max(kkt.max_penetration, gap);
-        kkt.complementarity = std::max(kkt.complementarity, std::abs((lambda - lower) * gap));
+        kkt.complementarity = std::max(kkt.complementarity, complementarity(lambda, lower, upper, gap));
         out.normal_force[con.pair[r]] = lambda;
         break;
       case RowKind::tangential:
-        kkt.complementarity = std::max(kkt.complementarity, std::min(lambda - lower, upper - lambda) * std::abs(gap));
+        kkt.complementarity = std::max(kkt.complementarity, complementarity(lambda, lower, upper, gap));
         out.tangential_force[con.pair[r]] = lambda;
         break;
       default:
@@ -255,6 +285,26 @@ void ContactSolver::report(const DualProblem& dual, const Eigen::VectorXd& f, co
     worst = std::max(worst, residual.lpNorm<Eigen::Infinity>());
   }
   kkt.relative_equilibrium = worst / f_scale;
+
+  // Check the recovered primal solution. Gaps and jumps follow the dual residual amplified by
+  // the conditioning of F (measured ≤ 1 × tolerance × ‖u‖∞ on the thesis cases), hence a
+  // factor of 100 before a solution is declared wrong.
+  const double tolerance = 100 * scene.solver.tolerance;
+  const double u_scale = out.u.lpNorm<Eigen::Infinity>();
+  const double lambda_scale = out.lambda.lpNorm<Eigen::Infinity>();
+  out.primal_ok = true;
+  out.primal_message.clear();
+  auto check = [&](double value, double limit, const char* what) {
+    if (value > limit) {
+      out.primal_ok = false;
+      if (out.primal_message.empty())
+        out.primal_message = std::string("recovered solution fails its check: ") + what + " " + std::to_string(value) +
+                             " > " + std::to_string(limit);
+    }
+  };
+  check(kkt.max_penetration, tolerance * u_scale, "max penetration");
+  check(kkt.max_glue_jump, tolerance * u_scale, "max glue jump");
+  check(kkt.complementarity, tolerance * u_scale * lambda_scale, "complementarity");
 
   out.strain = boundary_strain(mesh, out.u);
   out.average_stress = average_stress(mesh, scene.fibre, scene.matrix, out.u);
@@ -283,7 +333,7 @@ Solution ContactSolver::solve(const Eigen::Vector3d& sigma, const BondState& bon
     // Bonds at their strength break, normal and tangential together (METHOD §6). No loop at
     // all without adhesion.
     std::vector<int> breaking;
-    if (adhesion && s.converged()) {
+    if (adhesion && s.qp_converged()) {
       const Constraints& con = problem_->constraints();
       for (int r = 0; r < con.n_rows(); ++r) {
         if (con.kind[r] != RowKind::normal && con.kind[r] != RowKind::tangential) continue;
@@ -336,14 +386,19 @@ double ContactSolver::debond_onset(const Eigen::Vector3d& sigma) {
   if (!setup_.scene().interface.has_adhesion()) return std::numeric_limits<double>::infinity();
   Constraints con = build_constraints(setup_.mesh(), setup_.scene(), intact());
   const Eigen::VectorXd lower = con.lower, upper = con.upper;
-  for (int r = 0; r < con.n_rows(); ++r)
-    if (con.kind[r] == RowKind::normal || con.kind[r] == RowKind::tangential) {
+  // Lift only the bounds that come from a strength: a normal row without normal strength keeps
+  // λ ≥ 0 (contact), which leaves a cone and keeps the response homogeneous.
+  for (int r = 0; r < con.n_rows(); ++r) {
+    if (con.kind[r] == RowKind::tangential) {
       con.lower(r) = -std::numeric_limits<double>::infinity();
       con.upper(r) = std::numeric_limits<double>::infinity();
     }
+    if (con.kind[r] == RowKind::normal && con.lower(r) < 0) con.lower(r) = -std::numeric_limits<double>::infinity();
+  }
   const DualProblem linear(setup_, std::move(con));
   double norm = 0;
   const Solution s = solve_problem(linear, norm, sigma, nullptr);
+  if (!s.converged()) return std::numeric_limits<double>::quiet_NaN();
   double onset = std::numeric_limits<double>::infinity();
   const Constraints& c = linear.constraints();
   for (int r = 0; r < c.n_rows(); ++r) {

@@ -28,7 +28,7 @@ struct KktReport {
   double relative_projected_gradient = 0;  // SMALBE: ‖gᴾ‖/‖b‖ of the dual QP
   double relative_equality_residual = 0;   // ‖Gλ − e‖ / max(‖e‖, ‖G‖‖λ‖)
   double bound_violation = 0;              // max (ℓ−λ, λ−υ, 0), force units
-  double complementarity = 0;              // max |(λ−ℓ)·gap| over inequality rows, force × length
+  double complementarity = 0;              // max min(λ−ℓ, υ−λ, ‖λ‖∞)·|gap| over interface rows, force × length
   double max_penetration = 0;              // max (n·(u_f − u_m), 0), length units
   double max_glue_jump = 0;                // max |B u − c| over glue, Dirichlet, periodic rows, length
   double relative_equilibrium = 0;         // max_i ‖K_i u_i − f_i + B_iᵀλ‖∞ / ‖f‖∞
@@ -56,13 +56,21 @@ struct Solution {
   long operator_applications = 0; // F applications, all QPs of this solve
   long outer_iterations = 0, cg_steps = 0, expansion_steps = 0, proportioning_steps = 0;
   KktReport kkt;
+  // The recovered primal solution, checked (not assumed): penetration and glue jumps within
+  // primal_tolerance·‖u‖∞, complementarity within primal_tolerance·‖λ‖∞‖u‖∞.
+  bool primal_ok = true;
+  std::string primal_message;  // what failed, when !primal_ok
   Timings seconds;
-  bool converged() const { return qp.status == qp::Status::converged; }
+  bool qp_converged() const { return qp.status == qp::Status::converged; }
+  bool converged() const { return qp_converged() && primal_ok; }
 };
 
 class ContactSolver {
  public:
   ContactSolver(const mesh::Mesh& mesh, const Scene& scene);
+  // The cached dual problem refers to setup_: not copyable, not movable.
+  ContactSolver(const ContactSolver&) = delete;
+  ContactSolver& operator=(const ContactSolver&) = delete;
 
   // One QP for a fixed bond state: no bond breaks even where a multiplier sits at its strength.
   // `warm_lambda` (physical, same bond state) starts the iteration.
@@ -74,7 +82,9 @@ class ContactSolver {
 
   // s* = min over bonded rows of bound/λ(σ̄): the load factor t at which the first bond of the
   // intact interface reaches its strength under t·σ̄ (METHOD §8), from one solve of the bonded
-  // problem (interface bounds lifted, so the response is linear). +inf without adhesion.
+  // problem with the strength bounds lifted (what remains, λ_n ≥ 0 where s_n = 0, is a cone,
+  // so the response is positively homogeneous in t). +inf without adhesion; NaN when that
+  // solve did not converge. Scenes with adhesion have no body force (checked on reading).
   double debond_onset(const Eigen::Vector3d& sigma);
 
   // Drops the cached dual problem (and its norm estimate), so that what follows does not
@@ -91,8 +101,8 @@ class ContactSolver {
  private:
   Solution solve_problem(const DualProblem& problem, double& norm_PFP, const Eigen::Vector3d& sigma,
                          const Eigen::VectorXd* warm_lambda);
-  void recover(const DualProblem& problem, const Eigen::VectorXd& f, const Eigen::VectorXd& lambda_scaled,
-               const Eigen::VectorXd& multiplier, Solution& out) const;
+  void recover(const DualProblem& problem, const Eigen::VectorXd& f, const Eigen::VectorXd& d,
+               const Eigen::VectorXd& lambda_scaled, const Eigen::VectorXd& multiplier, Solution& out) const;
   void report(const DualProblem& problem, const Eigen::VectorXd& f, const Eigen::VectorXd& lambda_scaled,
               Solution& out) const;
 

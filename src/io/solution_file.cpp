@@ -72,6 +72,8 @@ void write_solution(const std::filesystem::path& h5, const mesh::Mesh& mesh, con
     f.create_group("/solver");
     f.write_attribute("/solver", "status", std::string(qp::to_string(s.qp.status)));
     f.write_attribute("/solver", "message", s.qp.message);
+    f.write_attribute("/solver", "primal_ok", std::int64_t{s.primal_ok});
+    f.write_attribute("/solver", "primal_message", s.primal_message);
     f.write_attribute("/solver", "outer_iterations", std::int64_t{s.outer_iterations});
     f.write_attribute("/solver", "operator_applications", std::int64_t{s.operator_applications});
     f.write_attribute("/solver", "cg_steps", std::int64_t{s.cg_steps});
@@ -117,8 +119,13 @@ void write_solution(const std::filesystem::path& h5, const mesh::Mesh& mesh, con
   outputs.commit();
 }
 
-feti::BondState read_bonds(const std::filesystem::path& h5, const mesh::Mesh& mesh) {
+feti::BondState read_bonds(const std::filesystem::path& h5, const mesh::Mesh& mesh, const std::string& mesh_hash) {
   File f = File::open_read(h5);
+  if (!f.has_attribute("/", "format") || f.read_string_attribute("/", "format") != "dualcell solution 1")
+    throw InputError(h5.string() + ": not a dualcell solution file (root attribute format != \"dualcell solution 1\")");
+  if (f.read_string_attribute("/", "mesh_hash") != mesh_hash)
+    throw InputError(h5.string() + ": its bond state was computed on another mesh (mesh_hash " +
+                     f.read_string_attribute("/", "mesh_hash") + ", this mesh " + mesh_hash + ")");
   std::vector<hsize_t> dims;
   const auto bonded = f.read_ints("/interface/bonded", &dims);
   if (dims.size() != 1 || dims[0] != mesh.interface_pairs.size())

@@ -18,7 +18,8 @@ struct SolutionProvenance {
 void write_solution(const std::filesystem::path& h5, const mesh::Mesh& mesh, const Scene& scene,
                     const feti::Solution& solution, const SolutionProvenance& provenance);
 
-// The bond state stored in a solution file (/interface/bonded), checked against the mesh.
-feti::BondState read_bonds(const std::filesystem::path& h5, const mesh::Mesh& mesh);
+// The bond state stored in a solution file (/interface/bonded), checked against the mesh: the
+// file must have been solved on the mesh whose hash is `mesh_hash`.
+feti::BondState read_bonds(const std::filesystem::path& h5, const mesh::Mesh& mesh, const std::string& mesh_hash);
 
 }  // namespace dualcell::io

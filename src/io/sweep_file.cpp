@@ -138,6 +138,11 @@ void write_provenance(File& f, const SweepProvenance& p, std::size_t n_paths) {
   f.write_attribute("/", "solver_options", p.solver_options);
   f.write_attribute("/", "inputs_key", p.key());
   f.write_attribute("/", "n_paths", static_cast<std::int64_t>(n_paths));
+  f.write_attribute("/", "fibre_E", p.fibre_E);
+  f.write_attribute("/", "fibre_nu", p.fibre_nu);
+  f.write_attribute("/", "matrix_E", p.matrix_E);
+  f.write_attribute("/", "matrix_nu", p.matrix_nu);
+  f.write_attribute("/", "fibre_volume_fraction", p.fibre_volume_fraction);
 }
 
 }  // namespace
@@ -196,6 +201,26 @@ void write_sweep(const std::filesystem::path& out, const std::vector<sweep::Path
   outputs.commit();
   std::error_code ec;
   std::filesystem::remove_all(parts_folder(out), ec);
+}
+
+SweepProvenance read_sweep_provenance(const std::filesystem::path& file) {
+  const File f = File::open_read(file);
+  if (!f.has_attribute("/", "format") || f.read_string_attribute("/", "format") != "dualcell sweep 1")
+    throw InputError(file.string() + ": not a dualcell sweep file (root attribute format != \"dualcell sweep 1\")");
+  SweepProvenance p;
+  p.code_version = f.read_string_attribute("/", "code_version");
+  p.scene_text = f.read_string_attribute("/", "scene");
+  if (f.has_attribute("/", "material")) p.material_text = f.read_string_attribute("/", "material");
+  p.scene_file = f.read_string_attribute("/", "scene_file");
+  p.mesh_file = f.read_string_attribute("/", "mesh_file");
+  p.mesh_hash = f.read_string_attribute("/", "mesh_hash");
+  p.solver_options = f.read_string_attribute("/", "solver_options");
+  p.fibre_E = f.read_double_attribute("/", "fibre_E").at(0);
+  p.fibre_nu = f.read_double_attribute("/", "fibre_nu").at(0);
+  p.matrix_E = f.read_double_attribute("/", "matrix_E").at(0);
+  p.matrix_nu = f.read_double_attribute("/", "matrix_nu").at(0);
+  p.fibre_volume_fraction = f.read_double_attribute("/", "fibre_volume_fraction").at(0);
+  return p;
 }
 
 std::vector<sweep::PathResult> read_sweep(const std::filesystem::path& file) {

@@ -17,6 +17,8 @@ struct SweepProvenance {
   std::string mesh_file, mesh_hash;
   std::string solver_options;  // "key=value; ..." of [solver] and fuse_tolerance
   std::string code_version;
+  // Constituents and fibre volume fraction π r²/a², for the fit and the exports.
+  double fibre_E = 0, fibre_nu = 0, matrix_E = 0, matrix_nu = 0, fibre_volume_fraction = 0;
   // Identifies the inputs of a run: parts with another key are stale and recomputed.
   std::string key() const;
 };
@@ -29,7 +31,10 @@ std::optional<sweep::PathResult> read_part(const std::filesystem::path& out, int
 // Writes the final file atomically and removes the parts.
 void write_sweep(const std::filesystem::path& out, const std::vector<sweep::PathResult>& paths,
                  const SweepProvenance& provenance);
-// Reads every path of a sweep file (for the fit stage and tests).
+// Reads every path of a sweep file (for the fit stage and tests); refuses foreign, truncated or
+// incomplete files with one line naming the file and the object.
 std::vector<sweep::PathResult> read_sweep(const std::filesystem::path& file);
+// The root attributes of a sweep file.
+SweepProvenance read_sweep_provenance(const std::filesystem::path& file);
 
 }  // namespace dualcell::io

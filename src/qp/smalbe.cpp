@@ -141,8 +141,12 @@ Result smalbe(const LinearOperator& A, const LinearOperator& Q, const Eigen::Vec
     y += rho * Qv;
   };
   MprgpOptions inner = opts.inner;
-  inner.norm_A = estimate_norm(A_plus_rho_Q, n, power_iterations);
-  counters.operator_applications += power_iterations;
+  if (opts.projected_operator) {
+    inner.norm_A = std::max(norm_A, rho);
+  } else {
+    inner.norm_A = estimate_norm(A_plus_rho_Q, n, power_iterations);
+    counters.operator_applications += power_iterations;
+  }
   if (!std::isfinite(inner.norm_A)) {
     return fail_non_finite("the estimate of ||A + rho Q||");
   }
@@ -228,8 +232,8 @@ Result smalbe(const LinearOperator& A, const LinearOperator& Q, const Eigen::Vec
     if (inner_result.status == Status::converged && k > 0 && rho < rho_max &&
         Qx_norm > opts.feasibility_reduction * Qx_norm_previous) {
       const double rho_new = std::min(opts.rho_growth * rho, rho_max);
-      // ‖A + ρ'Q‖ ≤ ‖A + ρQ‖ + (ρ' - ρ) since ‖Q‖ = 1.
-      inner.norm_A += rho_new - rho;
+      // ‖A + ρ'Q‖ ≤ ‖A + ρQ‖ + (ρ' - ρ) since ‖Q‖ = 1; exactly max(‖A‖, ρ') when A Q = 0.
+      inner.norm_A = opts.projected_operator ? std::max(norm_A, rho_new) : inner.norm_A + rho_new - rho;
       rho = rho_new;
     }
     Qx_norm_previous = Qx_norm;

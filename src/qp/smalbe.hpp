@@ -32,6 +32,10 @@ struct SmalbeOptions {
   double rho_growth = 10;
   double feasibility_reduction = 0.1;
   double rho_max_factor = 100;
+  // The caller asserts A Q = Q A = 0 (A = PFP with P = I − Q, as in FETI): then the spectra of A
+  // and ρQ live on orthogonal subspaces and ‖A + ρQ‖ = max(‖A‖, ρ) exactly, so no power
+  // iterations are spent on it.
+  bool projected_operator = false;
   // Inner MPRGP: Gamma, alpha_bar_factor, max_iterations (per inner solve), stagnation_window,
   // on_iterate are used; norm_A is ‖A‖ of the caller's A (0 → estimated); its tolerances are
   // replaced by SMALBE's inner stopping test.

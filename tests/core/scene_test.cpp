@@ -57,6 +57,10 @@ TEST(Scene, ErrorsNameFileKeyValueAndRange) {
       {"[geometry]\nfibre_radius = 0.3\n", "missing table [fibre]"},
       {scene_text(1, 1, 1, 0.3, "[solver]\ntolerance = 2\n"), "[solver] tolerance = 2: out of range"},
       {scene_text(1, 1, 1, 0.3, "[sweep]\nmagnitudes = [1, 0]\n"), "[sweep] magnitudes"},
+      {scene_text(1, 1, 1, 0.3, "[load]\nboundary = \"traction\"\nbody_force = [0, -1]\n"),
+       "[load] body_force: a body force needs boundary = \"symmetry\""},
+      {scene_text(1, 1, 1, 0.3, "[interface]\nnormal_strength = 1\n[load]\nbody_force = [0, -1]\n"),
+       "a body force cannot be combined with adhesion"},
   };
   for (const auto& c : cases) {
     const std::string message = error_of(c.text);
