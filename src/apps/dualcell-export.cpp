@@ -1,0 +1,44 @@
+// dualcell-export: a law.h5 in the formats other programs read.
+//
+// JSON (everything in law.h5, for scripts), CSV (one row per direction) or CalculiX/Abaqus
+// material cards: <name>_TENSION and <name>_COMPRESSION, 3D materials in the axes x, y, z = fibre
+// direction whose plane-strain response is the fitted one (formulas: README.md, "Stage:
+// dualcell-export", and src/law/export.hpp). The output is written to a temporary and renamed,
+// so a refused or failed export leaves no file.
+//
+//   dualcell-export --law law.h5 --format calculix --out law.inp --name GLASS_EPOXY
+#include <cstdio>
+
+#include <CLI/CLI.hpp>
+
+#include "core/stage.hpp"
+#include "law/export.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"dualcell-export: write a law.h5 as JSON, CSV or CalculiX/Abaqus material cards\n"
+               "(layout and formulas: README.md, \"Stage: dualcell-export\")."};
+  std::string law_file, format, out, name = "DUALCELL";
+  bool quiet = false;
+  app.add_option("--law", law_file, "law.h5 written by dualcell-fit")->required();
+  app.add_option("--format", format,
+                 "json: every object of law.h5 (NaN as null); csv: one row per direction; calculix: *MATERIAL "
+                 "cards for plane-strain elements (material axes x, y, z = fibre)")
+      ->required()
+      ->check(CLI::IsMember({"json", "csv", "calculix"}));
+  app.add_option("--out", out, "output file, written atomically")->required();
+  app.add_option("--name", name, "calculix: base of the material names <name>_TENSION and <name>_COMPRESSION")
+      ->capture_default_str();
+  app.add_flag("--quiet", quiet, "do not print what was written");
+  CLI11_PARSE(app, argc, argv);
+
+  return dualcell::run_stage("dualcell-export", [&] {
+    using namespace dualcell;
+    law::ExportOptions options;
+    options.law_file = law_file;
+    options.out = out;
+    options.format = law::parse_export_format(format);
+    options.name = name;
+    const std::string written = law::export_law(options);
+    if (!quiet) std::printf("dualcell-export: %s -> %s (%s)\n", law_file.c_str(), out.c_str(), written.c_str());
+  });
+}

@@ -1,0 +1,267 @@
+#include "fit/fit.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <memory>
+#include <numbers>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/LU>
+#include <Eigen/SVD>
+#include <gsl/gsl_fit.h>
+#include <gsl/gsl_multifit.h>
+
+namespace dualcell::fit {
+
+namespace {
+
+constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+
+// RAII for the GSL objects used here.
+struct GslDelete {
+  void operator()(gsl_matrix* m) const { gsl_matrix_free(m); }
+  void operator()(gsl_vector* v) const { gsl_vector_free(v); }
+  void operator()(gsl_multifit_linear_workspace* w) const { gsl_multifit_linear_free(w); }
+};
+template <typename T>
+using Gsl = std::unique_ptr<T, GslDelete>;
+
+struct LineFit {
+  double slope = nan, slope_se = nan, r2 = nan;
+  int n = 0;
+};
+
+// y = c x by least squares (gsl_fit_mul). se needs two points at least.
+LineFit through_origin(const std::vector<double>& x, const std::vector<double>& y) {
+  LineFit fit;
+  fit.n = static_cast<int>(x.size());
+  if (x.empty()) return fit;
+  double c = 0, cov = 0, sumsq = 0;
+  gsl_fit_mul(x.data(), 1, y.data(), 1, x.size(), &c, &cov, &sumsq);
+  double sum_y2 = 0;
+  for (double v : y) sum_y2 += v * v;
+  fit.slope = c;
+  fit.slope_se = x.size() >= 2 ? std::sqrt(cov) : nan;
+  fit.r2 = sum_y2 > 0 ? 1 - sumsq / sum_y2 : nan;
+  return fit;
+}
+
+// y = c0 + c1 x (gsl_fit_linear); se needs three points at least.
+LineFit with_intercept(const std::vector<double>& x, const std::vector<double>& y) {
+  LineFit fit;
+  fit.n = static_cast<int>(x.size());
+  if (x.size() < 2) return fit;
+  double c0, c1, cov00, cov01, cov11, sumsq;
+  gsl_fit_linear(x.data(), 1, y.data(), 1, x.size(), &c0, &c1, &cov00, &cov01, &cov11, &sumsq);
+  fit.slope = c1;
+  fit.slope_se = x.size() >= 3 ? std::sqrt(cov11) : nan;
+  return fit;
+}
+
+bool usable(const sweep::Step& s) { return s.broken_bonds == 0 && s.converged && s.load != 0; }
+
+// Normal and transverse strain of a uniaxial path in direction θ.
+std::pair<double, double> nn_tt(double theta_deg, const Eigen::Vector3d& e) {
+  const double t = theta_deg * std::numbers::pi / 180, c = std::cos(t), s = std::sin(t);
+  return {e(0) * c * c + e(1) * s * s + 2 * e(2) * c * s, e(0) * s * s + e(1) * c * c - 2 * e(2) * c * s};
+}
+
+// Fits the modulus and Poisson's ratio of one path; returns (E, se, r2, n, nu, nu_se).
+void fit_path(const sweep::PathResult& p, double& E, double& E_se, double& r2, int& n, double& nu, double& nu_se) {
+  std::vector<double> load, e_nn, e_tt;
+  for (const auto& s : p.steps) {
+    if (!usable(s)) continue;
+    const auto [nn, tt] = nn_tt(p.spec.direction_deg, s.strain);
+    load.push_back(s.load);
+    e_nn.push_back(nn);
+    e_tt.push_back(tt);
+  }
+  const LineFit compliance = through_origin(load, e_nn);
+  n = compliance.n;
+  E = compliance.slope != 0 ? 1 / compliance.slope : nan;
+  E_se = compliance.slope_se / (compliance.slope * compliance.slope);
+  r2 = compliance.r2;
+  const LineFit poisson = through_origin(e_nn, e_tt);
+  nu = -poisson.slope;
+  nu_se = poisson.slope_se;
+}
+
+// S from all usable points of paths with the given sign.
+law::ComplianceFit fit_compliance(const std::vector<sweep::PathResult>& paths, int sign,
+                                  const std::vector<double>& directions) {
+  law::ComplianceFit out;
+  struct Point {
+    Eigen::Vector3d N, e;  // normalised by the load: N = σ/s, e = ε_eng/s
+    double direction;
+  };
+  std::vector<Point> points;
+  for (const auto& p : paths) {
+    if (p.spec.sign != sign) continue;
+    for (const auto& s : p.steps) {
+      if (!usable(s)) continue;
+      const Eigen::Vector3d e_eng(s.strain(0), s.strain(1), 2 * s.strain(2));
+      points.push_back({s.stress / s.load, e_eng / s.load, p.spec.direction_deg});
+    }
+  }
+  out.n_points = static_cast<int>(points.size());
+  out.direction_residual.assign(directions.size(), nan);
+  if (points.empty()) return out;
+  // Unknowns p = (S11, S22, S33, S12, S13, S23).
+  const int rows = 3 * static_cast<int>(points.size());
+  Eigen::MatrixXd X = Eigen::MatrixXd::Zero(rows, 6);
+  Eigen::VectorXd y(rows);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Eigen::Vector3d& N = points[i].N;
+    X.row(3 * i) << N(0), 0, 0, N(1), N(2), 0;
+    X.row(3 * i + 1) << 0, N(1), 0, N(0), 0, N(2);
+    X.row(3 * i + 2) << 0, 0, N(2), 0, N(0), N(1);
+    y.segment<3>(3 * i) = points[i].e;
+  }
+  // Which entries the directions determine: those orthogonal to the null space of X.
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(X, Eigen::ComputeFullV);
+  int rank = 0;
+  for (int j = 0; j < svd.singularValues().size(); ++j) rank += svd.singularValues()(j) > 1e-10 * svd.singularValues()(0);
+  out.rank = rank;
+  const Eigen::MatrixXd null = svd.matrixV().rightCols(6 - rank);
+
+  Gsl<gsl_matrix> gX(gsl_matrix_alloc(rows, 6)), cov(gsl_matrix_alloc(6, 6));
+  Gsl<gsl_vector> gy(gsl_vector_alloc(rows)), c(gsl_vector_alloc(6));
+  for (int i = 0; i < rows; ++i) {
+    gsl_vector_set(gy.get(), i, y(i));
+    for (int j = 0; j < 6; ++j) gsl_matrix_set(gX.get(), i, j, X(i, j));
+  }
+  Gsl<gsl_multifit_linear_workspace> work(gsl_multifit_linear_alloc(rows, 6));
+  double chisq = 0;
+  if (rank == 6 && rows > 6) {
+    gsl_multifit_linear(gX.get(), gy.get(), c.get(), cov.get(), &chisq, work.get());
+  } else {
+    size_t gsl_rank = 0;
+    gsl_multifit_linear_tsvd(gX.get(), gy.get(), 1e-10, c.get(), cov.get(), &chisq, &gsl_rank, work.get());
+  }
+  Eigen::Matrix<double, 6, 1> p, p_se;
+  for (int j = 0; j < 6; ++j) {
+    const bool determined = null.cols() == 0 || null.row(j).lpNorm<Eigen::Infinity>() < 1e-8;
+    p(j) = determined ? gsl_vector_get(c.get(), j) : nan;
+    // With as many equations as unknowns there is no residual to estimate an error from.
+    p_se(j) = determined && rows > rank ? std::sqrt(gsl_matrix_get(cov.get(), j, j)) : nan;
+  }
+  auto symmetric = [](const Eigen::Matrix<double, 6, 1>& v) {
+    Eigen::Matrix3d S;
+    S << v(0), v(3), v(4), v(3), v(1), v(5), v(4), v(5), v(2);
+    return S;
+  };
+  out.S = symmetric(p);
+  out.S_se = symmetric(p_se);
+  // Residuals with the determined part (undetermined entries multiply zero stresses).
+  const Eigen::Matrix3d S0 = out.S.unaryExpr([](double v) { return std::isnan(v) ? 0.0 : v; });
+  double r2 = 0, e2 = 0;
+  std::map<double, std::pair<double, double>> per_direction;
+  for (const auto& pt : points) {
+    const double r = (pt.e - S0 * pt.N).squaredNorm(), e = pt.e.squaredNorm();
+    r2 += r;
+    e2 += e;
+    if (!std::isnan(pt.direction)) {
+      per_direction[pt.direction].first += r;
+      per_direction[pt.direction].second += e;
+    }
+  }
+  out.relative_residual = e2 > 0 ? std::sqrt(r2 / e2) : nan;
+  for (std::size_t d = 0; d < directions.size(); ++d) {
+    const auto it = per_direction.find(directions[d]);
+    if (it != per_direction.end() && it->second.second > 0)
+      out.direction_residual[d] = std::sqrt(it->second.first / it->second.second);
+  }
+  if (rank == 6) {
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(out.S, Eigen::EigenvaluesOnly);
+    out.symmetric_positive_definite = eig.eigenvalues().minCoeff() > 0;
+  }
+  return out;
+}
+
+}  // namespace
+
+double along(const Eigen::Vector3d& N, const Eigen::Vector3d& strain) {
+  return N(0) * strain(0) + N(1) * strain(1) + 2 * N(2) * strain(2);
+}
+
+law::Law fit_law(const std::vector<sweep::PathResult>& paths, const io::SweepProvenance& provenance) {
+  law::Law law;
+  std::vector<double> directions;
+  for (const auto& p : paths)
+    if (!std::isnan(p.spec.direction_deg)) directions.push_back(p.spec.direction_deg);
+  std::sort(directions.begin(), directions.end());
+  directions.erase(std::unique(directions.begin(), directions.end()), directions.end());
+
+  for (double theta : directions) {
+    law::DirectionLaw d;
+    d.direction_deg = theta;
+    d.E_tension = d.E_tension_se = d.E_tension_r2 = nan;
+    d.E_compression = d.E_compression_se = d.E_compression_r2 = nan;
+    d.nu_tension = d.nu_tension_se = d.nu_compression = d.nu_compression_se = nan;
+    d.onset_stress = d.fuse_stress = d.fuse_stress_after = d.fuse_strain_jump = d.fuse_strain_ratio = nan;
+    d.E_after_fuse = d.E_after_fuse_se = nan;
+    for (const auto& p : paths) {
+      if (p.spec.direction_deg != theta) continue;
+      if (p.spec.sign > 0) {
+        fit_path(p, d.E_tension, d.E_tension_se, d.E_tension_r2, d.n_tension, d.nu_tension, d.nu_tension_se);
+        // The tension fuse: the largest jump of the path.
+        if (p.fuse) {
+          const auto& f = *p.fuse;
+          const double before = nn_tt(theta, f.strain_before).first, after = nn_tt(theta, f.strain_after).first;
+          d.onset_stress = f.onset_load;
+          d.fuse_stress = f.load_before;
+          d.fuse_stress_after = f.load_after;
+          d.fuse_strain_jump = after - before;
+          d.fuse_strain_ratio = before != 0 ? after / before : nan;
+          std::vector<double> e_nn, load;
+          for (const auto& s : p.steps)
+            if (s.load >= f.load_after && s.converged) {
+              e_nn.push_back(nn_tt(theta, s.strain).first);
+              load.push_back(s.load);
+            }
+          const LineFit tangent = with_intercept(e_nn, load);
+          d.E_after_fuse = tangent.slope;
+          d.E_after_fuse_se = tangent.slope_se;
+        }
+      } else {
+        fit_path(p, d.E_compression, d.E_compression_se, d.E_compression_r2, d.n_compression, d.nu_compression,
+                 d.nu_compression_se);
+      }
+    }
+    law.directions.push_back(d);
+  }
+  law.tension = fit_compliance(paths, +1, directions);
+  law.compression = fit_compliance(paths, -1, directions);
+
+  // Cone-wise linear form: is the stiffness jump rank-one?
+  law.cone_rank_one_ratio = nan;
+  if (law.tension.symmetric_positive_definite && law.compression.symmetric_positive_definite) {
+    const Eigen::Matrix3d dC = law.tension.S.inverse() - law.compression.S.inverse();
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(dC);
+    int first = 0;
+    for (int j = 1; j < 3; ++j)
+      if (std::abs(eig.eigenvalues()(j)) > std::abs(eig.eigenvalues()(first))) first = j;
+    double second = 0;
+    for (int j = 0; j < 3; ++j)
+      if (j != first) second = std::max(second, std::abs(eig.eigenvalues()(j)));
+    const double largest = std::abs(eig.eigenvalues()(first));
+    law.cone_rank_one_ratio = largest > 0 ? second / largest : nan;
+    law.cone_normal = eig.eigenvectors().col(first);
+    law.cone_beta = eig.eigenvalues()(first);
+    law.cone_wise_linear = law.cone_rank_one_ratio < 0.05;
+  }
+
+  law.fibre_E = provenance.fibre_E;
+  law.fibre_nu = provenance.fibre_nu;
+  law.matrix_E = provenance.matrix_E;
+  law.matrix_nu = provenance.matrix_nu;
+  law.fibre_volume_fraction = provenance.fibre_volume_fraction;
+  law.scene_text = provenance.scene_text;
+  law.solver_options = provenance.solver_options;
+  law.code_version = DUALCELL_VERSION;
+  return law;
+}
+
+}  // namespace dualcell::fit

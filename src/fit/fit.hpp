@@ -1,0 +1,29 @@
+#pragma once
+// The fit stage: from sweep paths to the effective bilinear law (law::Law).
+//
+//   per direction θ (uniaxial paths), on the points before any bond breaks:
+//     E   : ε_nn = s / E, least squares through the origin (GSL gsl_fit_mul on ε_nn = c·s,
+//           E = 1/c, se(E) = se(c)/c², R² = 1 − SSR/Σε_nn²)
+//     ν   : ε_tt = −ν ε_nn, through the origin (gsl_fit_mul)
+//   past the largest jump of the tension path (the fuse): E_after_fuse, the tangent modulus
+//     of s against ε_nn with intercept (gsl_fit_linear)
+//   over all directions at once: S_tension, S_compression, 3×3 with engineering shear,
+//     (εxx, εyy, γxy) = S (σxx, σyy, σxy), S symmetric: 6 unknowns, each point giving 3
+//     equations normalised by its load so that every point weighs alike (gsl_multifit_linear,
+//     or its truncated SVD when the directions do not determine all six entries: the
+//     undetermined entries are NaN).
+//   cone-wise linear check (Curnier, He & Zysset 1995): ΔC = S_t⁻¹ − S_c⁻¹ rank-one?
+#include <vector>
+
+#include "io/sweep_file.hpp"
+#include "law/law.hpp"
+#include "sweep/sweep.hpp"
+
+namespace dualcell::fit {
+
+law::Law fit_law(const std::vector<sweep::PathResult>& paths, const io::SweepProvenance& provenance);
+
+// Strain along the unit stress N (tensor shear): N:ε = N_xx ε_xx + N_yy ε_yy + 2 N_xy ε_xy.
+double along(const Eigen::Vector3d& N, const Eigen::Vector3d& strain);
+
+}  // namespace dualcell::fit

@@ -1,0 +1,373 @@
+#include "law/export.hpp"
+
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+
+#include <Eigen/Eigenvalues>
+
+#include "core/error.hpp"
+#include "io/atomic_output.hpp"
+#include "law/fields.hpp"
+#include "law/law_file.hpp"
+
+namespace dualcell::law {
+
+namespace {
+
+using impl::compliance_members;
+using impl::constituent_members;
+using impl::direction_columns;
+using impl::provenance_members;
+
+std::string format_double(const char* format, double value) {
+  char text[64];
+  std::snprintf(text, sizeof text, format, value);
+  return text;
+}
+
+// ---------------------------------------------------------------------------------------------
+// JSON
+
+std::string json_number(double value) { return std::isfinite(value) ? format_double("%.17g", value) : "null"; }
+
+std::string json_string(const std::string& text) {
+  std::string out = "\"";
+  for (const unsigned char c : text) {
+    switch (c) {
+      case '"': out += "\\\""; break;
+      case '\\': out += "\\\\"; break;
+      case '\n': out += "\\n"; break;
+      case '\r': out += "\\r"; break;
+      case '\t': out += "\\t"; break;
+      default:
+        if (c < 0x20) {
+          char escaped[8];
+          std::snprintf(escaped, sizeof escaped, "\\u%04x", c);
+          out += escaped;
+        } else {
+          out += static_cast<char>(c);
+        }
+    }
+  }
+  return out + "\"";
+}
+
+std::string json_array(const std::vector<double>& values) {
+  std::string out = "[";
+  for (std::size_t i = 0; i < values.size(); ++i) out += (i ? ", " : "") + json_number(values[i]);
+  return out + "]";
+}
+
+std::string json_matrix(const Eigen::Matrix3d& m) {
+  std::string out = "[";
+  for (int i = 0; i < 3; ++i) out += (i ? ", " : "") + json_array({m(i, 0), m(i, 1), m(i, 2)});
+  return out + "]";
+}
+
+// Collects "key": value lines and joins them into one object.
+class JsonObject {
+ public:
+  void add(const std::string& key, const std::string& json_value) {
+    text_ += (text_.empty() ? "{\n  " : ",\n  ") + json_string(key) + ": " + json_value;
+  }
+  std::string str() const { return text_ + "\n}\n"; }
+
+ private:
+  std::string text_;
+};
+
+// ---------------------------------------------------------------------------------------------
+// CSV
+
+std::string csv_number(double value) {
+  if (std::isnan(value)) return "nan";
+  if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
+  return format_double("%.17g", value);
+}
+
+// ---------------------------------------------------------------------------------------------
+// 3D material
+
+// CalculiX reads each number of a data line as a 20-character field and silently drops the rest
+// (1.2345678901234567e+01 is read as 1.2345678901234567): %.12e is at most 19 characters.
+std::string card_number(double value) { return format_double("%.12e", value); }
+
+// Comment text on one line: a newline in a path or a units string would end the comment.
+std::string one_line(std::string text) {
+  for (char& c : text)
+    if (c == '\n' || c == '\r') c = ' ';
+  return text;
+}
+
+void check_constituents(const Law& law, const std::string& file) {
+  const std::string where = file + ": /law: ";
+  auto need = [&](bool ok, const char* name, double value, const char* range) {
+    if (!ok)
+      throw InputError(where + "attribute " + name + " = " + format_double("%g", value) + ": out of range " + range +
+                       " (the constituents give the out-of-plane constants of the 3D material)");
+  };
+  need(std::isfinite(law.fibre_E) && law.fibre_E > 0, "fibre_E", law.fibre_E, "> 0");
+  need(std::isfinite(law.matrix_E) && law.matrix_E > 0, "matrix_E", law.matrix_E, "> 0");
+  need(law.fibre_nu > -1 && law.fibre_nu < 0.5, "fibre_nu", law.fibre_nu, "(-1, 0.5)");
+  need(law.matrix_nu > -1 && law.matrix_nu < 0.5, "matrix_nu", law.matrix_nu, "(-1, 0.5)");
+  need(law.fibre_volume_fraction >= 0 && law.fibre_volume_fraction < 1, "fibre_volume_fraction",
+       law.fibre_volume_fraction, "[0, 1)");
+}
+
+struct OutOfPlane {
+  double E3, nu31, G_longitudinal;
+};
+
+OutOfPlane rule_of_mixtures(const Law& law) {
+  const double Vf = law.fibre_volume_fraction;
+  const double G_f = law.fibre_E / (2 * (1 + law.fibre_nu));
+  const double G_m = law.matrix_E / (2 * (1 + law.matrix_nu));
+  return {Vf * law.fibre_E + (1 - Vf) * law.matrix_E,  // E3 = Vf E_f + (1 − Vf) E_m
+          Vf * law.fibre_nu + (1 - Vf) * law.matrix_nu,  // ν31 = Vf ν_f + (1 − Vf) ν_m
+          1 / (Vf / G_f + (1 - Vf) / G_m)};              // 1/G = Vf/G_f + (1 − Vf)/G_m
+}
+
+// Three comment lines, one per row.
+std::string matrix_comment(const Eigen::Matrix3d& m) {
+  std::string out;
+  for (int i = 0; i < 3; ++i)
+    out += "**   " + format_double("%.9g", m(i, 0)) + ", " + format_double("%.9g", m(i, 1)) + ", " +
+           format_double("%.9g", m(i, 2)) + "\n";
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+// CalculiX cards
+
+void check_name(const std::string& name) {
+  // CalculiX and Abaqus names are at most 80 characters; the longest suffix is _COMPRESSION.
+  bool ok = !name.empty() && name.size() <= 80 - 12 && std::isalpha(static_cast<unsigned char>(name[0]));
+  for (const unsigned char c : name) ok = ok && (std::isalnum(c) || c == '_');
+  if (!ok)
+    throw InputError("--name " + name + ": expected a letter followed by letters, digits or _, at most 68 characters");
+}
+
+std::string material_cards(const std::string& material_name, const std::string& fit_name, const SolidMaterial& m,
+                           const Eigen::Matrix3d& S_ps) {
+  std::string out = "**\n** " + material_name + ": the secant law of " + fit_name +
+                    "; its plane-strain S (engineering shear), rows xx, yy, xy:\n" + matrix_comment(S_ps);
+  out += "*MATERIAL, NAME=" + material_name + "\n";
+  if (m.orthotropic) {
+    const auto& k = m.constants;
+    out += "** normal-shear coupling " + format_double("%.2g", m.coupling) + " (<= " +
+           format_double("%.0e", coupling_tolerance) + ", dropped): engineering constants\n";
+    out += "** E1, E2, E3, nu12, nu13, nu23, G12, G13 / G23\n";
+    out += "*ELASTIC, TYPE=ENGINEERING CONSTANTS\n";
+    const double first[] = {k.E1, k.E2, k.E3, k.nu12, k.nu13, k.nu23, k.G12, k.G13};
+    for (int i = 0; i < 8; ++i) out += card_number(first[i]) + (i == 7 ? "\n" : ", ");
+    out += card_number(k.G23) + "\n";
+    return out;
+  }
+  out += "** normal-shear coupling " + format_double("%.2g", m.coupling) + " (> " +
+         format_double("%.0e", coupling_tolerance) + "): engineering constants cannot hold it; full stiffness\n";
+  out += "** D1111, D1122, D2222, D1133, D2233, D3333, D1112, D2212 / D3312, D1212, D1113, D2213, D3313, D1213,\n"
+         "** D1313, D1123 / D2223, D3323, D1223, D1323, D2323 (engineering shear: D1212 = G12)\n";
+  out += "*ELASTIC, TYPE=ANISO\n";
+  // The manual's order is the upper triangle of C column by column in the Voigt order
+  // (11, 22, 33, 12, 13, 23), eight numbers per line.
+  int written = 0;
+  for (int j = 0; j < 6; ++j)
+    for (int i = 0; i <= j; ++i) {
+      out += card_number(m.C(i, j));
+      ++written;
+      out += written % 8 == 0 || written == 21 ? "\n" : ", ";
+    }
+  return out;
+}
+
+std::string describe(const Law& law, ExportFormat format, const std::string& name) {
+  switch (format) {
+    case ExportFormat::json:
+      return "JSON, " + std::to_string(law.directions.size()) + " directions";
+    case ExportFormat::csv:
+      return "CSV, " + std::to_string(law.directions.size()) + " rows";
+    case ExportFormat::calculix:
+      return "CalculiX, materials " + name + "_TENSION and " + name + "_COMPRESSION";
+  }
+  return "";
+}
+
+}  // namespace
+
+ExportFormat parse_export_format(const std::string& text) {
+  if (text == "json") return ExportFormat::json;
+  if (text == "csv") return ExportFormat::csv;
+  if (text == "calculix") return ExportFormat::calculix;
+  throw InputError("--format " + text + ": expected json, csv or calculix");
+}
+
+SolidMaterial solid_material(const Eigen::Matrix3d& S_ps_in, const Law& law, const std::string& file,
+                             const std::string& fit_name) {
+  const std::string what = file + ": /law/" + fit_name;
+  static const char* entry_names[3][3] = {{"xx,xx", "xx,yy", "xx,xy"}, {"yy,xx", "yy,yy", "yy,xy"},
+                                          {"xy,xx", "xy,yy", "xy,xy"}};
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      if (!std::isfinite(S_ps_in(i, j)))
+        throw InputError(what + ": entry (" + entry_names[i][j] + ") is " + format_double("%g", S_ps_in(i, j)) +
+                         ": the sweep does not determine it (a shear entry needs load directions off the axes or "
+                         "stress_directions with shear), so no 3D material can be exported");
+  const double scale = S_ps_in.cwiseAbs().maxCoeff();
+  const double asymmetry = (S_ps_in - S_ps_in.transpose()).cwiseAbs().maxCoeff();
+  if (!(scale > 0) || asymmetry > 1e-6 * scale)
+    throw InputError(what + ": not symmetric (max |S_ij - S_ji| = " + format_double("%.3g", asymmetry) +
+                     " of max |S_ij| = " + format_double("%.3g", scale) + "): not an elastic compliance");
+  const Eigen::Matrix3d S_ps = (S_ps_in + S_ps_in.transpose()) / 2;
+  const Eigen::Vector3d eigenvalues = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(S_ps).eigenvalues();
+  // A singular or indefinite S_ps gives a 3D material with zero or negative strain energy.
+  if (!(eigenvalues(0) > 1e-12 * eigenvalues(2)))
+    throw InputError(what + ": not positive definite (eigenvalues " + format_double("%.4g", eigenvalues(0)) + ", " +
+                     format_double("%.4g", eigenvalues(1)) + ", " + format_double("%.4g", eigenvalues(2)) +
+                     "): no admissible elastic material reproduces it");
+  check_constituents(law, file);
+
+  SolidMaterial m;
+  m.coupling = std::max(std::abs(S_ps(0, 2)) / std::sqrt(S_ps(0, 0) * S_ps(2, 2)),
+                        std::abs(S_ps(1, 2)) / std::sqrt(S_ps(1, 1) * S_ps(2, 2)));
+  m.orthotropic = m.coupling <= coupling_tolerance;
+
+  const OutOfPlane z = rule_of_mixtures(law);
+  // S13 = S23 = −ν31/E3, S33 = 1/E3.
+  const double S13 = -z.nu31 / z.E3, S23 = S13, S33 = 1 / z.E3;
+  auto& S = m.S;
+  S(2, 2) = S33;
+  S(0, 2) = S(2, 0) = S13;
+  S(1, 2) = S(2, 1) = S23;
+  // In plane: S_ij = S_ps,ij + S_i3 S_j3 / S33, so that ε33 = 0 gives back S_ps.
+  S(0, 0) = S_ps(0, 0) + S13 * S13 / S33;
+  S(1, 1) = S_ps(1, 1) + S23 * S23 / S33;
+  S(0, 1) = S(1, 0) = S_ps(0, 1) + S13 * S23 / S33;
+  // Shear γ12 (Voigt index 3): unchanged by σ33, since σ33 does not couple to γ12 (S34 = 0).
+  S(3, 3) = S_ps(2, 2);
+  if (!m.orthotropic) {
+    S(0, 3) = S(3, 0) = S_ps(0, 2);
+    S(1, 3) = S(3, 1) = S_ps(1, 2);
+  }
+  // Out-of-plane shears γ13, γ23.
+  S(4, 4) = S(5, 5) = 1 / z.G_longitudinal;
+
+  const Eigen::Matrix<double, 6, 1> eigenvalues_3d =
+      Eigen::SelfAdjointEigenSolver<SolidMaterial::Matrix6d>(S).eigenvalues();
+  if (!(eigenvalues_3d(0) > 1e-12 * eigenvalues_3d(5)))
+    throw InputError(what + ": the 3D compliance is not positive definite (smallest eigenvalue " +
+                     format_double("%.4g", eigenvalues_3d(0)) + "): not an admissible material");
+  m.C = S.inverse();
+
+  auto& k = m.constants;
+  k.E1 = 1 / S(0, 0);
+  k.E2 = 1 / S(1, 1);
+  k.E3 = 1 / S(2, 2);
+  // ν_ij = −S_ij E_i: ε_j = −ν_ij σ_i / E_i under σ_i alone (the CalculiX/Abaqus convention).
+  k.nu12 = -S(0, 1) * k.E1;
+  k.nu13 = -S(0, 2) * k.E1;
+  k.nu23 = -S(1, 2) * k.E2;
+  k.G12 = 1 / S(3, 3);
+  k.G13 = 1 / S(4, 4);
+  k.G23 = 1 / S(5, 5);
+  return m;
+}
+
+std::string law_json(const Law& law) {
+  JsonObject o;
+  o.add("format", json_string(impl::format_name));
+  for (const auto& p : provenance_members) o.add(p.name, json_string(law.*p.value));
+  o.add("units", json_string(law.units));
+  o.add("stress_state", json_string(law.stress_state));
+  o.add("shear_convention", json_string(impl::shear_convention));
+  for (const auto& c : constituent_members) o.add(c.name, json_number(law.*c.value));
+  for (const auto& c : direction_columns) {
+    std::string values = "[";
+    for (std::size_t i = 0; i < law.directions.size(); ++i) {
+      const auto& d = law.directions[i];
+      values += (i ? ", " : "") + (c.real ? json_number(d.*c.real) : std::to_string(d.*c.count));
+    }
+    o.add(c.name, values + "]");
+  }
+  for (const auto& m : compliance_members) {
+    const ComplianceFit& fit = law.*m.fit;
+    const std::string p = m.prefix;
+    o.add(p, json_matrix(fit.S));
+    o.add(p + "_se", json_matrix(fit.S_se));
+    o.add(p + "_rank", std::to_string(fit.rank));
+    o.add(p + "_relative_residual", json_number(fit.relative_residual));
+    o.add(p + "_direction_residual", json_array(fit.direction_residual));
+    o.add(p + "_spd", fit.symmetric_positive_definite ? "1" : "0");
+    o.add(p + "_n_points", std::to_string(fit.n_points));
+  }
+  o.add("cone_rank_one_ratio", json_number(law.cone_rank_one_ratio));
+  o.add("cone_wise_linear", law.cone_wise_linear ? "1" : "0");
+  o.add("cone_normal", json_array({law.cone_normal(0), law.cone_normal(1), law.cone_normal(2)}));
+  o.add("cone_beta", json_number(law.cone_beta));
+  return o.str();
+}
+
+std::string law_csv(const Law& law) {
+  std::string out;
+  for (const auto& c : direction_columns) out += std::string(c.name) + ",";
+  out += "S_tension_direction_residual,S_compression_direction_residual\n";
+  for (std::size_t i = 0; i < law.directions.size(); ++i) {
+    const auto& d = law.directions[i];
+    for (const auto& c : direction_columns) out += (c.real ? csv_number(d.*c.real) : std::to_string(d.*c.count)) + ",";
+    // The residual vectors hold one entry per direction (write_law and read_law check it).
+    out += csv_number(law.tension.direction_residual.at(i)) + "," +
+           csv_number(law.compression.direction_residual.at(i)) + "\n";
+  }
+  return out;
+}
+
+std::string law_calculix(const Law& law, const std::string& name, const std::string& source) {
+  check_name(name);
+  const SolidMaterial tension = solid_material(law.tension.S, law, source, "S_tension");
+  const SolidMaterial compression = solid_material(law.compression.S, law, source, "S_compression");
+  const OutOfPlane z = rule_of_mixtures(law);
+  std::string out;
+  out += "** dualcell law for CalculiX/Abaqus, written by dualcell-export " DUALCELL_VERSION "\n";
+  out += "** from " + one_line(source) + " (" + impl::format_name + "; fit by " + one_line(law.code_version) +
+         "; sweep " + one_line(law.sweep_file) + ", hash " + one_line(law.sweep_hash) + ")\n";
+  out += "** units: " + one_line(law.units) + "\n";
+  out += "** Material axes: 1 = x, 2 = y (the plane of the cells), 3 = z = fibre direction.\n"
+         "** " + name + "_TENSION and " + name + "_COMPRESSION are the secant laws fitted to the tension and the\n"
+         "** compression paths (bimodular: choose by the sign of the load). Plane-strain elements (CPE*,\n"
+         "** eps33 = 0) in the x-y plane reproduce the fitted plane-strain compliance S exactly:\n"
+         "**   S11 = Sps11 + S13^2/S33, S22 = Sps22 + S23^2/S33, S12 = Sps12 + S13 S23/S33, 1/G12 = Sps33,\n"
+         "** out of plane by the rule of mixtures:\n"
+         "**   E3 = Vf Ef + (1 - Vf) Em, nu31 = nu32 = Vf nuf + (1 - Vf) num  (S13 = S23 = -nu31/E3, S33 = 1/E3),\n"
+         "**   1/G13 = 1/G23 = Vf/Gf + (1 - Vf)/Gm, G = E/(2 (1 + nu)),\n";
+  out += "** with Vf = " + format_double("%.6g", law.fibre_volume_fraction) + ", fibre E = " +
+         format_double("%.6g", law.fibre_E) + ", nu = " + format_double("%.6g", law.fibre_nu) + ", matrix E = " +
+         format_double("%.6g", law.matrix_E) + ", nu = " + format_double("%.6g", law.matrix_nu) + ": E3 = " +
+         format_double("%.6g", z.E3) + ", nu31 = " + format_double("%.6g", z.nu31) + ", G13 = G23 = " +
+         format_double("%.6g", z.G_longitudinal) + "\n";
+  out += material_cards(name + "_TENSION", "S_tension", tension, law.tension.S);
+  out += material_cards(name + "_COMPRESSION", "S_compression", compression, law.compression.S);
+  return out;
+}
+
+std::string export_law(const ExportOptions& options) {
+  const Law law = read_law(options.law_file);
+  std::string text;
+  switch (options.format) {
+    case ExportFormat::json: text = law_json(law); break;
+    case ExportFormat::csv: text = law_csv(law); break;
+    case ExportFormat::calculix: text = law_calculix(law, options.name, options.law_file.string()); break;
+  }
+  io::AtomicOutputs outputs;
+  const auto tmp = outputs.add(options.out);
+  {
+    std::ofstream file(tmp, std::ios::binary | std::ios::trunc);
+    file << text;
+    file.close();
+    if (!file) throw InputError(options.out.string() + ": cannot write output");
+  }
+  outputs.commit();
+  return describe(law, options.format, options.name);
+}
+
+}  // namespace dualcell::law

@@ -1,0 +1,82 @@
+#pragma once
+// The exports of a law.h5 (README.md, "Stage: dualcell-export"): JSON for scripts, CSV with one
+// row per direction, and CalculiX/Abaqus material cards.
+//
+// The cards are 3D materials in the material axes 1 = x, 2 = y (the plane of the cells),
+// 3 = z = fibre direction, chosen so that plane-strain elements (ε33 = 0) reproduce the fitted
+// plane-strain compliance S_ps exactly. Voigt order (11, 22, 33, 12, 13, 23), engineering shear.
+//
+//   out of plane, rule of mixtures (Vf fibre volume fraction, f fibre, m matrix):
+//     E3 = Vf E_f + (1 − Vf) E_m,   ν31 = ν32 = Vf ν_f + (1 − Vf) ν_m,
+//     1/G13 = 1/G23 = Vf/G_f + (1 − Vf)/G_m,   G = E / (2 (1 + ν)),
+//     S13 = S23 = −ν31/E3,   S33 = 1/E3;
+//   in plane: ε33 = 0 ⇒ σ33 = −(S13 σ11 + S23 σ22)/S33, so the plane-strain compliance is
+//     S_ps,ij = S_ij − S_i3 S_j3 / S33 (i, j ∈ {1, 2}) and the shear row is unchanged, hence
+//     S11 = S_ps11 + S13²/S33,  S22 = S_ps22 + S23²/S33,  S12 = S_ps12 + S13 S23/S33,
+//     S44 (γ12) = S_ps33,  S14 = S_ps13,  S24 = S_ps23   (no σ33–γ12 coupling: S34 = 0);
+//   engineering constants (when S14 = S24 = 0):
+//     E1 = 1/S11, E2 = 1/S22, ν12 = −S12 E1, ν13 = −S13 E1, ν23 = −S23 E2, G12 = 1/S44.
+//
+// The Schur complement of S33 in the 3D S is S_ps, so the 3D compliance is positive definite
+// exactly when S_ps is and E3 > 0: an inadmissible fit is refused, not exported.
+#include <filesystem>
+#include <string>
+
+#include <Eigen/Core>
+
+#include "law/law.hpp"
+
+namespace dualcell::law {
+
+enum class ExportFormat { json, csv, calculix };
+
+// "json", "csv" or "calculix"; anything else is an InputError.
+ExportFormat parse_export_format(const std::string& text);
+
+struct OrthotropicConstants {
+  double E1 = 0, E2 = 0, E3 = 0, nu12 = 0, nu13 = 0, nu23 = 0, G12 = 0, G13 = 0, G23 = 0;
+};
+
+// Normal–shear coupling c = max(|S_ps13|/√(S_ps11 S_ps33), |S_ps23|/√(S_ps22 S_ps33)) up to
+// which engineering constants are written (the coupling dropped changes strains by at most
+// c relative); above it the full stiffness is written as TYPE=ANISO.
+inline constexpr double coupling_tolerance = 1e-6;
+
+// The 3D material of one plane-strain compliance.
+struct SolidMaterial {
+  using Matrix6d = Eigen::Matrix<double, 6, 6>;
+  Matrix6d S = Matrix6d::Zero();  // 3D compliance (Voigt order above, engineering shear)
+  Matrix6d C = Matrix6d::Zero();  // its inverse, the stiffness
+  double coupling = 0;            // c above
+  bool orthotropic = true;        // c ≤ coupling_tolerance: S14 = S24 = 0 and `constants` hold
+  OrthotropicConstants constants;
+};
+
+// Builds the 3D material of S_ps (law.tension.S or law.compression.S, named `fit_name`) with the
+// law's constituents. Refuses with an InputError naming `file` and the object a compliance with
+// NaN entries, an asymmetric one, one that is not positive definite, and missing or unphysical
+// constituents.
+SolidMaterial solid_material(const Eigen::Matrix3d& S_ps, const Law& law, const std::string& file,
+                             const std::string& fit_name);
+
+// Everything in law.h5 as one JSON object, keys named as the objects of law.h5 (datasets of
+// shape (1) as numbers, 3×3 as row arrays); NaN and infinities as null.
+std::string law_json(const Law& law);
+// A header line and one row per direction: the per-direction datasets of law.h5 and the two
+// fits' per-direction residuals; NaN as "nan".
+std::string law_csv(const Law& law);
+// Two *MATERIALs, <name>_TENSION and <name>_COMPRESSION, with comment lines stating the axes,
+// units, formulas and provenance. `source` is the law file named in the comments.
+std::string law_calculix(const Law& law, const std::string& name, const std::string& source);
+
+struct ExportOptions {
+  std::filesystem::path law_file, out;
+  ExportFormat format = ExportFormat::json;
+  std::string name = "DUALCELL";  // CalculiX material base name: a letter, then letters, digits, _
+};
+
+// Reads law_file, converts, writes `out` atomically (nothing is left behind on any error) and
+// returns a one-line description of what was written.
+std::string export_law(const ExportOptions& options);
+
+}  // namespace dualcell::law

@@ -1,0 +1,84 @@
+#pragma once
+// Internal to src/law: the per-direction columns of a Law, named as in law.h5, so that the
+// file writer, the reader and the JSON/CSV exports walk one list and cannot drift apart.
+#include "law/law.hpp"
+
+namespace dualcell::law::impl {
+
+// One column of /law: either a double or an int member of DirectionLaw (the other is null).
+struct DirectionColumn {
+  const char* name;
+  double DirectionLaw::*real = nullptr;
+  int DirectionLaw::*count = nullptr;
+};
+
+inline constexpr DirectionColumn direction_columns[] = {
+    {"direction_deg", &DirectionLaw::direction_deg},
+    {"E_tension", &DirectionLaw::E_tension},
+    {"E_tension_se", &DirectionLaw::E_tension_se},
+    {"E_tension_r2", &DirectionLaw::E_tension_r2},
+    {"n_tension", nullptr, &DirectionLaw::n_tension},
+    {"E_compression", &DirectionLaw::E_compression},
+    {"E_compression_se", &DirectionLaw::E_compression_se},
+    {"E_compression_r2", &DirectionLaw::E_compression_r2},
+    {"n_compression", nullptr, &DirectionLaw::n_compression},
+    {"nu_tension", &DirectionLaw::nu_tension},
+    {"nu_tension_se", &DirectionLaw::nu_tension_se},
+    {"nu_compression", &DirectionLaw::nu_compression},
+    {"nu_compression_se", &DirectionLaw::nu_compression_se},
+    {"onset_stress", &DirectionLaw::onset_stress},
+    {"fuse_stress", &DirectionLaw::fuse_stress},
+    {"fuse_stress_after", &DirectionLaw::fuse_stress_after},
+    {"fuse_strain_jump", &DirectionLaw::fuse_strain_jump},
+    {"fuse_strain_ratio", &DirectionLaw::fuse_strain_ratio},
+    {"E_after_fuse", &DirectionLaw::E_after_fuse},
+    {"E_after_fuse_se", &DirectionLaw::E_after_fuse_se},
+};
+
+// The two compliance fits, with the prefix of their objects in /law.
+struct ComplianceMember {
+  const char* prefix;
+  ComplianceFit Law::*fit;
+};
+
+inline constexpr ComplianceMember compliance_members[] = {
+    {"S_tension", &Law::tension},
+    {"S_compression", &Law::compression},
+};
+
+// Constituents, stored as attributes of /law.
+struct ConstituentMember {
+  const char* name;
+  double Law::*value;
+};
+
+inline constexpr ConstituentMember constituent_members[] = {
+    {"fibre_E", &Law::fibre_E},
+    {"fibre_nu", &Law::fibre_nu},
+    {"matrix_E", &Law::matrix_E},
+    {"matrix_nu", &Law::matrix_nu},
+    {"fibre_volume_fraction", &Law::fibre_volume_fraction},
+};
+
+// Provenance, stored as string attributes of the root.
+struct TextMember {
+  const char* name;
+  std::string Law::*value;
+};
+
+inline constexpr TextMember provenance_members[] = {
+    {"scene", &Law::scene_text},
+    {"sweep_file", &Law::sweep_file},
+    {"sweep_hash", &Law::sweep_hash},
+    {"solver_options", &Law::solver_options},
+    {"code_version", &Law::code_version},
+};
+
+inline constexpr const char* format_name = "dualcell law 1";
+
+// Stated in every law.h5 and export, so that a reader never has to guess the shear factor.
+inline constexpr const char* shear_convention =
+    "engineering shear (Voigt): (exx, eyy, gxy) = S (sxx, syy, sxy) with gxy = 2 exy; "
+    "S is symmetric for an elastic law; index order xx, yy, xy";
+
+}  // namespace dualcell::law::impl

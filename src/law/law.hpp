@@ -1,0 +1,64 @@
+#pragma once
+// The effective law of a cell block: what leaves the project (law.h5, layout in README.md).
+//
+// Conventions: plane strain in the x–y plane, z = fibre direction. Stresses and moduli in the
+// units of the input scene. In-plane compliances use engineering shear:
+//   (εxx, εyy, γxy) = S (σxx, σyy, σxy),   γxy = 2 εxy,
+// so S is symmetric for an elastic law. Per direction θ (uniaxial stress s·n⊗n, n = (cos θ,
+// sin θ), t = (−sin θ, cos θ)): ε_nn = n·ε·n, ε_tt = t·ε·t; the apparent plane-strain modulus
+// is E = s/ε_nn and ν = −ε_tt/ε_nn. NaN marks a value the data do not determine.
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace dualcell::law {
+
+struct DirectionLaw {
+  double direction_deg = 0;
+  // Least squares through the origin on the points before any bond breaks (GSL gsl_fit_mul).
+  double E_tension = 0, E_tension_se = 0, E_tension_r2 = 0;
+  double E_compression = 0, E_compression_se = 0, E_compression_r2 = 0;
+  int n_tension = 0, n_compression = 0;  // points used
+  double nu_tension = 0, nu_tension_se = 0;
+  double nu_compression = 0, nu_compression_se = 0;
+  // Adhesion (NaN where no bond breaks along the tension path of this direction):
+  double onset_stress = 0;       // s*: the first bond reaches its strength
+  double fuse_stress = 0;        // the largest load that holds before the largest jump (fuse/load_before)
+  double fuse_stress_after = 0;  // the smallest load past it (fuse/load_after)
+  double fuse_strain_jump = 0;   // ε_nn after − before the jump
+  double fuse_strain_ratio = 0;  // ε_nn after / before
+  double E_after_fuse = 0, E_after_fuse_se = 0;  // tangent modulus past the jump (GSL gsl_fit_linear)
+};
+
+// A 3×3 compliance fitted to all directions at once, with its quality.
+struct ComplianceFit {
+  Eigen::Matrix3d S = Eigen::Matrix3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  Eigen::Matrix3d S_se = Eigen::Matrix3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  int rank = 0;                    // of the least-squares design (6 unknowns of the symmetric S)
+  double relative_residual = 0;    // ‖ε − Sσ‖ / ‖ε‖ over all points used
+  std::vector<double> direction_residual;  // the same per direction (same order as directions)
+  bool symmetric_positive_definite = false;
+  int n_points = 0;
+};
+
+struct Law {
+  std::vector<DirectionLaw> directions;  // ascending direction_deg
+  ComplianceFit tension, compression;
+  // Cone-wise linear form (Curnier, He & Zysset, J. Elasticity 37, 1995): the stiffness jump
+  // C_t − C_c across the switching plane must be rank-one, ΔC = β c⊗c.
+  double cone_rank_one_ratio = 0;     // |second eigenvalue| / |first| of ΔC (0 = exactly rank-one)
+  bool cone_wise_linear = false;      // ratio below 0.05 and both fits SPD
+  Eigen::Vector3d cone_normal = Eigen::Vector3d::Zero();  // c (unit), in engineering-shear strain space
+  double cone_beta = 0;               // β
+  // Constituents, for the out-of-plane constants of the exports (rule of mixtures).
+  double fibre_E = 0, fibre_nu = 0, matrix_E = 0, matrix_nu = 0;
+  double fibre_volume_fraction = 0;   // π r² / cell_size²
+  // Provenance.
+  std::string units = "stress and moduli in the units of the input scene; strains dimensionless";
+  std::string stress_state = "plane strain";
+  std::string scene_text, sweep_file, sweep_hash, solver_options, code_version;
+};
+
+}  // namespace dualcell::law

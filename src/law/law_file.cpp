@@ -1,0 +1,223 @@
+#include "law/law_file.hpp"
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "core/error.hpp"
+#include "io/atomic_output.hpp"
+#include "io/hdf5.hpp"
+#include "law/fields.hpp"
+
+namespace dualcell::law {
+
+namespace {
+
+using impl::compliance_members;
+using impl::constituent_members;
+using impl::direction_columns;
+using impl::provenance_members;
+
+const std::string group = "/law";
+
+std::string object(const std::string& name) { return group + "/" + name; }
+
+std::vector<double> row_major(const Eigen::Matrix3d& m) {
+  std::vector<double> v;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) v.push_back(m(i, j));
+  return v;
+}
+
+void write_scalar(io::File& f, const std::string& name, double value) {
+  f.write(object(name), std::vector<double>{value}, {1});
+}
+
+void write_count(io::File& f, const std::string& name, std::int64_t value) {
+  f.write(object(name), std::vector<std::int64_t>{value}, {1});
+}
+
+void write_compliance(io::File& f, const std::string& prefix, const ComplianceFit& fit) {
+  f.write(object(prefix), row_major(fit.S), {3, 3});
+  f.write(object(prefix + "_se"), row_major(fit.S_se), {3, 3});
+  write_count(f, prefix + "_rank", fit.rank);
+  write_scalar(f, prefix + "_relative_residual", fit.relative_residual);
+  f.write(object(prefix + "_direction_residual"), fit.direction_residual, {fit.direction_residual.size()});
+  write_count(f, prefix + "_spd", fit.symmetric_positive_definite ? 1 : 0);
+  write_count(f, prefix + "_n_points", fit.n_points);
+}
+
+// Reads /law/<name> and checks its shape; every refusal names the file and the object.
+class Reader {
+ public:
+  explicit Reader(const io::File& f) : f_(f) {}
+
+  [[noreturn]] void fail(const std::string& name, const std::string& what) const {
+    throw InputError(f_.path().string() + ": " + name + ": " + what);
+  }
+
+  static std::string shape_text(const std::vector<hsize_t>& dims) {
+    std::string s = "(";
+    for (std::size_t i = 0; i < dims.size(); ++i) s += (i ? "×" : "") + std::to_string(dims[i]);
+    return s + ")";
+  }
+
+  void check_shape(const std::string& name, const std::vector<hsize_t>& dims, const std::vector<hsize_t>& want,
+                   const char* why = "") const {
+    if (dims != want)
+      fail(object(name), "expected shape " + shape_text(want) + why + ", found " + shape_text(dims) +
+                             " (truncated or corrupt?)");
+  }
+
+  std::vector<double> doubles(const std::string& name, const std::vector<hsize_t>& want, const char* why = "") const {
+    std::vector<hsize_t> dims;
+    auto v = f_.read_doubles(object(name), &dims);
+    check_shape(name, dims, want, why);
+    return v;
+  }
+
+  std::vector<std::int64_t> ints(const std::string& name, const std::vector<hsize_t>& want,
+                                 const char* why = "") const {
+    std::vector<hsize_t> dims;
+    auto v = f_.read_ints(object(name), &dims);
+    check_shape(name, dims, want, why);
+    return v;
+  }
+
+  double scalar(const std::string& name) const { return doubles(name, {1})[0]; }
+
+  int count(const std::string& name, std::int64_t lo, std::int64_t hi) const {
+    const std::int64_t v = ints(name, {1})[0];
+    if (v < lo || v > hi)
+      fail(object(name), "value " + std::to_string(v) + " out of range [" + std::to_string(lo) + ", " +
+                             std::to_string(hi) + "]");
+    return static_cast<int>(v);
+  }
+
+  Eigen::Matrix3d matrix(const std::string& name) const {
+    const auto v = doubles(name, {3, 3});
+    Eigen::Matrix3d m;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) m(i, j) = v[3 * i + j];
+    return m;
+  }
+
+  std::string text(const std::string& where, const std::string& name) const {
+    return f_.read_string_attribute(where, name);
+  }
+
+  double attribute(const std::string& where, const std::string& name) const {
+    const auto v = f_.read_double_attribute(where, name);
+    if (v.size() != 1) fail(where, "attribute " + name + ": expected one number, found " + std::to_string(v.size()));
+    return v[0];
+  }
+
+ private:
+  const io::File& f_;
+};
+
+ComplianceFit read_compliance(const Reader& r, const std::string& prefix, hsize_t n_directions) {
+  ComplianceFit fit;
+  fit.S = r.matrix(prefix);
+  fit.S_se = r.matrix(prefix + "_se");
+  // 6 unknowns of the symmetric S.
+  fit.rank = r.count(prefix + "_rank", 0, 6);
+  fit.relative_residual = r.scalar(prefix + "_relative_residual");
+  fit.direction_residual = r.doubles(prefix + "_direction_residual", {n_directions}, " like /law/direction_deg");
+  fit.symmetric_positive_definite = r.count(prefix + "_spd", 0, 1) == 1;
+  fit.n_points = r.count(prefix + "_n_points", 0, std::numeric_limits<int>::max());
+  return fit;
+}
+
+}  // namespace
+
+void write_law(const std::filesystem::path& file, const Law& law) {
+  const std::size_t n = law.directions.size();
+  if (n == 0) throw std::invalid_argument("write_law: the law has no direction");
+  for (const auto& m : compliance_members)
+    if ((law.*m.fit).direction_residual.size() != n)
+      throw std::invalid_argument(std::string("write_law: ") + m.prefix + " direction_residual has " +
+                                  std::to_string((law.*m.fit).direction_residual.size()) + " entries for " +
+                                  std::to_string(n) + " directions");
+  io::AtomicOutputs outputs;
+  const auto tmp = outputs.add(file);
+  {
+    io::File f = io::File::create(tmp);
+    f.create_group(group);
+    for (const auto& c : direction_columns) {
+      if (c.real) {
+        std::vector<double> v;
+        for (const auto& d : law.directions) v.push_back(d.*c.real);
+        f.write(object(c.name), v, {n});
+      } else {
+        std::vector<std::int64_t> v;
+        for (const auto& d : law.directions) v.push_back(d.*c.count);
+        f.write(object(c.name), v, {n});
+      }
+    }
+    for (const auto& m : compliance_members) write_compliance(f, m.prefix, law.*m.fit);
+    write_scalar(f, "cone_rank_one_ratio", law.cone_rank_one_ratio);
+    write_count(f, "cone_wise_linear", law.cone_wise_linear ? 1 : 0);
+    f.write(object("cone_normal"), std::vector<double>{law.cone_normal(0), law.cone_normal(1), law.cone_normal(2)},
+            {3});
+    write_scalar(f, "cone_beta", law.cone_beta);
+    f.write_attribute(group, "units", law.units);
+    f.write_attribute(group, "stress_state", law.stress_state);
+    f.write_attribute(group, "shear_convention", std::string(impl::shear_convention));
+    for (const auto& c : constituent_members) f.write_attribute(group, c.name, law.*c.value);
+    f.write_attribute("/", "format", std::string(impl::format_name));
+    for (const auto& p : provenance_members) f.write_attribute("/", p.name, law.*p.value);
+  }
+  outputs.commit();
+}
+
+Law read_law(const std::filesystem::path& file) {
+  const io::File f = io::File::open_read(file);
+  const Reader r(f);
+  if (!f.has_attribute("/", "format")) r.fail("/", "no attribute format: not a dualcell law file");
+  const std::string format = r.text("/", "format");
+  if (format != impl::format_name)
+    r.fail("/", "attribute format is '" + format + "', expected '" + impl::format_name + "'");
+  if (!f.exists(group)) r.fail(group, "missing group");
+
+  Law law;
+  std::vector<hsize_t> dims;
+  const auto directions = f.read_doubles(object("direction_deg"), &dims);
+  if (dims.size() != 1 || dims[0] == 0)
+    r.fail(object("direction_deg"), "expected a non-empty list of directions, found shape " + Reader::shape_text(dims));
+  const hsize_t n = dims[0];
+  for (double theta : directions)
+    if (!std::isfinite(theta)) r.fail(object("direction_deg"), "a direction is not finite");
+  law.directions.resize(n);
+  for (const auto& c : direction_columns) {
+    if (c.real) {
+      const auto v = r.doubles(c.name, {n}, " like /law/direction_deg");
+      for (hsize_t i = 0; i < n; ++i) law.directions[i].*c.real = v[i];
+    } else {
+      const auto v = r.ints(c.name, {n}, " like /law/direction_deg");
+      for (hsize_t i = 0; i < n; ++i) {
+        if (v[i] < 0 || v[i] > std::numeric_limits<int>::max())
+          r.fail(object(c.name), "entry " + std::to_string(i) + " = " + std::to_string(v[i]) + " is not a count");
+        law.directions[i].*c.count = static_cast<int>(v[i]);
+      }
+    }
+  }
+  for (const auto& m : compliance_members) law.*m.fit = read_compliance(r, m.prefix, n);
+  law.cone_rank_one_ratio = r.scalar("cone_rank_one_ratio");
+  law.cone_wise_linear = r.count("cone_wise_linear", 0, 1) == 1;
+  const auto normal = r.doubles("cone_normal", {3});
+  law.cone_normal = {normal[0], normal[1], normal[2]};
+  law.cone_beta = r.scalar("cone_beta");
+
+  law.units = r.text(group, "units");
+  law.stress_state = r.text(group, "stress_state");
+  // The only state this format describes; anything else is a different file.
+  if (law.stress_state != "plane strain")
+    r.fail(group, "attribute stress_state is '" + law.stress_state + "', expected 'plane strain'");
+  r.text(group, "shear_convention");
+  for (const auto& c : constituent_members) law.*c.value = r.attribute(group, c.name);
+  for (const auto& p : provenance_members) law.*p.value = r.text("/", p.name);
+  return law;
+}
+
+}  // namespace dualcell::law
