@@ -13,6 +13,8 @@
 #include <gsl/gsl_fit.h>
 #include <gsl/gsl_multifit.h>
 
+#include "core/error.hpp"
+
 namespace dualcell::fit {
 
 namespace {
@@ -126,13 +128,16 @@ law::ComplianceFit fit_compliance(const std::vector<sweep::PathResult>& paths, i
   out.rank = rank;
   const Eigen::MatrixXd null = svd.matrixV().rightCols(6 - rank);
 
-  Gsl<gsl_matrix> gX(gsl_matrix_alloc(rows, 6)), cov(gsl_matrix_alloc(6, 6));
-  Gsl<gsl_vector> gy(gsl_vector_alloc(rows)), c(gsl_vector_alloc(6));
+  // GSL's SVD needs at least as many rows as unknowns (it aborts otherwise): one point gives 3,
+  // so pad with zero rows, which change neither the solution nor the truncated SVD's rank.
+  const int gsl_rows = std::max(rows, 6);
+  Gsl<gsl_matrix> gX(gsl_matrix_calloc(gsl_rows, 6)), cov(gsl_matrix_alloc(6, 6));
+  Gsl<gsl_vector> gy(gsl_vector_calloc(gsl_rows)), c(gsl_vector_alloc(6));
   for (int i = 0; i < rows; ++i) {
     gsl_vector_set(gy.get(), i, y(i));
     for (int j = 0; j < 6; ++j) gsl_matrix_set(gX.get(), i, j, X(i, j));
   }
-  Gsl<gsl_multifit_linear_workspace> work(gsl_multifit_linear_alloc(rows, 6));
+  Gsl<gsl_multifit_linear_workspace> work(gsl_multifit_linear_alloc(gsl_rows, 6));
   double chisq = 0;
   if (rank == 6 && rows > 6) {
     gsl_multifit_linear(gX.get(), gy.get(), c.get(), cov.get(), &chisq, work.get());
@@ -193,6 +198,8 @@ law::Law fit_law(const std::vector<sweep::PathResult>& paths, const io::SweepPro
     if (!std::isnan(p.spec.direction_deg)) directions.push_back(p.spec.direction_deg);
   std::sort(directions.begin(), directions.end());
   directions.erase(std::unique(directions.begin(), directions.end()), directions.end());
+  if (directions.empty())
+    throw InputError("the sweep has no uniaxial path (every path's direction_deg is NaN): no direction to fit");
 
   for (double theta : directions) {
     law::DirectionLaw d;

@@ -1,0 +1,164 @@
+#!/usr/bin/python3
+"""Pictures of dualcell results with gnuplot (PNG and SVG).
+
+usage:
+  plot.py stress-strain SWEEP.h5 OUTBASE     s against N:ε per path, the fuse jump marked
+  plot.py polar LAW.h5 OUTBASE               E_tension(θ), E_compression(θ), debond onset(θ)
+  plot.py deformed SOLUTION.h5 OUTBASE       the deformed mesh with its gaps (exaggerated)
+  plot.py work-precision TABLE.csv OUTBASE   error of E_t, E_c against seconds, log-log
+  plot.py last-stress SWEEP.h5               prints "sxx,syy,sxy" of the last step of path 000
+
+Writes OUTBASE.png and OUTBASE.svg, each to a temporary name first and renamed when complete.
+Debian's python3-h5py reads the files; gnuplot draws.
+"""
+import math
+import os
+import subprocess
+import sys
+import tempfile
+
+import h5py
+
+
+def gnuplot(script, outbase, data_files):
+    """Runs the gnuplot script once per terminal; data_files maps names to text."""
+    with tempfile.TemporaryDirectory() as tmp:
+        for name, text in data_files.items():
+            with open(os.path.join(tmp, name), "w") as f:
+                f.write(text)
+        for ext, terminal in (("png", "pngcairo size 1000,750 font ',11'"), ("svg", "svg size 1000,750 dynamic")):
+            target = f"{outbase}.{ext}"
+            partial = f"{target}.tmp.{os.getpid()}"
+            full = f"set terminal {terminal}\nset output '{partial}'\n" + script
+            run = subprocess.run(["gnuplot"], input=full, text=True, cwd=tmp, capture_output=True)
+            if run.returncode != 0 or not os.path.exists(partial):
+                if os.path.exists(partial):
+                    os.remove(partial)
+                sys.exit(f"plot.py: gnuplot failed for {target}: {run.stderr.strip()}")
+            os.replace(partial, target)
+
+
+def along(n, e):
+    return n[0] * e[0] + n[1] * e[1] + 2 * n[2] * e[2]
+
+
+def stress_strain(sweep, outbase):
+    data, plots, fuses = {}, [], []
+    with h5py.File(sweep, "r") as f:
+        for i, name in enumerate(sorted(f["paths"])):
+            g = f["paths"][name]
+            n = g.attrs["unit_stress"]
+            direction = g.attrs["direction_deg"]
+            label = ("{:g} deg".format(direction) if not math.isnan(direction) else "N = ({:.2g}, {:.2g}, {:.2g})".format(*n))
+            label += " tension" if g.attrs["sign"] > 0 else " compression"
+            rows = ["0 0"] + ["{:.10g} {:.10g}".format(along(n, e), s) for s, e in zip(g["load"][:], g["strain"][:])]
+            data[f"path{i}.dat"] = "\n".join(rows) + "\n"
+            plots.append(f"'path{i}.dat' using 1:2 with linespoints pt 7 ps 0.6 title '{label}'")
+            if "fuse" in g:
+                z = g["fuse"]
+                fuses.append("{:.10g} {:.10g}\n{:.10g} {:.10g}\n\n".format(
+                    along(n, z["strain_before"][:]), z["load_before"][0], along(n, z["strain_after"][:]), z["load_after"][0]))
+    if fuses:
+        data["fuse.dat"] = "".join(fuses)
+        plots.append("'fuse.dat' using 1:2 with linespoints lw 3 lc rgb 'red' pt 6 ps 2 title 'fuse jump'")
+    script = ("set title 'Macroscopic stress against strain along the load'\nset xlabel 'strain along the load N:ε'\n"
+              "set ylabel 'load s (macro stress σ̄ = s·N)'\nset grid\nset key outside right\nset xzeroaxis\nset yzeroaxis\n"
+              "plot " + ", \\\n  ".join(plots) + "\n")
+    gnuplot(script, outbase, data)
+
+
+def polar(law, outbase):
+    with h5py.File(law, "r") as f:
+        g = f["law"]
+        theta = list(g["direction_deg"][:])
+        Et, Ec, onset = list(g["E_tension"][:]), list(g["E_compression"][:]), list(g["onset_stress"][:])
+    # E(θ + 180°) = E(θ) exactly (n⊗n is the same tensor): the measured directions are drawn
+    # again half a turn on, as a separate block, so that no line crosses unmeasured directions.
+    def curve(values, shift):
+        return "".join("{:.10g} {:.10g}\n".format(t + shift, v) for t, v in sorted(zip(theta, values))
+                       if not math.isnan(v))
+    def both(values):
+        return curve(values, 0) + "\n\n" + curve(values, 180)
+    data = {"Et.dat": both(Et), "Ec.dat": both(Ec)}
+    polar_plot = ("set title 'Apparent plane-strain moduli by load direction θ'\nset polar\nset angles degrees\n"
+                  "set grid polar 30\nset size square\nunset border\nunset xtics\nunset ytics\nset rtics\n"
+                  "set key bottom outside\n"
+                  "plot 'Ec.dat' using 1:2 with linespoints lw 2 pt 7 lc rgb '#8000c0' title 'E compression', \\\n"
+                  "  'Et.dat' using 1:2 with linespoints lw 2 pt 5 lc rgb '#009060' title 'E tension'\n")
+    if any(not math.isnan(v) for v in onset):
+        data["onset.dat"] = curve(onset, 0)
+        script = ("set multiplot layout 1,2\n" + polar_plot +
+                  "unset polar\nset size nosquare\nset border\nset xtics\nset ytics\nset grid\n"
+                  "set title 'Debond onset s* by direction'\nset xlabel 'θ (deg)'\nset ylabel 's*'\n"
+                  "plot 'onset.dat' using 1:2 with linespoints lw 2 pt 9 title 'onset'\nunset multiplot\n")
+    else:
+        script = polar_plot
+    gnuplot(script, outbase, data)
+
+
+def deformed(solution, outbase):
+    with h5py.File(solution, "r") as f:
+        nodes = f["/mesh/nodes"][:]
+        u = f["/solution/u"][:]
+        tri = f["/mesh/triangles"][:]
+        sub = f["/mesh/triangle_subdomain"][:]
+        stress = f["/macro/stress"][:]
+    # Exaggerated so that the largest displacement is 12 % of the block: gaps become visible.
+    size = max(nodes[:, 0].max() - nodes[:, 0].min(), nodes[:, 1].max() - nodes[:, 1].min())
+    largest = abs(u).max()
+    scale = 0.12 * size / largest if largest > 0 else 1.0
+    x = nodes + scale * u
+    lines = {0: [], 1: []}
+    for t, s in zip(tri, sub):
+        a, b, c = (x[k] for k in t)
+        lines[int(s) % 2].append("{:.8g} {:.8g}\n{:.8g} {:.8g}\n{:.8g} {:.8g}\n{:.8g} {:.8g}\n\n".format(*a, *b, *c, *a))
+    data = {"matrix.dat": "".join(lines[0]), "fibre.dat": "".join(lines[1])}
+    script = ("set title 'Deformed mesh at σ̄ = ({:.3g}, {:.3g}, {:.3g}), displacements × {:.3g}'\n".format(*stress, scale) +
+              "set size ratio -1\nunset key\nset xlabel 'x'\nset ylabel 'y'\n"
+              "plot 'matrix.dat' with lines lw 0.6 lc rgb '#404040', 'fibre.dat' with lines lw 0.6 lc rgb '#c02080'\n")
+    gnuplot(script, outbase, data)
+
+
+def work_precision(table, outbase):
+    rows = [line.strip().split(",") for line in open(table) if line.strip() and not line.startswith("#")]
+    header, rows = rows[0], rows[1:]
+    col = {name: i for i, name in enumerate(header)}
+    series = {}
+    for r in rows:
+        series.setdefault(r[col["degree"]], []).append(r)
+    data, plots = {}, []
+    # One colour per degree; tension solid with discs, compression dashed with squares.
+    for colour, (k, rs) in enumerate(sorted(series.items(), key=lambda kv: int(kv[0])), start=1):
+        rs.sort(key=lambda r: float(r[col["seconds"]]))
+        for which in ("tension", "compression"):
+            name = f"k{k}_{which}.dat"
+            data[name] = "".join(f"{r[col['seconds']]} {r[col['error_' + which]]}\n" for r in rs
+                                 if float(r[col["error_" + which]]) > 0)
+            style = "pt 7 dt 1" if which == "tension" else "pt 5 dt 2"
+            plots.append(f"'{name}' using 1:2 with linespoints {style} lc {colour} title 'degree {k}, E {which}'")
+    script = ("set title 'Error of the moduli against run time (reference: Richardson extrapolation)'\n"
+              "set logscale xy\nset xlabel 'seconds (mesh + sweep)'\nset ylabel 'relative error'\nset grid\n"
+              "set key outside right\nset format y '10^{%L}'\nplot " + ", \\\n  ".join(plots) + "\n")
+    gnuplot(script, outbase, data)
+
+
+def last_stress(sweep):
+    with h5py.File(sweep, "r") as f:
+        s = f["paths"]["000"]["stress"][-1]
+    print("{:.17g},{:.17g},{:.17g}".format(*s))
+
+
+def main():
+    if len(sys.argv) < 3:
+        sys.exit(__doc__)
+    kind = sys.argv[1]
+    if kind == "last-stress":
+        return last_stress(sys.argv[2])
+    if len(sys.argv) != 4:
+        sys.exit(__doc__)
+    {"stress-strain": stress_strain, "polar": polar, "deformed": deformed, "work-precision": work_precision}[kind](
+        sys.argv[2], sys.argv[3])
+
+
+if __name__ == "__main__":
+    main()
