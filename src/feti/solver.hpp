@@ -46,6 +46,7 @@ struct Solution {
   Eigen::Vector3d average_stress = Eigen::Vector3d::Zero();  // volume average of element stresses
   Eigen::VectorXd u;              // global DOFs (+3 macro DOFs εxx, εyy, γxy when periodic)
   Eigen::VectorXd lambda;         // per row of B, physical (force) units
+  Eigen::VectorXd multiplier;     // SMALBE's equality multiplier m (scaled rows), for warm starts
   Eigen::VectorXd alpha;          // 3 per subdomain
   std::vector<double> normal_force, tangential_force;  // per interface pair (0 where no row)
   BondState bonds;                // after this solve (and its breaks)
@@ -73,12 +74,15 @@ class ContactSolver {
   ContactSolver& operator=(const ContactSolver&) = delete;
 
   // One QP for a fixed bond state: no bond breaks even where a multiplier sits at its strength.
-  // `warm_lambda` (physical, same bond state) starts the iteration.
+  // `warm_lambda` (physical) and `warm_multiplier` (SMALBE's m) of the same bond state start the
+  // iteration; scaled to a new load they are the exact answer of a positively homogeneous
+  // problem (no adhesion), so a proportional step costs almost nothing.
   Solution solve_fixed(const Eigen::Vector3d& sigma, const BondState& bonds,
-                       const Eigen::VectorXd* warm_lambda = nullptr);
+                       const Eigen::VectorXd* warm_lambda = nullptr, const Eigen::VectorXd* warm_multiplier = nullptr);
   // Solve, break every bond at its strength (normal and tangential together), re-solve until
   // no new break (METHOD §6). `bonds` is the state before the load; the result carries the new one.
-  Solution solve(const Eigen::Vector3d& sigma, const BondState& bonds, const Eigen::VectorXd* warm_lambda = nullptr);
+  Solution solve(const Eigen::Vector3d& sigma, const BondState& bonds, const Eigen::VectorXd* warm_lambda = nullptr,
+                 const Eigen::VectorXd* warm_multiplier = nullptr);
 
   // s* = min over bonded rows of bound/λ(σ̄): the load factor t at which the first bond of the
   // intact interface reaches its strength under t·σ̄ (METHOD §8), from one solve of the bonded
@@ -100,7 +104,7 @@ class ContactSolver {
 
  private:
   Solution solve_problem(const DualProblem& problem, double& norm_PFP, const Eigen::Vector3d& sigma,
-                         const Eigen::VectorXd* warm_lambda);
+                         const Eigen::VectorXd* warm_lambda, const Eigen::VectorXd* warm_multiplier = nullptr);
   void recover(const DualProblem& problem, const Eigen::VectorXd& f, const Eigen::VectorXd& d,
                const Eigen::VectorXd& lambda_scaled, const Eigen::VectorXd& multiplier, Solution& out) const;
   void report(const DualProblem& problem, const Eigen::VectorXd& f, const Eigen::VectorXd& lambda_scaled,

@@ -116,17 +116,23 @@ PathResult run_path(feti::ContactSolver& solver, const PathSpec& spec, double fu
   }
 
   feti::BondState bonds = intact;
-  Eigen::VectorXd lambda;  // multipliers of the last recorded state, for the warm start
+  Eigen::VectorXd lambda, multiplier;  // of the last recorded state, for the warm start
   double previous_load = 0;
   Eigen::Vector3d previous_strain = Eigen::Vector3d::Zero();
   auto record = [&](double load, const feti::Solution& s, double seconds) {
     result.steps.push_back(make_step(load, s, count_broken(intact, s.bonds), seconds));
     if (progress) progress(spec, static_cast<int>(result.steps.size()) - 1, result.steps.back());
   };
+  // Warm start: the last state's λ and SMALBE multiplier scaled to the new load (exact for a
+  // positively homogeneous step).
   auto solve_at = [&](double load, const feti::BondState& from, const Eigen::VectorXd* warm, double from_load) {
-    Eigen::VectorXd scaled;
-    if (warm && warm->size() > 0 && from_load != 0) scaled = *warm * (load / from_load);
-    return solver.solve(load * spec.unit_stress, from, scaled.size() ? &scaled : nullptr);
+    Eigen::VectorXd scaled, scaled_multiplier;
+    if (warm && warm->size() > 0 && from_load != 0) {
+      scaled = *warm * (load / from_load);
+      if (multiplier.size() == warm->size()) scaled_multiplier = multiplier * (load / from_load);
+    }
+    return solver.solve(load * spec.unit_stress, from, scaled.size() ? &scaled : nullptr,
+                        scaled_multiplier.size() ? &scaled_multiplier : nullptr);
   };
 
   // Each scheduled load is reached from the last recorded state. Whenever the solve there
@@ -143,6 +149,7 @@ PathResult run_path(feti::ContactSolver& solver, const PathSpec& spec, double fu
         record(load, s, std::chrono::duration<double>(Clock::now() - t0).count());
         bonds = s.bonds;
         lambda = s.lambda;
+        multiplier = s.multiplier;
         previous_load = load;
         previous_strain = s.strain;
         break;
@@ -169,6 +176,7 @@ PathResult run_path(feti::ContactSolver& solver, const PathSpec& spec, double fu
       record(hi, at_hi, at_lo ? seconds / 2 : seconds);
       bonds = at_hi.bonds;
       lambda = at_hi.lambda;
+      multiplier = at_hi.multiplier;
       previous_load = hi;
       previous_strain = at_hi.strain;
       if (hi == load) break;
