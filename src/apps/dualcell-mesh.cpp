@@ -27,6 +27,7 @@ int main(int argc, char** argv) {
   return dualcell::run_stage("dualcell-mesh", [&] {
     using namespace dualcell;
     const Scene scene = load_scene(config);
+    for (const auto& w : scene.warnings) std::fprintf(stderr, "dualcell-mesh: warning: %s\n", w.c_str());
     const mesh::Mesh m = mesh::build_mesh(scene.geometry);
     io::write_mesh(m, scene, out);
     if (quiet) return;

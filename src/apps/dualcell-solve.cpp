@@ -65,6 +65,7 @@ int main(int argc, char** argv) {
     using namespace dualcell;
     const Eigen::Vector3d sigma = parse_stress(stress_text);
     const Scene scene = load_scene(config);
+    for (const auto& w : scene.warnings) std::fprintf(stderr, "dualcell-solve: warning: %s\n", w.c_str());
     const io::MeshFile mesh_in = io::read_mesh(mesh_file);
     const std::string mismatch = io::geometry_mismatch(mesh_in.mesh, scene);
     if (!mismatch.empty())

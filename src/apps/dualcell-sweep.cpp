@@ -59,6 +59,7 @@ int main(int argc, char** argv) {
   return dualcell::run_stage("dualcell-sweep", [&] {
     using namespace dualcell;
     const Scene scene = load_scene(config);
+    for (const auto& w : scene.warnings) std::fprintf(stderr, "dualcell-sweep: warning: %s\n", w.c_str());
     const io::MeshFile mesh_in = io::read_mesh(mesh_file);
     const std::string mismatch = io::geometry_mismatch(mesh_in.mesh, scene);
     if (!mismatch.empty())

@@ -23,12 +23,97 @@ const char* to_string(Boundary b) {
 
 namespace {
 
+// Largest scene or material file read: a bound on what /dev/zero or a mistaken path can cost.
+constexpr std::size_t max_file_bytes = 16u << 20;
+
 std::string read_text(const std::filesystem::path& file, const std::string& what) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(file, ec))
+    throw InputError(file.string() + ": is a directory, not a " + what + " file");
   std::ifstream in(file, std::ios::binary);
   if (!in) throw InputError(file.string() + ": cannot open " + what + " file");
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
+  std::string text;
+  char buffer[1 << 16];
+  while (in.read(buffer, sizeof buffer) || in.gcount() > 0) {
+    text.append(buffer, static_cast<std::size_t>(in.gcount()));
+    if (text.size() > max_file_bytes)
+      throw InputError(file.string() + ": larger than 16 MiB, not a " + what + " file");
+  }
+  if (in.bad()) throw InputError(file.string() + ": cannot read " + what + " file");
+  return text;
+}
+
+// Byte offset in `line` of 1-based `column`, which toml++ counts in code points (UTF-8).
+std::size_t byte_of_column(const std::string& line, std::size_t column) {
+  std::size_t byte = 0;
+  for (std::size_t c = 1; c < column && byte < line.size(); ++c) {
+    ++byte;
+    while (byte < line.size() && (static_cast<unsigned char>(line[byte]) & 0xC0) == 0x80) ++byte;
+  }
+  return byte;
+}
+
+// A quoted value cut to a readable length.
+std::string clipped(std::string text) {
+  constexpr std::size_t max_bytes = 60;
+  if (text.size() <= max_bytes) return text;
+  std::size_t cut = max_bytes;
+  while (cut > 0 && (static_cast<unsigned char>(text[cut]) & 0xC0) == 0x80) --cut;
+  return text.substr(0, cut) + "...";
+}
+
+// toml++ 3.3 (Debian's) reaches __builtin_unreachable(), undefined behaviour, when its whitespace
+// lookup meets some non-ASCII code points outside a value string: `rädius = 1`, a quoted key "ν",
+// U+00A1..U+0499 among others (found by tests/fuzz/scene_fuzz.cpp; marzer/tomlplusplus#190 and
+// #295, fixed upstream by PR #305). Scenes need non-ASCII text only in comments and in the
+// material path, so toml++ reads a copy with every non-ASCII code point replaced by U+FFFD: one
+// code point for one, so its line:column still point into the original text, from which the
+// material path, the keys in messages and the character a syntax error names are read back
+// (original_text, key_text, parse_toml). Invalid
+// UTF-8 is left for toml++ to refuse; a leading byte order mark is kept.
+constexpr std::string_view replacement = "\xEF\xBF\xBD";
+
+std::string for_toml(std::string_view text) {
+  std::string out;
+  out.reserve(text.size());
+  std::size_t i = text.substr(0, 3) == "\xEF\xBB\xBF" ? 3 : 0;
+  out += text.substr(0, i);
+  while (i < text.size()) {
+    const auto lead = static_cast<unsigned char>(text[i]);
+    const std::size_t n = lead >= 0xF0 ? 4 : lead >= 0xE0 ? 3 : lead >= 0xC0 ? 2 : 1;
+    char32_t cp = n == 4 ? lead & 0x07u : n == 3 ? lead & 0x0Fu : lead & 0x1Fu;
+    bool valid = n > 1 && lead < 0xF8 && i + n <= text.size();
+    for (std::size_t k = 1; valid && k < n; ++k) {
+      const auto b = static_cast<unsigned char>(text[i + k]);
+      valid = (b & 0xC0) == 0x80;
+      cp = (cp << 6) | (b & 0x3Fu);
+    }
+    valid = valid && cp >= (n == 2 ? 0x80u : n == 3 ? 0x800u : 0x10000u) && cp <= 0x10FFFF &&
+            !(cp >= 0xD800 && cp <= 0xDFFF);
+    if (valid) {
+      out += replacement;
+      i += n;
+    } else {
+      out += text[i++];  // ASCII, or a byte toml++ refuses as invalid UTF-8
+    }
+  }
+  return out;
+}
+
+// The text of `region` (one line) in the original `lines`, or empty.
+std::string original_text(const toml::source_region& region, const std::vector<std::string>& lines) {
+  if (region.begin.line == 0 || region.begin.line != region.end.line || region.begin.line > lines.size()) return {};
+  const std::string& line = lines[region.begin.line - 1];
+  const std::size_t begin = byte_of_column(line, region.begin.column), end = byte_of_column(line, region.end.column);
+  return end > begin && end <= line.size() ? line.substr(begin, end - begin) : std::string{};
+}
+
+// A key for messages: as toml++ read it, or as written where for_toml replaced characters.
+std::string key_text(const toml::key& key, const std::vector<std::string>& lines) {
+  const std::string k(key.str());
+  if (k.find(replacement) == std::string::npos) return k;
+  const std::string written = original_text(key.source(), lines);
+  return written.empty() ? k : written;
 }
 
 // The value as the user wrote it (from the source text), so messages quote "0.7", not
@@ -38,12 +123,12 @@ std::string show(const toml::node& node, const std::vector<std::string>& lines) 
   if (region.begin.line > 0 && region.begin.line == region.end.line && region.begin.line <= lines.size() &&
       region.end.column > region.begin.column) {
     const std::string& line = lines[region.begin.line - 1];
-    if (region.end.column - 1 <= line.size())
-      return line.substr(region.begin.column - 1, region.end.column - region.begin.column);
+    const std::size_t begin = byte_of_column(line, region.begin.column), end = byte_of_column(line, region.end.column);
+    if (end <= line.size() && end > begin) return clipped(line.substr(begin, end - begin));
   }
   std::ostringstream s;
   node.visit([&](const auto& value) { s << value; });
-  return s.str();
+  return clipped(s.str());
 }
 
 std::vector<std::string> split_lines(std::string_view text) {
@@ -70,8 +155,8 @@ class TableReader {
     s << file_;
     if (node && node->source().begin.line > 0)
       s << ':' << node->source().begin.line << ':' << node->source().begin.column;
-    s << ": [" << name_ << "] " << key;
-    if (!value.empty()) s << " = " << value;
+    s << ": [" << name_ << "] " << clipped(std::string(key));
+    if (!value.empty()) s << " = " << clipped(value);
     s << ": " << why;
     throw InputError(s.str());
   }
@@ -183,7 +268,7 @@ class TableReader {
       if (!used_.count(std::string(key.str()))) {
         std::string allowed;
         for (const auto& u : used_) allowed += (allowed.empty() ? "" : ", ") + u;
-        fail(&value, key.str(), show(value, lines_), "unknown key; allowed keys: " + allowed);
+        fail(&value, key_text(key, lines_), show(value, lines_), "unknown key; allowed keys: " + allowed);
       }
     }
   }
@@ -210,11 +295,19 @@ Material read_material(TableReader& t) {
 
 toml::table parse_toml(std::string_view text, const std::string& file) {
   try {
-    return toml::parse(text, file);
+    return toml::parse(for_toml(text), file);
   } catch (const toml::parse_error& e) {
+    std::string what(e.description());
+    const std::size_t at = what.find(replacement);
+    if (at != std::string::npos) {  // "saw '\uFFFD'": the character as written (see for_toml)
+      toml::source_region one = e.source();
+      one.end = {one.begin.line, one.begin.column + 1};
+      const std::string written = original_text(one, split_lines(text));
+      if (!written.empty()) what.replace(at, replacement.size(), written);
+    }
     std::ostringstream s;
     s << file << ':' << e.source().begin.line << ':' << e.source().begin.column
-      << ": TOML syntax error: " << e.description();
+      << ": TOML syntax error: " << what;
     throw InputError(s.str());
   }
 }
@@ -242,11 +335,23 @@ Scene parse_scene(std::string_view text, const std::filesystem::path& file) {
   const std::vector<std::string> lines = split_lines(text);
   TableReader top(&root, "top level", fname, lines);
   std::string material = top.string("material", "");
+  if (material.find(replacement) != std::string::npos) {
+    // A path with non-ASCII characters: decode the string as written (toml++ parses a value
+    // string without the faulty lookup).
+    const std::string written = original_text(root.get("material")->source(), lines);
+    try {
+      material = toml::parse("v = " + written + "\n")["v"].value_or(std::string());
+    } catch (const toml::parse_error&) {
+      material.clear();
+    }
+    if (material.empty())
+      top.fail(root.get("material"), "material", written, "a path with non-ASCII characters must be one line");
+  }
   for (const auto& [key, value] : root) {
     const std::string k(key.str());
     if (k == "material") continue;
     if (std::find(tables.begin(), tables.end(), k) == tables.end())
-      top.fail(&value, k, "", "unknown table or key; allowed: material, [geometry], [fibre], "
+      top.fail(&value, key_text(key, lines), "", "unknown table or key; allowed: material, [geometry], [fibre], "
                "[matrix], [interface], [load], [sweep], [solver]");
   }
 
@@ -263,6 +368,18 @@ Scene parse_scene(std::string_view text, const std::filesystem::path& file) {
   const auto off = g.reals("fibre_offset", {0, 0}, any_value, "a finite number", 2, 2);
   geo.fibre_offset = {off[0], off[1]};
   geo.degree = static_cast<int>(g.integer("degree", 1, 1, 256));
+  // A bound on the mesh a scene may ask for: beyond it the mesh stage would allocate (and the
+  // solver factorise) more than any machine holds; 16k² + 16k + 1 nodes per cell.
+  const double nodes = static_cast<double>(geo.cells[0]) * geo.cells[1] *
+                       (16.0 * geo.degree * geo.degree + 16.0 * geo.degree + 1);
+  if (nodes > max_mesh_nodes) {
+    std::ostringstream s;
+    s << "the mesh would have " << static_cast<long long>(nodes) << " nodes (" << geo.cells[0] << " x " << geo.cells[1]
+      << " cells at degree " << geo.degree << ": 16k^2 + 16k + 1 per cell), more than the limit "
+      << max_mesh_nodes;
+    const toml::node* cells_node = g.node("cells");
+    g.fail(cells_node, "cells", cells_node ? show(*cells_node, lines) : "", s.str());
+  }
   const double half = geo.cell_size / 2;
   for (int d = 0; d < 2; ++d) {
     if (!(geo.fibre_radius + std::abs(geo.fibre_offset[d]) < half)) {
@@ -287,9 +404,17 @@ Scene parse_scene(std::string_view text, const std::filesystem::path& file) {
                "give either `material = \"file\"` or the [fibre] and [matrix] tables, not both");
     std::filesystem::path mpath(material);
     if (mpath.is_relative()) mpath = file.parent_path() / mpath;
-    if (!std::filesystem::exists(mpath))
+    std::error_code ec;  // e.g. a name too long for the file system: a message, not an exception
+    const std::filesystem::file_status status = std::filesystem::status(mpath, ec);
+    if (!std::filesystem::exists(status))
       top.fail(root.get("material"), "material", "\"" + material + "\"",
-               "material file not found: " + mpath.string());
+               ec && ec != std::errc::no_such_file_or_directory
+                   ? "cannot access material file (" + ec.message() + "): " + mpath.string()
+                   : "material file not found: " + mpath.string());
+    if (std::filesystem::is_directory(status))
+      top.fail(root.get("material"), "material", "\"" + material + "\"", mpath.string() + " is a directory");
+    if (!std::filesystem::is_regular_file(status))
+      top.fail(root.get("material"), "material", "\"" + material + "\"", mpath.string() + " is not a regular file");
     scene.material_file = mpath.lexically_normal().string();
     scene.material_text = read_text(mpath, "material");
     material_name = mpath.string();
@@ -310,6 +435,21 @@ Scene parse_scene(std::string_view text, const std::filesystem::path& file) {
   scene.fibre = read_material(ft);
   TableReader mt(matrix_table, "matrix", material_name, material_lines);
   scene.matrix = read_material(mt);
+
+  // Linear triangles lock as ν → 0.5 in plane strain: the volumetric constraint of every
+  // element over-stiffens the mesh. Measured: the near-void modulus normalised by
+  // E_m/(1−ν_m²), which is ν-independent in the continuum (Cherkaev, Lurie & Milton 1992),
+  // drifts by 3 % at ν_m = 0.45 (degree 3) against 0.4 % at 0.3.
+  for (const auto& [name, material] : {std::pair<const char*, const Material*>{"fibre", &scene.fibre},
+                                       {"matrix", &scene.matrix}}) {
+    if (material->nu >= 0.45) {
+      std::ostringstream w;
+      w << material_name << ": [" << name << "] nu = " << material->nu
+        << ": nearly incompressible; linear triangles lock, so moduli come out too stiff (about 3 % at nu = 0.45, "
+           "more towards 0.5); compare with a higher degree before trusting them";
+      scene.warnings.push_back(w.str());
+    }
+  }
 
   // [interface]
   TableReader it(sub_table(root, "interface", fname), "interface", fname, lines);
@@ -369,8 +509,13 @@ Scene parse_scene(std::string_view text, const std::filesystem::path& file) {
 }
 
 Scene load_scene(const std::filesystem::path& file) {
-  if (!std::filesystem::exists(file)) throw InputError(file.string() + ": scene file not found");
-  if (std::filesystem::is_directory(file)) throw InputError(file.string() + ": is a directory, not a scene file");
+  std::error_code ec;
+  const std::filesystem::file_status status = std::filesystem::status(file, ec);
+  if (!std::filesystem::exists(status))
+    throw InputError(file.string() + (ec && ec != std::errc::no_such_file_or_directory
+                                          ? ": cannot access scene file: " + ec.message()
+                                          : ": scene file not found"));
+  if (std::filesystem::is_directory(status)) throw InputError(file.string() + ": is a directory, not a scene file");
   return parse_scene(read_text(file, "scene"), file);
 }
 

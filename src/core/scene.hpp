@@ -70,9 +70,15 @@ struct Scene {
   Load load;
   Sweep sweep;
   SolverSettings solver;
+  // Advice that does not stop a stage (printed as "<stage>: warning: ..."), e.g. locking.
+  std::vector<std::string> warnings;
 
   int n_cells() const { return geometry.cells[0] * geometry.cells[1]; }
 };
+
+// Largest mesh a scene may ask for (nodes of all subdomains, dim u = 2 × nodes): 3×3 cells at
+// degree 256 or 100×100 at degree 6 fit, 4096×4096 at degree 256 (10^13 nodes) does not.
+inline constexpr long max_mesh_nodes = 10'000'000;
 
 // Reads and validates a scene file; relative material paths resolve against its folder.
 Scene load_scene(const std::filesystem::path& file);

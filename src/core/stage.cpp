@@ -3,23 +3,57 @@
 #include <cstdio>
 #include <exception>
 #include <new>
+#include <string>
 
 #include "core/error.hpp"
 
 namespace dualcell {
+
+namespace {
+
+// The message as one printable line of bounded length, whatever it quotes (a key holding a
+// newline, a multi-line string, a 1 MB value or path): control characters are escaped, and a
+// long message keeps its beginning and its end (where the reason is), cut at UTF-8 boundaries.
+std::string one_line(const std::string& text) {
+  constexpr std::size_t head = 600, tail = 300;
+  std::string out;
+  for (const char c : text) {
+    const auto u = static_cast<unsigned char>(c);
+    if (c == '\n')
+      out += "\\n";
+    else if (c == '\r')
+      out += "\\r";
+    else if (c == '\t')
+      out += ' ';
+    else if (u < 0x20 || u == 0x7F) {
+      char hex[8];
+      std::snprintf(hex, sizeof hex, "\\x%02X", u);
+      out += hex;
+    } else
+      out += c;
+  }
+  if (out.size() <= head + tail + 100) return out;
+  const auto continuation = [&](std::size_t i) { return (static_cast<unsigned char>(out[i]) & 0xC0) == 0x80; };
+  std::size_t a = head, b = out.size() - tail;
+  while (a > 0 && continuation(a)) --a;
+  while (b < out.size() && continuation(b)) ++b;
+  return out.substr(0, a) + " [... " + std::to_string(b - a) + " bytes ...] " + out.substr(b);
+}
+
+}  // namespace
 
 int run_stage(const char* stage, const std::function<void()>& body) {
   try {
     body();
     return exit_ok;
   } catch (const InputError& e) {
-    std::fprintf(stderr, "%s: error: %s\n", stage, e.what());
+    std::fprintf(stderr, "%s: error: %s\n", stage, one_line(e.what()).c_str());
     return exit_input_error;
   } catch (const std::bad_alloc&) {
     std::fprintf(stderr, "%s: error: out of memory\n", stage);
     return exit_internal_error;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "%s: internal error: %s\n", stage, e.what());
+    std::fprintf(stderr, "%s: internal error: %s\n", stage, one_line(e.what()).c_str());
     return exit_internal_error;
   }
 }

@@ -14,9 +14,10 @@ namespace dualcell::io {
 std::filesystem::path AtomicOutputs::add(const std::filesystem::path& target) {
   std::filesystem::path folder = target.parent_path();
   if (folder.empty()) folder = ".";
-  if (!std::filesystem::is_directory(folder))
+  std::error_code ec;  // a name too long for the file system is a message, not an exception
+  if (!std::filesystem::is_directory(folder, ec))
     throw InputError(target.string() + ": cannot write output: folder " + folder.string() + " does not exist");
-  if (std::filesystem::is_directory(target))
+  if (std::filesystem::is_directory(target, ec))
     throw InputError(target.string() + ": cannot write output: it is a directory");
   std::filesystem::path temporary = target;
   temporary += ".tmp." + std::to_string(::getpid());

@@ -52,14 +52,19 @@ void File::fail(const std::string& object, const std::string& what) const {
 
 File File::create(const std::filesystem::path& path) {
   silence_hdf5();
-  Handle f(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
+  // The 1.8 file format: attributes beyond 64 KiB (a long scene's text) go to dense storage
+  // instead of failing, and metadata carry checksums, so corruption is detected on reading.
+  Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
+  H5Pset_libver_bounds(fapl.get(), H5F_LIBVER_V18, H5F_LIBVER_V18);
+  Handle f(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()), H5Fclose);
   if (!f.valid()) throw InputError(path.string() + ": cannot create HDF5 file");
   return File(std::move(f), path);
 }
 
 File File::open_read(const std::filesystem::path& path) {
   silence_hdf5();
-  if (!std::filesystem::exists(path)) throw InputError(path.string() + ": file not found");
+  std::error_code ec;  // a name too long for the file system is a message, not an exception
+  if (!std::filesystem::exists(path, ec)) throw InputError(path.string() + ": file not found");
   if (H5Fis_hdf5(path.c_str()) <= 0) throw InputError(path.string() + ": not an HDF5 file (or truncated/corrupt)");
   Handle f(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
   if (!f.valid()) throw InputError(path.string() + ": cannot open HDF5 file (truncated or corrupt?)");
@@ -121,7 +126,7 @@ void File::write(const std::string& name, const std::vector<std::int64_t>& data,
 std::vector<hsize_t> File::shape(const std::string& name) const {
   if (!exists(name)) fail(name, "missing dataset");
   Handle set(H5Dopen2(file_.get(), name.c_str(), H5P_DEFAULT), H5Dclose);
-  if (!set.valid()) fail(name, "not a dataset");
+  if (!set.valid()) fail(name, "not a dataset (or its header is corrupt)");
   Handle space(H5Dget_space(set.get()), H5Sclose);
   const int rank = H5Sget_simple_extent_ndims(space.get());
   if (rank < 0) fail(name, "unreadable dataspace");
@@ -142,7 +147,19 @@ std::vector<T> read_dataset(const File& file, hid_t fid, const std::string& name
   const bool want_float = type == H5T_NATIVE_DOUBLE;
   if ((want_float && cls != H5T_FLOAT && cls != H5T_INTEGER) || (!want_float && cls != H5T_INTEGER))
     throw InputError(file.path().string() + ": " + name + ": expected " + type_name + " data");
-  std::vector<T> data(product(dims));
+  // A corrupt or hostile file may declare a huge shape with nothing stored (reading would fill
+  // terabytes with the fill value): unfiltered data must be stored in full, compressed data
+  // plausibly (at most 1024:1).
+  const hsize_t element = H5Tget_size(stored.get()), storage = H5Dget_storage_size(set.get());
+  Handle dcpl(H5Dget_create_plist(set.get()), H5Pclose);
+  const hsize_t ratio = H5Pget_nfilters(dcpl.get()) > 0 ? 1024 : 1;
+  hsize_t n = 1;
+  bool overflow = false;
+  for (hsize_t d : dims) overflow |= __builtin_mul_overflow(n, d, &n);
+  if (overflow || element == 0 || n > storage / element * ratio)
+    throw InputError(file.path().string() + ": " + name + ": declares shape " + shape_text(dims) + " but stores " +
+                     std::to_string(storage) + " bytes (truncated or corrupt?)");
+  std::vector<T> data(n);
   if (!data.empty() && H5Dread(set.get(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()) < 0)
     throw InputError(file.path().string() + ": " + name + ": cannot read dataset (truncated or corrupt?)");
   if (dims_out) *dims_out = dims;
@@ -225,6 +242,7 @@ std::string File::read_string_attribute(const std::string& object, const std::st
     char* text = nullptr;
     Handle memtype(H5Tcopy(H5T_C_S1), H5Tclose);
     H5Tset_size(memtype.get(), H5T_VARIABLE);
+    H5Tset_cset(memtype.get(), H5Tget_cset(type.get()));  // h5py writes UTF-8; no conversion exists
     if (H5Aread(attr.get(), memtype.get(), &text) < 0) fail(object, "cannot read attribute " + name);
     std::string value = text ? text : "";
     H5free_memory(text);

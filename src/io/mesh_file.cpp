@@ -56,6 +56,76 @@ std::vector<std::int64_t> vector_of(const File& f, const std::string& name, std:
   return v;
 }
 
+// What the solver relies on, so that a corrupt or edited file is refused instead of indexing out
+// of bounds or silently solving another problem: one fibre and one matrix subdomain per cell;
+// every triangle counter-clockwise, not degenerate, with its nodes in its own subdomain; nodes in
+// the block; interface pairs joining the fibre and the matrix of their cell at one point; glue
+// pairs and boundary edges on matrix nodes.
+void check_structure(const mesh::Mesh& m, const std::vector<std::int64_t>& is_fibre, const std::string& where) {
+  const Geometry& g = m.geometry;
+  if (!(g.cell_size > 0 && std::isfinite(g.cell_size)) || !(g.fibre_radius > 0 && std::isfinite(g.fibre_radius)) ||
+      g.cells[0] < 1 || g.cells[1] < 1 || g.degree < 1)
+    throw InputError(where + "/mesh: attributes cells, cell_size, fibre_radius or degree out of range");
+  const auto cells = static_cast<std::size_t>(m.n_cells());
+  std::vector<int> fibre_of(cells, -1), matrix_of(cells, -1);
+  for (std::size_t s = 0; s < m.subdomains.size(); ++s) {
+    const int c = m.subdomains[s].cell;
+    if (c < 0 || static_cast<std::size_t>(c) >= cells || (is_fibre[s] != 0 && is_fibre[s] != 1))
+      throw InputError(where + "/mesh/subdomain_cell or subdomain_is_fibre: subdomain " + std::to_string(s) +
+                       " has cell " + std::to_string(c) + " and flag " + std::to_string(is_fibre[s]));
+    int& slot = is_fibre[s] ? fibre_of[c] : matrix_of[c];
+    if (slot >= 0)
+      throw InputError(where + "/mesh/subdomain_is_fibre: cell " + std::to_string(c) + " has two " +
+                       (is_fibre[s] ? "fibre" : "matrix") + " subdomains");
+    slot = static_cast<int>(s);
+  }
+  std::vector<int> owner(m.nodes.size());
+  for (std::size_t s = 0; s < m.subdomains.size(); ++s)
+    for (int v = m.subdomains[s].node_begin; v < m.subdomains[s].node_end; ++v) owner[v] = static_cast<int>(s);
+  const double tol = 1e-9 * g.cell_size;
+  for (std::size_t v = 0; v < m.nodes.size(); ++v)
+    if (m.nodes[v].x() < -tol || m.nodes[v].x() > m.block_width() + tol || m.nodes[v].y() < -tol ||
+        m.nodes[v].y() > m.block_height() + tol)
+      throw InputError(where + "/mesh/nodes: node " + std::to_string(v) + " lies outside the block of cells");
+  for (std::size_t t = 0; t < m.triangles.size(); ++t) {
+    const auto& tri = m.triangles[t];
+    const int s = m.triangle_subdomain[t];
+    if (owner[tri[0]] != s || owner[tri[1]] != s || owner[tri[2]] != s ||
+        static_cast<int>(t) < m.subdomains[s].triangle_begin || static_cast<int>(t) >= m.subdomains[s].triangle_end)
+      throw InputError(where + "/mesh/triangles: triangle " + std::to_string(t) + " is not inside its subdomain " +
+                       std::to_string(s));
+    const Eigen::Vector2d a = m.nodes[tri[1]] - m.nodes[tri[0]], b = m.nodes[tri[2]] - m.nodes[tri[0]];
+    if (!(a.x() * b.y() - a.y() * b.x() > 0))
+      throw InputError(where + "/mesh/triangles: triangle " + std::to_string(t) + " is degenerate or clockwise");
+  }
+  for (const auto& centre : m.fibre_centres)
+    if (!centre.allFinite()) throw InputError(where + "/mesh/fibre_centres: non-finite centre");
+  const auto coincide = [&](int u, int v) { return (m.nodes[u] - m.nodes[v]).norm() <= tol; };
+  for (std::size_t p = 0; p < m.interface_pairs.size(); ++p) {
+    const auto [f, mn] = m.interface_pairs[p];
+    const int c = m.interface_cell[p];
+    if (owner[f] != fibre_of[c] || owner[mn] != matrix_of[c] || !coincide(f, mn))
+      throw InputError(where + "/mesh/interface_pairs: pair " + std::to_string(p) +
+                       " does not join coinciding fibre and matrix nodes of cell " + std::to_string(c));
+  }
+  for (std::size_t q = 0; q < m.glue_pairs.size(); ++q) {
+    const auto [u, v] = m.glue_pairs[q];
+    if (is_fibre[owner[u]] || is_fibre[owner[v]] || owner[u] == owner[v] || !coincide(u, v))
+      throw InputError(where + "/mesh/glue_pairs: pair " + std::to_string(q) +
+                       " does not join coinciding matrix nodes of two cells");
+  }
+  for (int side = 0; side < 4; ++side) {
+    // left, right, bottom, top: the coordinate (x or y) and its value on that side
+    const int axis = side / 2;
+    const double at = side == 1 ? m.block_width() : side == 3 ? m.block_height() : 0.0;
+    for (const auto& [u, v] : m.boundary_edges[side])
+      if (is_fibre[owner[u]] || owner[u] != owner[v] || u == v || std::abs(m.nodes[u][axis] - at) > tol ||
+          std::abs(m.nodes[v][axis] - at) > tol)
+        throw InputError(where + "/mesh/boundary/" + mesh::side_names[side] +
+                         ": an edge that is not a matrix edge on that side of the block");
+  }
+}
+
 }  // namespace
 
 void write_mesh(const mesh::Mesh& mesh, const Scene& scene, const std::filesystem::path& h5) {
@@ -145,7 +215,9 @@ MeshFile read_mesh(const std::filesystem::path& h5) {
   m.triangles = rows_of<3>(f, "/mesh/triangles", N);
   const std::size_t T = m.triangles.size();
   const auto tri_sub = vector_of(f, "/mesh/triangle_subdomain", T);
-  const auto S = f.shape("/mesh/subdomain_is_fibre").at(0);
+  const auto subdomain_dims = f.shape("/mesh/subdomain_is_fibre");
+  if (subdomain_dims.size() != 1) throw InputError(where + "/mesh/subdomain_is_fibre: expected shape (S)");
+  const auto S = subdomain_dims[0];
   const auto is_fibre = vector_of(f, "/mesh/subdomain_is_fibre", S);
   const auto cell = vector_of(f, "/mesh/subdomain_cell", S);
   const auto node_range = rows_of<2>(f, "/mesh/subdomain_nodes", N + 1);
@@ -182,6 +254,7 @@ MeshFile read_mesh(const std::filesystem::path& h5) {
     m.boundary_edges[side] = rows_of<2>(f, std::string("/mesh/boundary/") + mesh::side_names[side], N);
   if (static_cast<int>(m.fibre_centres.size()) != m.n_cells() || S != 2 * m.fibre_centres.size())
     throw InputError(where + "cell count does not match /mesh attribute cells");
+  check_structure(m, is_fibre, where);
   return out;
 }
 

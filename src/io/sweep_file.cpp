@@ -77,6 +77,9 @@ sweep::PathResult read_path(const File& f, int index) {
   if (unit.size() != 3) throw InputError(where + ": attribute unit_stress needs 3 entries");
   p.spec.unit_stress = {unit[0], unit[1], unit[2]};
   p.spec.loads = f.read_double_attribute(g, "schedule");
+  // NaN marks a stress_directions path; anything else must be a real path of sign ±1.
+  if (std::isinf(p.spec.direction_deg) || (p.spec.sign != 1 && p.spec.sign != -1) || !p.spec.unit_stress.allFinite())
+    throw InputError(where + ": attributes direction_deg, sign or unit_stress out of range (truncated or corrupt?)");
   const auto load = f.read_doubles(g + "/load");
   const std::size_t n = load.size();
   auto need = [&](const std::string& name, std::size_t size, std::vector<hsize_t> dims) {
@@ -101,6 +104,16 @@ sweep::PathResult read_path(const File& f, int index) {
   const auto seconds = f.read_doubles(g + "/seconds", &dims);
   need("seconds", n, dims);
   for (std::size_t i = 0; i < n; ++i) {
+    // Loads and applied stresses are always finite; strains of a converged step too.
+    const auto finite = [&](const std::vector<double>& v, std::size_t from, std::size_t count) {
+      for (std::size_t j = from; j < from + count; ++j)
+        if (!std::isfinite(v[j])) return false;
+      return true;
+    };
+    if (!finite(load, i, 1)) throw InputError(where + "/load: non-finite load in row " + std::to_string(i));
+    if (!finite(stress, 3 * i, 3)) throw InputError(where + "/stress: non-finite stress in row " + std::to_string(i));
+    if (converged[i] != 0 && !finite(strain, 3 * i, 3))
+      throw InputError(where + "/strain: non-finite strain in converged row " + std::to_string(i));
     sweep::Step s;
     s.load = load[i];
     s.stress = {stress[3 * i], stress[3 * i + 1], stress[3 * i + 2]};
@@ -228,6 +241,8 @@ std::vector<sweep::PathResult> read_sweep(const std::filesystem::path& file) {
   if (!f.has_attribute("/", "format") || f.read_string_attribute("/", "format") != "dualcell sweep 1")
     throw InputError(file.string() + ": not a dualcell sweep file (root attribute format != \"dualcell sweep 1\")");
   const auto n = f.read_int_attribute("/", "n_paths").at(0);
+  if (n < 1)
+    throw InputError(file.string() + ": attribute n_paths = " + std::to_string(n) + ": a sweep has at least one path");
   std::vector<sweep::PathResult> paths;
   for (int i = 0; i < n; ++i) {
     if (!f.exists(group_of(i)))

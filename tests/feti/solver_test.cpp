@@ -7,7 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "feti/macro.hpp"
-#include "monolithic.hpp"
+#include "study/monolithic.hpp"
 #include "test_util.hpp"
 
 namespace dualcell::feti {
@@ -43,7 +43,7 @@ TEST(ContactSolver, BondedEqualsMonolithicPrimalForEveryBoundary) {
                                                                    : Eigen::Vector3d(0.3, -0.1, 0.2);
       const Solution s = solver.solve_fixed(sigma, solver.intact());
       ASSERT_TRUE(s.converged()) << to_string(boundary) << ": " << qp::to_string(s.qp.status) << " " << s.qp.message;
-      const Eigen::VectorXd u_ref = testing::monolithic_solve(m, scene, solver.setup().load(sigma));
+      const Eigen::VectorXd u_ref = study::monolithic_solve(m, scene, solver.setup().load(sigma));
       EXPECT_LE(relative_difference(s.u, u_ref), 1e-8) << to_string(boundary) << ", E_f = " << Ef;
       EXPECT_EQ(s.newly_broken, 0);
       // Hill–Mandel: the volume average of the element stresses is the applied stress. With
@@ -118,7 +118,7 @@ TEST(ContactSolver, TensionAgainstHolesAndBonded) {
     const Solution s = solver.solve(equibiaxial, solver.intact());
     ASSERT_TRUE(s.converged()) << s.qp.message;
     for (double force : s.normal_force) EXPECT_EQ(force, 0.0);
-    const Eigen::VectorXd u_holes = testing::monolithic_solve(m, scene, solver.setup().load(equibiaxial), true);
+    const Eigen::VectorXd u_holes = study::monolithic_solve(m, scene, solver.setup().load(equibiaxial), true);
     Eigen::VectorXd u_matrix = s.u;
     for (const auto& sub : m.subdomains)
       if (sub.is_fibre) u_matrix.segment(2 * sub.node_begin, 2 * sub.n_nodes()).setZero();
@@ -158,7 +158,7 @@ TEST(ContactSolver, TensionAgainstHolesAndBonded) {
     ContactSolver bonded(m, bonded_scene);
     const double E_contact = 1 / t.strain(0);
     const double E_bonded = 1 / bonded.solve_fixed(uniaxial, bonded.intact()).strain(0);
-    const double E_holes = 1 / feti::boundary_strain(m, testing::monolithic_solve(m, scene, solver.setup().load(uniaxial), true))(0);
+    const double E_holes = 1 / feti::boundary_strain(m, study::monolithic_solve(m, scene, solver.setup().load(uniaxial), true))(0);
     EXPECT_LT(E_holes * 1.001, E_contact) << to_string(boundary);
     EXPECT_LT(E_contact, E_bonded * 0.999) << to_string(boundary);
     // Contact only where the normal points across the load (|n_y| > |n_x|), and on every

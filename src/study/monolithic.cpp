@@ -1,23 +1,19 @@
-#pragma once
-// Independent oracle for the bonded case: the block as ONE body (coinciding nodes merged,
-// Dirichlet DOFs eliminated, periodic nodes expressed through their masters and the macro
-// strain), K_red = Tᵀ K T solved by CHOLMOD. Built from the mesh directly, not from B, so it
-// shares no constraint code with the dual solver.
+#include "study/monolithic.hpp"
+
+#include <cmath>
 #include <map>
 #include <numeric>
+#include <vector>
 
 #include <Eigen/SparseCore>
 
 #include "fem/assembly.hpp"
 #include "linalg/cholmod.hpp"
-#include "mesh/mesh.hpp"
 
-namespace dualcell::testing {
+namespace dualcell::study {
 
-// u over all global DOFs (dim u, + 3 macro DOFs εxx, εyy, γxy when periodic). With `holes` the
-// fibres are left out (their DOFs stay 0): the block is the matrix with empty holes.
-inline Eigen::VectorXd monolithic_solve(const mesh::Mesh& m, const Scene& scene, const Eigen::VectorXd& f,
-                                        bool holes = false) {
+Eigen::VectorXd monolithic_solve(const mesh::Mesh& m, const Scene& scene, const Eigen::VectorXd& f, bool holes,
+                                 bool refine) {
   const int N = m.n_nodes();
   std::vector<int> parent(N);
   std::iota(parent.begin(), parent.end(), 0);
@@ -139,7 +135,7 @@ inline Eigen::VectorXd monolithic_solve(const mesh::Mesh& m, const Scene& scene,
   const Eigen::VectorXd f_red = T.transpose() * f;
   Eigen::VectorXd z, dz, r(n);
   cholesky.solve(f_red, z);
-  for (int sweep = 0; sweep < 3; ++sweep) {
+  for (int sweep = 0; refine && sweep < 3; ++sweep) {
     for (int i = 0; i < n; ++i) r(i) = 0;
     std::vector<long double> acc(n, 0.0L);
     for (int k = 0; k < K_red.outerSize(); ++k)
@@ -152,4 +148,4 @@ inline Eigen::VectorXd monolithic_solve(const mesh::Mesh& m, const Scene& scene,
   return T * z;
 }
 
-}  // namespace dualcell::testing
+}  // namespace dualcell::study

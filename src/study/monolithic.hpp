@@ -1,0 +1,20 @@
+#pragma once
+// Reference primal solver for the bonded case: the block as ONE body (coinciding nodes merged,
+// Dirichlet DOFs eliminated, periodic nodes expressed through their masters and the macro
+// strain), K_red = Tᵀ K T solved by CHOLMOD with iterative refinement in long double. Built
+// from the mesh directly, not from B, so it shares no constraint code with the dual solver:
+// the tests use it as an independent oracle, the benchmark as the linear-solve floor.
+#include <Eigen/Core>
+
+#include "core/scene.hpp"
+#include "mesh/mesh.hpp"
+
+namespace dualcell::study {
+
+// u over all global DOFs (dim u, + 3 macro DOFs εxx, εyy, γxy when periodic). With `holes` the
+// fibres are left out (their DOFs stay 0): the block is the matrix with empty holes.
+// `refine` = false skips the long-double refinement (the benchmark times one factorise+solve).
+Eigen::VectorXd monolithic_solve(const mesh::Mesh& m, const Scene& scene, const Eigen::VectorXd& f,
+                                 bool holes = false, bool refine = true);
+
+}  // namespace dualcell::study
