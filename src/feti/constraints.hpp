@@ -16,7 +16,8 @@
 // mesh degree. A scene without adhesion has no tangential rows; one cell has no glue rows.
 //
 // Rows are scaled by w_r = sqrt(harmonic mean of the Young's moduli the row couples) so that
-// F = B K⁺ Bᵀ has a diagonal of order one whatever the stiffness contrast; the stored B, c and
+// F = B K⁺ Bᵀ has a diagonal of the same order (that of the matrix, ~1/E_m) whatever the
+// stiffness contrast; the stored B, c and
 // bounds are the scaled ones (λ_scaled = λ / w, force = w·λ_scaled).
 #include <cstdint>
 #include <vector>
@@ -48,7 +49,6 @@ struct Constraints {
   std::vector<int> pair;      // interface pair of normal/tangential rows, glue pair of glue rows, else −1
   int n_macro_dofs = 0;       // 3 with the periodic boundary, else 0
   int n_rows() const { return static_cast<int>(kind.size()); }
-  bool is_equality(int r) const { return kind[r] != RowKind::normal; }
 };
 
 // Exact outward normal of the fibre at the fibre node of interface pair p.

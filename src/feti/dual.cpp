@@ -1,14 +1,11 @@
 #include "feti/dual.hpp"
 
-#include <chrono>
-
 #include <Eigen/Eigenvalues>
 
 namespace dualcell::feti {
 
 DualProblem::DualProblem(const FetiSetup& setup, Constraints constraints)
     : setup_(setup), constraints_(std::move(constraints)) {
-  const auto t0 = std::chrono::steady_clock::now();
   const auto& subs = setup.subdomains();
   const int S = static_cast<int>(subs.size());
   locals_.resize(S);
@@ -65,7 +62,6 @@ DualProblem::DualProblem(const FetiSetup& setup, Constraints constraints)
   GGt_.compute(GGt);
   G_scratch_.resize(G_rows);
   G_solution_.resize(G_rows);
-  seconds_setup = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 void DualProblem::apply_F(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {

@@ -66,10 +66,6 @@ class DualProblem {
   Eigen::VectorXd coarse_solve(const Eigen::VectorXd& r) const;
   // x_i = K_i⁺ (f_i − B_iᵀλ) for every subdomain, into a global vector.
   Eigen::VectorXd K_plus_residual(const Eigen::VectorXd& f, const Eigen::VectorXd& lambda) const;
-  // B x (scaled rows), for a global vector x.
-  Eigen::VectorXd apply_B(const Eigen::VectorXd& x) const { return constraints_.B * x; }
-
-  double seconds_setup = 0;  // building B_i, G and factorising GGᵀ
 
  private:
   const FetiSetup& setup_;
