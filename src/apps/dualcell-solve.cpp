@@ -58,6 +58,9 @@ int main(int argc, char** argv) {
   app.add_option("--bonds", bonds_file, "solution.h5 whose /interface/bonded is the bond state before this load "
                                         "(default: intact)");
   app.add_flag("--quiet", quiet, "do not print the summary");
+  int threads = 0;
+  app.add_option("--threads", threads, "threads for the subdomain work; 0 = OMP_NUM_THREADS or all cores (results do not depend on it)")
+      ->check(CLI::Range(0, 4096));
   CLI11_PARSE(app, argc, argv);
 
   int exit_code = dualcell::exit_ok;
@@ -74,7 +77,7 @@ int main(int argc, char** argv) {
       throw InputError("--stress " + stress_text + ": the symmetry boundary carries only sxx and syy (sxy must be 0); "
                        "use boundary = \"traction\" or \"periodic\" for shear");
     const mesh::Mesh& mesh = mesh_in.mesh;
-    feti::ContactSolver solver(mesh, scene);
+    feti::ContactSolver solver(mesh, scene, threads);
     const std::string mesh_hash = io::file_hash(mesh_file);
     const feti::BondState bonds = bonds_file.empty() ? solver.intact() : io::read_bonds(bonds_file, mesh, mesh_hash);
     const feti::Solution s = solver.solve(sigma, bonds);

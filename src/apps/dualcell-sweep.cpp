@@ -17,6 +17,7 @@
 #include <CLI/CLI.hpp>
 #include <unistd.h>
 
+#include "core/version.hpp"
 #include "core/error.hpp"
 #include "core/scene.hpp"
 #include "core/stage.hpp"
@@ -52,6 +53,9 @@ int main(int argc, char** argv) {
   app.add_option("--mesh", mesh_file, "mesh.h5 made by dualcell-mesh from the same scene")->required();
   app.add_option("--out", out, "output HDF5 file")->required();
   app.add_flag("--quiet", quiet, "no progress on stderr");
+  int threads = 0;
+  app.add_option("--threads", threads, "threads for the subdomain work; 0 = OMP_NUM_THREADS or all cores (results do not depend on it)")
+      ->check(CLI::Range(0, 4096));
   // For tests of the resume: stop dead (as kill -9 would) after this many finished paths.
   app.add_option("--interrupt-after-paths", interrupt_after, "")->group("");
   CLI11_PARSE(app, argc, argv);
@@ -66,7 +70,7 @@ int main(int argc, char** argv) {
       throw InputError(mesh_file + ": made from a different scene than " + config + ": " + mismatch);
     const std::vector<sweep::PathSpec> specs = sweep::plan_paths(scene);
     io::SweepProvenance provenance{scene.text, scene.material_text, config, mesh_file, io::file_hash(mesh_file),
-                                   solver_options(scene), DUALCELL_VERSION};
+                                   solver_options(scene), code_version};
     provenance.fibre_E = scene.fibre.E;
     provenance.fibre_nu = scene.fibre.nu;
     provenance.matrix_E = scene.matrix.E;
@@ -80,7 +84,7 @@ int main(int argc, char** argv) {
     }
     const bool show = !quiet && ::isatty(2);
     const auto t0 = std::chrono::steady_clock::now();
-    feti::ContactSolver solver(mesh_in.mesh, scene);
+    feti::ContactSolver solver(mesh_in.mesh, scene, threads);
     std::vector<sweep::PathResult> results;
     long computed = 0, total_steps = 0;
     for (const auto& spec : specs) total_steps += static_cast<long>(spec.loads.size());

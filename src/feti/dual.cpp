@@ -53,29 +53,32 @@ DualProblem::DualProblem(const FetiSetup& setup, Constraints constraints)
     local.z.resize(n_local);
     local.y.resize(subs[s].n_dofs);
     local.x.resize(subs[s].n_dofs);
+    local.K_plus_scratch.resize(subs[s].is_macro ? 0 : subs[s].n_dofs - static_cast<int>(subs[s].fixing_dofs.size()));
   }
   G_.resize(G_rows, constraints_.n_rows());
   G_.setFromTriplets(G_triplets.begin(), G_triplets.end());
 
   // GGᵀ: small (3 per subdomain) and sparse (neighbours only); factorised once.
   const Eigen::SparseMatrix<double> GGt = Eigen::SparseMatrix<double>(G_ * G_.transpose());
+  GGt_ = linalg::SparseCholesky(linalg::CholmodOptions{linalg::FactorKind::simplicial});
   GGt_.compute(GGt);
   G_scratch_.resize(G_rows);
   G_solution_.resize(G_rows);
 }
 
 void DualProblem::apply_F(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
-  y.setZero();
   const auto& subs = setup_.subdomains();
-  for (std::size_t s = 0; s < locals_.size(); ++s) {
+  setup_.for_each_subdomain([&](int s) {
     const Local& local = locals_[s];
-    if (local.rows.empty()) continue;
+    if (local.rows.empty()) return;
     for (std::size_t k = 0; k < local.rows.size(); ++k) local.lambda_local(k) = x(local.rows[k]);
     local.y.noalias() = local.B.transpose() * local.lambda_local;
-    subs[s].apply_K_plus(local.y, local.x);
+    subs[s].apply_K_plus(local.y, local.x, local.K_plus_scratch);
     local.z.noalias() = local.B * local.x;
+  });
+  y.setZero();
+  for (const Local& local : locals_)
     for (std::size_t k = 0; k < local.rows.size(); ++k) y(local.rows[k]) += local.z(k);
-  }
 }
 
 void DualProblem::apply_Q(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
@@ -85,15 +88,16 @@ void DualProblem::apply_Q(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
 }
 
 Eigen::VectorXd DualProblem::d(const Eigen::VectorXd& f) const {
-  Eigen::VectorXd d = -constraints_.c;
   const auto& subs = setup_.subdomains();
-  for (std::size_t s = 0; s < locals_.size(); ++s) {
+  setup_.for_each_subdomain([&](int s) {
     const Local& local = locals_[s];
     local.y = f.segment(subs[s].dof_begin, subs[s].n_dofs);
-    subs[s].apply_K_plus(local.y, local.x);
+    subs[s].apply_K_plus(local.y, local.x, local.K_plus_scratch);
     local.z.noalias() = local.B * local.x;
+  });
+  Eigen::VectorXd d = -constraints_.c;
+  for (const Local& local : locals_)
     for (std::size_t k = 0; k < local.rows.size(); ++k) d(local.rows[k]) += local.z(k);
-  }
   return d;
 }
 
@@ -122,14 +126,14 @@ Eigen::VectorXd DualProblem::coarse_solve(const Eigen::VectorXd& r) const {
 Eigen::VectorXd DualProblem::K_plus_residual(const Eigen::VectorXd& f, const Eigen::VectorXd& lambda) const {
   Eigen::VectorXd u(setup_.n_dofs());
   const auto& subs = setup_.subdomains();
-  for (std::size_t s = 0; s < locals_.size(); ++s) {
+  setup_.for_each_subdomain([&](int s) {
     const Local& local = locals_[s];
     for (std::size_t k = 0; k < local.rows.size(); ++k) local.lambda_local(k) = lambda(local.rows[k]);
     local.y = f.segment(subs[s].dof_begin, subs[s].n_dofs);
     if (!local.rows.empty()) local.y.noalias() -= local.B.transpose() * local.lambda_local;
-    subs[s].apply_K_plus(local.y, local.x);
-    u.segment(subs[s].dof_begin, subs[s].n_dofs) = local.x;
-  }
+    subs[s].apply_K_plus(local.y, local.x, local.K_plus_scratch);
+    u.segment(subs[s].dof_begin, subs[s].n_dofs) = local.x;  // disjoint segments
+  });
   return u;
 }
 

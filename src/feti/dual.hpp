@@ -41,8 +41,9 @@ class DualProblem {
     Eigen::MatrixXd R_hat;                               // n_dofs × r_i
     Eigen::MatrixXd V;                                   // 3 × r_i: R_hat = R V
     int G_offset = 0;                                    // first row of G for this subdomain
-    // scratch for operator applications (no allocation per application)
-    mutable Eigen::VectorXd lambda_local, y, x, z;
+    // scratch for operator applications (no allocation per application); each subdomain's
+    // own, so that subdomains can be applied concurrently
+    mutable Eigen::VectorXd lambda_local, y, x, z, K_plus_scratch;
   };
 
   const FetiSetup& setup() const { return setup_; }
@@ -52,7 +53,8 @@ class DualProblem {
   int n_G_rows() const { return static_cast<int>(G_.rows()); }
   const Eigen::SparseMatrix<double, Eigen::RowMajor>& G() const { return G_; }
 
-  // y = F x (one application: a K⁺ solve per subdomain).
+  // y = F x (one application: a K⁺ solve per subdomain, spread over setup().threads(); the
+  // local results are summed in subdomain order, so y does not depend on the thread count).
   void apply_F(const Eigen::VectorXd& x, Eigen::VectorXd& y) const;
   // y = Q x = Gᵀ(GGᵀ)⁻¹G x.
   void apply_Q(const Eigen::VectorXd& x, Eigen::VectorXd& y) const;

@@ -2,6 +2,8 @@
 
 #include <chrono>
 
+#include <omp.h>
+
 #include "fem/assembly.hpp"
 
 namespace dualcell::feti {
@@ -33,19 +35,20 @@ std::vector<Eigen::Index> fixing_dofs(const mesh::Mesh& mesh, const mesh::Subdom
 
 }  // namespace
 
-void Subdomain::apply_K_plus(const Eigen::VectorXd& y, Eigen::VectorXd& x) const {
+void Subdomain::apply_K_plus(const Eigen::VectorXd& y, Eigen::VectorXd& x, Eigen::VectorXd& scratch) const {
   if (is_macro) {
     x.setZero();
     return;
   }
-  K_plus->apply(y, x);
+  K_plus->apply(y, x, scratch);
 }
 
-FetiSetup::FetiSetup(const mesh::Mesh& mesh, const Scene& scene) : mesh_(mesh), scene_(scene) {
+FetiSetup::FetiSetup(const mesh::Mesh& mesh, const Scene& scene, int threads)
+    : mesh_(mesh), scene_(scene), threads_(threads > 0 ? threads : omp_get_max_threads()) {
   const auto t0 = Clock::now();
   const int S = static_cast<int>(mesh.subdomains.size());
   subdomains_.resize(S);
-  for (int s = 0; s < S; ++s) {
+  for_each_subdomain([&](int s) {
     const mesh::Subdomain& ms = mesh.subdomains[s];
     Subdomain& sub = subdomains_[s];
     sub.index = s;
@@ -55,7 +58,7 @@ FetiSetup::FetiSetup(const mesh::Mesh& mesh, const Scene& scene) : mesh_(mesh), 
     sub.K = fem::assemble_stiffness(mesh, s, ms.is_fibre ? scene.fibre : scene.matrix);
     sub.R = fem::rigid_body_modes(mesh, s);
     sub.fixing_dofs = fixing_dofs(mesh, ms);
-  }
+  });
   n_dofs_ = mesh.dim_u();
   if (scene.load.boundary == Boundary::periodic) {
     Subdomain macro;
@@ -73,11 +76,16 @@ FetiSetup::FetiSetup(const mesh::Mesh& mesh, const Scene& scene) : mesh_(mesh), 
     for (int d = 0; d < sub.n_dofs; ++d) dof_owner_[sub.dof_begin + d] = sub.index;
   seconds_assembly = seconds_since(t0);
 
-  // K⁺ once per mesh and material: the factorisations every load case reuses.
+  // K⁺ once per mesh and material: the factorisations every load case reuses. Subdomains are
+  // small (hundreds to a few thousand DOFs), where a simplicial factor is as fast as a
+  // supernodal one and needs no BLAS; K⁺ is then applied with plain triangular sweeps.
   const auto t1 = Clock::now();
-  for (Subdomain& sub : subdomains_)
+  for_each_subdomain([&](int s) {
+    Subdomain& sub = subdomains_[s];
     if (!sub.is_macro)
-      sub.K_plus = std::make_unique<linalg::FixedDofPseudoInverse>(sub.K, sub.fixing_dofs);
+      sub.K_plus = std::make_unique<linalg::FixedDofPseudoInverse>(
+          sub.K, sub.fixing_dofs, linalg::CholmodOptions{linalg::FactorKind::simplicial});
+  });
   seconds_factorisation = seconds_since(t1);
 }
 

@@ -9,9 +9,10 @@
 //   K_i⁺   | Subdomain::K_plus        | fixing-node generalised inverse, CHOLMOD factor
 //   f      | FetiSetup::load(σ̄)      | tractions σ̄·n on the loaded edges + body force
 //
-// Each subdomain owns its data (no global state), so subdomains can later be spread over
-// threads or MPI ranks. With the periodic boundary a "macro" subdomain holds the macroscopic
+// Each subdomain owns its data (no global state), so subdomains are spread over threads
+// (for_each_subdomain) and could be spread over MPI ranks the same way. With the periodic boundary a "macro" subdomain holds the macroscopic
 // strain (εxx, εyy, γxy): K = 0, R = I₃, K⁺ = 0, load |Ω|·σ̄ (METHOD §8).
+#include <exception>
 #include <memory>
 #include <vector>
 
@@ -34,13 +35,18 @@ struct Subdomain {
   Eigen::MatrixXd R;
   std::unique_ptr<linalg::FixedDofPseudoInverse> K_plus;  // null for the macro subdomain
   std::vector<Eigen::Index> fixing_dofs;                   // the 3 DOFs removed to make K regular
-  // x = K⁺ y (zero for the macro subdomain). Not thread-safe per subdomain (scratch inside).
-  void apply_K_plus(const Eigen::VectorXd& y, Eigen::VectorXd& x) const;
+  // x = K⁺ y (zero for the macro subdomain); x must have size n_dofs. scratch: n_dofs − 3
+  // doubles owned by the caller, so one subdomain may be applied from any thread.
+  void apply_K_plus(const Eigen::VectorXd& y, Eigen::VectorXd& x, Eigen::VectorXd& scratch) const;
 };
 
 class FetiSetup {
  public:
-  FetiSetup(const mesh::Mesh& mesh, const Scene& scene);
+  // threads: how many threads share the subdomain work (assembly, factorisations, every
+  // application of K⁺); 0 = as many as OpenMP offers (OMP_NUM_THREADS or the cores). Results
+  // do not depend on it: each subdomain's work is done by one thread, and the contributions
+  // are summed in subdomain order afterwards.
+  FetiSetup(const mesh::Mesh& mesh, const Scene& scene, int threads = 1);
 
   const mesh::Mesh& mesh() const { return mesh_; }
   const Scene& scene() const { return scene_; }
@@ -54,6 +60,27 @@ class FetiSetup {
   // plus the scene's body force.
   Eigen::VectorXd load(const Eigen::Vector3d& sigma) const;
   double volume() const { return mesh_.block_width() * mesh_.block_height(); }
+  int threads() const { return threads_; }
+
+  // work(s) for every subdomain s, spread over threads(); work must touch only subdomain s's
+  // data (its own output slots), which is what makes the result independent of the thread count.
+  // An exception thrown by work is carried out of the parallel loop; the one of the lowest
+  // subdomain is rethrown after all have run.
+  template <class Work>
+  void for_each_subdomain(Work&& work) const {
+    const int S = static_cast<int>(subdomains_.size());
+    std::vector<std::exception_ptr> failure(S);
+#pragma omp parallel for schedule(dynamic, 4) num_threads(threads_) if (threads_ > 1 && S > 1)
+    for (int s = 0; s < S; ++s) {
+      try {
+        work(s);
+      } catch (...) {
+        failure[s] = std::current_exception();
+      }
+    }
+    for (const auto& e : failure)
+      if (e) std::rethrow_exception(e);
+  }
   double seconds_assembly = 0, seconds_factorisation = 0;
 
  private:
@@ -62,6 +89,7 @@ class FetiSetup {
   std::vector<Subdomain> subdomains_;
   std::vector<int> dof_owner_;
   int n_dofs_ = 0;
+  int threads_ = 1;
 };
 
 }  // namespace dualcell::feti

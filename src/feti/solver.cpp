@@ -36,7 +36,7 @@ constexpr double at_strength_tolerance = 1e-7;
 
 }  // namespace
 
-ContactSolver::ContactSolver(const mesh::Mesh& mesh, const Scene& scene) : setup_(mesh, scene) {}
+ContactSolver::ContactSolver(const mesh::Mesh& mesh, const Scene& scene, int threads) : setup_(mesh, scene, threads) {}
 
 const DualProblem& ContactSolver::problem(const BondState& bonds) {
   if (!problem_ || bonds != problem_bonds_) {

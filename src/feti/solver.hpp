@@ -68,7 +68,8 @@ struct Solution {
 
 class ContactSolver {
  public:
-  ContactSolver(const mesh::Mesh& mesh, const Scene& scene);
+  // threads: see FetiSetup (0 = all OpenMP offers); results do not depend on it.
+  ContactSolver(const mesh::Mesh& mesh, const Scene& scene, int threads = 1);
   // The cached dual problem refers to setup_: not copyable, not movable.
   ContactSolver(const ContactSolver&) = delete;
   ContactSolver& operator=(const ContactSolver&) = delete;

@@ -1,3 +1,4 @@
+#include "core/version.hpp"
 #include "fit/fit.hpp"
 
 #include <algorithm>
@@ -267,7 +268,7 @@ law::Law fit_law(const std::vector<sweep::PathResult>& paths, const io::SweepPro
   law.fibre_volume_fraction = provenance.fibre_volume_fraction;
   law.scene_text = provenance.scene_text;
   law.solver_options = provenance.solver_options;
-  law.code_version = DUALCELL_VERSION;
+  law.code_version = code_version;
   return law;
 }
 

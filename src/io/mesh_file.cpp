@@ -1,3 +1,4 @@
+#include "core/version.hpp"
 #include "io/mesh_file.hpp"
 
 #include <charconv>
@@ -171,7 +172,7 @@ void write_mesh(const mesh::Mesh& mesh, const Scene& scene, const std::filesyste
     f.write_attribute("/mesh", "fibre_offset", std::vector<double>{g.fibre_offset[0], g.fibre_offset[1]});
     f.write_attribute("/mesh", "degree", std::int64_t{g.degree});
     f.write_attribute("/", "format", std::string("dualcell mesh 1"));
-    f.write_attribute("/", "code_version", std::string(DUALCELL_VERSION));
+    f.write_attribute("/", "code_version", std::string(code_version));
     f.write_attribute("/", "scene", scene.text);
     f.write_attribute("/", "scene_file", scene.file.string());
     if (!scene.material_text.empty()) f.write_attribute("/", "material", scene.material_text);

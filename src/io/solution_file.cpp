@@ -1,3 +1,4 @@
+#include "core/version.hpp"
 #include "io/solution_file.hpp"
 
 #include "core/error.hpp"
@@ -100,7 +101,7 @@ void write_solution(const std::filesystem::path& h5, const mesh::Mesh& mesh, con
     f.write_attribute("/kkt", "relative_equilibrium", k.relative_equilibrium);
 
     f.write_attribute("/", "format", std::string("dualcell solution 1"));
-    f.write_attribute("/", "code_version", std::string(DUALCELL_VERSION));
+    f.write_attribute("/", "code_version", std::string(code_version));
     f.write_attribute("/", "scene", scene.text);
     f.write_attribute("/", "mesh_file", provenance.mesh_file);
     f.write_attribute("/", "mesh_hash", provenance.mesh_hash);

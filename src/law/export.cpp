@@ -1,3 +1,4 @@
+#include "core/version.hpp"
 #include "law/export.hpp"
 
 #include <cctype>
@@ -328,7 +329,7 @@ std::string law_calculix(const Law& law, const std::string& name, const std::str
   const SolidMaterial compression = solid_material(law.compression.S, law, source, "S_compression");
   const OutOfPlane z = rule_of_mixtures(law);
   std::string out;
-  out += "** dualcell law for CalculiX/Abaqus, written by dualcell-export " DUALCELL_VERSION "\n";
+  out += std::string("** dualcell law for CalculiX/Abaqus, written by dualcell-export ") + code_version + "\n";
   out += "** from " + one_line(source) + " (" + impl::format_name + "; fit by " + one_line(law.code_version) +
          "; sweep " + one_line(law.sweep_file) + ", hash " + one_line(law.sweep_hash) + ")\n";
   out += "** units: " + one_line(law.units) + "\n";

@@ -570,6 +570,38 @@ CholeskyStatus SparseCholesky::factorize(const SparseMatrix& matrix) {
     return st;
 }
 
+SparseCholesky::TriangularFactor SparseCholesky::triangular_factor() {
+    require_factorized(CholeskyPhase::solve);
+    TriangularFactor out;
+    out.L.resize(n_, n_);
+    out.perm.resize(static_cast<std::size_t>(n_));
+    if (n_ == 0) return out;
+    cholmod_common* c = common_.get();
+    common_.begin_call();
+    cholmod_factor* copy = cholmod_copy_factor(factor_, c);
+    // Simplicial, LLᵀ, packed and monotonic: column j's entries are p[j] .. p[j+1]-1, the
+    // diagonal first, rows ascending (CHOLMOD's simplicial layout).
+    const int ok = copy != nullptr && cholmod_change_factor(CHOLMOD_REAL, /*to_ll=*/1, /*to_super=*/0, /*to_packed=*/1,
+                                                            /*to_monotonic=*/1, copy, c);
+    const int raw = common_.end_call();
+    if (!ok || raw < CHOLMOD_OK) {
+        if (copy != nullptr) cholmod_free_factor(&copy, c);
+        throw_cholmod(CholeskyPhase::solve, raw, "cholmod_change_factor");
+    }
+    const int* p = static_cast<const int*>(copy->p);
+    const int* i = static_cast<const int*>(copy->i);
+    const double* x = static_cast<const double*>(copy->x);
+    const int* perm = static_cast<const int*>(copy->Perm);
+    const int nnz = p[n_];
+    out.L.resizeNonZeros(nnz);
+    std::copy_n(p, n_ + 1, out.L.outerIndexPtr());
+    std::copy_n(i, nnz, out.L.innerIndexPtr());
+    std::copy_n(x, nnz, out.L.valuePtr());
+    for (Eigen::Index k = 0; k < n_; ++k) out.perm[static_cast<std::size_t>(k)] = perm != nullptr ? perm[k] : static_cast<int>(k);
+    cholmod_free_factor(&copy, c);
+    return out;
+}
+
 CholeskyStatus SparseCholesky::compute(const SparseMatrix& matrix) {
     analyze(matrix);
     return factorize(matrix);
@@ -901,7 +933,24 @@ void FixedDofPseudoInverse::build(const SparseMatrix& K, std::span<const Eigen::
 
     chol_.compute(Krr);
     fr_.resize(nr);
-    xr_.resize(nr);
+    SparseCholesky::TriangularFactor factor = chol_.triangular_factor();
+    L_ = std::move(factor.L);
+    gather_.resize(static_cast<std::size_t>(nr));
+    for (Eigen::Index k = 0; k < nr; ++k)
+        gather_[static_cast<std::size_t>(k)] = free_[static_cast<std::size_t>(factor.perm[static_cast<std::size_t>(k)])];
+}
+
+void FixedDofPseudoInverse::apply(const Eigen::VectorXd& f, Eigen::VectorXd& x, Eigen::VectorXd& scratch) const {
+    const auto nr = static_cast<Eigen::Index>(gather_.size());
+    if (f.size() != n_ || x.size() != n_ || scratch.size() != nr || L_.rows() != nr)
+        throw CholeskyError(CholeskyStatus::invalid_input, CholeskyPhase::solve, n_,
+                            "FixedDofPseudoInverse::apply: f, x must have size n() and scratch n() - "
+                            "fixed_dofs().size(), after a successful construction");
+    for (Eigen::Index k = 0; k < nr; ++k) scratch[k] = f[gather_[static_cast<std::size_t>(k)]];
+    L_.triangularView<Eigen::Lower>().solveInPlace(scratch);
+    L_.transpose().triangularView<Eigen::Upper>().solveInPlace(scratch);
+    for (Eigen::Index i : fixed_) x[i] = 0.0;
+    for (Eigen::Index k = 0; k < nr; ++k) x[gather_[static_cast<std::size_t>(k)]] = scratch[k];
 }
 
 void FixedDofPseudoInverse::apply(const Eigen::VectorXd& f, Eigen::VectorXd& x) {
@@ -911,12 +960,13 @@ void FixedDofPseudoInverse::apply(const Eigen::VectorXd& f, Eigen::VectorXd& x) 
     if (f.size() != n_)
         throw CholeskyError(CholeskyStatus::invalid_input, CholeskyPhase::solve, n_,
                             size_mismatch("vector f", f.size(), 1, n_));
-    const auto nr = static_cast<Eigen::Index>(free_.size());
-    for (Eigen::Index k = 0; k < nr; ++k) fr_[k] = f[free_[static_cast<std::size_t>(k)]];
-    chol_.solve(fr_, xr_);
+    const auto nr = static_cast<Eigen::Index>(gather_.size());
+    for (Eigen::Index k = 0; k < nr; ++k) fr_[k] = f[gather_[static_cast<std::size_t>(k)]];
+    L_.triangularView<Eigen::Lower>().solveInPlace(fr_);
+    L_.transpose().triangularView<Eigen::Upper>().solveInPlace(fr_);
     x.resize(n_);  // after the gather: f and x may alias
     for (Eigen::Index i : fixed_) x[i] = 0.0;
-    for (Eigen::Index k = 0; k < nr; ++k) x[free_[static_cast<std::size_t>(k)]] = xr_[k];
+    for (Eigen::Index k = 0; k < nr; ++k) x[gather_[static_cast<std::size_t>(k)]] = fr_[k];
 }
 
 void FixedDofPseudoInverse::apply(const Eigen::MatrixXd& F, Eigen::MatrixXd& X) {

@@ -267,6 +267,17 @@ public:
     // X = A^{-1} B, column by column in one CHOLMOD call; B.rows() == n().
     void solve(const Eigen::MatrixXd& B, Eigen::MatrixXd& X);
 
+    // The factor as a plain lower-triangular CSC matrix: P A Pᵀ = L Lᵀ, perm[k] = the row of A
+    // at position k of P A Pᵀ. A supernodal or LDLᵀ factor is converted on a copy (the kept
+    // factor is unchanged). Meant for callers that solve many small systems themselves: a
+    // solve is then two sparse triangular sweeps with no CHOLMOD call, no allocation and no
+    // shared state (see FixedDofPseudoInverse). Requires a successful factorize().
+    struct TriangularFactor {
+        SparseMatrix L;
+        std::vector<int> perm;
+    };
+    TriangularFactor triangular_factor();
+
     // Order of the analyzed matrix (0 before analyze()).
     Eigen::Index n() const noexcept { return n_; }
     bool is_analyzed() const noexcept { return analyzed_; }
@@ -409,6 +420,11 @@ public:
 
     // x = K^+ f (zeros at fixed DOFs).  f.size() == n().
     void apply(const Eigen::VectorXd& f, Eigen::VectorXd& x);
+    // The same with caller-owned scratch of size n() - fixed_dofs().size(): const, so distinct
+    // threads may apply one instance concurrently, each with its own scratch. Two sparse
+    // triangular sweeps with L (Eigen), gather and scatter fused with the fill-reducing
+    // permutation; no CHOLMOD call, no allocation (x must already have size n()).
+    void apply(const Eigen::VectorXd& f, Eigen::VectorXd& x, Eigen::VectorXd& scratch) const;
     // X = K^+ F, column-wise.  F.rows() == n().
     void apply(const Eigen::MatrixXd& F, Eigen::MatrixXd& X);
 
@@ -427,7 +443,10 @@ private:
     std::vector<Eigen::Index> fixed_;
     std::vector<Eigen::Index> free_;
     SparseCholesky chol_;
-    Eigen::VectorXd fr_, xr_;  // gathered rhs / reduced solution
+    // K_rr = Pᵀ L Lᵀ P as a plain CSC factor; gather_[k] = the DOF of K at position k of P K_rr Pᵀ.
+    SparseMatrix L_;
+    std::vector<Eigen::Index> gather_;
+    Eigen::VectorXd fr_;       // gathered rhs, solved in place
     Eigen::MatrixXd Fr_, Xr_;  // block versions
 };
 
