@@ -12,6 +12,15 @@
 
 namespace dualcell {
 
+const char* to_string(Preconditioner p) {
+  switch (p) {
+    case Preconditioner::none: return "none";
+    case Preconditioner::lumped: return "lumped";
+    case Preconditioner::dirichlet: return "dirichlet";
+  }
+  return "?";
+}
+
 const char* to_string(Boundary b) {
   switch (b) {
     case Boundary::symmetry: return "symmetry";
@@ -503,6 +512,10 @@ Scene parse_scene(std::string_view text, const std::filesystem::path& file) {
                           "0 < rho_factor <= 1e6");
   so.Gamma = sv.real("Gamma", so.Gamma, [](double v) { return v > 0 && v <= 1e3; }, "0 < Gamma <= 1e3");
   so.max_debond_rounds = static_cast<int>(sv.integer("max_debond_rounds", so.max_debond_rounds, 1, 1000000));
+  const std::string preconditioner = sv.string("preconditioner", "none", {"none", "lumped", "dirichlet"});
+  so.preconditioner = preconditioner == "lumped"      ? Preconditioner::lumped
+                      : preconditioner == "dirichlet" ? Preconditioner::dirichlet
+                                                      : Preconditioner::none;
   sv.finish();
 
   return scene;

@@ -49,6 +49,12 @@ struct Sweep {
   double fuse_tolerance = 1e-3;                // relative load bracket of the debond jump
 };
 
+// Preconditioner of the dual operator F (METHOD §5; Farhat, Mandel, Roux 1994): none, the
+// lumped one Σ B_i K_i B_iᵀ, or the Dirichlet one Σ B_i S_i B_iᵀ (S_i the Schur complement of
+// K_i on its boundary), both with stiffness-weighted rows; applied by MPRGP in the free face.
+enum class Preconditioner { none, lumped, dirichlet };
+const char* to_string(Preconditioner p);
+
 struct SolverSettings {
   double tolerance = 1e-8;                 // relative KKT tolerance of the dual QP
   int max_outer_iterations = 200;          // SMALBE outer iterations
@@ -56,6 +62,7 @@ struct SolverSettings {
   double rho_factor = 1.0;                 // SMALBE penalty rho = rho_factor * ||F||
   double Gamma = 1.0;                      // MPRGP proportioning parameter
   int max_debond_rounds = 1000;            // break / re-solve rounds per load (METHOD §6)
+  Preconditioner preconditioner = Preconditioner::none;
 };
 
 struct Scene {

@@ -1,5 +1,9 @@
 #include "feti/dual.hpp"
 
+#include <chrono>
+#include <stdexcept>
+#include <string>
+
 #include <Eigen/Eigenvalues>
 
 namespace dualcell::feti {
@@ -54,9 +58,12 @@ DualProblem::DualProblem(const FetiSetup& setup, Constraints constraints)
     local.y.resize(subs[s].n_dofs);
     local.x.resize(subs[s].n_dofs);
     local.K_plus_scratch.resize(subs[s].is_macro ? 0 : subs[s].n_dofs - static_cast<int>(subs[s].fixing_dofs.size()));
+    local.K_ii_scratch.resize(subs[s].K_ii_inverse ? subs[s].n_dofs - static_cast<int>(subs[s].boundary_dofs.size()) : 0);
   }
   G_.resize(G_rows, constraints_.n_rows());
   G_.setFromTriplets(G_triplets.begin(), G_triplets.end());
+
+  if (setup.scene().solver.preconditioner != Preconditioner::none) set_preconditioner_scale();
 
   // GGᵀ: small (3 per subdomain) and sparse (neighbours only); factorised once.
   const Eigen::SparseMatrix<double> GGt = Eigen::SparseMatrix<double>(G_ * G_.transpose());
@@ -66,7 +73,24 @@ DualProblem::DualProblem(const FetiSetup& setup, Constraints constraints)
   G_solution_.resize(G_rows);
 }
 
+namespace {
+using Clock = std::chrono::steady_clock;
+// Adds the lifetime of the object to `total`.
+class ScopedTimer {
+ public:
+  explicit ScopedTimer(double& total) : total_(total), start_(Clock::now()) {}
+  ~ScopedTimer() { total_ += std::chrono::duration<double>(Clock::now() - start_).count(); }
+  ScopedTimer(const ScopedTimer&) = delete;
+  ScopedTimer& operator=(const ScopedTimer&) = delete;
+
+ private:
+  double& total_;
+  Clock::time_point start_;
+};
+}  // namespace
+
 void DualProblem::apply_F(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
+  const ScopedTimer timer(profile_.F);
   const auto& subs = setup_.subdomains();
   setup_.for_each_subdomain([&](int s) {
     const Local& local = locals_[s];
@@ -81,7 +105,80 @@ void DualProblem::apply_F(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
     for (std::size_t k = 0; k < local.rows.size(); ++k) y(local.rows[k]) += local.z(k);
 }
 
+void DualProblem::set_preconditioner_scale() {
+  const auto& subs = setup_.subdomains();
+  const int m = constraints_.n_rows();
+  // k_ri = Σ b² K_dd / Σ b² over the row's entries in subdomain i (the weight w cancels).
+  std::vector<std::vector<double>> k(locals_.size());
+  Eigen::VectorXd compliance_sum = Eigen::VectorXd::Zero(m);
+  for (std::size_t s = 0; s < locals_.size(); ++s) {
+    Local& local = locals_[s];
+    k[s].assign(local.rows.size(), 0.0);
+    if (subs[s].is_macro) continue;
+    const Eigen::VectorXd K_diagonal = subs[s].K.diagonal();
+    if (subs[s].K_ii_inverse) {
+      // S_i lives on the boundary DOFs: every DOF a row touches must be one of them.
+      std::vector<char> on_boundary(subs[s].n_dofs, 0);
+      for (Eigen::Index d : subs[s].boundary_dofs) on_boundary[d] = 1;
+      for (int r = 0; r < local.B.outerSize(); ++r)
+        for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(local.B, r); it; ++it)
+          if (!on_boundary[it.col()])
+            throw std::logic_error("Dirichlet preconditioner: a constraint row touches an interior DOF of subdomain " +
+                                   std::to_string(s));
+    }
+    for (int r = 0; r < local.B.outerSize(); ++r) {
+      double bb = 0, bKb = 0;
+      for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(local.B, r); it; ++it) {
+        bb += it.value() * it.value();
+        bKb += it.value() * it.value() * K_diagonal(it.col());
+      }
+      if (bb > 0 && bKb > 0) {
+        k[s][r] = bKb / bb;
+        compliance_sum(local.rows[r]) += 1 / k[s][r];
+      }
+    }
+  }
+  for (std::size_t s = 0; s < locals_.size(); ++s) {
+    Local& local = locals_[s];
+    local.preconditioner_scale = Eigen::VectorXd::Zero(local.rows.size());
+    for (std::size_t r = 0; r < local.rows.size(); ++r) {
+      const int row = local.rows[r];
+      const double w = constraints_.weight(row);
+      if (k[s][r] > 0) local.preconditioner_scale(r) = (1 / k[s][r]) / compliance_sum(row) / (w * w);
+    }
+  }
+}
+
+void DualProblem::apply_preconditioner(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
+  const ScopedTimer timer(profile_.preconditioner);
+  const auto& subs = setup_.subdomains();
+  const bool dirichlet = setup_.scene().solver.preconditioner == Preconditioner::dirichlet;
+  setup_.for_each_subdomain([&](int s) {
+    const Local& local = locals_[s];
+    if (local.rows.empty() || subs[s].is_macro) return;
+    for (std::size_t k = 0; k < local.rows.size(); ++k)
+      local.lambda_local(k) = local.preconditioner_scale(k) * x(local.rows[k]);
+    local.y.noalias() = local.B.transpose() * local.lambda_local;  // on boundary DOFs only
+    if (dirichlet) {
+      // S_i y = (K (y − K_ii⁻¹(K y)_I))_B: eliminate the interior, then the boundary reaction.
+      local.x.noalias() = subs[s].K * local.y;
+      subs[s].K_ii_inverse->apply(local.x, local.x, local.K_ii_scratch);  // zero on the boundary
+      local.y -= local.x;
+    }
+    local.x.noalias() = subs[s].K * local.y;
+    local.z.noalias() = local.B * local.x;
+    local.z.array() *= local.preconditioner_scale.array();
+  });
+  y.setZero();
+  for (std::size_t s = 0; s < locals_.size(); ++s) {
+    const Local& local = locals_[s];
+    if (local.rows.empty() || subs[s].is_macro) continue;
+    for (std::size_t k = 0; k < local.rows.size(); ++k) y(local.rows[k]) += local.z(k);
+  }
+}
+
 void DualProblem::apply_Q(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
+  const ScopedTimer timer(profile_.Q);
   G_scratch_.noalias() = G_ * x;
   GGt_.solve(G_scratch_, G_solution_);
   y.noalias() = G_.transpose() * G_solution_;

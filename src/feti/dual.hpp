@@ -41,9 +41,11 @@ class DualProblem {
     Eigen::MatrixXd R_hat;                               // n_dofs × r_i
     Eigen::MatrixXd V;                                   // 3 × r_i: R_hat = R V
     int G_offset = 0;                                    // first row of G for this subdomain
+    // Preconditioner row factors δ_ri / w_r² (see apply_preconditioner); empty without one.
+    Eigen::VectorXd preconditioner_scale;
     // scratch for operator applications (no allocation per application); each subdomain's
     // own, so that subdomains can be applied concurrently
-    mutable Eigen::VectorXd lambda_local, y, x, z, K_plus_scratch;
+    mutable Eigen::VectorXd lambda_local, y, x, z, K_plus_scratch, K_ii_scratch;
   };
 
   const FetiSetup& setup() const { return setup_; }
@@ -56,8 +58,22 @@ class DualProblem {
   // y = F x (one application: a K⁺ solve per subdomain, spread over setup().threads(); the
   // local results are summed in subdomain order, so y does not depend on the thread count).
   void apply_F(const Eigen::VectorXd& x, Eigen::VectorXd& y) const;
+  // y = M⁻¹ x, the scene's preconditioner of F (SolverSettings::preconditioner, not none):
+  //   M⁻¹ = Σ_i W⁻¹D_iW⁻¹ B_i T_i B_iᵀ W⁻¹D_iW⁻¹,  T_i = K_i (lumped) or S_i (Dirichlet),
+  // B_i the local rows as scaled by the weights W (Constraints::weight), and D_i the stiffness
+  // weights of the row's parties, δ_ri = (1/k_ri) / Σ_j (1/k_rj), k_ri the diagonal stiffness
+  // of subdomain i under row r (Rixen & Farhat 1999). For one row shared by springs of
+  // stiffness k_i this makes M⁻¹ = 1/F exactly; the macro subdomain (K = 0) is no party.
+  // The caller projects: P M⁻¹ P.
+  void apply_preconditioner(const Eigen::VectorXd& x, Eigen::VectorXd& y) const;
   // y = Q x = Gᵀ(GGᵀ)⁻¹G x.
   void apply_Q(const Eigen::VectorXd& x, Eigen::VectorXd& y) const;
+  // Wall time spent in apply_F, apply_Q and apply_preconditioner since construction (a
+  // profile for the performance report; one clock read per call, nothing per subdomain).
+  struct Profile {
+    double F = 0, Q = 0, preconditioner = 0;
+  };
+  const Profile& profile() const { return profile_; }
   // d = B K⁺ f − c.
   Eigen::VectorXd d(const Eigen::VectorXd& f) const;
   // e = R̂ᵀ f, stacked per subdomain.
@@ -70,12 +86,15 @@ class DualProblem {
   Eigen::VectorXd K_plus_residual(const Eigen::VectorXd& f, const Eigen::VectorXd& lambda) const;
 
  private:
+  void set_preconditioner_scale();
+
   const FetiSetup& setup_;
   Constraints constraints_;
   std::vector<Local> locals_;
   Eigen::SparseMatrix<double, Eigen::RowMajor> G_;
   mutable linalg::SparseCholesky GGt_;
   mutable Eigen::VectorXd G_scratch_, G_solution_;
+  mutable Profile profile_;
 };
 
 }  // namespace dualcell::feti

@@ -43,9 +43,10 @@ void Subdomain::apply_K_plus(const Eigen::VectorXd& y, Eigen::VectorXd& x, Eigen
   K_plus->apply(y, x, scratch);
 }
 
-FetiSetup::FetiSetup(const mesh::Mesh& mesh, const Scene& scene, int threads)
+FetiSetup::FetiSetup(const mesh::Mesh& mesh, const Scene& scene, int threads, int min_dofs_per_thread)
     : mesh_(mesh), scene_(scene), threads_(threads > 0 ? threads : omp_get_max_threads()) {
   const auto t0 = Clock::now();
+  parallel_ = threads_ > 1 && mesh.dim_u() >= static_cast<long>(min_dofs_per_thread) * threads_;
   const int S = static_cast<int>(mesh.subdomains.size());
   subdomains_.resize(S);
   for_each_subdomain([&](int s) {
@@ -86,6 +87,25 @@ FetiSetup::FetiSetup(const mesh::Mesh& mesh, const Scene& scene, int threads)
       sub.K_plus = std::make_unique<linalg::FixedDofPseudoInverse>(
           sub.K, sub.fixing_dofs, linalg::CholmodOptions{linalg::FactorKind::simplicial});
   });
+  if (scene.solver.preconditioner == Preconditioner::dirichlet) {
+    std::vector<char> on_boundary(mesh.nodes.size(), 0);
+    for (const auto& [a, b] : mesh.interface_pairs) on_boundary[a] = on_boundary[b] = 1;
+    for (const auto& [a, b] : mesh.glue_pairs) on_boundary[a] = on_boundary[b] = 1;
+    for (const auto& edges : mesh.boundary_edges)
+      for (const auto& [a, b] : edges) on_boundary[a] = on_boundary[b] = 1;
+    for_each_subdomain([&](int s) {
+      Subdomain& sub = subdomains_[s];
+      if (sub.is_macro) return;
+      const mesh::Subdomain& ms = mesh.subdomains[s];
+      for (int v = ms.node_begin; v < ms.node_end; ++v)
+        if (on_boundary[v]) {
+          sub.boundary_dofs.push_back(2 * (v - ms.node_begin));
+          sub.boundary_dofs.push_back(2 * (v - ms.node_begin) + 1);
+        }
+      sub.K_ii_inverse = std::make_unique<linalg::FixedDofPseudoInverse>(
+          sub.K, sub.boundary_dofs, linalg::CholmodOptions{linalg::FactorKind::simplicial});
+    });
+  }
   seconds_factorisation = seconds_since(t1);
 }
 

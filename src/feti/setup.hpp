@@ -35,6 +35,11 @@ struct Subdomain {
   Eigen::MatrixXd R;
   std::unique_ptr<linalg::FixedDofPseudoInverse> K_plus;  // null for the macro subdomain
   std::vector<Eigen::Index> fixing_dofs;                   // the 3 DOFs removed to make K regular
+  // The Dirichlet preconditioner only (S_i = K_bb − K_bi K_ii⁻¹ K_ib): the DOFs of the nodes on
+  // the subdomain's boundary (rim, cell edges, block edges: every DOF a row of B can touch)
+  // and K_ii⁻¹ as the pseudo-inverse that fixes exactly them.
+  std::vector<Eigen::Index> boundary_dofs;
+  std::unique_ptr<linalg::FixedDofPseudoInverse> K_ii_inverse;
   // x = K⁺ y (zero for the macro subdomain); x must have size n_dofs. scratch: n_dofs − 3
   // doubles owned by the caller, so one subdomain may be applied from any thread.
   void apply_K_plus(const Eigen::VectorXd& y, Eigen::VectorXd& x, Eigen::VectorXd& scratch) const;
@@ -46,7 +51,8 @@ class FetiSetup {
   // application of K⁺); 0 = as many as OpenMP offers (OMP_NUM_THREADS or the cores). Results
   // do not depend on it: each subdomain's work is done by one thread, and the contributions
   // are summed in subdomain order afterwards.
-  FetiSetup(const mesh::Mesh& mesh, const Scene& scene, int threads = 1);
+  FetiSetup(const mesh::Mesh& mesh, const Scene& scene, int threads = 1,
+            int min_dofs_per_thread = default_min_dofs_per_thread);
 
   const mesh::Mesh& mesh() const { return mesh_; }
   const Scene& scene() const { return scene_; }
@@ -61,6 +67,13 @@ class FetiSetup {
   Eigen::VectorXd load(const Eigen::Vector3d& sigma) const;
   double volume() const { return mesh_.block_width() * mesh_.block_height(); }
   int threads() const { return threads_; }
+  // Whether for_each_subdomain really spreads: only from min_dofs_per_thread DOFs per thread
+  // on (a constructor argument, default_min_dofs_per_thread). Below, one application takes well
+  // under a millisecond, and a parallel loop then costs more than it saves, badly so on a loaded
+  // machine where a descheduled thread holds up the barrier (measured: 4×4 cells, degree 2,
+  // 2 threads with a compiler on the other core: 100× slower). Results are the same either way.
+  static constexpr int default_min_dofs_per_thread = 10000;
+  bool parallel() const { return parallel_; }
 
   // work(s) for every subdomain s, spread over threads(); work must touch only subdomain s's
   // data (its own output slots), which is what makes the result independent of the thread count.
@@ -70,7 +83,7 @@ class FetiSetup {
   void for_each_subdomain(Work&& work) const {
     const int S = static_cast<int>(subdomains_.size());
     std::vector<std::exception_ptr> failure(S);
-#pragma omp parallel for schedule(dynamic, 4) num_threads(threads_) if (threads_ > 1 && S > 1)
+#pragma omp parallel for schedule(dynamic, 4) num_threads(threads_) if (parallel_)
     for (int s = 0; s < S; ++s) {
       try {
         work(s);
@@ -90,6 +103,7 @@ class FetiSetup {
   std::vector<int> dof_owner_;
   int n_dofs_ = 0;
   int threads_ = 1;
+  bool parallel_ = false;
 };
 
 }  // namespace dualcell::feti

@@ -36,7 +36,8 @@ constexpr double at_strength_tolerance = 1e-7;
 
 }  // namespace
 
-ContactSolver::ContactSolver(const mesh::Mesh& mesh, const Scene& scene, int threads) : setup_(mesh, scene, threads) {}
+ContactSolver::ContactSolver(const mesh::Mesh& mesh, const Scene& scene, int threads, int min_dofs_per_thread)
+    : setup_(mesh, scene, threads, min_dofs_per_thread) {}
 
 const DualProblem& ContactSolver::problem(const BondState& bonds) {
   if (!problem_ || bonds != problem_bonds_) {
@@ -75,6 +76,7 @@ Solution ContactSolver::solve_problem(const DualProblem& dual, double& norm_PFP,
   out.n_rows = m;
 
   const auto t_qp = Clock::now();
+  const DualProblem::Profile profile_before = dual.profile();
   const Eigen::VectorXd f = setup_.load(sigma);
   const Eigen::VectorXd e = dual.e(f);
   const Eigen::VectorXd lambda0 = dual.lambda_0(e);
@@ -116,12 +118,26 @@ Solution ContactSolver::solve_problem(const DualProblem& dual, double& norm_PFP,
   options.inner.norm_A = norm_PFP;
   options.inner.max_iterations = settings.max_operator_applications;
   options.projected_operator = true;  // A = PFP: ‖A + ρQ‖ = max(‖A‖, ρ)
+  // The preconditioner of PFP on Im P: P M⁻¹ P (SMALBE adds Q/ρ for the ρQ part).
+  Eigen::VectorXd Pv(m), MPv(m), QMPv(m);
+  if (settings.preconditioner != Preconditioner::none)
+    options.preconditioner = [&](const Eigen::VectorXd& x, Eigen::VectorXd& y) {
+      dual.apply_Q(x, Pv);
+      Pv = x - Pv;
+      dual.apply_preconditioner(Pv, MPv);
+      dual.apply_Q(MPv, QMPv);
+      y = MPv - QMPv;
+    };
   // SMALBE's m = Ĝᵀμ, in λ-space; warm-started with the caller's when it fits this problem.
   Eigen::VectorXd multiplier = Eigen::VectorXd::Zero(m);
   if (warm_multiplier && warm_multiplier->size() == m) multiplier = *warm_multiplier;
   out.qp = qp::smalbe(A, Q, b, lower, upper, mu, multiplier, options);
   out.seconds.qp = seconds_since(t_qp);
+  out.seconds.qp_F = dual.profile().F - profile_before.F;
+  out.seconds.qp_Q = dual.profile().Q - profile_before.Q;
+  out.seconds.qp_preconditioner = dual.profile().preconditioner - profile_before.preconditioner;
   out.operator_applications = out.qp.counters.operator_applications + extra_applications;
+  out.preconditioner_applications = out.qp.counters.preconditioner_applications;
   out.outer_iterations = out.qp.counters.outer_iterations;
   out.cg_steps = out.qp.counters.cg_steps;
   out.expansion_steps = out.qp.counters.expansion_steps;
@@ -323,7 +339,7 @@ Solution ContactSolver::solve(const Eigen::Vector3d& sigma, const BondState& bon
                               const Eigen::VectorXd* warm_multiplier) {
   BondState current = bonds;
   Solution total;
-  long applications = 0, outer = 0, cg = 0, expansion = 0, proportioning = 0;
+  long applications = 0, preconditioning = 0, outer = 0, cg = 0, expansion = 0, proportioning = 0;
   Timings seconds;
   int newly_broken = 0;
   Eigen::VectorXd warm;
@@ -334,12 +350,16 @@ Solution ContactSolver::solve(const Eigen::Vector3d& sigma, const BondState& bon
     // The caller's multiplier belongs to the first problem only: after breaks the rows change.
     Solution s = solve_fixed(sigma, current, warm.size() ? &warm : nullptr, round == 1 ? warm_multiplier : nullptr);
     applications += s.operator_applications;
+    preconditioning += s.preconditioner_applications;
     outer += s.outer_iterations;
     cg += s.cg_steps;
     expansion += s.expansion_steps;
     proportioning += s.proportioning_steps;
     seconds.dual_setup += s.seconds.dual_setup;
     seconds.qp += s.seconds.qp;
+    seconds.qp_F += s.seconds.qp_F;
+    seconds.qp_Q += s.seconds.qp_Q;
+    seconds.qp_preconditioner += s.seconds.qp_preconditioner;
     seconds.recovery += s.seconds.recovery;
     // Bonds at their strength break, normal and tangential together (METHOD §6). No loop at
     // all without adhesion.
@@ -383,12 +403,16 @@ Solution ContactSolver::solve(const Eigen::Vector3d& sigma, const BondState& bon
   }
   total.newly_broken = newly_broken;
   total.operator_applications = applications;
+  total.preconditioner_applications = preconditioning;
   total.outer_iterations = outer;
   total.cg_steps = cg;
   total.expansion_steps = expansion;
   total.proportioning_steps = proportioning;
   total.seconds.dual_setup = seconds.dual_setup;
   total.seconds.qp = seconds.qp;
+  total.seconds.qp_F = seconds.qp_F;
+  total.seconds.qp_Q = seconds.qp_Q;
+  total.seconds.qp_preconditioner = seconds.qp_preconditioner;
   total.seconds.recovery = seconds.recovery;
   return total;
 }

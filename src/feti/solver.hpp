@@ -38,6 +38,9 @@ struct Timings {
   double assembly = 0, factorisation = 0;  // once per solver (setup)
   double dual_setup = 0;                   // B, G, GGᵀ for the bond states used
   double qp = 0, recovery = 0;
+  // Inside qp: the applications of F, of the projector Q (coarse problem) and of the
+  // preconditioner M⁻¹ (wall time, all threads); the rest of qp is the QP's vector work.
+  double qp_F = 0, qp_Q = 0, qp_preconditioner = 0;
 };
 
 struct Solution {
@@ -55,6 +58,7 @@ struct Solution {
   int n_rows = 0;                 // dim λ of the last QP
   qp::Result qp;                  // of the last QP
   long operator_applications = 0; // F applications, all QPs of this solve
+  long preconditioner_applications = 0;  // M⁻¹ applications (SolverSettings::preconditioner)
   long outer_iterations = 0, cg_steps = 0, expansion_steps = 0, proportioning_steps = 0;
   KktReport kkt;
   // The recovered primal solution, checked (not assumed): penetration and glue jumps within
@@ -68,8 +72,10 @@ struct Solution {
 
 class ContactSolver {
  public:
-  // threads: see FetiSetup (0 = all OpenMP offers); results do not depend on it.
-  ContactSolver(const mesh::Mesh& mesh, const Scene& scene, int threads = 1);
+  // threads, min_dofs_per_thread: see FetiSetup (0 threads = all OpenMP offers); results do not
+  // depend on them.
+  ContactSolver(const mesh::Mesh& mesh, const Scene& scene, int threads = 1,
+                int min_dofs_per_thread = FetiSetup::default_min_dofs_per_thread);
   // The cached dual problem refers to setup_: not copyable, not movable.
   ContactSolver(const ContactSolver&) = delete;
   ContactSolver& operator=(const ContactSolver&) = delete;

@@ -38,6 +38,16 @@ GradientSplit split_gradient(const Eigen::VectorXd& x, const Eigen::VectorXd& g,
   return split;
 }
 
+void restrict_to_free_set(const Eigen::VectorXd& x, const Eigen::VectorXd& l, const Eigen::VectorXd& u,
+                          Eigen::VectorXd& v) {
+  // The same test for "free" as split_gradient, so that z and φ share their support.
+  for (Eigen::Index i = 0; i < x.size(); ++i) {
+    if (x[i] <= l[i] || x[i] >= u[i]) {
+      v[i] = 0.0;
+    }
+  }
+}
+
 double projected_gradient_norm(const Eigen::VectorXd& x, const Eigen::VectorXd& g, const Eigen::VectorXd& l,
                                const Eigen::VectorXd& u) {
   double sum = 0.0;

@@ -31,6 +31,10 @@ struct GradientSplit {
 GradientSplit split_gradient(const Eigen::VectorXd& x, const Eigen::VectorXd& g, const Eigen::VectorXd& l,
                              const Eigen::VectorXd& u, double alpha_bar, Eigen::VectorXd& phi, Eigen::VectorXd& beta);
 
+// v_i ← 0 outside the free set F of feasible x (v ← χ_F ⊙ v).
+void restrict_to_free_set(const Eigen::VectorXd& x, const Eigen::VectorXd& l, const Eigen::VectorXd& u,
+                          Eigen::VectorXd& v);
+
 // ‖gᴾ‖ without work vectors.
 double projected_gradient_norm(const Eigen::VectorXd& x, const Eigen::VectorXd& g, const Eigen::VectorXd& l,
                                const Eigen::VectorXd& u);

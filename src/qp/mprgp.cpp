@@ -10,22 +10,52 @@
 // Every step is one of
 //   x proportional, ‖β‖² ≤ Γ² φ̃ᵀφ (φ̃, not φ, on the right: the paper's test for ᾱ-steps):
 //     CG step          x ← x - α_cg p, α_cg = gᵀp / pᵀAp, if feasible (α_cg ≤ α_f);
-//                      p ← φ - γ p, γ = φᵀAp / pᵀAp
+//                      p ← z - γ p, γ = zᵀAp / pᵀAp
 //     expansion step   x½ ← x - α_f p (half step to the boundary),
-//                      x ← P_Ω(x½ - ᾱ φ(x½)), g ← A x - b, p ← φ
+//                      x ← P_Ω(x½ - ᾱ φ(x½)), g ← A x - b, p ← z
 //   otherwise:
-//     proportioning    x ← x - α β, α = min(α_cg, α_f), α_cg = ‖β‖² / βᵀAβ, p ← φ
-// The proportioning step is capped by the feasible step α_f along -β: with a box, releasing a
-// component from one bound can carry it past the other, and the paper's lower-bound-only α_cg
-// would leave Ω. f is convex along -β with minimiser α_cg, so any α ≤ α_cg still decreases f.
-// All moves go through step_within_box, so every iterate is feasible up to the last bit.
+//     proportioning    x ← x - α β, α = min(α_cg, α_f), α_cg = ‖β‖² / βᵀAβ, p ← z
+// with z = φ without a preconditioner. The proportioning step is capped by the feasible step
+// α_f along -β: with a box, releasing a component from one bound can carry it past the other,
+// and the paper's lower-bound-only α_cg would leave Ω. f is convex along -β with minimiser
+// α_cg, so any α ≤ α_cg still decreases f. All moves go through step_within_box, so every
+// iterate is feasible up to the last bit.
+//
+// Preconditioning in face (optional; Dostál 2009, §5.10). With a preconditioner M⁻¹ ≈ A⁻¹
+// (symmetric, positive definite on the free components) the CG directions are built from the
+// preconditioned free gradient
+//   z = χ_F ⊙ M⁻¹(χ_F ⊙ g) = χ_F ⊙ M⁻¹φ,   χ_F the indicator of the free set F,
+// i.e. the restriction (M⁻¹)_FF of one fixed M⁻¹ to the face instead of the book's (M_FF)⁻¹,
+// which would have to be rebuilt whenever F changes (approximate variants of this kind are
+// studied in J. Kružík, D. Horák: Accelerating MPGP-type methods through preconditioning,
+// arXiv:2507.00617, 2025). z, p and the steps vanish off F, so within a face this is PCG on
+// min f(x - d), d_i = 0 off F, i.e. on A_FF d_F = g_F, with preconditioner (M⁻¹)_FF:
+//   γ = zᵀAp / pᵀAp makes the new p A-conjugate to the old one;
+//   α_cg = gᵀp / pᵀAp is the exact minimiser of f along -p. After an exact line search the new
+//   gradient is orthogonal to the old p, so gᵀp = gᵀz - γ gᵀp_old = gᵀz = φᵀz, and
+//   α_cg = φᵀz / pᵀAp is the textbook PCG step rᵀz_r / p_rᵀAp_r for the residual r = -φ
+//   (z_r = -z, p_r = -p, x ← x + α p_r). gᵀp is kept as the computed form: it stays the exact
+//   minimiser when round-off erodes the orthogonality, and it is what the unpreconditioned
+//   code computes.
+// Without bounds and with M⁻¹ = A⁻¹: z = A⁻¹g, α_cg = gᵀA⁻¹g / gᵀA⁻¹g = 1 and x - z = A⁻¹b,
+// one step. The expansion step (fixed ᾱ along φ, projected), the proportioning step along β,
+// the proportioning test and the stopping test on ‖gᴾ‖ stay unpreconditioned, as in the book,
+// so the feasibility and monotonicity arguments are unchanged; the direction restarts (p ← z)
+// whenever the free set may have changed (after expansion and proportioning steps and on a
+// fresh gradient). Should z fail to be a descent direction (M⁻¹ not positive definite on the
+// face), that step uses φ.
+// The direction for the next CG-branch step is formed at its start (next_direction says whether
+// to conjugate or restart), so a step that turns out to be proportioning, or the end of the
+// solve, costs no application of M⁻¹: exactly one per CG or expansion step. Without a
+// preconditioner this is the same arithmetic, bit for bit, as forming p right after each step.
 //
 // Symbol → variable
 //   A, b, l, u, x       A, b, l, u, x
 //   g = A x - b         work.g
 //   φ, β                work.phi, work.beta
+//   M⁻¹, z              opts.preconditioner, work.z (z is work.phi without M⁻¹)
 //   φ̃ᵀφ, ‖gᴾ‖           split.phi_tilde_dot_phi, gP_norm
-//   p, A p              work.p, work.Ap
+//   p, A p, pᵀAp        work.p, work.Ap, pAp (of the last CG step: pAp_last)
 //   α_cg, α_f, ᾱ        alpha_cg, alpha_f (FeasibleStep), alpha_bar
 //   γ, Γ                gamma, opts.Gamma
 //   ‖A‖, ε              norm_A, tolerance
@@ -124,6 +154,12 @@ Result mprgp(const LinearOperator& A, const Eigen::VectorXd& b, const Eigen::Vec
     clear_residuals(result);
     return result;
   };
+  const auto fail_preconditioner = [&]() {
+    result.status = Status::non_finite;
+    result.message = "mprgp: the preconditioner produced NaN/Inf in M^-1 phi";
+    clear_residuals(result);
+    return result;
+  };
 
   if (x.size() == 0) {
     x = Eigen::VectorXd::Zero(n);
@@ -135,6 +171,10 @@ Result mprgp(const LinearOperator& A, const Eigen::VectorXd& b, const Eigen::Vec
   work.Ap.resize(n);
   work.phi.resize(n);
   work.beta.resize(n);
+  const bool preconditioned = static_cast<bool>(opts.preconditioner);
+  if (preconditioned) {
+    work.z.resize(n);
+  }
 
   Counters& counters = result.counters;
   double norm_A = opts.norm_A;
@@ -166,13 +206,28 @@ Result mprgp(const LinearOperator& A, const Eigen::VectorXd& b, const Eigen::Vec
     return true;
   };
 
+  // z ← χ_F ⊙ M⁻¹φ (φ = χ_F ⊙ g already); false if M⁻¹ produced NaN/Inf anywhere.
+  const auto precondition_free_gradient = [&]() {
+    opts.preconditioner(work.phi, work.z);
+    ++counters.preconditioner_applications;
+    if (!work.z.allFinite()) {
+      return false;
+    }
+    restrict_to_free_set(x, l, u, work.z);
+    return true;
+  };
+
   if (!recompute_gradient()) {
     return fail_non_finite("A x at the initial guess");
   }
   bool gradient_is_fresh = true;
   GradientSplit split = split_gradient(x, work.g, l, u, alpha_bar, work.phi, work.beta);
   double gP_norm = split.projected_norm();
-  work.p = work.phi;
+  // How the next CG-branch step forms p: p ← z, or p ← z - γ p after a CG step, whose
+  // pᵀAp is kept in pAp_last and A p in work.Ap (untouched until that step's A p).
+  enum class Direction { restart, conjugate };
+  Direction next_direction = Direction::restart;
+  double pAp_last = 0.0;
 
   ProgressMonitor progress;
   long steps_without_progress = 0;
@@ -192,7 +247,7 @@ Result mprgp(const LinearOperator& A, const Eigen::VectorXd& b, const Eigen::Vec
       gradient_is_fresh = true;
       split = split_gradient(x, work.g, l, u, alpha_bar, work.phi, work.beta);
       gP_norm = split.projected_norm();
-      work.p = work.phi;
+      next_direction = Direction::restart;
       continue;
     }
     if (done) {
@@ -215,9 +270,28 @@ Result mprgp(const LinearOperator& A, const Eigen::VectorXd& b, const Eigen::Vec
 
     if (split.beta_norm2 <= opts.Gamma * opts.Gamma * split.phi_tilde_dot_phi) {
       // Proportional: φ ≠ 0 here (φ = 0 would force β = 0, i.e. gᴾ = 0).
+      const Eigen::VectorXd* z = &work.phi;
+      if (preconditioned) {
+        if (!precondition_free_gradient()) {
+          return fail_preconditioner();
+        }
+        z = &work.z;
+      }
+      if (next_direction == Direction::conjugate) {
+        const double gamma = z->dot(work.Ap) / pAp_last;
+        work.p = *z - gamma * work.p;
+      } else {
+        work.p = *z;
+      }
       double g_dot_p = work.g.dot(work.p);
+      if (!(g_dot_p > 0.0) && preconditioned && next_direction == Direction::conjugate) {
+        // Round-off made p a non-descent direction: restart PCG.
+        work.p = work.z;
+        g_dot_p = work.g.dot(work.p);
+      }
       if (!(g_dot_p > 0.0)) {
-        // Round-off made p a non-descent direction: restart CG.
+        // Without M⁻¹: round-off made p a non-descent direction, restart CG. With M⁻¹: z is no
+        // descent direction, M⁻¹ is not positive definite on this face; step along φ.
         work.p = work.phi;
         g_dot_p = split.phi_norm2;
       }
@@ -235,8 +309,8 @@ Result mprgp(const LinearOperator& A, const Eigen::VectorXd& b, const Eigen::Vec
         work.g -= alpha_cg * work.Ap;
         gradient_is_fresh = false;
         split = split_gradient(x, work.g, l, u, alpha_bar, work.phi, work.beta);
-        const double gamma = work.phi.dot(work.Ap) / pAp;
-        work.p = work.phi - gamma * work.p;
+        pAp_last = pAp;
+        next_direction = Direction::conjugate;
         ++counters.cg_steps;
       } else if (alpha_f.alpha == infinity) {
         result.status = Status::unbounded;
@@ -256,7 +330,7 @@ Result mprgp(const LinearOperator& A, const Eigen::VectorXd& b, const Eigen::Vec
         }
         gradient_is_fresh = true;
         split = split_gradient(x, work.g, l, u, alpha_bar, work.phi, work.beta);
-        work.p = work.phi;
+        next_direction = Direction::restart;
         ++counters.expansion_steps;
       }
     } else {
@@ -279,7 +353,7 @@ Result mprgp(const LinearOperator& A, const Eigen::VectorXd& b, const Eigen::Vec
       work.g -= alpha * work.Ap;
       gradient_is_fresh = false;
       split = split_gradient(x, work.g, l, u, alpha_bar, work.phi, work.beta);
-      work.p = work.phi;
+      next_direction = Direction::restart;
       ++counters.proportioning_steps;
     }
     observe(x);

@@ -1,6 +1,7 @@
 // MPRGP: min ½ xᵀA x - bᵀx  s.t.  l ≤ x ≤ u, for symmetric positive semidefinite A given as an
 // operator (Dostál & Schöberl, Comput. Optim. Appl. 30 (2005); box form as in Dostál,
-// Optimal Quadratic Programming Algorithms, Springer 2009, ch. 5). See mprgp.cpp for the method.
+// Optimal Quadratic Programming Algorithms, Springer 2009, ch. 5), optionally preconditioned in
+// face (ibid. §5.10). See mprgp.cpp for the method.
 #pragma once
 
 #include <Eigen/Core>
@@ -28,6 +29,13 @@ struct MprgpOptions {
   // Status stagnated after this many consecutive steps in which neither the objective decreased
   // by more than round-off nor ‖gᴾ‖ reached a new minimum; 0 disables the test.
   long stagnation_window = 200;
+  // Preconditioner y = M⁻¹x ≈ A⁻¹x, symmetric and positive definite (on the free components of
+  // the iterates, at least), applied as the restriction to the free set F: the CG directions are
+  // built from z = χ_F ⊙ M⁻¹(χ_F ⊙ g) instead of φ; expansion and proportioning steps and all
+  // tests stay unpreconditioned. Empty (the default) → no preconditioning, the plain method bit
+  // for bit. Applications are counted in Counters::preconditioner_applications. If M⁻¹ turns
+  // out not to give a descent direction on some face, that step falls back to φ.
+  LinearOperator preconditioner;
   // Observer called with every iterate (the projected initial guess, each half step and each
   // step); empty by default. Meant for tests and monitors.
   std::function<void(const Eigen::VectorXd& x)> on_iterate;
@@ -46,6 +54,7 @@ struct MprgpWorkspace {
   Eigen::VectorXd Ap;    // A p, A β, or A x on recomputation
   Eigen::VectorXd phi;   // free gradient φ
   Eigen::VectorXd beta;  // chopped gradient β
+  Eigen::VectorXd z;     // preconditioned free gradient χ_F ⊙ M⁻¹φ (with a preconditioner only)
 };
 
 // Empty when the options are valid, else a one-line description of the first invalid one.

@@ -20,8 +20,9 @@ struct Counters {
   long cg_steps = 0;
   long expansion_steps = 0;
   long proportioning_steps = 0;
-  long operator_applications = 0;  // applications of the caller's A (incl. norm estimation)
-  long outer_iterations = 0;       // SMALBE only
+  long operator_applications = 0;        // applications of the caller's A (incl. norm estimation)
+  long preconditioner_applications = 0;  // applications of the preconditioner, not of A
+  long outer_iterations = 0;             // SMALBE only
 };
 
 // Residuals are of the returned x and a gradient recomputed as A x - b (+ m for SMALBE), never a

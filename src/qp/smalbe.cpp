@@ -26,6 +26,18 @@
 // safeguard none needed more than 41, with fewer operator applications in total. ρ_max caps
 // the price, κ(A + ρQ) ≤ (ρ_max/‖A‖)·κ(A on ker Ĝ).
 //
+// Preconditioning (optional). Given M⁻¹, a preconditioner of A on Im(I - Q) (in FETI
+// P M⁻¹_F P with P = I - Q and M⁻¹_F a preconditioner of F, so zero on Im Q), the inner MPRGP is
+// preconditioned in face (mprgp.cpp) by the preconditioner of A + ρQ
+//   M⁻¹_ρ = M⁻¹ + Q/ρ,   z = M⁻¹_ρ v = M⁻¹v + (Q v)/ρ,
+// with the current ρ (captured by reference: the safeguard of step 5 changes it). Why: with
+// A Q = Q A = 0 and P Q = Q P = 0,
+//   (P M⁻¹_F P + Q/ρ)(A + ρQ) = P M⁻¹_F P A + P M⁻¹_F P Q ρ + Q A/ρ + Q² = P M⁻¹_F P A + Q,
+// so the Im Q part is preconditioned exactly, whatever ρ, and only P M⁻¹_F P A on Im P is left
+// to the quality of M⁻¹_F. M⁻¹_ρ is symmetric positive definite when M⁻¹ is positive
+// semidefinite and definite on Im(I - Q). In the face F the inner solver uses (M⁻¹_ρ)_FF, which
+// is then positive definite as well.
+//
 // Symbol → variable
 //   A, Q, b, l, u, x    A, Q, b, l, u, x
 //   m = Ĝᵀμ             m
@@ -35,6 +47,7 @@
 //   Q x, ‖Q x‖          Qx, Qx_norm (Qx_norm_previous for k - 1)
 //   L(x_k, m_k, ρ)      lagrangian, lagrangian_previous
 //   ε_g, ε_e            tolerance_g, tolerance_e
+//   M⁻¹, M⁻¹_ρ          opts.preconditioner, inner.preconditioner
 #include "qp/smalbe.hpp"
 
 #include <cmath>
@@ -73,6 +86,9 @@ std::string check_options(const SmalbeOptions& opts) {
       !(opts.rho_max_factor > 0.0) || !std::isfinite(opts.rho_max_factor)) {
     return "rho_growth must be finite and ≥ 1, feasibility_reduction and rho_max_factor "
            "positive";
+  }
+  if (opts.inner.preconditioner) {
+    return "inner.preconditioner must be empty: smalbe builds it from preconditioner";
   }
   const std::string inner = check_options(opts.inner);
   return inner.empty() ? inner : "inner: " + inner;
@@ -141,6 +157,15 @@ Result smalbe(const LinearOperator& A, const LinearOperator& Q, const Eigen::Vec
     y += rho * Qv;
   };
   MprgpOptions inner = opts.inner;
+  if (opts.preconditioner) {
+    // M⁻¹_ρ = M⁻¹ + Q/ρ with the current ρ (by reference). Qv is shared with A_plus_rho_Q: the
+    // two are never applied at the same time.
+    inner.preconditioner = [&](const Eigen::VectorXd& v, Eigen::VectorXd& y) {
+      opts.preconditioner(v, y);
+      Q(v, Qv);
+      y += Qv / rho;
+    };
+  }
   if (opts.projected_operator) {
     inner.norm_A = std::max(norm_A, rho);
   } else {
@@ -194,6 +219,7 @@ Result smalbe(const LinearOperator& A, const LinearOperator& Q, const Eigen::Vec
     counters.expansion_steps += inner_result.counters.expansion_steps;
     counters.proportioning_steps += inner_result.counters.proportioning_steps;
     counters.operator_applications += inner_result.counters.operator_applications;
+    counters.preconditioner_applications += inner_result.counters.preconditioner_applications;
     counters.outer_iterations = k + 1;
     if (inner_result.status == Status::non_finite || inner_result.status == Status::invalid_input) {
       result.status = inner_result.status;

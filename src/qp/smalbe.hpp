@@ -36,9 +36,16 @@ struct SmalbeOptions {
   // and ρQ live on orthogonal subspaces and ‖A + ρQ‖ = max(‖A‖, ρ) exactly, so no power
   // iterations are spent on it.
   bool projected_operator = false;
+  // Preconditioner y = M⁻¹x for A on Im(I − Q); empty (the default) → none. It must be symmetric
+  // positive semidefinite, positive definite on Im(I − Q) and, when projected_operator is true,
+  // vanish on Im Q: in FETI, P M⁻¹ P with P = I − Q and M⁻¹ a lumped or Dirichlet preconditioner
+  // of F. The inner MPRGP is preconditioned in face by M⁻¹ + Q/ρ, a preconditioner of A + ρQ
+  // (see smalbe.cpp). Applications are counted in Counters::preconditioner_applications.
+  LinearOperator preconditioner;
   // Inner MPRGP: Gamma, alpha_bar_factor, max_iterations (per inner solve), stagnation_window,
   // on_iterate are used; norm_A is ‖A‖ of the caller's A (0 → estimated); its tolerances are
-  // replaced by SMALBE's inner stopping test.
+  // replaced by SMALBE's inner stopping test. inner.preconditioner must be empty (it is built
+  // from preconditioner, for the current ρ).
   MprgpOptions inner;
 };
 

@@ -27,6 +27,11 @@ TEST(Scene, DefaultsAndValues) {
   EXPECT_EQ(s.geometry.degree, 4);
   EXPECT_DOUBLE_EQ(s.geometry.fibre_radius, 0.25);
   EXPECT_EQ(s.load.boundary, Boundary::periodic);
+  EXPECT_EQ(s.solver.preconditioner, Preconditioner::none);
+  EXPECT_EQ(parse_scene(scene_text(1, 1, 1, 0.3, "[solver]\npreconditioner = \"dirichlet\"\n"), "x.toml").solver.preconditioner,
+            Preconditioner::dirichlet);
+  EXPECT_EQ(parse_scene(scene_text(1, 1, 1, 0.3, "[solver]\npreconditioner = \"lumped\"\n"), "x.toml").solver.preconditioner,
+            Preconditioner::lumped);
   EXPECT_DOUBLE_EQ(s.fibre.E, 100.0);
   EXPECT_DOUBLE_EQ(s.matrix.nu, 0.35);
   EXPECT_FALSE(s.interface.has_adhesion());
@@ -52,6 +57,8 @@ TEST(Scene, ErrorsNameFileKeyValueAndRange) {
       {scene_text(1, 1, 1, 0.3, "[bogus]\n"), "bogus: unknown table or key"},
       {scene_text(1, 1, 1, 0.3, "[load]\nboundary = \"free\"\n"),
        "[load] boundary = \"free\": must be one of \"symmetry\", \"traction\", \"periodic\""},
+      {scene_text(1, 1, 1, 0.3, "[solver]\npreconditioner = \"jacobi\"\n"),
+       "[solver] preconditioner = \"jacobi\": must be one of \"none\", \"lumped\", \"dirichlet\""},
       {scene_text(1, 1, 1, 0.3, "[load\n"), "TOML syntax error"},
       {"[geometry]\nfibre_radius = \"big\"\n", "[geometry] fibre_radius = \"big\": must be a number"},
       {"[geometry]\nfibre_radius = 0.3\n", "missing table [fibre]"},

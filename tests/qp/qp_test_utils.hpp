@@ -88,6 +88,45 @@ inline double reference_projected_gradient(const Eigen::VectorXd& x, const Eigen
   return std::sqrt(sum);
 }
 
+// gᴾ itself, componentwise as above.
+inline Eigen::VectorXd reference_projected_gradient_vector(const Eigen::VectorXd& x, const Eigen::VectorXd& g,
+                                                           const Eigen::VectorXd& l, const Eigen::VectorXd& u) {
+  Eigen::VectorXd gp = g;
+  for (Eigen::Index i = 0; i < x.size(); ++i) {
+    if (x[i] == l[i] && x[i] == u[i]) {
+      gp[i] = 0.0;
+    } else if (x[i] == l[i]) {
+      gp[i] = std::min(g[i], 0.0);
+    } else if (x[i] == u[i]) {
+      gp[i] = std::max(g[i], 0.0);
+    }
+  }
+  return gp;
+}
+
+// A badly scaled SPD matrix D^{1/2} A0 D^{1/2}, d_i = 10^{e_i} with e_i uniform in [-decades,
+// decades] (both ends attained): κ grows by up to 10^{2·decades} over κ(A0), while the Jacobi
+// preconditioner diag(A)⁻¹ undoes most of D. sqrt_d holds D^{1/2}.
+struct BadlyScaled {
+  Eigen::MatrixXd A;
+  Eigen::VectorXd sqrt_d;
+};
+
+inline BadlyScaled badly_scaled(std::mt19937& rng, const Eigen::MatrixXd& A0, double decades) {
+  const Eigen::Index n = A0.rows();
+  std::uniform_real_distribution<double> exponent(-decades, decades);
+  BadlyScaled out;
+  out.sqrt_d.resize(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    out.sqrt_d[i] = std::pow(10.0, 0.5 * exponent(rng));
+  }
+  out.sqrt_d[0] = std::pow(10.0, 0.5 * decades);
+  out.sqrt_d[n - 1] = std::pow(10.0, -0.5 * decades);
+  const Eigen::MatrixXd A = out.sqrt_d.asDiagonal() * A0 * out.sqrt_d.asDiagonal();
+  out.A = 0.5 * (A + A.transpose());
+  return out;
+}
+
 inline bool is_feasible(const Eigen::VectorXd& x, const Eigen::VectorXd& l, const Eigen::VectorXd& u) {
   return (x.array() >= l.array()).all() && (x.array() <= u.array()).all();
 }
