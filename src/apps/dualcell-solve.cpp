@@ -110,8 +110,14 @@ int main(int argc, char** argv) {
                 "       complementarity %.2e, penetration %.2e, glue jump %.2e, equilibrium %.2e (rel)\n",
                 s.kkt.relative_projected_gradient, s.kkt.relative_equality_residual, s.kkt.bound_violation,
                 s.kkt.complementarity, s.kkt.max_penetration, s.kkt.max_glue_jump, s.kkt.relative_equilibrium);
-    std::printf("  seconds: assembly %.3f, factorisation %.3f, dual setup %.3f, QP %.3f, recovery %.3f\n",
-                s.seconds.assembly, s.seconds.factorisation, s.seconds.dual_setup, s.seconds.qp, s.seconds.recovery);
+    std::printf("  seconds: assembly %.3f, factorisation %.3f, dual setup %.3f, QP %.3f (F %.3f, Q %.3f, M^-1 %.3f), "
+                "recovery %.3f; %d thread(s)\n",
+                s.seconds.assembly, s.seconds.factorisation, s.seconds.dual_setup, s.seconds.qp, s.seconds.qp_F,
+                s.seconds.qp_Q, s.seconds.qp_preconditioner, s.seconds.recovery,
+                solver.setup().parallel() ? solver.setup().threads() : 1);
+    if (scene.solver.preconditioner != Preconditioner::none)
+      std::printf("  preconditioner %s: %ld applications\n", to_string(scene.solver.preconditioner),
+                  s.preconditioner_applications);
   });
   return status != dualcell::exit_ok ? status : exit_code;
 }

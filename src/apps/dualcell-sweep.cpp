@@ -35,7 +35,7 @@ std::string solver_options(const dualcell::Scene& scene) {
   std::ostringstream o;
   o.precision(17);
   o << "tolerance=" << s.tolerance << "; max_outer_iterations=" << s.max_outer_iterations
-    << "; max_operator_applications=" << s.max_operator_applications << "; rho_factor=" << s.rho_factor
+    << "; max_operator_applications=" << s.max_operator_applications << "; rho_factor=" << s.rho_factor << "; rho_growth=" << s.rho_growth << "; rho_patience=" << s.rho_patience
     << "; Gamma=" << s.Gamma << "; max_debond_rounds=" << s.max_debond_rounds
     << "; preconditioner=" << to_string(s.preconditioner)
     << "; fuse_tolerance=" << scene.sweep.fuse_tolerance;

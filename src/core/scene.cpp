@@ -510,6 +510,9 @@ Scene parse_scene(std::string_view text, const std::filesystem::path& file) {
       sv.integer("max_operator_applications", so.max_operator_applications, 1, 1000000000L);
   so.rho_factor = sv.real("rho_factor", so.rho_factor, [](double v) { return v > 0 && v <= 1e6; },
                           "0 < rho_factor <= 1e6");
+  so.rho_growth = sv.real("rho_growth", so.rho_growth, [](double v) { return v >= 1 && v <= 1e3; },
+                          "1 <= rho_growth <= 1e3");
+  so.rho_patience = static_cast<int>(sv.integer("rho_patience", so.rho_patience, 1, 100000));
   so.Gamma = sv.real("Gamma", so.Gamma, [](double v) { return v > 0 && v <= 1e3; }, "0 < Gamma <= 1e3");
   so.max_debond_rounds = static_cast<int>(sv.integer("max_debond_rounds", so.max_debond_rounds, 1, 1000000));
   const std::string preconditioner = sv.string("preconditioner", "none", {"none", "lumped", "dirichlet"});

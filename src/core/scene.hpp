@@ -60,6 +60,8 @@ struct SolverSettings {
   int max_outer_iterations = 200;          // SMALBE outer iterations
   long max_operator_applications = 200000; // applications of F = B K+ B^T
   double rho_factor = 1.0;                 // SMALBE penalty rho = rho_factor * ||F||
+  double rho_growth = 10.0;                // SMALBE penalty safeguard factor; 1 = plain SMALBE-M
+  int rho_patience = 5;                    // ... applied after this many slow outer iterations in a row
   double Gamma = 1.0;                      // MPRGP proportioning parameter
   int max_debond_rounds = 1000;            // break / re-solve rounds per load (METHOD §6)
   Preconditioner preconditioner = Preconditioner::none;

@@ -114,6 +114,8 @@ Solution ContactSolver::solve_problem(const DualProblem& dual, double& norm_PFP,
   options.max_outer_iterations = settings.max_outer_iterations;
   options.max_operator_applications = settings.max_operator_applications;
   options.rho0_factor = settings.rho_factor;
+  options.rho_growth = settings.rho_growth;
+  options.rho_patience = settings.rho_patience;
   options.inner.Gamma = settings.Gamma;
   options.inner.norm_A = norm_PFP;
   options.inner.max_iterations = settings.max_operator_applications;

@@ -89,6 +89,11 @@ void write_solution(const std::filesystem::path& h5, const mesh::Mesh& mesh, con
     f.write_attribute("/solver", "seconds_dual_setup", s.seconds.dual_setup);
     f.write_attribute("/solver", "seconds_qp", s.seconds.qp);
     f.write_attribute("/solver", "seconds_recovery", s.seconds.recovery);
+    f.write_attribute("/solver", "seconds_qp_F", s.seconds.qp_F);
+    f.write_attribute("/solver", "seconds_qp_Q", s.seconds.qp_Q);
+    f.write_attribute("/solver", "seconds_qp_preconditioner", s.seconds.qp_preconditioner);
+    f.write_attribute("/solver", "preconditioner", std::string(to_string(scene.solver.preconditioner)));
+    f.write_attribute("/solver", "preconditioner_applications", std::int64_t{s.preconditioner_applications});
     f.write_attribute("/solver", "tolerance", scene.solver.tolerance);
     f.create_group("/kkt");
     const feti::KktReport& k = s.kkt;

@@ -17,8 +17,9 @@
 //   3. stop if ‖gᴾ‖ ≤ ε_g and ‖A‖‖Qx‖ ≤ ε_e;
 //   4. if k > 0 and L(x_k, m_k, ρ) < L(x_{k-1}, m_{k-1}, ρ) + ρ/2 ‖Q x_k‖² (beyond round-off),
 //      then M ← M/β;
-//   5. safeguard: if the inner solve converged and ‖Q x_k‖ > α_f ‖Q x_{k-1}‖, then
-//      ρ ← min(γρ, ρ_max), and the bound ‖A + ρQ‖ grows by the same amount.
+//   5. safeguard: if the inner solve converged and ‖Q x_k‖ > α_f ‖Q x_{k-1}‖ in rho_patience
+//      consecutive outer iterations, then ρ ← min(γρ, ρ_max), and the bound ‖A + ρQ‖ grows
+//      by the same amount.
 // Why step 5: with ρ fixed the multiplier iteration contracts like 1/(1 + ρτ), τ the smallest
 // eigenvalue of the dual Schur complement on the free set; when the active set leaves Ĝ little
 // room on the free components, τ is small. On the seeded test problems plain SMALBE-M needed
@@ -81,6 +82,9 @@ std::string check_options(const SmalbeOptions& opts) {
   }
   if (!(opts.beta > 1.0) || !std::isfinite(opts.beta)) {
     return "beta must be finite and greater than 1";
+  }
+  if (opts.rho_patience < 1) {
+    return "rho_patience must be at least 1";
   }
   if (!(opts.rho_growth >= 1.0) || !std::isfinite(opts.rho_growth) || !(opts.feasibility_reduction > 0.0) ||
       !(opts.rho_max_factor > 0.0) || !std::isfinite(opts.rho_max_factor)) {
@@ -202,6 +206,7 @@ Result smalbe(const LinearOperator& A, const LinearOperator& Q, const Eigen::Vec
 
   double lagrangian_previous = 0.0;
   double Qx_norm_previous = 0.0;
+  long slow_iterations = 0;  // consecutive outer iterations with too little feasibility gain
   double Qx_norm = 0.0;
   std::ostringstream message;
   for (long k = 0;; ++k) {
@@ -255,8 +260,10 @@ Result smalbe(const LinearOperator& A, const LinearOperator& Q, const Eigen::Vec
       M /= opts.beta;
     }
     lagrangian_previous = lagrangian;
-    if (inner_result.status == Status::converged && k > 0 && rho < rho_max &&
-        Qx_norm > opts.feasibility_reduction * Qx_norm_previous) {
+    const bool slow = inner_result.status == Status::converged && k > 0 &&
+                      Qx_norm > opts.feasibility_reduction * Qx_norm_previous;
+    slow_iterations = slow ? slow_iterations + 1 : 0;
+    if (slow && rho < rho_max && slow_iterations >= opts.rho_patience) {
       const double rho_new = std::min(opts.rho_growth * rho, rho_max);
       // ‖A + ρ'Q‖ ≤ ‖A + ρQ‖ + (ρ' - ρ) since ‖Q‖ = 1; exactly max(‖A‖, ρ') when A Q = 0.
       inner.norm_A = opts.projected_operator ? std::max(norm_A, rho_new) : inner.norm_A + rho_new - rho;

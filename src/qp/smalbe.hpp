@@ -32,6 +32,11 @@ struct SmalbeOptions {
   double rho_growth = 10;
   double feasibility_reduction = 0.1;
   double rho_max_factor = 100;
+  // ρ grows only after this many consecutive outer iterations of too little feasibility gain
+  // (1: at the first). One slow iteration is no evidence of slow contraction: in the FETI
+  // contact problems the first outer iterations change the active set, and growing ρ there
+  // shrinks every later expansion step (ᾱ = 1.95/max(‖A‖, ρ)) for nothing.
+  long rho_patience = 1;
   // The caller asserts A Q = Q A = 0 (A = PFP with P = I − Q, as in FETI): then the spectra of A
   // and ρQ live on orthogonal subspaces and ‖A + ρQ‖ = max(‖A‖, ρ) exactly, so no power
   // iterations are spent on it.

@@ -345,6 +345,29 @@ TEST(Smalbe, PlainSmalbeMKeepsRhoFixed) {
   }
 }
 
+// The safeguard's patience: ρ grows only after rho_patience consecutive slow outer iterations.
+// Patience beyond the outer iterations used keeps ρ = ρ₀ exactly (plain SMALBE-M); any patience
+// reaches the same solution.
+TEST(Smalbe, RhoGrowsOnlyAfterItsPatience) {
+  std::mt19937 rng(3131);
+  int grew_at_patience_1 = 0;
+  for (int trial = 0; trial < 6; ++trial) {
+    SCOPED_TRACE("trial " + std::to_string(trial));
+    const FetiLikeProblem p = make_feti_like(rng, 80, 6);
+    const DenseQp qp = testing::make_known_solution_problem(rng, p.A, p.G, BoundKind::mixed);
+    SmalbeOptions opts = tight_options();
+    opts.inner.norm_A = norm_2(p.A);
+    const ObservedSolve eager = observed_solve(qp, p.Q, opts);
+    expect_converged_to(qp, p.Q, eager, opts, 0.1, norm_2(p.A));
+    grew_at_patience_1 += eager.result.rho_final > opts.inner.norm_A;
+    opts.rho_patience = 1000;
+    const ObservedSolve patient = observed_solve(qp, p.Q, opts);
+    expect_converged_to(qp, p.Q, patient, opts, 0.1, norm_2(p.A));
+    EXPECT_EQ(patient.result.rho_final, opts.inner.norm_A);
+  }
+  EXPECT_GT(grew_at_patience_1, 0);  // the trials do exercise the safeguard
+}
+
 // With A = PFP the outer iteration count is bounded independently of the size (Dostál 2009):
 // same spectrum of F, n from 40 to 640.
 TEST(Smalbe, OuterIterationsDoNotGrowWithSize) {
