@@ -151,6 +151,8 @@ void DualProblem::set_preconditioner_scale() {
 
 void DualProblem::apply_preconditioner(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
   const ScopedTimer timer(profile_.preconditioner);
+  if (setup_.scene().solver.preconditioner == Preconditioner::none)
+    throw std::logic_error("DualProblem::apply_preconditioner: the scene has preconditioner = none");
   const auto& subs = setup_.subdomains();
   const bool dirichlet = setup_.scene().solver.preconditioner == Preconditioner::dirichlet;
   setup_.for_each_subdomain([&](int s) {

@@ -5,6 +5,7 @@
 #include <omp.h>
 
 #include "fem/assembly.hpp"
+#include "feti/constraints.hpp"
 
 namespace dualcell::feti {
 
@@ -79,20 +80,24 @@ FetiSetup::FetiSetup(const mesh::Mesh& mesh, const Scene& scene, int threads, in
 
   // K⁺ once per mesh and material: the factorisations every load case reuses. Subdomains are
   // small (hundreds to a few thousand DOFs), where a simplicial factor is as fast as a
-  // supernodal one and needs no BLAS; K⁺ is then applied with plain triangular sweeps.
+  // supernodal one and needs no BLAS; K⁺ is then applied with plain triangular sweeps. AMD
+  // only: the factorisations run concurrently, and METIS's random state is not known to be
+  // thread-safe.
+  const linalg::CholmodOptions subdomain_factor_options{linalg::FactorKind::simplicial, linalg::Ordering::amd};
   const auto t1 = Clock::now();
   for_each_subdomain([&](int s) {
     Subdomain& sub = subdomains_[s];
     if (!sub.is_macro)
-      sub.K_plus = std::make_unique<linalg::FixedDofPseudoInverse>(
-          sub.K, sub.fixing_dofs, linalg::CholmodOptions{linalg::FactorKind::simplicial});
+      sub.K_plus = std::make_unique<linalg::FixedDofPseudoInverse>(sub.K, sub.fixing_dofs, subdomain_factor_options);
   });
   if (scene.solver.preconditioner == Preconditioner::dirichlet) {
+    // The nodes B touches with intact bonds (breaks remove rows, never columns), both
+    // components: a free or loaded edge stays interior, where S_i must not clamp it.
+    const Constraints rows = build_constraints(mesh, scene, intact_bonds(mesh, scene.interface));
     std::vector<char> on_boundary(mesh.nodes.size(), 0);
-    for (const auto& [a, b] : mesh.interface_pairs) on_boundary[a] = on_boundary[b] = 1;
-    for (const auto& [a, b] : mesh.glue_pairs) on_boundary[a] = on_boundary[b] = 1;
-    for (const auto& edges : mesh.boundary_edges)
-      for (const auto& [a, b] : edges) on_boundary[a] = on_boundary[b] = 1;
+    for (int r = 0; r < rows.B.outerSize(); ++r)
+      for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(rows.B, r); it; ++it)
+        if (it.col() < mesh.dim_u()) on_boundary[it.col() / 2] = 1;  // not the macro DOFs
     for_each_subdomain([&](int s) {
       Subdomain& sub = subdomains_[s];
       if (sub.is_macro) return;
@@ -102,8 +107,7 @@ FetiSetup::FetiSetup(const mesh::Mesh& mesh, const Scene& scene, int threads, in
           sub.boundary_dofs.push_back(2 * (v - ms.node_begin));
           sub.boundary_dofs.push_back(2 * (v - ms.node_begin) + 1);
         }
-      sub.K_ii_inverse = std::make_unique<linalg::FixedDofPseudoInverse>(
-          sub.K, sub.boundary_dofs, linalg::CholmodOptions{linalg::FactorKind::simplicial});
+      sub.K_ii_inverse = std::make_unique<linalg::FixedDofPseudoInverse>(sub.K, sub.boundary_dofs, subdomain_factor_options);
     });
   }
   seconds_factorisation = seconds_since(t1);

@@ -35,9 +35,8 @@ struct Subdomain {
   Eigen::MatrixXd R;
   std::unique_ptr<linalg::FixedDofPseudoInverse> K_plus;  // null for the macro subdomain
   std::vector<Eigen::Index> fixing_dofs;                   // the 3 DOFs removed to make K regular
-  // The Dirichlet preconditioner only (S_i = K_bb − K_bi K_ii⁻¹ K_ib): the DOFs of the nodes on
-  // the subdomain's boundary (rim, cell edges, block edges: every DOF a row of B can touch)
-  // and K_ii⁻¹ as the pseudo-inverse that fixes exactly them.
+  // The Dirichlet preconditioner only (S_i = K_bb − K_bi K_ii⁻¹ K_ib): the DOFs of the nodes
+  // that rows of B touch (both components) and K_ii⁻¹ as the pseudo-inverse fixing exactly them.
   std::vector<Eigen::Index> boundary_dofs;
   std::unique_ptr<linalg::FixedDofPseudoInverse> K_ii_inverse;
   // x = K⁺ y (zero for the macro subdomain); x must have size n_dofs. scratch: n_dofs − 3
@@ -78,21 +77,22 @@ class FetiSetup {
   // work(s) for every subdomain s, spread over threads(); work must touch only subdomain s's
   // data (its own output slots), which is what makes the result independent of the thread count.
   // An exception thrown by work is carried out of the parallel loop; the one of the lowest
-  // subdomain is rethrown after all have run.
+  // subdomain is rethrown after all have run. Nothing is allocated unless something throws.
   template <class Work>
   void for_each_subdomain(Work&& work) const {
     const int S = static_cast<int>(subdomains_.size());
-    std::vector<std::exception_ptr> failure(S);
+    std::exception_ptr failure;
+    int failed = S;
 #pragma omp parallel for schedule(dynamic, 4) num_threads(threads_) if (parallel_)
     for (int s = 0; s < S; ++s) {
       try {
         work(s);
       } catch (...) {
-        failure[s] = std::current_exception();
+#pragma omp critical(dualcell_subdomain_failure)
+        if (s < failed) failed = s, failure = std::current_exception();
       }
     }
-    for (const auto& e : failure)
-      if (e) std::rethrow_exception(e);
+    if (failure) std::rethrow_exception(failure);
   }
   double seconds_assembly = 0, seconds_factorisation = 0;
 

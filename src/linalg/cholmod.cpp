@@ -577,17 +577,16 @@ SparseCholesky::TriangularFactor SparseCholesky::triangular_factor() {
     out.perm.resize(static_cast<std::size_t>(n_));
     if (n_ == 0) return out;
     cholmod_common* c = common_.get();
+    const auto free_copy = [c](cholmod_factor* f) { cholmod_free_factor(&f, c); };
     common_.begin_call();
-    cholmod_factor* copy = cholmod_copy_factor(factor_, c);
+    const std::unique_ptr<cholmod_factor, decltype(free_copy)> owned(cholmod_copy_factor(factor_, c), free_copy);
+    cholmod_factor* copy = owned.get();
     // Simplicial, LLᵀ, packed and monotonic: column j's entries are p[j] .. p[j+1]-1, the
     // diagonal first, rows ascending (CHOLMOD's simplicial layout).
     const int ok = copy != nullptr && cholmod_change_factor(CHOLMOD_REAL, /*to_ll=*/1, /*to_super=*/0, /*to_packed=*/1,
                                                             /*to_monotonic=*/1, copy, c);
     const int raw = common_.end_call();
-    if (!ok || raw < CHOLMOD_OK) {
-        if (copy != nullptr) cholmod_free_factor(&copy, c);
-        throw_cholmod(CholeskyPhase::solve, raw, "cholmod_change_factor");
-    }
+    if (!ok || raw < CHOLMOD_OK) throw_cholmod(CholeskyPhase::solve, raw, "cholmod_change_factor");
     const int* p = static_cast<const int*>(copy->p);
     const int* i = static_cast<const int*>(copy->i);
     const double* x = static_cast<const double*>(copy->x);
@@ -598,7 +597,6 @@ SparseCholesky::TriangularFactor SparseCholesky::triangular_factor() {
     std::copy_n(i, nnz, out.L.innerIndexPtr());
     std::copy_n(x, nnz, out.L.valuePtr());
     for (Eigen::Index k = 0; k < n_; ++k) out.perm[static_cast<std::size_t>(k)] = perm != nullptr ? perm[k] : static_cast<int>(k);
-    cholmod_free_factor(&copy, c);
     return out;
 }
 
@@ -812,7 +810,7 @@ std::vector<Eigen::Index> sorted_fixed_dofs(Eigen::Index n, std::span<const Eige
 FixedDofPseudoInverse::FixedDofPseudoInverse(const SparseMatrix& K,
                                              std::span<const Eigen::Index> fixed_dofs,
                                              const CholmodOptions& options)
-    : chol_(options) {
+    : options_(options) {
     build(K, fixed_dofs);
 }
 
@@ -821,7 +819,7 @@ FixedDofPseudoInverse::FixedDofPseudoInverse(const SparseMatrix& K,
                                              const Eigen::MatrixXd& kernel,
                                              const KernelCheck& check,
                                              const CholmodOptions& options)
-    : chol_(options) {
+    : options_(options) {
     const Eigen::Index n = K.rows();
     if (K.rows() != K.cols())
         setup_error(n, "K is not square (" + std::to_string(K.rows()) + "x" +
@@ -931,21 +929,33 @@ void FixedDofPseudoInverse::build(const SparseMatrix& K, std::span<const Eigen::
         outer[c + 1] = pos;
     }
 
-    chol_.compute(Krr);
+    SparseCholesky chol(options_);  // released at the end: L_ is all that is kept
+    status_ = chol.compute(Krr);
     fr_.resize(nr);
-    SparseCholesky::TriangularFactor factor = chol_.triangular_factor();
+    SparseCholesky::TriangularFactor factor = chol.triangular_factor();
     L_ = std::move(factor.L);
     gather_.resize(static_cast<std::size_t>(nr));
     for (Eigen::Index k = 0; k < nr; ++k)
         gather_[static_cast<std::size_t>(k)] = free_[static_cast<std::size_t>(factor.perm[static_cast<std::size_t>(k)])];
 }
 
-void FixedDofPseudoInverse::apply(const Eigen::VectorXd& f, Eigen::VectorXd& x, Eigen::VectorXd& scratch) const {
-    const auto nr = static_cast<Eigen::Index>(gather_.size());
-    if (f.size() != n_ || x.size() != n_ || scratch.size() != nr || L_.rows() != nr)
+void FixedDofPseudoInverse::require_factor(Eigen::Index rows) const {
+    // A moved-from object has lost its vectors but kept n_.
+    if (static_cast<Eigen::Index>(gather_.size() + fixed_.size()) != n_ || L_.rows() != static_cast<Eigen::Index>(gather_.size()))
         throw CholeskyError(CholeskyStatus::invalid_input, CholeskyPhase::solve, n_,
-                            "FixedDofPseudoInverse::apply: f, x must have size n() and scratch n() - "
-                            "fixed_dofs().size(), after a successful construction");
+                            "FixedDofPseudoInverse has no factorization (moved from?)");
+    if (rows != n_)
+        throw CholeskyError(CholeskyStatus::invalid_input, CholeskyPhase::solve, n_,
+                            size_mismatch("right-hand side", rows, 1, n_));
+}
+
+void FixedDofPseudoInverse::apply(const Eigen::VectorXd& f, Eigen::VectorXd& x, Eigen::VectorXd& scratch) const {
+    require_factor(f.size());
+    const auto nr = static_cast<Eigen::Index>(gather_.size());
+    if (x.size() != n_ || scratch.size() != nr)
+        throw CholeskyError(CholeskyStatus::invalid_input, CholeskyPhase::solve, n_,
+                            "FixedDofPseudoInverse::apply: x must have size n() = " + std::to_string(n_) +
+                                " and scratch n() - fixed_dofs().size() = " + std::to_string(nr));
     for (Eigen::Index k = 0; k < nr; ++k) scratch[k] = f[gather_[static_cast<std::size_t>(k)]];
     L_.triangularView<Eigen::Lower>().solveInPlace(scratch);
     L_.transpose().triangularView<Eigen::Upper>().solveInPlace(scratch);
@@ -954,12 +964,7 @@ void FixedDofPseudoInverse::apply(const Eigen::VectorXd& f, Eigen::VectorXd& x, 
 }
 
 void FixedDofPseudoInverse::apply(const Eigen::VectorXd& f, Eigen::VectorXd& x) {
-    if (!chol_.is_factorized())
-        throw CholeskyError(CholeskyStatus::invalid_input, CholeskyPhase::solve, n_,
-                            "FixedDofPseudoInverse has no factorization (moved from?)");
-    if (f.size() != n_)
-        throw CholeskyError(CholeskyStatus::invalid_input, CholeskyPhase::solve, n_,
-                            size_mismatch("vector f", f.size(), 1, n_));
+    require_factor(f.size());
     const auto nr = static_cast<Eigen::Index>(gather_.size());
     for (Eigen::Index k = 0; k < nr; ++k) fr_[k] = f[gather_[static_cast<std::size_t>(k)]];
     L_.triangularView<Eigen::Lower>().solveInPlace(fr_);
@@ -970,22 +975,18 @@ void FixedDofPseudoInverse::apply(const Eigen::VectorXd& f, Eigen::VectorXd& x) 
 }
 
 void FixedDofPseudoInverse::apply(const Eigen::MatrixXd& F, Eigen::MatrixXd& X) {
-    if (!chol_.is_factorized())
-        throw CholeskyError(CholeskyStatus::invalid_input, CholeskyPhase::solve, n_,
-                            "FixedDofPseudoInverse has no factorization (moved from?)");
-    if (F.rows() != n_)
-        throw CholeskyError(CholeskyStatus::invalid_input, CholeskyPhase::solve, n_,
-                            size_mismatch("block F", F.rows(), F.cols(), n_));
-    const auto nr = static_cast<Eigen::Index>(free_.size());
+    require_factor(F.rows());
+    const auto nr = static_cast<Eigen::Index>(gather_.size());
     const Eigen::Index k = F.cols();
     Fr_.resize(nr, k);  // no-op when the shape is unchanged
     for (Eigen::Index c = 0; c < k; ++c)
-        for (Eigen::Index r = 0; r < nr; ++r) Fr_(r, c) = F(free_[static_cast<std::size_t>(r)], c);
-    chol_.solve(Fr_, Xr_);
-    X.resize(n_, k);
+        for (Eigen::Index r = 0; r < nr; ++r) Fr_(r, c) = F(gather_[static_cast<std::size_t>(r)], c);
+    L_.triangularView<Eigen::Lower>().solveInPlace(Fr_);
+    L_.transpose().triangularView<Eigen::Upper>().solveInPlace(Fr_);
+    X.resize(n_, k);  // after the gather: F and X may alias
     for (Eigen::Index c = 0; c < k; ++c) {
         for (Eigen::Index i : fixed_) X(i, c) = 0.0;
-        for (Eigen::Index r = 0; r < nr; ++r) X(free_[static_cast<std::size_t>(r)], c) = Xr_(r, c);
+        for (Eigen::Index r = 0; r < nr; ++r) X(gather_[static_cast<std::size_t>(r)], c) = Fr_(r, c);
     }
 }
 

@@ -391,11 +391,15 @@ struct KernelCheck {
 // such fixings (and too many fixed DOFs, which gives a regular K_rr but no
 // generalized inverse) reliably, before factorizing.
 //
+// After factorising, the factor is copied out of CHOLMOD as a plain CSC L
+// (SparseCholesky::triangular_factor) and CHOLMOD's own copy is released: every
+// apply() is two sparse triangular sweeps (Eigen) with gather and scatter fused
+// with the fill-reducing permutation, and nothing of CHOLMOD is kept.
 // apply() does not allocate once x (resp. X) has the right size (and, for the
-// block version, after the first call with a given column count): gather and
-// solve go through scratch vectors kept in the object.  Hence apply() is not
-// const and an instance must not be shared between threads: one instance per
-// thread / per subdomain.  f and x may be the same object.
+// block version, after the first call with a given column count).  The two
+// apply() overloads without a scratch argument use scratch kept in the object
+// and must not be called on one instance from two threads at once; the const
+// overload with caller-owned scratch may.  f and x may be the same object.
 class FixedDofPseudoInverse {
 public:
     using SparseMatrix = SparseCholesky::SparseMatrix;
@@ -431,23 +435,25 @@ public:
     Eigen::Index n() const noexcept { return n_; }
     const std::vector<Eigen::Index>& fixed_dofs() const noexcept { return fixed_; }
     const std::vector<Eigen::Index>& free_dofs() const noexcept { return free_; }
-    // Factorization of K_rr (order n() - fixed_dofs().size()).
-    const SparseCholesky& cholesky() const noexcept { return chol_; }
+    // Entries of the Cholesky factor of K_rr as kept (order n() - fixed_dofs().size()).
+    Eigen::Index nnz_factor() const noexcept { return L_.nonZeros(); }
     // Status of the factorization of K_rr (ok or numerical_warning).
-    CholeskyStatus status() const noexcept { return chol_.last_status(); }
+    CholeskyStatus status() const noexcept { return status_; }
 
 private:
     void build(const SparseMatrix& K, std::span<const Eigen::Index> fixed_dofs);
+    void require_factor(Eigen::Index rows) const;
 
     Eigen::Index n_ = 0;
     std::vector<Eigen::Index> fixed_;
     std::vector<Eigen::Index> free_;
-    SparseCholesky chol_;
+    CholmodOptions options_;
+    CholeskyStatus status_ = CholeskyStatus::ok;
     // K_rr = Pᵀ L Lᵀ P as a plain CSC factor; gather_[k] = the DOF of K at position k of P K_rr Pᵀ.
     SparseMatrix L_;
     std::vector<Eigen::Index> gather_;
     Eigen::VectorXd fr_;       // gathered rhs, solved in place
-    Eigen::MatrixXd Fr_, Xr_;  // block versions
+    Eigen::MatrixXd Fr_;       // block version
 };
 
 }  // namespace dualcell::linalg

@@ -268,6 +268,7 @@ Result smalbe(const LinearOperator& A, const LinearOperator& Q, const Eigen::Vec
       // ‖A + ρ'Q‖ ≤ ‖A + ρQ‖ + (ρ' - ρ) since ‖Q‖ = 1; exactly max(‖A‖, ρ') when A Q = 0.
       inner.norm_A = opts.projected_operator ? std::max(norm_A, rho_new) : inner.norm_A + rho_new - rho;
       rho = rho_new;
+      slow_iterations = 0;  // the next growth waits for its own rho_patience slow iterations
     }
     Qx_norm_previous = Qx_norm;
   }
