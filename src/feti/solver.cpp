@@ -87,15 +87,18 @@ Solution ContactSolver::solve_problem(const DualProblem& dual, double& norm_PFP,
   dual.apply_Q(b, tmp);
   b -= tmp;  // b = P(d − Fλ₀)
 
-  // A = PFP with work vectors allocated once per solve, not per application.
-  Eigen::VectorXd Px(m), FPx(m), QFPx(m);
-  const qp::LinearOperator A = [&](const Eigen::VectorXd& x, Eigen::VectorXd& y) {
-    dual.apply_Q(x, Px);
-    Px = x - Px;
+  // A = PFP with work vectors allocated once per solve, not per application. A + ρQ reuses
+  // the Q x that P x needs: y = FPx − Q(FPx) + ρQx, two applications of Q.
+  Eigen::VectorXd Qx(m), Px(m), FPx(m), QFPx(m);
+  const auto A_plus_shifted_Q = [&](const Eigen::VectorXd& x, double shift, Eigen::VectorXd& y) {
+    dual.apply_Q(x, Qx);
+    Px = x - Qx;
     dual.apply_F(Px, FPx);
     dual.apply_Q(FPx, QFPx);
     y = FPx - QFPx;
+    if (shift != 0) y += shift * Qx;
   };
+  const qp::LinearOperator A = [&](const Eigen::VectorXd& x, Eigen::VectorXd& y) { A_plus_shifted_Q(x, 0.0, y); };
   const qp::LinearOperator Q = [&](const Eigen::VectorXd& x, Eigen::VectorXd& y) { dual.apply_Q(x, y); };
   long extra_applications = 1;  // Fλ₀
   if (norm_PFP == 0) {
@@ -120,16 +123,22 @@ Solution ContactSolver::solve_problem(const DualProblem& dual, double& norm_PFP,
   options.inner.norm_A = norm_PFP;
   options.inner.max_iterations = settings.max_operator_applications;
   options.projected_operator = true;  // A = PFP: ‖A + ρQ‖ = max(‖A‖, ρ)
-  // The preconditioner of PFP on Im P: P M⁻¹ P (SMALBE adds Q/ρ for the ρQ part).
-  Eigen::VectorXd Pv(m), MPv(m), QMPv(m);
-  if (settings.preconditioner != Preconditioner::none)
-    options.preconditioner = [&](const Eigen::VectorXd& x, Eigen::VectorXd& y) {
-      dual.apply_Q(x, Pv);
-      Pv = x - Pv;
-      dual.apply_preconditioner(Pv, MPv);
-      dual.apply_Q(MPv, QMPv);
-      y = MPv - QMPv;
-    };
+  options.A_plus_shifted_Q = A_plus_shifted_Q;
+  // The preconditioner of PFP on Im P: P M⁻¹ P (SMALBE adds Q/ρ for the ρQ part, here fused
+  // like A + ρQ).
+  Eigen::VectorXd Qv(m), Pv(m), MPv(m), QMPv(m);
+  const auto preconditioner_plus_shifted_Q = [&](const Eigen::VectorXd& x, double shift, Eigen::VectorXd& y) {
+    dual.apply_Q(x, Qv);
+    Pv = x - Qv;
+    dual.apply_preconditioner(Pv, MPv);
+    dual.apply_Q(MPv, QMPv);
+    y = MPv - QMPv;
+    if (shift != 0) y += shift * Qv;
+  };
+  if (settings.preconditioner != Preconditioner::none) {
+    options.preconditioner = [&](const Eigen::VectorXd& x, Eigen::VectorXd& y) { preconditioner_plus_shifted_Q(x, 0.0, y); };
+    options.preconditioner_plus_shifted_Q = preconditioner_plus_shifted_Q;
+  }
   // SMALBE's m = Ĝᵀμ, in λ-space; warm-started with the caller's when it fits this problem.
   Eigen::VectorXd multiplier = Eigen::VectorXd::Zero(m);
   if (warm_multiplier && warm_multiplier->size() == m) multiplier = *warm_multiplier;

@@ -156,6 +156,10 @@ Result smalbe(const LinearOperator& A, const LinearOperator& Q, const Eigen::Vec
 
   // The inner operator A + ρQ; each application is one application of the caller's A.
   const LinearOperator A_plus_rho_Q = [&](const Eigen::VectorXd& v, Eigen::VectorXd& y) {
+    if (opts.A_plus_shifted_Q) {
+      opts.A_plus_shifted_Q(v, rho, y);
+      return;
+    }
     A(v, y);
     Q(v, Qv);
     y += rho * Qv;
@@ -165,6 +169,10 @@ Result smalbe(const LinearOperator& A, const LinearOperator& Q, const Eigen::Vec
     // M⁻¹_ρ = M⁻¹ + Q/ρ with the current ρ (by reference). Qv is shared with A_plus_rho_Q: the
     // two are never applied at the same time.
     inner.preconditioner = [&](const Eigen::VectorXd& v, Eigen::VectorXd& y) {
+      if (opts.preconditioner_plus_shifted_Q) {
+        opts.preconditioner_plus_shifted_Q(v, 1 / rho, y);
+        return;
+      }
       opts.preconditioner(v, y);
       Q(v, Qv);
       y += Qv / rho;

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <functional>
 #include <string>
 
 #include "qp/mprgp.hpp"
@@ -47,6 +48,12 @@ struct SmalbeOptions {
   // of F. The inner MPRGP is preconditioned in face by M⁻¹ + Q/ρ, a preconditioner of A + ρQ
   // (see smalbe.cpp). Applications are counted in Counters::preconditioner_applications.
   LinearOperator preconditioner;
+  // Optional fused forms y = A v + s·Q v and y = M⁻¹ v + s·Q v, for a caller that forms Q v
+  // anyway inside A and M⁻¹ (FETI: A = PFP and P M⁻¹ P need P v = v − Q v), so that the inner
+  // solver's A + ρQ and M⁻¹ + Q/ρ cost two applications of Q, not three. They must equal the
+  // composed forms (A, Q and preconditioner are still used elsewhere); empty → composed.
+  std::function<void(const Eigen::VectorXd& v, double s, Eigen::VectorXd& y)> A_plus_shifted_Q,
+      preconditioner_plus_shifted_Q;
   // Inner MPRGP: Gamma, alpha_bar_factor, max_iterations (per inner solve), stagnation_window,
   // on_iterate are used; norm_A is ‖A‖ of the caller's A (0 → estimated); its tolerances are
   // replaced by SMALBE's inner stopping test. inner.preconditioner must be empty (it is built

@@ -345,6 +345,52 @@ TEST(Smalbe, PlainSmalbeMKeepsRhoFixed) {
   }
 }
 
+// The fused forms y = A v + s·Q v and M⁻¹ v + s·Q v (what FETI supplies, reusing the Q v of
+// P v) replace SMALBE's composition with the right shift (ρ for A, 1/ρ for M⁻¹): the same
+// solve up to round-off (1e-12 relative: both stop at a relative gradient of 1e-10 on a
+// problem with κ ≤ 10, and differ only in the rounding of the shift's products).
+TEST(Smalbe, FusedShiftedFormsGiveTheSameSolve) {
+  std::mt19937 rng(3232);
+  for (const bool preconditioned : {false, true}) {
+    SCOPED_TRACE(preconditioned ? "preconditioned" : "plain");
+    const FetiLikeProblem p = make_feti_like(rng, 60, 5);
+    const DenseQp qp = testing::make_known_solution_problem(rng, p.A, p.G, BoundKind::mixed);
+    const Eigen::MatrixXd P = Eigen::MatrixXd::Identity(60, 60) - p.Q;
+    const Eigen::MatrixXd M = P * Eigen::MatrixXd(p.F.diagonal().cwiseInverse().asDiagonal()) * P;
+    SmalbeOptions opts = tight_options();
+    opts.inner.norm_A = norm_2(p.A);
+    opts.projected_operator = true;
+    if (preconditioned) opts.preconditioner = testing::dense_operator(M);
+    long composed_Q = 0, fused_Q = 0;
+    Eigen::VectorXd x1, m1, x2, m2;
+    const Result composed = smalbe(testing::dense_operator(p.A), testing::dense_operator(p.Q, &composed_Q), qp.b, qp.l,
+                                   qp.u, x1, m1, opts);
+    // The fused forms as FETI builds them: P v = v − Q v once, reused for the shift.
+    Eigen::VectorXd Qv;
+    const LinearOperator Q_counted = testing::dense_operator(p.Q, &fused_Q);
+    opts.A_plus_shifted_Q = [&](const Eigen::VectorXd& v, double shift, Eigen::VectorXd& y) {
+      Qv.resize(v.size());
+      Q_counted(v, Qv);
+      y.noalias() = p.A * v;  // PA₀P v, as the composed A computes it
+      y += shift * Qv;
+    };
+    if (preconditioned)
+      opts.preconditioner_plus_shifted_Q = [&](const Eigen::VectorXd& v, double shift, Eigen::VectorXd& y) {
+        Qv.resize(v.size());
+        Q_counted(v, Qv);
+        y.noalias() = M * v;
+        y += shift * Qv;
+      };
+    // Q itself uncounted: fused_Q counts only the hooks' applications.
+    const Result fused = smalbe(testing::dense_operator(p.A), testing::dense_operator(p.Q), qp.b, qp.l, qp.u, x2, m2, opts);
+    ASSERT_EQ(composed.status, Status::converged);
+    EXPECT_EQ(fused.status, Status::converged);
+    EXPECT_LE((x1 - x2).norm(), 1e-12 * x1.norm());
+    EXPECT_LE((m1 - m2).norm(), 1e-12 * m1.norm());
+    EXPECT_GE(fused_Q, fused.counters.cg_steps);  // the fused forms were used for A + ρQ
+  }
+}
+
 // The safeguard's patience: ρ grows only after rho_patience consecutive slow outer iterations.
 // Patience beyond the outer iterations used keeps ρ = ρ₀ exactly (plain SMALBE-M); any patience
 // reaches the same solution.
