@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <optional>
 
 #include <Eigen/SVD>
 
@@ -28,6 +29,27 @@ bool is_structural(RowKind kind) {
 bool is_active(const Constraints& con, const Eigen::VectorXd& lambda_scaled, int r) {
   return lambda_scaled(r) > con.lower(r) && lambda_scaled(r) < con.upper(r);
 }
+
+// y = P T P x + s·Q x with P = I − Q and T = F or M⁻¹ (SMALBE's A + ρQ and M⁻¹ + Q/ρ),
+// reusing the Q x that P x needs: two applications of Q. Work vectors allocated once per solve.
+class ProjectedPlusShiftedQ {
+ public:
+  using Apply = void (DualProblem::*)(const Eigen::VectorXd&, Eigen::VectorXd&) const;
+  ProjectedPlusShiftedQ(const DualProblem& dual, Apply T, int m) : dual_(dual), T_(T), Qx_(m), Px_(m), TPx_(m), QTPx_(m) {}
+  void operator()(const Eigen::VectorXd& x, double shift, Eigen::VectorXd& y) {
+    dual_.apply_Q(x, Qx_);
+    Px_ = x - Qx_;
+    (dual_.*T_)(Px_, TPx_);
+    dual_.apply_Q(TPx_, QTPx_);
+    y = TPx_ - QTPx_;
+    if (shift != 0) y += shift * Qx_;
+  }
+
+ private:
+  const DualProblem& dual_;
+  Apply T_;
+  Eigen::VectorXd Qx_, Px_, TPx_, QTPx_;
+};
 
 // Relative distance within which a bonded multiplier counts as "at its strength": far below
 // any load step a sweep resolves (1e-3), far above the QP's round-off at the bound (MPRGP puts
@@ -87,17 +109,8 @@ Solution ContactSolver::solve_problem(const DualProblem& dual, double& norm_PFP,
   dual.apply_Q(b, tmp);
   b -= tmp;  // b = P(d − Fλ₀)
 
-  // A = PFP with work vectors allocated once per solve, not per application. A + ρQ reuses
-  // the Q x that P x needs: y = FPx − Q(FPx) + ρQx, two applications of Q.
-  Eigen::VectorXd Qx(m), Px(m), FPx(m), QFPx(m);
-  const auto A_plus_shifted_Q = [&](const Eigen::VectorXd& x, double shift, Eigen::VectorXd& y) {
-    dual.apply_Q(x, Qx);
-    Px = x - Qx;
-    dual.apply_F(Px, FPx);
-    dual.apply_Q(FPx, QFPx);
-    y = FPx - QFPx;
-    if (shift != 0) y += shift * Qx;
-  };
+  // A = PFP, fused with SMALBE's shift: A + ρQ.
+  ProjectedPlusShiftedQ A_plus_shifted_Q(dual, &DualProblem::apply_F, m);
   const qp::LinearOperator A = [&](const Eigen::VectorXd& x, Eigen::VectorXd& y) { A_plus_shifted_Q(x, 0.0, y); };
   const qp::LinearOperator Q = [&](const Eigen::VectorXd& x, Eigen::VectorXd& y) { dual.apply_Q(x, y); };
   long extra_applications = 1;  // Fλ₀
@@ -123,21 +136,17 @@ Solution ContactSolver::solve_problem(const DualProblem& dual, double& norm_PFP,
   options.inner.norm_A = norm_PFP;
   options.inner.max_iterations = settings.max_operator_applications;
   options.projected_operator = true;  // A = PFP: ‖A + ρQ‖ = max(‖A‖, ρ)
-  options.A_plus_shifted_Q = A_plus_shifted_Q;
-  // The preconditioner of PFP on Im P: P M⁻¹ P (SMALBE adds Q/ρ for the ρQ part, here fused
-  // like A + ρQ).
-  Eigen::VectorXd Qv(m), Pv(m), MPv(m), QMPv(m);
-  const auto preconditioner_plus_shifted_Q = [&](const Eigen::VectorXd& x, double shift, Eigen::VectorXd& y) {
-    dual.apply_Q(x, Qv);
-    Pv = x - Qv;
-    dual.apply_preconditioner(Pv, MPv);
-    dual.apply_Q(MPv, QMPv);
-    y = MPv - QMPv;
-    if (shift != 0) y += shift * Qv;
+  options.A_plus_shifted_Q = [&](const Eigen::VectorXd& x, double shift, Eigen::VectorXd& y) {
+    A_plus_shifted_Q(x, shift, y);
   };
+  // The preconditioner of PFP on Im P: P M⁻¹ P, fused with SMALBE's Q/ρ like A + ρQ.
+  std::optional<ProjectedPlusShiftedQ> M_plus_shifted_Q;
   if (settings.preconditioner != Preconditioner::none) {
-    options.preconditioner = [&](const Eigen::VectorXd& x, Eigen::VectorXd& y) { preconditioner_plus_shifted_Q(x, 0.0, y); };
-    options.preconditioner_plus_shifted_Q = preconditioner_plus_shifted_Q;
+    M_plus_shifted_Q.emplace(dual, &DualProblem::apply_preconditioner, m);
+    options.preconditioner = [&](const Eigen::VectorXd& x, Eigen::VectorXd& y) { (*M_plus_shifted_Q)(x, 0.0, y); };
+    options.preconditioner_plus_shifted_Q = [&](const Eigen::VectorXd& x, double shift, Eigen::VectorXd& y) {
+      (*M_plus_shifted_Q)(x, shift, y);
+    };
   }
   // SMALBE's m = Ĝᵀμ, in λ-space; warm-started with the caller's when it fits this problem.
   Eigen::VectorXd multiplier = Eigen::VectorXd::Zero(m);

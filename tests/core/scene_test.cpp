@@ -28,6 +28,11 @@ TEST(Scene, DefaultsAndValues) {
   EXPECT_DOUBLE_EQ(s.geometry.fibre_radius, 0.25);
   EXPECT_EQ(s.load.boundary, Boundary::periodic);
   EXPECT_EQ(s.solver.preconditioner, Preconditioner::none);
+  EXPECT_EQ(s.solver.rho_growth, 10.0);
+  EXPECT_EQ(s.solver.rho_patience, 5);
+  const Scene plain = parse_scene(scene_text(1, 1, 1, 0.3, "[solver]\nrho_growth = 1\nrho_patience = 2\n"), "x.toml");
+  EXPECT_EQ(plain.solver.rho_growth, 1.0);
+  EXPECT_EQ(plain.solver.rho_patience, 2);
   EXPECT_EQ(parse_scene(scene_text(1, 1, 1, 0.3, "[solver]\npreconditioner = \"dirichlet\"\n"), "x.toml").solver.preconditioner,
             Preconditioner::dirichlet);
   EXPECT_EQ(parse_scene(scene_text(1, 1, 1, 0.3, "[solver]\npreconditioner = \"lumped\"\n"), "x.toml").solver.preconditioner,
@@ -59,6 +64,8 @@ TEST(Scene, ErrorsNameFileKeyValueAndRange) {
        "[load] boundary = \"free\": must be one of \"symmetry\", \"traction\", \"periodic\""},
       {scene_text(1, 1, 1, 0.3, "[solver]\npreconditioner = \"jacobi\"\n"),
        "[solver] preconditioner = \"jacobi\": must be one of \"none\", \"lumped\", \"dirichlet\""},
+      {scene_text(1, 1, 1, 0.3, "[solver]\nrho_growth = 0.5\n"), "[solver] rho_growth = 0.5: out of range: 1 <= rho_growth <= 1e3"},
+      {scene_text(1, 1, 1, 0.3, "[solver]\nrho_patience = 0\n"), "[solver] rho_patience = 0: out of range"},
       {scene_text(1, 1, 1, 0.3, "[load\n"), "TOML syntax error"},
       {"[geometry]\nfibre_radius = \"big\"\n", "[geometry] fibre_radius = \"big\": must be a number"},
       {"[geometry]\nfibre_radius = 0.3\n", "missing table [fibre]"},
