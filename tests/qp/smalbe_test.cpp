@@ -48,6 +48,24 @@ SmalbeOptions tight_options() {
   return opts;
 }
 
+// No bounds, only G x = 0: the solution from the KKT system [A Gᵀ; G 0] [x; ν] = [b; 0].
+DenseQp equality_only_problem(std::mt19937& rng, const FetiLikeProblem& p) {
+  const auto n = p.A.rows(), n_rows = p.G.rows();
+  DenseQp qp = testing::make_random_problem(rng, p.A, p.G, BoundKind::box);
+  qp.l.setConstant(-std::numeric_limits<double>::infinity());
+  qp.u.setConstant(std::numeric_limits<double>::infinity());
+  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(n + n_rows, n + n_rows);
+  K.topLeftCorner(n, n) = p.A;
+  K.topRightCorner(n, n_rows) = p.G.transpose();
+  K.bottomLeftCorner(n_rows, n) = p.G;
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n + n_rows);
+  rhs.head(n) = qp.b;
+  const Eigen::VectorXd z = K.fullPivLu().solve(rhs);
+  qp.x_star = z.head(n);
+  qp.nu = z.tail(n_rows);
+  return qp;
+}
+
 struct ObservedSolve {
   Result result;
   Eigen::VectorXd x, m;
@@ -151,18 +169,7 @@ TEST(Smalbe, EqualityOnlyMatchesTheKktSolve) {
     const int n = 4 + trial;
     const int n_rows = 1 + trial % 3;
     const FetiLikeProblem p = make_feti_like(rng, n, n_rows);
-    DenseQp qp = testing::make_random_problem(rng, p.A, p.G, BoundKind::box);
-    qp.l.setConstant(-inf);
-    qp.u.setConstant(inf);
-    Eigen::MatrixXd K = Eigen::MatrixXd::Zero(n + n_rows, n + n_rows);
-    K.topLeftCorner(n, n) = p.A;
-    K.topRightCorner(n, n_rows) = p.G.transpose();
-    K.bottomLeftCorner(n_rows, n) = p.G;
-    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n + n_rows);
-    rhs.head(n) = qp.b;
-    const Eigen::VectorXd z = K.fullPivLu().solve(rhs);
-    qp.x_star = z.head(n);
-    qp.nu = z.tail(n_rows);
+    const DenseQp qp = equality_only_problem(rng, p);
     const ObservedSolve solve = observed_solve(qp, p.Q, tight_options());
     expect_converged_to(qp, p.Q, solve, tight_options(), 0.1, norm_2(p.A));
     // Without bounds the multiplier is unique: m = Ĝᵀν.
@@ -506,18 +513,7 @@ TEST(SmalbePreconditioning, ExactPreconditionerSolvesEachInnerProblemInOnePcgSte
     const int n = 8 + 8 * trial;
     const int n_rows = 1 + trial % 4;
     const FetiLikeProblem p = make_feti_like(rng, n, n_rows);
-    DenseQp qp = testing::make_random_problem(rng, p.A, p.G, BoundKind::box);
-    qp.l.setConstant(-inf);
-    qp.u.setConstant(inf);
-    Eigen::MatrixXd K = Eigen::MatrixXd::Zero(n + n_rows, n + n_rows);
-    K.topLeftCorner(n, n) = p.A;
-    K.topRightCorner(n, n_rows) = p.G.transpose();
-    K.bottomLeftCorner(n_rows, n) = p.G;
-    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n + n_rows);
-    rhs.head(n) = qp.b;
-    const Eigen::VectorXd z = K.fullPivLu().solve(rhs);
-    qp.x_star = z.head(n);
-    qp.nu = z.tail(n_rows);
+    const DenseQp qp = equality_only_problem(rng, p);
     // (PFP)⁺ = P (PFP + Q)⁻¹ P: PFP + Q is SPD and maps Im P to itself.
     const Eigen::MatrixXd M_inverse = projected(p.Q, (p.A + p.Q).inverse());
     SmalbeOptions opts = tight_options();
