@@ -11,7 +11,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "core/stage.hpp"
+#include "stage/stage.hpp"
 #include "law/export.hpp"
 
 int main(int argc, char** argv) {

@@ -12,11 +12,11 @@
 
 #include <CLI/CLI.hpp>
 
-#include "core/stage.hpp"
+#include "stage/stage.hpp"
 #include "fit/fit.hpp"
 #include "io/hash.hpp"
+#include "io/law_file.hpp"
 #include "io/sweep_file.hpp"
-#include "law/law_file.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{"dualcell-fit: fit the bilinear tension/compression law to a sweep and write law.h5\n"
@@ -30,12 +30,12 @@ int main(int argc, char** argv) {
 
   return dualcell::run_stage("dualcell-fit", [&] {
     using namespace dualcell;
-    const io::SweepProvenance provenance = io::read_sweep_provenance(sweep_file);
+    const io::SweepHeader header = io::read_sweep_header(sweep_file);
     const std::vector<sweep::PathResult> paths = io::read_sweep(sweep_file);
-    law::Law law = fit::fit_law(paths, provenance);
-    law.sweep_file = sweep_file;
-    law.sweep_hash = io::file_hash(sweep_file);
-    law::write_law(out, law);
+    law::Law law = fit::fit_law(paths, header);
+    law.provenance.sweep_file = sweep_file;
+    law.provenance.sweep_hash = io::file_hash(sweep_file);
+    io::write_law(out, law);
     if (quiet) return;
     std::printf("dualcell-fit: %s -> %s (%zu paths)\n", sweep_file.c_str(), out.c_str(), paths.size());
     std::printf("  %8s %12s %10s %12s %10s %8s %8s %8s %12s %10s\n", "theta", "E_tension", "se", "E_compress", "se",

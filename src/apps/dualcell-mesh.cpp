@@ -1,7 +1,7 @@
 // dualcell-mesh: the mesh stage.
 //
 // Reads a scene, builds the mapped mesh of its block of fibre cells (one fibre and one matrix
-// subdomain per cell, each with its own nodes; METHOD §2–3), writes mesh.h5 (+ mesh.xdmf for
+// subdomain per cell, each with its own nodes; docs/method.md), writes mesh.h5 (+ mesh.xdmf for
 // ParaView) and prints a summary.
 //
 //   dualcell-mesh --config pipelines/scenes/default.toml --out mesh.h5
@@ -10,7 +10,7 @@
 #include <CLI/CLI.hpp>
 
 #include "core/scene.hpp"
-#include "core/stage.hpp"
+#include "stage/stage.hpp"
 #include "io/mesh_file.hpp"
 #include "mesh/mesh.hpp"
 
@@ -27,7 +27,7 @@ int main(int argc, char** argv) {
   return dualcell::run_stage("dualcell-mesh", [&] {
     using namespace dualcell;
     const Scene scene = load_scene(config);
-    for (const auto& w : scene.warnings) std::fprintf(stderr, "dualcell-mesh: warning: %s\n", w.c_str());
+    stage::print_warnings("dualcell-mesh", scene);
     const mesh::Mesh m = mesh::build_mesh(scene.geometry);
     io::write_mesh(m, scene, out);
     if (quiet) return;

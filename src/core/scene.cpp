@@ -3,6 +3,7 @@
 #include <cmath>
 #include <fstream>
 #include <functional>
+#include <numbers>
 #include <set>
 #include <sstream>
 
@@ -522,6 +523,23 @@ Scene parse_scene(std::string_view text, const std::filesystem::path& file) {
   sv.finish();
 
   return scene;
+}
+
+Constituents constituents(const Scene& scene) {
+  const double r = scene.geometry.fibre_radius, a = scene.geometry.cell_size;
+  return {scene.fibre.E, scene.fibre.nu, scene.matrix.E, scene.matrix.nu, std::numbers::pi * r * r / (a * a)};
+}
+
+std::string solver_options_text(const Scene& scene) {
+  const auto& s = scene.solver;
+  std::ostringstream o;
+  o.precision(17);
+  o << "tolerance=" << s.tolerance << "; max_outer_iterations=" << s.max_outer_iterations
+    << "; max_operator_applications=" << s.max_operator_applications << "; rho_factor=" << s.rho_factor
+    << "; rho_growth=" << s.rho_growth << "; rho_patience=" << s.rho_patience << "; Gamma=" << s.Gamma
+    << "; max_debond_rounds=" << s.max_debond_rounds << "; preconditioner=" << to_string(s.preconditioner)
+    << "; fuse_tolerance=" << scene.sweep.fuse_tolerance;
+  return o.str();
 }
 
 Scene load_scene(const std::filesystem::path& file) {

@@ -40,7 +40,7 @@ struct Load {
   std::array<double, 2> body_force{0, 0};  // force per unit area, both materials
 };
 
-struct Sweep {
+struct SweepSettings {
   std::vector<double> directions_deg{0.0, 90.0};
   std::vector<double> magnitudes{-1.0, 1.0};  // signed macro-stress values
   // General load paths besides the uniaxial ones: stress tensors (σxx, σyy, σxy), normalised
@@ -77,12 +77,37 @@ struct Scene {
   Material matrix;
   Interface interface;
   Load load;
-  Sweep sweep;
+  SweepSettings sweep;
   SolverSettings solver;
   // Advice that does not stop a stage (printed as "<stage>: warning: ..."), e.g. locking.
   std::vector<std::string> warnings;
 
   int n_cells() const { return geometry.cells[0] * geometry.cells[1]; }
+};
+
+// What the fit and the exports need of a scene's materials: the constituents and the fibre
+// volume fraction V_f = π r² / a² (out-of-plane constants by the rule of mixtures).
+struct Constituents {
+  double fibre_E = 0, fibre_nu = 0, matrix_E = 0, matrix_nu = 0;
+  double fibre_volume_fraction = 0;
+};
+Constituents constituents(const Scene& scene);
+
+// "tolerance=1e-08; max_outer_iterations=200; ...; fuse_tolerance=0.001": every setting that
+// changes a sweep's numbers, recorded in sweep.h5 and law.h5 and part of the journal's key.
+std::string solver_options_text(const Scene& scene);
+
+// Their attribute names in sweep.h5 (root) and law.h5 (/law).
+struct ConstituentField {
+  const char* attribute;
+  double Constituents::*value;
+};
+inline constexpr ConstituentField constituent_fields[] = {
+    {"fibre_E", &Constituents::fibre_E},
+    {"fibre_nu", &Constituents::fibre_nu},
+    {"matrix_E", &Constituents::matrix_E},
+    {"matrix_nu", &Constituents::matrix_nu},
+    {"fibre_volume_fraction", &Constituents::fibre_volume_fraction},
 };
 
 // Largest mesh a scene may ask for (nodes of all subdomains, dim u = 2 × nodes): 3×3 cells at

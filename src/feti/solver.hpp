@@ -53,9 +53,9 @@ struct Solution {
   Eigen::VectorXd alpha;          // 3 per subdomain
   std::vector<double> normal_force, tangential_force;  // per interface pair (0 where no row)
   BondState bonds;                // after this solve (and its breaks)
-  int newly_broken = 0;           // bonds broken by this solve's debonding loop
-  int debond_rounds = 0;          // QP solves in the debonding loop
-  int n_rows = 0;                 // dim λ of the last QP
+  long newly_broken = 0;          // bonds broken by this solve's debonding loop
+  long debond_rounds = 0;         // QP solves in the debonding loop
+  long n_rows = 0;                // dim λ of the last QP
   qp::Result qp;                  // of the last QP
   long operator_applications = 0; // F applications, all QPs of this solve
   long preconditioner_applications = 0;  // M⁻¹ applications (SolverSettings::preconditioner)

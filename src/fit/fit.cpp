@@ -192,7 +192,7 @@ double along(const Eigen::Vector3d& N, const Eigen::Vector3d& strain) {
   return N(0) * strain(0) + N(1) * strain(1) + 2 * N(2) * strain(2);
 }
 
-law::Law fit_law(const std::vector<sweep::PathResult>& paths, const io::SweepProvenance& provenance) {
+law::Law fit_law(const std::vector<sweep::PathResult>& paths, const io::SweepHeader& header) {
   law::Law law;
   std::vector<double> directions;
   for (const auto& p : paths)
@@ -261,14 +261,9 @@ law::Law fit_law(const std::vector<sweep::PathResult>& paths, const io::SweepPro
     law.cone_wise_linear = law.cone_rank_one_ratio < 0.05;
   }
 
-  law.fibre_E = provenance.fibre_E;
-  law.fibre_nu = provenance.fibre_nu;
-  law.matrix_E = provenance.matrix_E;
-  law.matrix_nu = provenance.matrix_nu;
-  law.fibre_volume_fraction = provenance.fibre_volume_fraction;
-  law.scene_text = provenance.scene_text;
-  law.solver_options = provenance.solver_options;
-  law.code_version = code_version;
+  law.constituents = header.constituents;
+  law.provenance = header.provenance;
+  law.provenance.code_version = code_version;  // the fit's
   return law;
 }
 

@@ -21,7 +21,8 @@
 
 namespace dualcell::fit {
 
-law::Law fit_law(const std::vector<sweep::PathResult>& paths, const io::SweepProvenance& provenance);
+// The law of a sweep; its provenance is the sweep's (the caller adds the sweep file and hash).
+law::Law fit_law(const std::vector<sweep::PathResult>& paths, const io::SweepHeader& header);
 
 // Strain along the unit stress N (tensor shear): N:ε = N_xx ε_xx + N_yy ε_yy + 2 N_xy ε_xy.
 double along(const Eigen::Vector3d& N, const Eigen::Vector3d& strain);

@@ -21,16 +21,16 @@ hsize_t product(const std::vector<hsize_t>& dims) {
   return std::accumulate(dims.begin(), dims.end(), hsize_t{1}, std::multiplies<>());
 }
 
-std::string shape_text(const std::vector<hsize_t>& dims) {
+}  // namespace
+
+std::string shape_text(const Shape& shape) {
   std::string s = "(";
-  for (std::size_t i = 0; i < dims.size(); ++i) {
+  for (std::size_t i = 0; i < shape.size(); ++i) {
     if (i) s += "×";
-    s += std::to_string(dims[i]);
+    s += shape[i] == any_extent ? "n" : std::to_string(shape[i]);
   }
   return s + ")";
 }
-
-}  // namespace
 
 Handle& Handle::operator=(Handle&& o) noexcept {
   if (this != &o) {
@@ -137,10 +137,17 @@ std::vector<hsize_t> File::shape(const std::string& name) const {
 
 namespace {
 
+bool matches(const Shape& found, const Shape& expected) {
+  if (found.size() != expected.size()) return false;
+  for (std::size_t i = 0; i < found.size(); ++i)
+    if (expected[i] != any_extent && expected[i] != found[i]) return false;
+  return true;
+}
+
 template <typename T>
-std::vector<T> read_dataset(const File& file, hid_t fid, const std::string& name, hid_t type,
-                            std::vector<hsize_t>* dims_out, const char* type_name) {
-  const std::vector<hsize_t> dims = file.shape(name);
+std::vector<T> read_dataset(const File& file, hid_t fid, const std::string& name, hid_t type, const Shape& expected,
+                            const std::string& why, Shape* found, const char* type_name) {
+  const Shape dims = file.shape(name);
   Handle set(H5Dopen2(fid, name.c_str(), H5P_DEFAULT), H5Dclose);
   Handle stored(H5Dget_type(set.get()), H5Tclose);
   const H5T_class_t cls = H5Tget_class(stored.get());
@@ -159,21 +166,26 @@ std::vector<T> read_dataset(const File& file, hid_t fid, const std::string& name
   if (overflow || element == 0 || n > storage / element * ratio)
     throw InputError(file.path().string() + ": " + name + ": declares shape " + shape_text(dims) + " but stores " +
                      std::to_string(storage) + " bytes (truncated or corrupt?)");
+  if (!matches(dims, expected))
+    throw InputError(file.path().string() + ": " + name + ": expected shape " + shape_text(expected) + why +
+                     ", found " + shape_text(dims) + " (truncated or corrupt?)");
   std::vector<T> data(n);
   if (!data.empty() && H5Dread(set.get(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()) < 0)
     throw InputError(file.path().string() + ": " + name + ": cannot read dataset (truncated or corrupt?)");
-  if (dims_out) *dims_out = dims;
+  if (found) *found = dims;
   return data;
 }
 
 }  // namespace
 
-std::vector<double> File::read_doubles(const std::string& name, std::vector<hsize_t>* dims) const {
-  return read_dataset<double>(*this, file_.get(), name, H5T_NATIVE_DOUBLE, dims, "floating-point");
+std::vector<double> File::read_doubles(const std::string& name, const Shape& expected, const std::string& why,
+                                       Shape* found) const {
+  return read_dataset<double>(*this, file_.get(), name, H5T_NATIVE_DOUBLE, expected, why, found, "floating-point");
 }
 
-std::vector<std::int64_t> File::read_ints(const std::string& name, std::vector<hsize_t>* dims) const {
-  return read_dataset<std::int64_t>(*this, file_.get(), name, H5T_NATIVE_INT64, dims, "integer");
+std::vector<std::int64_t> File::read_ints(const std::string& name, const Shape& expected, const std::string& why,
+                                          Shape* found) const {
+  return read_dataset<std::int64_t>(*this, file_.get(), name, H5T_NATIVE_INT64, expected, why, found, "integer");
 }
 
 namespace {
@@ -268,17 +280,25 @@ std::vector<T> read_numeric_attribute(const Handle& attr, hid_t type) {
 
 }  // namespace
 
-std::vector<double> File::read_double_attribute(const std::string& object, const std::string& name) const {
+std::vector<double> File::read_double_attribute(const std::string& object, const std::string& name,
+                                                std::size_t count) const {
   Handle attr = open_attribute(object, name);
   auto value = read_numeric_attribute<double>(attr, H5T_NATIVE_DOUBLE);
   if (value.empty()) fail(object, "cannot read numeric attribute " + name);
+  if (count > 0 && value.size() != count)
+    fail(object, "attribute " + name + ": expected " + std::to_string(count) + (count == 1 ? " value" : " values") +
+                     ", found " + std::to_string(value.size()));
   return value;
 }
 
-std::vector<std::int64_t> File::read_int_attribute(const std::string& object, const std::string& name) const {
+std::vector<std::int64_t> File::read_int_attribute(const std::string& object, const std::string& name,
+                                                   std::size_t count) const {
   Handle attr = open_attribute(object, name);
   auto value = read_numeric_attribute<std::int64_t>(attr, H5T_NATIVE_INT64);
   if (value.empty()) fail(object, "cannot read integer attribute " + name);
+  if (count > 0 && value.size() != count)
+    fail(object, "attribute " + name + ": expected " + std::to_string(count) + (count == 1 ? " value" : " values") +
+                     ", found " + std::to_string(value.size()));
   return value;
 }
 

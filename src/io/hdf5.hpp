@@ -1,8 +1,9 @@
 #pragma once
 // A thin RAII layer over the HDF5 C API: one handle type that closes what it owns, and a File
 // with the few typed reads and writes the stages need. Datasets are row-major (C order), as
-// h5dump and every HDF5 reader expect. Reading a missing or mis-shaped object is an
-// InputError naming the file, the object and what was expected.
+// h5dump and every HDF5 reader expect. Every read states the shape it expects; a missing or
+// mis-shaped object is an InputError naming the file, the object, the shape expected and the
+// shape found, so that no format reader checks shapes by hand.
 #include <cstdint>
 #include <filesystem>
 #include <string>
@@ -30,6 +31,11 @@ class Handle {
   herr_t (*close_)(hid_t) = nullptr;
 };
 
+// A dataset shape: extents, row-major; any_extent matches every length (e.g. {any_extent, 3}).
+using Shape = std::vector<hsize_t>;
+inline constexpr hsize_t any_extent = ~hsize_t{0};
+std::string shape_text(const Shape& shape);  // "(4×3)", "(n×3)" for any_extent
+
 class File {
  public:
   static File create(const std::filesystem::path& path);  // truncates
@@ -44,9 +50,13 @@ class File {
   // Datasets: `dims` is the shape (1 or 2 entries); data is row-major.
   void write(const std::string& name, const std::vector<double>& data, const std::vector<hsize_t>& dims);
   void write(const std::string& name, const std::vector<std::int64_t>& data, const std::vector<hsize_t>& dims);
-  std::vector<double> read_doubles(const std::string& name, std::vector<hsize_t>* dims = nullptr) const;
-  std::vector<std::int64_t> read_ints(const std::string& name, std::vector<hsize_t>* dims = nullptr) const;
-  std::vector<hsize_t> shape(const std::string& name) const;
+  // The whole dataset, checked against `expected` ("<file>: <name>: expected shape (n×3)<why>,
+  // found (4×2) (truncated or corrupt?)"); `found`, when given, receives the actual shape.
+  std::vector<double> read_doubles(const std::string& name, const Shape& expected, const std::string& why = "",
+                                   Shape* found = nullptr) const;
+  std::vector<std::int64_t> read_ints(const std::string& name, const Shape& expected, const std::string& why = "",
+                                      Shape* found = nullptr) const;
+  Shape shape(const std::string& name) const;
 
   // Attributes on an existing object ("/" for the root).
   void write_attribute(const std::string& object, const std::string& name, const std::string& value);
@@ -56,8 +66,18 @@ class File {
   void write_attribute(const std::string& object, const std::string& name, const std::vector<std::int64_t>& value);
   bool has_attribute(const std::string& object, const std::string& name) const;
   std::string read_string_attribute(const std::string& object, const std::string& name) const;
-  std::vector<double> read_double_attribute(const std::string& object, const std::string& name) const;
-  std::vector<std::int64_t> read_int_attribute(const std::string& object, const std::string& name) const;
+  // Numeric attributes of exactly `count` values (0: one or more), else an InputError
+  // "<file>: <object>: attribute <name>: expected 3 values, found 2".
+  std::vector<double> read_double_attribute(const std::string& object, const std::string& name,
+                                            std::size_t count = 0) const;
+  std::vector<std::int64_t> read_int_attribute(const std::string& object, const std::string& name,
+                                               std::size_t count = 0) const;
+  double read_double_attribute_value(const std::string& object, const std::string& name) const {
+    return read_double_attribute(object, name, 1)[0];
+  }
+  std::int64_t read_int_attribute_value(const std::string& object, const std::string& name) const {
+    return read_int_attribute(object, name, 1)[0];
+  }
 
   void flush();
 

@@ -1,4 +1,3 @@
-#include "core/version.hpp"
 #include "io/mesh_file.hpp"
 
 #include <charconv>
@@ -8,6 +7,7 @@
 #include "core/error.hpp"
 #include "io/atomic_output.hpp"
 #include "io/hdf5.hpp"
+#include "io/provenance.hpp"
 #include "io/xdmf.hpp"
 
 namespace dualcell::io {
@@ -33,13 +33,12 @@ std::vector<double> flatten(const std::vector<Eigen::Vector2d>& points) {
   return flat;
 }
 
+// Rows of N node (or range) indices, each in [0, max_index).
 template <std::size_t N>
-std::vector<std::array<int, N>> rows_of(const File& f, const std::string& name, std::int64_t max_index) {
-  std::vector<hsize_t> dims;
-  const auto flat = f.read_ints(name, &dims);
-  if (dims.size() != 2 || dims[1] != N)
-    throw InputError(f.path().string() + ": " + name + ": expected shape (n×" + std::to_string(N) + ")");
-  std::vector<std::array<int, N>> rows(dims[0]);
+std::vector<std::array<int, N>> rows_of(const File& f, const std::string& name, std::int64_t max_index,
+                                        hsize_t n_rows = any_extent) {
+  const auto flat = f.read_ints(name, {n_rows, N});
+  std::vector<std::array<int, N>> rows(flat.size() / N);
   for (std::size_t i = 0; i < flat.size(); ++i) {
     if (flat[i] < 0 || flat[i] >= max_index)
       throw InputError(f.path().string() + ": " + name + ": node index " + std::to_string(flat[i]) +
@@ -47,14 +46,6 @@ std::vector<std::array<int, N>> rows_of(const File& f, const std::string& name, 
     rows[i / N][i % N] = static_cast<int>(flat[i]);
   }
   return rows;
-}
-
-std::vector<std::int64_t> vector_of(const File& f, const std::string& name, std::size_t n) {
-  std::vector<hsize_t> dims;
-  auto v = f.read_ints(name, &dims);
-  if (dims.size() != 1 || dims[0] != n)
-    throw InputError(f.path().string() + ": " + name + ": expected " + std::to_string(n) + " entries");
-  return v;
 }
 
 // What the solver relies on, so that a corrupt or edited file is refused instead of indexing out
@@ -171,11 +162,11 @@ void write_mesh(const mesh::Mesh& mesh, const Scene& scene, const std::filesyste
     f.write_attribute("/mesh", "fibre_radius", g.fibre_radius);
     f.write_attribute("/mesh", "fibre_offset", std::vector<double>{g.fibre_offset[0], g.fibre_offset[1]});
     f.write_attribute("/mesh", "degree", std::int64_t{g.degree});
-    f.write_attribute("/", "format", std::string("dualcell mesh 1"));
-    f.write_attribute("/", "code_version", std::string(code_version));
-    f.write_attribute("/", "scene", scene.text);
-    f.write_attribute("/", "scene_file", scene.file.string());
-    if (!scene.material_text.empty()) f.write_attribute("/", "material", scene.material_text);
+    Provenance provenance;
+    provenance.scene_text = scene.text;
+    provenance.scene_file = scene.file.string();
+    provenance.material_text = scene.material_text;
+    write_provenance(f, mesh_format, provenance);
   }
   XdmfGrid grid;
   grid.nodes_dataset = "/mesh/nodes";
@@ -191,39 +182,32 @@ void write_mesh(const mesh::Mesh& mesh, const Scene& scene, const std::filesyste
 MeshFile read_mesh(const std::filesystem::path& h5) {
   File f = File::open_read(h5);
   const std::string where = h5.string() + ": ";
-  if (!f.has_attribute("/", "format") || f.read_string_attribute("/", "format") != "dualcell mesh 1")
-    throw InputError(where + "not a dualcell mesh file (root attribute format != \"dualcell mesh 1\")");
+  check_format(f, mesh_format);
   MeshFile out;
   mesh::Mesh& m = out.mesh;
-  const auto cells = f.read_int_attribute("/mesh", "cells");
-  const auto offset = f.read_double_attribute("/mesh", "fibre_offset");
-  if (cells.size() != 2 || offset.size() != 2) throw InputError(where + "/mesh: attributes cells and fibre_offset need 2 entries");
+  const auto cells = f.read_int_attribute("/mesh", "cells", 2);
+  const auto offset = f.read_double_attribute("/mesh", "fibre_offset", 2);
   m.geometry.cells = {static_cast<int>(cells[0]), static_cast<int>(cells[1])};
-  m.geometry.cell_size = f.read_double_attribute("/mesh", "cell_size").at(0);
-  m.geometry.fibre_radius = f.read_double_attribute("/mesh", "fibre_radius").at(0);
+  m.geometry.cell_size = f.read_double_attribute_value("/mesh", "cell_size");
+  m.geometry.fibre_radius = f.read_double_attribute_value("/mesh", "fibre_radius");
   m.geometry.fibre_offset = {offset[0], offset[1]};
-  m.geometry.degree = static_cast<int>(f.read_int_attribute("/mesh", "degree").at(0));
+  m.geometry.degree = static_cast<int>(f.read_int_attribute_value("/mesh", "degree"));
   out.scene_text = f.read_string_attribute("/", "scene");
 
-  std::vector<hsize_t> dims;
-  const auto nodes = f.read_doubles("/mesh/nodes", &dims);
-  if (dims.size() != 2 || dims[1] != 2) throw InputError(where + "/mesh/nodes: expected shape (N×2)");
-  const std::int64_t N = dims[0];
+  const auto nodes = f.read_doubles("/mesh/nodes", {any_extent, 2});
+  const std::int64_t N = static_cast<std::int64_t>(nodes.size() / 2);
   for (double x : nodes)
     if (!std::isfinite(x)) throw InputError(where + "/mesh/nodes: non-finite coordinate");
   m.nodes.resize(N);
   for (std::int64_t i = 0; i < N; ++i) m.nodes[i] = {nodes[2 * i], nodes[2 * i + 1]};
   m.triangles = rows_of<3>(f, "/mesh/triangles", N);
   const std::size_t T = m.triangles.size();
-  const auto tri_sub = vector_of(f, "/mesh/triangle_subdomain", T);
-  const auto subdomain_dims = f.shape("/mesh/subdomain_is_fibre");
-  if (subdomain_dims.size() != 1) throw InputError(where + "/mesh/subdomain_is_fibre: expected shape (S)");
-  const auto S = subdomain_dims[0];
-  const auto is_fibre = vector_of(f, "/mesh/subdomain_is_fibre", S);
-  const auto cell = vector_of(f, "/mesh/subdomain_cell", S);
-  const auto node_range = rows_of<2>(f, "/mesh/subdomain_nodes", N + 1);
-  const auto tri_range = rows_of<2>(f, "/mesh/subdomain_triangles", static_cast<std::int64_t>(T) + 1);
-  if (node_range.size() != S || tri_range.size() != S) throw InputError(where + "/mesh/subdomain_*: inconsistent counts");
+  const auto tri_sub = f.read_ints("/mesh/triangle_subdomain", {T}, " like /mesh/triangles");
+  const auto is_fibre = f.read_ints("/mesh/subdomain_is_fibre", {any_extent});
+  const hsize_t S = is_fibre.size();
+  const auto cell = f.read_ints("/mesh/subdomain_cell", {S}, " like /mesh/subdomain_is_fibre");
+  const auto node_range = rows_of<2>(f, "/mesh/subdomain_nodes", N + 1, S);
+  const auto tri_range = rows_of<2>(f, "/mesh/subdomain_triangles", static_cast<std::int64_t>(T) + 1, S);
   int next_node = 0, next_tri = 0;
   for (std::size_t s = 0; s < S; ++s) {
     mesh::Subdomain sub{is_fibre[s] != 0, static_cast<int>(cell[s]), node_range[s][0], node_range[s][1],
@@ -241,12 +225,10 @@ MeshFile read_mesh(const std::filesystem::path& h5) {
     if (tri_sub[t] < 0 || tri_sub[t] >= static_cast<std::int64_t>(S)) throw InputError(where + "/mesh/triangle_subdomain: index out of range");
     m.triangle_subdomain.push_back(static_cast<int>(tri_sub[t]));
   }
-  std::vector<hsize_t> cdims;
-  const auto centres = f.read_doubles("/mesh/fibre_centres", &cdims);
-  if (cdims.size() != 2 || cdims[1] != 2) throw InputError(where + "/mesh/fibre_centres: expected shape (C×2)");
-  for (std::size_t c = 0; c < cdims[0]; ++c) m.fibre_centres.emplace_back(centres[2 * c], centres[2 * c + 1]);
+  const auto centres = f.read_doubles("/mesh/fibre_centres", {any_extent, 2});
+  for (std::size_t c = 0; c < centres.size() / 2; ++c) m.fibre_centres.emplace_back(centres[2 * c], centres[2 * c + 1]);
   m.interface_pairs = rows_of<2>(f, "/mesh/interface_pairs", N);
-  for (auto c : vector_of(f, "/mesh/interface_cell", m.interface_pairs.size())) {
+  for (auto c : f.read_ints("/mesh/interface_cell", {m.interface_pairs.size()}, " like /mesh/interface_pairs")) {
     if (c < 0 || c >= static_cast<std::int64_t>(m.fibre_centres.size())) throw InputError(where + "/mesh/interface_cell: index out of range");
     m.interface_cell.push_back(static_cast<int>(c));
   }

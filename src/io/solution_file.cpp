@@ -1,10 +1,10 @@
-#include "core/version.hpp"
 #include "io/solution_file.hpp"
 
 #include "core/error.hpp"
 #include "fem/assembly.hpp"
 #include "io/atomic_output.hpp"
 #include "io/hdf5.hpp"
+#include "io/provenance.hpp"
 #include "io/xdmf.hpp"
 
 namespace dualcell::io {
@@ -16,7 +16,7 @@ std::vector<double> to_vector(const Eigen::VectorXd& v) { return {v.data(), v.da
 }  // namespace
 
 void write_solution(const std::filesystem::path& h5, const mesh::Mesh& mesh, const Scene& scene,
-                    const feti::Solution& s, const SolutionProvenance& provenance) {
+                    const feti::Solution& s, const Provenance& provenance) {
   std::filesystem::path xdmf = h5;
   xdmf.replace_extension(".xdmf");
   AtomicOutputs outputs;
@@ -75,41 +75,17 @@ void write_solution(const std::filesystem::path& h5, const mesh::Mesh& mesh, con
     f.write_attribute("/solver", "message", s.qp.message);
     f.write_attribute("/solver", "primal_ok", std::int64_t{s.primal_ok});
     f.write_attribute("/solver", "primal_message", s.primal_message);
-    f.write_attribute("/solver", "outer_iterations", std::int64_t{s.outer_iterations});
-    f.write_attribute("/solver", "operator_applications", std::int64_t{s.operator_applications});
-    f.write_attribute("/solver", "cg_steps", std::int64_t{s.cg_steps});
-    f.write_attribute("/solver", "expansion_steps", std::int64_t{s.expansion_steps});
-    f.write_attribute("/solver", "proportioning_steps", std::int64_t{s.proportioning_steps});
-    f.write_attribute("/solver", "debond_rounds", std::int64_t{s.debond_rounds});
-    f.write_attribute("/solver", "newly_broken", std::int64_t{s.newly_broken});
+    for (const auto& field : solver_count_fields) f.write_attribute("/solver", field.attribute, std::int64_t{s.*field.count});
     f.write_attribute("/solver", "dim_u", std::int64_t{mesh.dim_u()});
-    f.write_attribute("/solver", "dim_lambda", std::int64_t{s.n_rows});
-    f.write_attribute("/solver", "seconds_assembly", s.seconds.assembly);
-    f.write_attribute("/solver", "seconds_factorisation", s.seconds.factorisation);
-    f.write_attribute("/solver", "seconds_dual_setup", s.seconds.dual_setup);
-    f.write_attribute("/solver", "seconds_qp", s.seconds.qp);
-    f.write_attribute("/solver", "seconds_recovery", s.seconds.recovery);
-    f.write_attribute("/solver", "seconds_qp_F", s.seconds.qp_F);
-    f.write_attribute("/solver", "seconds_qp_Q", s.seconds.qp_Q);
-    f.write_attribute("/solver", "seconds_qp_preconditioner", s.seconds.qp_preconditioner);
+    for (const auto& field : solver_seconds_fields) f.write_attribute("/solver", field.attribute, s.seconds.*field.seconds);
     f.write_attribute("/solver", "preconditioner", std::string(to_string(scene.solver.preconditioner)));
-    f.write_attribute("/solver", "preconditioner_applications", std::int64_t{s.preconditioner_applications});
     f.write_attribute("/solver", "tolerance", scene.solver.tolerance);
     f.create_group("/kkt");
-    const feti::KktReport& k = s.kkt;
-    f.write_attribute("/kkt", "relative_projected_gradient", k.relative_projected_gradient);
-    f.write_attribute("/kkt", "relative_equality_residual", k.relative_equality_residual);
-    f.write_attribute("/kkt", "bound_violation", k.bound_violation);
-    f.write_attribute("/kkt", "complementarity", k.complementarity);
-    f.write_attribute("/kkt", "max_penetration", k.max_penetration);
-    f.write_attribute("/kkt", "max_glue_jump", k.max_glue_jump);
-    f.write_attribute("/kkt", "relative_equilibrium", k.relative_equilibrium);
+    for (const auto& field : kkt_fields) f.write_attribute("/kkt", field.attribute, s.kkt.*field.value);
 
-    f.write_attribute("/", "format", std::string("dualcell solution 1"));
-    f.write_attribute("/", "code_version", std::string(code_version));
-    f.write_attribute("/", "scene", scene.text);
-    f.write_attribute("/", "mesh_file", provenance.mesh_file);
-    f.write_attribute("/", "mesh_hash", provenance.mesh_hash);
+    Provenance p = provenance;
+    p.scene_text = scene.text;
+    write_provenance(f, solution_format, p);
   }
   const std::string name = h5.filename().string();
   XdmfGrid deformed;
@@ -127,16 +103,12 @@ void write_solution(const std::filesystem::path& h5, const mesh::Mesh& mesh, con
 
 feti::BondState read_bonds(const std::filesystem::path& h5, const mesh::Mesh& mesh, const std::string& mesh_hash) {
   File f = File::open_read(h5);
-  if (!f.has_attribute("/", "format") || f.read_string_attribute("/", "format") != "dualcell solution 1")
-    throw InputError(h5.string() + ": not a dualcell solution file (root attribute format != \"dualcell solution 1\")");
+  check_format(f, solution_format);
   if (f.read_string_attribute("/", "mesh_hash") != mesh_hash)
     throw InputError(h5.string() + ": its bond state was computed on another mesh (mesh_hash " +
                      f.read_string_attribute("/", "mesh_hash") + ", this mesh " + mesh_hash + ")");
-  std::vector<hsize_t> dims;
-  const auto bonded = f.read_ints("/interface/bonded", &dims);
-  if (dims.size() != 1 || dims[0] != mesh.interface_pairs.size())
-    throw InputError(h5.string() + ": /interface/bonded: " + std::to_string(dims.empty() ? 0 : dims[0]) +
-                     " entries, the mesh has " + std::to_string(mesh.interface_pairs.size()) + " interface pairs");
+  const auto bonded =
+      f.read_ints("/interface/bonded", {mesh.interface_pairs.size()}, " (one per interface pair of the mesh)");
   feti::BondState bonds(bonded.size());
   for (std::size_t p = 0; p < bonded.size(); ++p) {
     if (bonded[p] != 0 && bonded[p] != 1) throw InputError(h5.string() + ": /interface/bonded: entries must be 0 or 1");

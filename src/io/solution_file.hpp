@@ -4,19 +4,64 @@
 #include <filesystem>
 #include <string>
 
+#include "core/provenance.hpp"
 #include "core/scene.hpp"
 #include "feti/solver.hpp"
 #include "mesh/mesh.hpp"
 
 namespace dualcell::io {
 
-struct SolutionProvenance {
-  std::string mesh_file;
-  std::string mesh_hash;
+// The counters of a solve, written as integer attributes of /solver.
+struct SolverCountField {
+  const char* attribute;
+  long feti::Solution::*count;
+};
+inline constexpr SolverCountField solver_count_fields[] = {
+    {"outer_iterations", &feti::Solution::outer_iterations},
+    {"operator_applications", &feti::Solution::operator_applications},
+    {"cg_steps", &feti::Solution::cg_steps},
+    {"expansion_steps", &feti::Solution::expansion_steps},
+    {"proportioning_steps", &feti::Solution::proportioning_steps},
+    {"preconditioner_applications", &feti::Solution::preconditioner_applications},
+    {"debond_rounds", &feti::Solution::debond_rounds},
+    {"newly_broken", &feti::Solution::newly_broken},
+    {"dim_lambda", &feti::Solution::n_rows},
 };
 
+// Seconds per phase, as float attributes of /solver.
+struct SolverSecondsField {
+  const char* attribute;
+  double feti::Timings::*seconds;
+};
+inline constexpr SolverSecondsField solver_seconds_fields[] = {
+    {"seconds_assembly", &feti::Timings::assembly},
+    {"seconds_factorisation", &feti::Timings::factorisation},
+    {"seconds_dual_setup", &feti::Timings::dual_setup},
+    {"seconds_qp", &feti::Timings::qp},
+    {"seconds_recovery", &feti::Timings::recovery},
+    {"seconds_qp_F", &feti::Timings::qp_F},
+    {"seconds_qp_Q", &feti::Timings::qp_Q},
+    {"seconds_qp_preconditioner", &feti::Timings::qp_preconditioner},
+};
+
+// The KKT residuals, as float attributes of /kkt.
+struct KktField {
+  const char* attribute;
+  double feti::KktReport::*value;
+};
+inline constexpr KktField kkt_fields[] = {
+    {"relative_projected_gradient", &feti::KktReport::relative_projected_gradient},
+    {"relative_equality_residual", &feti::KktReport::relative_equality_residual},
+    {"bound_violation", &feti::KktReport::bound_violation},
+    {"complementarity", &feti::KktReport::complementarity},
+    {"max_penetration", &feti::KktReport::max_penetration},
+    {"max_glue_jump", &feti::KktReport::max_glue_jump},
+    {"relative_equilibrium", &feti::KktReport::relative_equilibrium},
+};
+
+// `provenance` names the mesh (mesh_file, mesh_hash); the scene's text is taken from `scene`.
 void write_solution(const std::filesystem::path& h5, const mesh::Mesh& mesh, const Scene& scene,
-                    const feti::Solution& solution, const SolutionProvenance& provenance);
+                    const feti::Solution& solution, const Provenance& provenance);
 
 // The bond state stored in a solution file (/interface/bonded), checked against the mesh: the
 // file must have been solved on the mesh whose hash is `mesh_hash`.

@@ -8,33 +8,66 @@
 #include <string>
 #include <vector>
 
+#include "core/provenance.hpp"
+#include "core/scene.hpp"
 #include "sweep/sweep.hpp"
 
 namespace dualcell::io {
 
-struct SweepProvenance {
-  std::string scene_text, material_text, scene_file;
-  std::string mesh_file, mesh_hash;
-  std::string solver_options;  // "key=value; ..." of [solver] and fuse_tolerance
-  std::string code_version;
-  // Constituents and fibre volume fraction π r²/a², for the fit and the exports.
-  double fibre_E = 0, fibre_nu = 0, matrix_E = 0, matrix_nu = 0, fibre_volume_fraction = 0;
-  // Identifies the inputs of a run: parts with another key are stale and recomputed.
+// The root of sweep.h5 besides its paths: where it came from and what the fit and the exports
+// need of the scene.
+struct SweepHeader {
+  Provenance provenance;      // scene, material, mesh, solver options, code version
+  Constituents constituents;  // root attributes fibre_E, ..., fibre_volume_fraction
+  // Identifies the inputs of a run: journal parts with another key are stale and recomputed.
   std::string key() const;
 };
 
+// One column of /paths/NNN: a member of sweep::Step per row (exactly one member pointer set).
+struct StepColumn {
+  const char* name;
+  double sweep::Step::*real = nullptr;            // float64, n
+  Eigen::Vector3d sweep::Step::*vector = nullptr;  // float64, n×3
+  long sweep::Step::*count = nullptr;             // int64, n
+  bool sweep::Step::*flag = nullptr;              // int64 0/1, n
+};
+inline const StepColumn step_columns[] = {
+    {"load", &sweep::Step::load},
+    {"stress", nullptr, &sweep::Step::stress},
+    {"strain", nullptr, &sweep::Step::strain},
+    {"broken_bonds", nullptr, nullptr, &sweep::Step::broken_bonds},
+    {"outer_iterations", nullptr, nullptr, &sweep::Step::outer_iterations},
+    {"operator_applications", nullptr, nullptr, &sweep::Step::operator_applications},
+    {"converged", nullptr, nullptr, nullptr, &sweep::Step::converged},
+    {"kkt_residual", &sweep::Step::kkt_residual},
+    {"seconds", &sweep::Step::seconds},
+};
+
+// The objects of /paths/NNN/fuse: shape (1) loads and shape (3) strains.
+struct FuseField {
+  const char* name;
+  double sweep::Fuse::*real = nullptr;
+  Eigen::Vector3d sweep::Fuse::*vector = nullptr;
+};
+inline const FuseField fuse_fields[] = {
+    {"onset_load", &sweep::Fuse::onset_load},
+    {"load_before", &sweep::Fuse::load_before},
+    {"load_after", &sweep::Fuse::load_after},
+    {"strain_before", nullptr, &sweep::Fuse::strain_before},
+    {"strain_after", nullptr, &sweep::Fuse::strain_after},
+};
+
 std::filesystem::path parts_folder(const std::filesystem::path& out);
-void write_part(const std::filesystem::path& out, const sweep::PathResult& path, const SweepProvenance& provenance);
+void write_part(const std::filesystem::path& out, const sweep::PathResult& path, const SweepHeader& header);
 // The finished part of path `index`, if present and made from the same inputs.
-std::optional<sweep::PathResult> read_part(const std::filesystem::path& out, int index,
-                                           const SweepProvenance& provenance);
+std::optional<sweep::PathResult> read_part(const std::filesystem::path& out, int index, const SweepHeader& header);
 // Writes the final file atomically and removes the parts.
 void write_sweep(const std::filesystem::path& out, const std::vector<sweep::PathResult>& paths,
-                 const SweepProvenance& provenance);
+                 const SweepHeader& header);
 // Reads every path of a sweep file (for the fit stage and tests); refuses foreign, truncated or
 // incomplete files with one line naming the file and the object.
 std::vector<sweep::PathResult> read_sweep(const std::filesystem::path& file);
 // The root attributes of a sweep file.
-SweepProvenance read_sweep_provenance(const std::filesystem::path& file);
+SweepHeader read_sweep_header(const std::filesystem::path& file);
 
 }  // namespace dualcell::io

@@ -1,4 +1,3 @@
-#include "core/version.hpp"
 #include "law/export.hpp"
 
 #include <cctype>
@@ -10,74 +9,24 @@
 
 #include "core/error.hpp"
 #include "io/atomic_output.hpp"
+#include "io/json.hpp"
+#include "io/law_file.hpp"
+#include "io/provenance.hpp"
 #include "law/fields.hpp"
-#include "law/law_file.hpp"
 
 namespace dualcell::law {
 
 namespace {
 
-using impl::compliance_members;
-using impl::constituent_members;
-using impl::direction_columns;
-using impl::provenance_members;
+using io::json_array;
+using io::json_number;
+using io::json_string;
 
 std::string format_double(const char* format, double value) {
   char text[64];
   std::snprintf(text, sizeof text, format, value);
   return text;
 }
-
-// ---------------------------------------------------------------------------------------------
-// JSON
-
-std::string json_number(double value) { return std::isfinite(value) ? format_double("%.17g", value) : "null"; }
-
-std::string json_string(const std::string& text) {
-  std::string out = "\"";
-  for (const unsigned char c : text) {
-    switch (c) {
-      case '"': out += "\\\""; break;
-      case '\\': out += "\\\\"; break;
-      case '\n': out += "\\n"; break;
-      case '\r': out += "\\r"; break;
-      case '\t': out += "\\t"; break;
-      default:
-        if (c < 0x20) {
-          char escaped[8];
-          std::snprintf(escaped, sizeof escaped, "\\u%04x", c);
-          out += escaped;
-        } else {
-          out += static_cast<char>(c);
-        }
-    }
-  }
-  return out + "\"";
-}
-
-std::string json_array(const std::vector<double>& values) {
-  std::string out = "[";
-  for (std::size_t i = 0; i < values.size(); ++i) out += (i ? ", " : "") + json_number(values[i]);
-  return out + "]";
-}
-
-std::string json_matrix(const Eigen::Matrix3d& m) {
-  std::string out = "[";
-  for (int i = 0; i < 3; ++i) out += (i ? ", " : "") + json_array({m(i, 0), m(i, 1), m(i, 2)});
-  return out + "]";
-}
-
-// Collects "key": value lines and joins them into one object.
-class JsonObject {
- public:
-  void add(const std::string& key, const std::string& json_value) {
-    text_ += (text_.empty() ? "{\n  " : ",\n  ") + json_string(key) + ": " + json_value;
-  }
-  std::string str() const { return text_ + "\n}\n"; }
-
- private:
-  std::string text_;
-};
 
 // ---------------------------------------------------------------------------------------------
 // CSV
@@ -109,12 +58,12 @@ void check_constituents(const Law& law, const std::string& file) {
       throw InputError(where + "attribute " + name + " = " + format_double("%g", value) + ": out of range " + range +
                        " (the constituents give the out-of-plane constants of the 3D material)");
   };
-  need(std::isfinite(law.fibre_E) && law.fibre_E > 0, "fibre_E", law.fibre_E, "> 0");
-  need(std::isfinite(law.matrix_E) && law.matrix_E > 0, "matrix_E", law.matrix_E, "> 0");
-  need(law.fibre_nu > -1 && law.fibre_nu < 0.5, "fibre_nu", law.fibre_nu, "(-1, 0.5)");
-  need(law.matrix_nu > -1 && law.matrix_nu < 0.5, "matrix_nu", law.matrix_nu, "(-1, 0.5)");
-  need(law.fibre_volume_fraction >= 0 && law.fibre_volume_fraction < 1, "fibre_volume_fraction",
-       law.fibre_volume_fraction, "[0, 1)");
+  need(std::isfinite(law.constituents.fibre_E) && law.constituents.fibre_E > 0, "fibre_E", law.constituents.fibre_E, "> 0");
+  need(std::isfinite(law.constituents.matrix_E) && law.constituents.matrix_E > 0, "matrix_E", law.constituents.matrix_E, "> 0");
+  need(law.constituents.fibre_nu > -1 && law.constituents.fibre_nu < 0.5, "fibre_nu", law.constituents.fibre_nu, "(-1, 0.5)");
+  need(law.constituents.matrix_nu > -1 && law.constituents.matrix_nu < 0.5, "matrix_nu", law.constituents.matrix_nu, "(-1, 0.5)");
+  need(law.constituents.fibre_volume_fraction >= 0 && law.constituents.fibre_volume_fraction < 1, "fibre_volume_fraction",
+       law.constituents.fibre_volume_fraction, "[0, 1)");
 }
 
 struct OutOfPlane {
@@ -122,11 +71,11 @@ struct OutOfPlane {
 };
 
 OutOfPlane rule_of_mixtures(const Law& law) {
-  const double Vf = law.fibre_volume_fraction;
-  const double G_f = law.fibre_E / (2 * (1 + law.fibre_nu));
-  const double G_m = law.matrix_E / (2 * (1 + law.matrix_nu));
-  return {Vf * law.fibre_E + (1 - Vf) * law.matrix_E,  // E3 = Vf E_f + (1 − Vf) E_m
-          Vf * law.fibre_nu + (1 - Vf) * law.matrix_nu,  // ν31 = Vf ν_f + (1 − Vf) ν_m
+  const double Vf = law.constituents.fibre_volume_fraction;
+  const double G_f = law.constituents.fibre_E / (2 * (1 + law.constituents.fibre_nu));
+  const double G_m = law.constituents.matrix_E / (2 * (1 + law.constituents.matrix_nu));
+  return {Vf * law.constituents.fibre_E + (1 - Vf) * law.constituents.matrix_E,  // E3 = Vf E_f + (1 − Vf) E_m
+          Vf * law.constituents.fibre_nu + (1 - Vf) * law.constituents.matrix_nu,  // ν31 = Vf ν_f + (1 − Vf) ν_m
           1 / (Vf / G_f + (1 - Vf) / G_m)};              // 1/G = Vf/G_f + (1 − Vf)/G_m
 }
 
@@ -276,13 +225,14 @@ SolidMaterial solid_material(const Eigen::Matrix3d& S_ps_in, const Law& law, con
 }
 
 std::string law_json(const Law& law) {
-  JsonObject o;
-  o.add("format", json_string(impl::format_name));
-  for (const auto& p : provenance_members) o.add(p.name, json_string(law.*p.value));
-  o.add("units", json_string(law.units));
-  o.add("stress_state", json_string(law.stress_state));
-  o.add("shear_convention", json_string(impl::shear_convention));
-  for (const auto& c : constituent_members) o.add(c.name, json_number(law.*c.value));
+  io::JsonObject o;
+  o.add_text("format", io::law_format);
+  for (const auto& field : provenance_fields)
+    if (!(law.provenance.*field.text).empty()) o.add_text(field.attribute, law.provenance.*field.text);
+  o.add_text("units", law.units);
+  o.add_text("stress_state", law.stress_state);
+  o.add_text("shear_convention", shear_convention);
+  for (const auto& field : constituent_fields) o.add(field.attribute, json_number(law.constituents.*field.value));
   for (const auto& c : direction_columns) {
     std::string values = "[";
     for (std::size_t i = 0; i < law.directions.size(); ++i) {
@@ -294,8 +244,8 @@ std::string law_json(const Law& law) {
   for (const auto& m : compliance_members) {
     const ComplianceFit& fit = law.*m.fit;
     const std::string p = m.prefix;
-    o.add(p, json_matrix(fit.S));
-    o.add(p + "_se", json_matrix(fit.S_se));
+    o.add(p, json_array(fit.S));
+    o.add(p + "_se", json_array(fit.S_se));
     o.add(p + "_rank", std::to_string(fit.rank));
     o.add(p + "_relative_residual", json_number(fit.relative_residual));
     o.add(p + "_direction_residual", json_array(fit.direction_residual));
@@ -304,9 +254,9 @@ std::string law_json(const Law& law) {
   }
   o.add("cone_rank_one_ratio", json_number(law.cone_rank_one_ratio));
   o.add("cone_wise_linear", law.cone_wise_linear ? "1" : "0");
-  o.add("cone_normal", json_array({law.cone_normal(0), law.cone_normal(1), law.cone_normal(2)}));
+  o.add("cone_normal", json_array(std::vector<double>{law.cone_normal(0), law.cone_normal(1), law.cone_normal(2)}));
   o.add("cone_beta", json_number(law.cone_beta));
-  return o.str();
+  return o.str() + "\n";
 }
 
 std::string law_csv(const Law& law) {
@@ -330,8 +280,8 @@ std::string law_calculix(const Law& law, const std::string& name, const std::str
   const OutOfPlane z = rule_of_mixtures(law);
   std::string out;
   out += std::string("** dualcell law for CalculiX/Abaqus, written by dualcell-export ") + code_version + "\n";
-  out += "** from " + one_line(source) + " (" + impl::format_name + "; fit by " + one_line(law.code_version) +
-         "; sweep " + one_line(law.sweep_file) + ", hash " + one_line(law.sweep_hash) + ")\n";
+  out += "** from " + one_line(source) + " (" + io::law_format + "; fit by " + one_line(law.provenance.code_version) +
+         "; sweep " + one_line(law.provenance.sweep_file) + ", hash " + one_line(law.provenance.sweep_hash) + ")\n";
   out += "** units: " + one_line(law.units) + "\n";
   out += "** Material axes: 1 = x, 2 = y (the plane of the cells), 3 = z = fibre direction.\n"
          "** " + name + "_TENSION and " + name + "_COMPRESSION are the secant laws fitted to the tension and the\n"
@@ -341,9 +291,9 @@ std::string law_calculix(const Law& law, const std::string& name, const std::str
          "** out of plane by the rule of mixtures:\n"
          "**   E3 = Vf Ef + (1 - Vf) Em, nu31 = nu32 = Vf nuf + (1 - Vf) num  (S13 = S23 = -nu31/E3, S33 = 1/E3),\n"
          "**   1/G13 = 1/G23 = Vf/Gf + (1 - Vf)/Gm, G = E/(2 (1 + nu)),\n";
-  out += "** with Vf = " + format_double("%.6g", law.fibre_volume_fraction) + ", fibre E = " +
-         format_double("%.6g", law.fibre_E) + ", nu = " + format_double("%.6g", law.fibre_nu) + ", matrix E = " +
-         format_double("%.6g", law.matrix_E) + ", nu = " + format_double("%.6g", law.matrix_nu) + ": E3 = " +
+  out += "** with Vf = " + format_double("%.6g", law.constituents.fibre_volume_fraction) + ", fibre E = " +
+         format_double("%.6g", law.constituents.fibre_E) + ", nu = " + format_double("%.6g", law.constituents.fibre_nu) + ", matrix E = " +
+         format_double("%.6g", law.constituents.matrix_E) + ", nu = " + format_double("%.6g", law.constituents.matrix_nu) + ": E3 = " +
          format_double("%.6g", z.E3) + ", nu31 = " + format_double("%.6g", z.nu31) + ", G13 = G23 = " +
          format_double("%.6g", z.G_longitudinal) + "\n";
   out += material_cards(name + "_TENSION", "S_tension", tension, law.tension.S);
@@ -352,7 +302,7 @@ std::string law_calculix(const Law& law, const std::string& name, const std::str
 }
 
 std::string export_law(const ExportOptions& options) {
-  const Law law = read_law(options.law_file);
+  const Law law = io::read_law(options.law_file);
   std::string text;
   switch (options.format) {
     case ExportFormat::json: text = law_json(law); break;

@@ -1,9 +1,10 @@
 #pragma once
-// Internal to src/law: the per-direction columns of a Law, named as in law.h5, so that the
-// file writer, the reader and the JSON/CSV exports walk one list and cannot drift apart.
+// The objects of a Law, named as in law.h5, so that the file writer and reader (io/law_file)
+// and the JSON/CSV exports (law/export) walk one list and cannot drift apart. The constituents
+// and the provenance have their own lists (core/scene.hpp, core/provenance.hpp).
 #include "law/law.hpp"
 
-namespace dualcell::law::impl {
+namespace dualcell::law {
 
 // One column of /law: either a double or an int member of DirectionLaw (the other is null).
 struct DirectionColumn {
@@ -46,39 +47,9 @@ inline constexpr ComplianceMember compliance_members[] = {
     {"S_compression", &Law::compression},
 };
 
-// Constituents, stored as attributes of /law.
-struct ConstituentMember {
-  const char* name;
-  double Law::*value;
-};
-
-inline constexpr ConstituentMember constituent_members[] = {
-    {"fibre_E", &Law::fibre_E},
-    {"fibre_nu", &Law::fibre_nu},
-    {"matrix_E", &Law::matrix_E},
-    {"matrix_nu", &Law::matrix_nu},
-    {"fibre_volume_fraction", &Law::fibre_volume_fraction},
-};
-
-// Provenance, stored as string attributes of the root.
-struct TextMember {
-  const char* name;
-  std::string Law::*value;
-};
-
-inline constexpr TextMember provenance_members[] = {
-    {"scene", &Law::scene_text},
-    {"sweep_file", &Law::sweep_file},
-    {"sweep_hash", &Law::sweep_hash},
-    {"solver_options", &Law::solver_options},
-    {"code_version", &Law::code_version},
-};
-
-inline constexpr const char* format_name = "dualcell law 1";
-
 // Stated in every law.h5 and export, so that a reader never has to guess the shear factor.
 inline constexpr const char* shear_convention =
     "engineering shear (Voigt): (exx, eyy, gxy) = S (sxx, syy, sxy) with gxy = 2 exy; "
     "S is symmetric for an elastic law; index order xx, yy, xy";
 
-}  // namespace dualcell::law::impl
+}  // namespace dualcell::law

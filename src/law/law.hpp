@@ -13,6 +13,9 @@
 
 #include <Eigen/Core>
 
+#include "core/provenance.hpp"
+#include "core/scene.hpp"
+
 namespace dualcell::law {
 
 struct DirectionLaw {
@@ -53,12 +56,11 @@ struct Law {
   Eigen::Vector3d cone_normal = Eigen::Vector3d::Zero();  // c (unit), in engineering-shear strain space
   double cone_beta = 0;               // β
   // Constituents, for the out-of-plane constants of the exports (rule of mixtures).
-  double fibre_E = 0, fibre_nu = 0, matrix_E = 0, matrix_nu = 0;
-  double fibre_volume_fraction = 0;   // π r² / cell_size²
-  // Provenance.
+  Constituents constituents;
   std::string units = "stress and moduli in the units of the input scene; strains dimensionless";
   std::string stress_state = "plane strain";
-  std::string scene_text, sweep_file, sweep_hash, solver_options, code_version;
+  // The sweep's provenance, with the sweep file and its hash, and the fit's code version.
+  Provenance provenance;
 };
 
 }  // namespace dualcell::law

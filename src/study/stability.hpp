@@ -6,6 +6,7 @@
 // directions 0°, 30°, 45°, 90° and the three boundary conditions. Every case must either
 // converge with its KKT residuals below tolerance and its primal check passed, or stop with a
 // diagnostic; a NaN or Inf in a result that claims convergence is a failure.
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -43,5 +44,18 @@ struct StabilityRow {
 // The full matrix (`fast`: a subset of ~100 cases for the test suite).
 std::vector<StabilityCase> stability_cases(bool fast);
 StabilityRow run_stability_case(const StabilityCase& c, double tolerance = 1e-8);
+
+// The whole matrix (or the fast subset) written as a CSV, one row per case, and a Markdown
+// summary per factor value (both atomically); progress on stderr when asked.
+struct StabilityOptions {
+  std::filesystem::path csv, summary;  // summary may be empty
+  bool fast = false;
+  double tolerance = 1e-8;
+  bool progress = false;
+};
+struct StabilityReport {
+  int cases = 0, failed = 0;  // failed: a silent NaN/Inf, or a stop without a diagnostic
+};
+StabilityReport run_stability(const StabilityOptions& options);
 
 }  // namespace dualcell::study

@@ -32,7 +32,7 @@ struct Step {
   double load = 0;
   Eigen::Vector3d stress = Eigen::Vector3d::Zero();
   Eigen::Vector3d strain = Eigen::Vector3d::Zero();  // tensor shear
-  int broken_bonds = 0;                              // broken so far along the path
+  long broken_bonds = 0;                             // broken so far along the path
   long outer_iterations = 0;
   long operator_applications = 0;
   double kkt_residual = 0;  // max of the relative projected gradient, ‖Gλ−e‖ and equilibrium residuals

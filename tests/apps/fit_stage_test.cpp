@@ -6,7 +6,7 @@
 
 #include "io/hdf5.hpp"
 #include "io/sweep_file.hpp"
-#include "law/law_file.hpp"
+#include "io/law_file.hpp"
 #include "test_util.hpp"
 
 namespace dualcell {
@@ -33,7 +33,7 @@ TEST(FitStage, StiffFibresWithoutAdhesionAreBimodular) {
   testing::ScratchDir dir;
   std::string text = testing::scene_text(1, 1, 2, 0.35, "[load]\nboundary = \"periodic\"\n"
                                                         "[sweep]\ndirections_deg = [0, 45, 90]\nmagnitudes = [-0.2, -0.1, 0.1, 0.2]\n");
-  const law::Law law = law::read_law(pipeline(dir, text));
+  const law::Law law = io::read_law(pipeline(dir, text));
   ASSERT_EQ(law.directions.size(), 3u);
   for (const auto& d : law.directions) EXPECT_GT(d.E_compression / d.E_tension, 1.5) << d.direction_deg;
   EXPECT_EQ(law.tension.rank, 6);
@@ -49,7 +49,7 @@ TEST(FitStage, HomogeneousBondedBlockHasEqualModuli) {
       "[geometry]\ncells = [1, 1]\nfibre_radius = 0.3\ndegree = 2\n[fibre]\nE = 3.0\nnu = 0.3\n[matrix]\nE = 3.0\n"
       "nu = 0.3\n[interface]\nnormal_strength = 1e9\ntangential_strength = 1e9\n[load]\nboundary = \"periodic\"\n"
       "[sweep]\ndirections_deg = [0, 45, 90]\nmagnitudes = [-0.2, 0.2]\n[solver]\ntolerance = 1e-10\n";
-  const law::Law law = law::read_law(pipeline(dir, text));
+  const law::Law law = io::read_law(pipeline(dir, text));
   for (const auto& d : law.directions) {
     // QP tolerance 1e-10 → strains to ~1e-9 relative.
     EXPECT_NEAR(d.E_compression / d.E_tension, 1.0, 1e-8) << d.direction_deg;
@@ -63,7 +63,7 @@ TEST(FitStage, FuseStressIsTheSweepsBracket) {
   const std::string text = testing::scene_text(
       1, 1, 1, 0.4, "[interface]\nnormal_strength = 0.05\ntangential_strength = 0.05\n[load]\nboundary = \"traction\"\n"
                     "[sweep]\ndirections_deg = [0]\nmagnitudes = [0.02, 0.05, 0.1, 0.2]\n");
-  const law::Law law = law::read_law(pipeline(dir, text));
+  const law::Law law = io::read_law(pipeline(dir, text));
   const auto paths = io::read_sweep(dir / "sweep.h5");
   ASSERT_TRUE(paths[0].fuse.has_value());
   ASSERT_EQ(law.directions.size(), 1u);
@@ -99,7 +99,7 @@ TEST(FitStage, CorruptTruncatedOrIncompleteSweepsAreRefused) {
       {"cut.h5", "truncated or corrupt"},
       {"text.h5", "not an HDF5 file"},
       {"missing.h5", "/paths/001/strain: missing dataset"},
-      {"short.h5", "/paths/000/seconds: expected 1 rows like /load"},
+      {"short.h5", "/paths/000/seconds: expected shape (1) like /paths/000/load, found (3)"},
       {"foreign.h5", "not a dualcell sweep file"},
       {"absent.h5", "file not found"},
   };

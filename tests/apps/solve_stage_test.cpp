@@ -40,18 +40,18 @@ TEST(SolveStage, WritesTheDocumentedLayout) {
   for (const char* attr : {"relative_projected_gradient", "relative_equality_residual", "bound_violation",
                            "complementarity", "max_penetration", "max_glue_jump", "relative_equilibrium"})
     EXPECT_TRUE(f.has_attribute("/kkt", attr)) << attr;
-  const auto stress = f.read_doubles("/macro/stress");
+  const auto stress = f.read_doubles("/macro/stress", {3});
   EXPECT_EQ(stress, (std::vector<double>{0.2, 0, 0.05}));
   // The bond state written here is the input of the next load: bonds broken at 0.2 stay
   // broken at the lower 0.005, where the intact interface holds.
-  const auto bonded = f.read_ints("/interface/bonded");
+  const auto bonded = f.read_ints("/interface/bonded", {io::any_extent});
   const long broken = std::count(bonded.begin(), bonded.end(), 0);
   EXPECT_GT(broken, 0);
   const auto r2 = run_command(bin("dualcell-solve") + " --quiet --config " + p.scene.string() + " --mesh " +
                               p.mesh.string() + " --stress 0.005,0,0 --bonds " + out.string() + " --out " +
                               (p.dir / "next.h5").string());
   EXPECT_EQ(r2.exit_code, 0) << r2.output;
-  const auto after = io::File::open_read(p.dir / "next.h5").read_ints("/interface/bonded");
+  const auto after = io::File::open_read(p.dir / "next.h5").read_ints("/interface/bonded", {io::any_extent});
   for (std::size_t i = 0; i < bonded.size(); ++i)
     if (!bonded[i]) {
       EXPECT_EQ(after[i], 0) << "bond " << i << " healed";
@@ -59,7 +59,7 @@ TEST(SolveStage, WritesTheDocumentedLayout) {
   const auto r_fresh = run_command(bin("dualcell-solve") + " --quiet --config " + p.scene.string() + " --mesh " +
                                    p.mesh.string() + " --stress 0.005,0,0 --out " + (p.dir / "fresh.h5").string());
   EXPECT_EQ(r_fresh.exit_code, 0) << r_fresh.output;
-  const auto fresh = io::File::open_read(p.dir / "fresh.h5").read_ints("/interface/bonded");
+  const auto fresh = io::File::open_read(p.dir / "fresh.h5").read_ints("/interface/bonded", {io::any_extent});
   EXPECT_EQ(std::count(fresh.begin(), fresh.end(), 0), 0) << "0.005 breaks nothing from the intact state";
   // ParaView's reader path: meshio opens the XDMF with the deformed geometry and its fields.
   const auto py = p.dir.write("read.py",

@@ -569,7 +569,7 @@ def write_h5(bin_dir):
            edited(m, lambda f: f["/mesh/nodes"].__setitem__((4, 0), 1e300)))
     h5case("mesh", "mesh-subdomain-scalar.h5", "input", "/mesh/subdomain_is_fibre", "subdomain flags as a scalar",
            edited(m, lambda f: replace(f, "/mesh/subdomain_is_fibre", np.int64(1))))
-    h5case("mesh", "mesh-cells-attribute-one.h5", "input", "need 2 entries", "attribute cells with one entry",
+    h5case("mesh", "mesh-cells-attribute-one.h5", "input", "attribute cells: expected 2 values, found 1", "attribute cells with one entry",
            edited(m, lambda f: f["/mesh"].attrs.__setitem__("cells", np.array([1], dtype="i8"))))
     h5case("mesh", "mesh-degree-string.h5", "input", "degree", "attribute degree as a string",
            edited(m, lambda f: f["/mesh"].attrs.__setitem__("degree", "one")))
@@ -584,7 +584,7 @@ def write_h5(bin_dir):
            edited(s, lambda f: f.attrs.__setitem__("mesh_hash", "0123456789abcdef")))
     h5case("solution", "solution-bonded-missing.h5", "input", "/interface/bonded: missing dataset",
            "no bond state", edited(s, lambda f: f.__delitem__("/interface/bonded")))
-    h5case("solution", "solution-bonded-short.h5", "input", "/interface/bonded: 7 entries",
+    h5case("solution", "solution-bonded-short.h5", "input", "/interface/bonded: expected shape (8) (one per interface pair of the mesh), found (7)",
            "7 bonds for 8 pairs", edited(s, lambda f: replace(f, "/interface/bonded", np.ones(7, dtype="i8"))))
     h5case("solution", "solution-bonded-2d.h5", "input", "/interface/bonded", "bonds as 8×1",
            edited(s, lambda f: replace(f, "/interface/bonded", np.ones((8, 1), dtype="i8"))))
@@ -626,7 +626,7 @@ def write_h5(bin_dir):
            "no converged flags", edited(w, lambda f: f.__delitem__("/paths/000/converged")))
     h5case("sweep", "sweep-load-huge.h5", "input", "/paths/000/load", "loads declaring 2^40 entries, none stored",
            unallocated(w, "/paths/000/load", (1 << 40,), "f8"))
-    h5case("sweep", "sweep-unit-stress-two.h5", "input", "unit_stress needs 3 entries",
+    h5case("sweep", "sweep-unit-stress-two.h5", "input", "attribute unit_stress: expected 3 values, found 2",
            "unit_stress with 2 entries", edited(w, lambda f: f["/paths/000"].attrs.__setitem__(
                "unit_stress", np.array([1.0, 0.0]))))
     h5case("sweep", "sweep-direction-inf.h5", "input", "direction_deg", "a path whose direction is infinite",

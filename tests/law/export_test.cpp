@@ -12,7 +12,7 @@
 
 #include "core/error.hpp"
 #include "io/hdf5.hpp"
-#include "law/law_file.hpp"
+#include "io/law_file.hpp"
 #include "law/synthetic_law.hpp"
 #include "test_util.hpp"
 
@@ -51,7 +51,7 @@ TEST(Export, SolidMaterialReproducesThePlaneStrainCompliance) {
     EXPECT_LT((m.S * m.C - SolidMaterial::Matrix6d::Identity()).norm(), 1e-12);
   }
   // Out of plane by the rule of mixtures, computed here from the constituents directly.
-  const double Vf = law.fibre_volume_fraction;
+  const double Vf = law.constituents.fibre_volume_fraction;
   const double E3 = Vf * 72 + (1 - Vf) * 3.5, nu31 = Vf * 0.22 + (1 - Vf) * 0.35;
   const double G = 1 / (Vf / (72 / (2 * 1.22)) + (1 - Vf) / (3.5 / (2 * 1.35)));
   const SolidMaterial m = solid_material(law.tension.S, law, "law.h5", "S_tension");
@@ -101,11 +101,11 @@ TEST(Export, InadmissibleLawsAreRefused) {
   S(2, 2) = -S(2, 2);
   EXPECT_NE(refusal(S, law).find("not positive definite"), std::string::npos);
   Law no_constituents = law;
-  no_constituents.fibre_E = 0;
+  no_constituents.constituents.fibre_E = 0;
   EXPECT_NE(refusal(law.tension.S, no_constituents).find("law.h5: /law: attribute fibre_E = 0: out of range > 0"),
             std::string::npos);
   no_constituents = law;
-  no_constituents.fibre_volume_fraction = 1.2;
+  no_constituents.constituents.fibre_volume_fraction = 1.2;
   EXPECT_NE(refusal(law.tension.S, no_constituents).find("fibre_volume_fraction = 1.2"), std::string::npos);
 }
 
@@ -210,7 +210,7 @@ void expect_ccx_reproduces(const testing::ScratchDir& dir, const std::string& ma
 }
 
 Law write_law_and_export(const testing::ScratchDir& dir, const Law& law) {
-  write_law(dir / "law.h5", law);
+  io::write_law(dir / "law.h5", law);
   const auto r = run_command(bin("dualcell-export") + " --law " + (dir / "law.h5").string() +
                              " --format calculix --name GLASS_EPOXY --out " + (dir / "cards.inp").string());
   EXPECT_EQ(r.exit_code, 0) << r.output;
@@ -259,7 +259,7 @@ std::string export_command(const testing::ScratchDir& dir, const std::string& la
 TEST(Export, JsonIsReadByPythonWithEveryObject) {
   testing::ScratchDir dir;
   const Law law = testing::synthetic_law();
-  write_law(dir / "law.h5", law);
+  io::write_law(dir / "law.h5", law);
   const auto r = run_command(export_command(dir, "law.h5", "json", "law.json"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   // Debian's python3, as the issue asks: strict JSON (no NaN literal) that json.load accepts.
@@ -291,7 +291,7 @@ TEST(Export, JsonIsReadByPythonWithEveryObject) {
 
 TEST(Export, CsvHasAHeaderAndOneRowPerDirection) {
   testing::ScratchDir dir;
-  write_law(dir / "law.h5", testing::synthetic_law());
+  io::write_law(dir / "law.h5", testing::synthetic_law());
   const auto r = run_command(export_command(dir, "law.h5", "csv", "law.csv"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   std::ifstream in(dir / "law.csv");
@@ -326,7 +326,7 @@ void expect_refused(const testing::ScratchDir& dir, const std::string& law_file,
 TEST(Export, BadLawFilesAreRefusedWithOneLineAndNoOutput) {
   testing::ScratchDir dir;
   Law law = testing::synthetic_law();
-  write_law(dir / "law.h5", law);
+  io::write_law(dir / "law.h5", law);
   std::filesystem::copy_file(dir / "law.h5", dir / "cut.h5");
   std::filesystem::resize_file(dir / "cut.h5", std::filesystem::file_size(dir / "law.h5") / 2);
   dir.write("text.h5", "not hdf5");
@@ -341,12 +341,12 @@ TEST(Export, BadLawFilesAreRefusedWithOneLineAndNoOutput) {
   }
   // Readable, but no admissible 3D material: CalculiX only.
   law.compression.S(2, 2) = std::numeric_limits<double>::quiet_NaN();
-  write_law(dir / "shear-unknown.h5", law);
+  io::write_law(dir / "shear-unknown.h5", law);
   expect_refused(dir, "shear-unknown.h5", "calculix", "/law/S_compression: entry (xy,xy) is nan");
   EXPECT_EQ(run_command(export_command(dir, "shear-unknown.h5", "json", "law.json")).exit_code, 0);
   law = testing::synthetic_law();
   law.tension.S = testing::plane_strain_compliance(6.0, 8.0, 1.5, 2.5);
-  write_law(dir / "indefinite.h5", law);
+  io::write_law(dir / "indefinite.h5", law);
   expect_refused(dir, "indefinite.h5", "calculix", "/law/S_tension: not positive definite");
   expect_refused(dir, "law.h5", "calculix", "--name 1ABC: expected a letter", " --name 1ABC");
   // A folder that does not exist.
@@ -362,7 +362,7 @@ TEST(Export, HelpAndCommandLineErrors) {
   for (const char* text : {"--law", "--format", "--out", "--name", "json", "csv", "calculix", "DUALCELL"})
     EXPECT_NE(help.output.find(text), std::string::npos) << text << "\n" << help.output;
   testing::ScratchDir dir;
-  write_law(dir / "law.h5", testing::synthetic_law());
+  io::write_law(dir / "law.h5", testing::synthetic_law());
   const auto r = run_command(export_command(dir, "law.h5", "xml", "law.xml"));
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.output.find("xml"), std::string::npos) << r.output;

@@ -70,17 +70,17 @@ inline law::Law synthetic_law() {
   law.cone_normal = Eigen::Vector3d(0.8, 0.6, 0.0);
   law.cone_beta = 2.75;
   // Glass/epoxy (materials/glass-epoxy.toml), fibre radius 0.3 in a unit cell: Vf = π 0.3².
-  law.fibre_E = 72;
-  law.fibre_nu = 0.22;
-  law.matrix_E = 3.5;
-  law.matrix_nu = 0.35;
-  law.fibre_volume_fraction = std::numbers::pi * 0.09;
+  law.constituents.fibre_E = 72;
+  law.constituents.fibre_nu = 0.22;
+  law.constituents.matrix_E = 3.5;
+  law.constituents.matrix_nu = 0.35;
+  law.constituents.fibre_volume_fraction = std::numbers::pi * 0.09;
   law.units = "GPa (the scene's units); strains dimensionless";
-  law.scene_text = "[geometry]\nfibre_radius = 0.3\n# a \"quoted\" comment\twith a tab\n";
-  law.sweep_file = "sweep.h5";
-  law.sweep_hash = "0123456789abcdef";
-  law.solver_options = "tolerance=1e-08; max_outer_iterations=200";
-  law.code_version = "0.1.0+test";
+  law.provenance.scene_text = "[geometry]\nfibre_radius = 0.3\n# a \"quoted\" comment\twith a tab\n";
+  law.provenance.sweep_file = "sweep.h5";
+  law.provenance.sweep_hash = "0123456789abcdef";
+  law.provenance.solver_options = "tolerance=1e-08; max_outer_iterations=200";
+  law.provenance.code_version = "0.1.0+test";
   return law;
 }
 

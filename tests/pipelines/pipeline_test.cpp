@@ -2,7 +2,7 @@
 // exports → pictures, the law file checked, and a second make with nothing to do.
 #include <gtest/gtest.h>
 
-#include "law/law_file.hpp"
+#include "io/law_file.hpp"
 #include "test_util.hpp"
 
 namespace dualcell {
@@ -27,7 +27,7 @@ TEST(Pipeline, TinySceneEndToEndThenNothingToDo) {
                            "stress_strain.png", "stress_strain.svg", "polar.png", "polar.svg", "deformed.png",
                            "deformed.svg", "index.txt", "exports.done"})
     EXPECT_TRUE(std::filesystem::exists(out / file)) << file;
-  const law::Law law = law::read_law(out / "law.h5");
+  const law::Law law = io::read_law(out / "law.h5");
   ASSERT_EQ(law.directions.size(), 3u);
   for (const auto& d : law.directions) EXPECT_GT(d.E_compression / d.E_tension, 1.5) << d.direction_deg;
   EXPECT_EQ(law.tension.rank, 6);

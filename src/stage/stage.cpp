@@ -1,4 +1,4 @@
-#include "core/stage.hpp"
+#include "stage/stage.hpp"
 
 #include <cstdio>
 #include <exception>
@@ -6,6 +6,8 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "io/hash.hpp"
+#include "io/mesh_file.hpp"
 
 namespace dualcell {
 
@@ -57,5 +59,26 @@ int run_stage(const char* stage, const std::function<void()>& body) {
     return exit_internal_error;
   }
 }
+
+namespace stage {
+
+void print_warnings(const char* stage, const Scene& scene) {
+  for (const auto& w : scene.warnings) std::fprintf(stderr, "%s: warning: %s\n", stage, w.c_str());
+}
+
+SceneAndMesh load_scene_and_mesh(const char* stage, const std::string& scene_file, const std::string& mesh_file) {
+  SceneAndMesh in;
+  in.scene = load_scene(scene_file);
+  print_warnings(stage, in.scene);
+  in.mesh = io::read_mesh(mesh_file).mesh;
+  const std::string mismatch = io::geometry_mismatch(in.mesh, in.scene);
+  if (!mismatch.empty())
+    throw InputError(mesh_file + ": made from a different scene than " + scene_file + ": " + mismatch);
+  in.mesh_file = mesh_file;
+  in.mesh_hash = io::file_hash(mesh_file);
+  return in;
+}
+
+}  // namespace stage
 
 }  // namespace dualcell

@@ -1,4 +1,4 @@
-#include "law/law_file.hpp"
+#include "io/law_file.hpp"
 
 #include <cmath>
 #include <limits>
@@ -7,16 +7,17 @@
 #include "core/error.hpp"
 #include "io/atomic_output.hpp"
 #include "io/hdf5.hpp"
+#include "io/provenance.hpp"
 #include "law/fields.hpp"
 
-namespace dualcell::law {
+namespace dualcell::io {
 
 namespace {
 
-using impl::compliance_members;
-using impl::constituent_members;
-using impl::direction_columns;
-using impl::provenance_members;
+using law::ComplianceFit;
+using law::compliance_members;
+using law::direction_columns;
+using law::Law;
 
 const std::string group = "/law";
 
@@ -29,15 +30,15 @@ std::vector<double> row_major(const Eigen::Matrix3d& m) {
   return v;
 }
 
-void write_scalar(io::File& f, const std::string& name, double value) {
+void write_scalar(File& f, const std::string& name, double value) {
   f.write(object(name), std::vector<double>{value}, {1});
 }
 
-void write_count(io::File& f, const std::string& name, std::int64_t value) {
+void write_count(File& f, const std::string& name, std::int64_t value) {
   f.write(object(name), std::vector<std::int64_t>{value}, {1});
 }
 
-void write_compliance(io::File& f, const std::string& prefix, const ComplianceFit& fit) {
+void write_compliance(File& f, const std::string& prefix, const ComplianceFit& fit) {
   f.write(object(prefix), row_major(fit.S), {3, 3});
   f.write(object(prefix + "_se"), row_major(fit.S_se), {3, 3});
   write_count(f, prefix + "_rank", fit.rank);
@@ -47,43 +48,21 @@ void write_compliance(io::File& f, const std::string& prefix, const ComplianceFi
   write_count(f, prefix + "_n_points", fit.n_points);
 }
 
-// Reads /law/<name> and checks its shape; every refusal names the file and the object.
+// Reads /law/<name> with the shape-checked reads of File; refusals name the file and the object.
 class Reader {
  public:
-  explicit Reader(const io::File& f) : f_(f) {}
+  explicit Reader(const File& f) : f_(f) {}
 
   [[noreturn]] void fail(const std::string& name, const std::string& what) const {
     throw InputError(f_.path().string() + ": " + name + ": " + what);
   }
 
-  static std::string shape_text(const std::vector<hsize_t>& dims) {
-    std::string s = "(";
-    for (std::size_t i = 0; i < dims.size(); ++i) s += (i ? "×" : "") + std::to_string(dims[i]);
-    return s + ")";
+  std::vector<double> doubles(const std::string& name, const Shape& shape, const char* why = "") const {
+    return f_.read_doubles(object(name), shape, why);
   }
-
-  void check_shape(const std::string& name, const std::vector<hsize_t>& dims, const std::vector<hsize_t>& want,
-                   const char* why = "") const {
-    if (dims != want)
-      fail(object(name), "expected shape " + shape_text(want) + why + ", found " + shape_text(dims) +
-                             " (truncated or corrupt?)");
+  std::vector<std::int64_t> ints(const std::string& name, const Shape& shape, const char* why = "") const {
+    return f_.read_ints(object(name), shape, why);
   }
-
-  std::vector<double> doubles(const std::string& name, const std::vector<hsize_t>& want, const char* why = "") const {
-    std::vector<hsize_t> dims;
-    auto v = f_.read_doubles(object(name), &dims);
-    check_shape(name, dims, want, why);
-    return v;
-  }
-
-  std::vector<std::int64_t> ints(const std::string& name, const std::vector<hsize_t>& want,
-                                 const char* why = "") const {
-    std::vector<hsize_t> dims;
-    auto v = f_.read_ints(object(name), &dims);
-    check_shape(name, dims, want, why);
-    return v;
-  }
-
   double scalar(const std::string& name) const { return doubles(name, {1})[0]; }
 
   int count(const std::string& name, std::int64_t lo, std::int64_t hi) const {
@@ -102,18 +81,8 @@ class Reader {
     return m;
   }
 
-  std::string text(const std::string& where, const std::string& name) const {
-    return f_.read_string_attribute(where, name);
-  }
-
-  double attribute(const std::string& where, const std::string& name) const {
-    const auto v = f_.read_double_attribute(where, name);
-    if (v.size() != 1) fail(where, "attribute " + name + ": expected one number, found " + std::to_string(v.size()));
-    return v[0];
-  }
-
  private:
-  const io::File& f_;
+  const File& f_;
 };
 
 ComplianceFit read_compliance(const Reader& r, const std::string& prefix, hsize_t n_directions) {
@@ -163,29 +132,23 @@ void write_law(const std::filesystem::path& file, const Law& law) {
     write_scalar(f, "cone_beta", law.cone_beta);
     f.write_attribute(group, "units", law.units);
     f.write_attribute(group, "stress_state", law.stress_state);
-    f.write_attribute(group, "shear_convention", std::string(impl::shear_convention));
-    for (const auto& c : constituent_members) f.write_attribute(group, c.name, law.*c.value);
-    f.write_attribute("/", "format", std::string(impl::format_name));
-    for (const auto& p : provenance_members) f.write_attribute("/", p.name, law.*p.value);
+    f.write_attribute(group, "shear_convention", std::string(law::shear_convention));
+    write_constituents(f, group, law.constituents);
+    write_provenance(f, law_format, law.provenance);
   }
   outputs.commit();
 }
 
 Law read_law(const std::filesystem::path& file) {
-  const io::File f = io::File::open_read(file);
+  const File f = File::open_read(file);
   const Reader r(f);
-  if (!f.has_attribute("/", "format")) r.fail("/", "no attribute format: not a dualcell law file");
-  const std::string format = r.text("/", "format");
-  if (format != impl::format_name)
-    r.fail("/", "attribute format is '" + format + "', expected '" + impl::format_name + "'");
+  check_format(f, law_format);
   if (!f.exists(group)) r.fail(group, "missing group");
 
   Law law;
-  std::vector<hsize_t> dims;
-  const auto directions = f.read_doubles(object("direction_deg"), &dims);
-  if (dims.size() != 1 || dims[0] == 0)
-    r.fail(object("direction_deg"), "expected a non-empty list of directions, found shape " + Reader::shape_text(dims));
-  const hsize_t n = dims[0];
+  const auto directions = f.read_doubles(object("direction_deg"), {any_extent});
+  if (directions.empty()) r.fail(object("direction_deg"), "expected a non-empty list of directions, found none");
+  const hsize_t n = directions.size();
   for (double theta : directions)
     if (!std::isfinite(theta)) r.fail(object("direction_deg"), "a direction is not finite");
   law.directions.resize(n);
@@ -209,15 +172,15 @@ Law read_law(const std::filesystem::path& file) {
   law.cone_normal = {normal[0], normal[1], normal[2]};
   law.cone_beta = r.scalar("cone_beta");
 
-  law.units = r.text(group, "units");
-  law.stress_state = r.text(group, "stress_state");
+  law.units = f.read_string_attribute(group, "units");
+  law.stress_state = f.read_string_attribute(group, "stress_state");
   // The only state this format describes; anything else is a different file.
   if (law.stress_state != "plane strain")
     r.fail(group, "attribute stress_state is '" + law.stress_state + "', expected 'plane strain'");
-  r.text(group, "shear_convention");
-  for (const auto& c : constituent_members) law.*c.value = r.attribute(group, c.name);
-  for (const auto& p : provenance_members) law.*p.value = r.text("/", p.name);
+  f.read_string_attribute(group, "shear_convention");
+  law.constituents = read_constituents(f, group);
+  law.provenance = read_provenance(f, {"scene", "sweep_file", "sweep_hash", "solver_options", "code_version"});
   return law;
 }
 
-}  // namespace dualcell::law
+}  // namespace dualcell::io

@@ -1,7 +1,7 @@
 // law.h5: every field survives a write/read round trip (NaN included), the documented names are
 // there, and missing, foreign, truncated or incomplete files are refused with one line naming
 // the file and the object.
-#include "law/law_file.hpp"
+#include "io/law_file.hpp"
 
 #include <cstring>
 
@@ -13,8 +13,12 @@
 #include "law/synthetic_law.hpp"
 #include "test_util.hpp"
 
-namespace dualcell::law {
+namespace dualcell::io {
 namespace {
+
+using law::ComplianceFit;
+using law::DirectionLaw;
+using law::Law;
 
 // Bitwise equal, so that NaN compares equal to NaN and −0 differs from 0.
 bool same(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
@@ -36,7 +40,7 @@ void expect_same_fit(const ComplianceFit& a, const ComplianceFit& b, const char*
   EXPECT_EQ(a.n_points, b.n_points) << what;
 }
 
-// Every field, listed by hand (not through impl::direction_columns), so that a field missing
+// Every field, listed by hand (not through law::direction_columns), so that a field missing
 // from the table is caught too.
 void expect_same_law(const Law& a, const Law& b) {
   ASSERT_EQ(a.directions.size(), b.directions.size());
@@ -70,18 +74,18 @@ void expect_same_law(const Law& a, const Law& b) {
   EXPECT_EQ(a.cone_wise_linear, b.cone_wise_linear);
   for (int i = 0; i < 3; ++i) EXPECT_TRUE(same(a.cone_normal(i), b.cone_normal(i)));
   EXPECT_TRUE(same(a.cone_beta, b.cone_beta));
-  EXPECT_TRUE(same(a.fibre_E, b.fibre_E));
-  EXPECT_TRUE(same(a.fibre_nu, b.fibre_nu));
-  EXPECT_TRUE(same(a.matrix_E, b.matrix_E));
-  EXPECT_TRUE(same(a.matrix_nu, b.matrix_nu));
-  EXPECT_TRUE(same(a.fibre_volume_fraction, b.fibre_volume_fraction));
+  EXPECT_TRUE(same(a.constituents.fibre_E, b.constituents.fibre_E));
+  EXPECT_TRUE(same(a.constituents.fibre_nu, b.constituents.fibre_nu));
+  EXPECT_TRUE(same(a.constituents.matrix_E, b.constituents.matrix_E));
+  EXPECT_TRUE(same(a.constituents.matrix_nu, b.constituents.matrix_nu));
+  EXPECT_TRUE(same(a.constituents.fibre_volume_fraction, b.constituents.fibre_volume_fraction));
   EXPECT_EQ(a.units, b.units);
   EXPECT_EQ(a.stress_state, b.stress_state);
-  EXPECT_EQ(a.scene_text, b.scene_text);
-  EXPECT_EQ(a.sweep_file, b.sweep_file);
-  EXPECT_EQ(a.sweep_hash, b.sweep_hash);
-  EXPECT_EQ(a.solver_options, b.solver_options);
-  EXPECT_EQ(a.code_version, b.code_version);
+  EXPECT_EQ(a.provenance.scene_text, b.provenance.scene_text);
+  EXPECT_EQ(a.provenance.sweep_file, b.provenance.sweep_file);
+  EXPECT_EQ(a.provenance.sweep_hash, b.provenance.sweep_hash);
+  EXPECT_EQ(a.provenance.solver_options, b.provenance.solver_options);
+  EXPECT_EQ(a.provenance.code_version, b.provenance.code_version);
 }
 
 // The message of the InputError that read_law throws, or a failure.
@@ -126,7 +130,7 @@ TEST(LawFile, HoldsTheDocumentedObjects) {
   for (const char* name : {"S_tension", "S_compression", "S_tension_se", "S_compression_se"})
     EXPECT_EQ(f.shape(std::string("/law/") + name), (std::vector<hsize_t>{3, 3})) << name;
   EXPECT_EQ(f.shape("/law/S_tension_rank"), (std::vector<hsize_t>{1}));
-  EXPECT_EQ(f.read_doubles("/law/S_tension")[1], testing::synthetic_law().tension.S(0, 1));
+  EXPECT_EQ(f.read_doubles("/law/S_tension", {3, 3})[1], testing::synthetic_law().tension.S(0, 1));
   EXPECT_EQ(f.read_string_attribute("/", "format"), "dualcell law 1");
   EXPECT_EQ(f.read_string_attribute("/law", "stress_state"), "plane strain");
   EXPECT_NE(f.read_string_attribute("/law", "shear_convention").find("engineering shear"), std::string::npos);
@@ -175,7 +179,7 @@ TEST(LawFile, EveryMissingObjectIsNamed) {
   testing::ScratchDir dir;
   write_law(dir / "law.h5", testing::synthetic_law());
   std::vector<std::string> datasets;
-  for (const auto& c : impl::direction_columns) datasets.push_back(c.name);
+  for (const auto& c : law::direction_columns) datasets.push_back(c.name);
   for (const std::string p : {"S_tension", "S_compression"})
     for (const char* suffix : {"", "_se", "_rank", "_relative_residual", "_direction_residual", "_spd", "_n_points"})
       datasets.push_back(p + suffix);
@@ -237,4 +241,4 @@ TEST(LawFile, WrongShapesAndValuesAreNamed) {
 }
 
 }  // namespace
-}  // namespace dualcell::law
+}  // namespace dualcell::io

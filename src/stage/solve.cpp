@@ -1,0 +1,87 @@
+#include "stage/solve.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "core/error.hpp"
+#include "io/solution_file.hpp"
+#include "stage/stage.hpp"
+
+namespace dualcell::stage {
+
+Eigen::Vector3d parse_stress(const std::string& text) {
+  std::stringstream in(text);
+  Eigen::Vector3d sigma;
+  std::string item;
+  int i = 0;
+  while (std::getline(in, item, ',')) {
+    if (i >= 3) break;
+    try {
+      std::size_t used = 0;
+      sigma(i) = std::stod(item, &used);
+      if (used != item.size() || !std::isfinite(sigma(i))) throw std::invalid_argument(item);
+    } catch (const std::exception&) {
+      throw InputError("--stress " + text + ": '" + item + "' is not a finite number");
+    }
+    ++i;
+  }
+  if (i != 3 || std::getline(in, item)) throw InputError("--stress " + text + ": expected three numbers sxx,syy,sxy");
+  return sigma;
+}
+
+SolveOutcome run_solve(const SolveOptions& options) {
+  const Eigen::Vector3d sigma = parse_stress(options.stress_text);
+  SceneAndMesh in = load_scene_and_mesh("dualcell-solve", options.scene_file, options.mesh_file);
+  if (in.scene.load.boundary == Boundary::symmetry && sigma(2) != 0)
+    throw InputError("--stress " + options.stress_text +
+                     ": the symmetry boundary carries only sxx and syy (sxy must be 0); use boundary = \"traction\" "
+                     "or \"periodic\" for shear");
+  feti::ContactSolver solver(in.mesh, in.scene, options.threads);
+  const feti::BondState bonds =
+      options.bonds_file.empty() ? solver.intact() : io::read_bonds(options.bonds_file, in.mesh, in.mesh_hash);
+  SolveOutcome outcome;
+  outcome.solution = solver.solve(sigma, bonds);
+  Provenance provenance;
+  provenance.mesh_file = in.mesh_file;
+  provenance.mesh_hash = in.mesh_hash;
+  io::write_solution(options.out, in.mesh, in.scene, outcome.solution, provenance);
+  outcome.dim_u = in.mesh.dim_u();
+  outcome.threads_used = solver.setup().parallel() ? solver.setup().threads() : 1;
+  outcome.scene = std::move(in.scene);
+  return outcome;
+}
+
+void print_solve_summary(const SolveOptions& options, const SolveOutcome& outcome) {
+  const feti::Solution& s = outcome.solution;
+  const Scene& scene = outcome.scene;
+  const Eigen::Vector3d& sigma = s.sigma;
+  long broken = 0;
+  for (auto b : s.bonds) broken += b == 0;
+  std::printf("dualcell-solve: %s + %s, stress (%g, %g, %g) -> %s\n", options.scene_file.c_str(),
+              options.mesh_file.c_str(), sigma(0), sigma(1), sigma(2), options.out.c_str());
+  std::printf("  boundary %s, adhesion %s, dim u %d, dim lambda %ld\n", to_string(scene.load.boundary),
+              scene.interface.has_adhesion() ? "yes" : "no", outcome.dim_u, s.n_rows);
+  std::printf("  status %s: %ld outer iterations, %ld operator applications (%ld CG, %ld expansion, %ld proportioning)\n",
+              qp::to_string(s.qp.status), s.outer_iterations, s.operator_applications, s.cg_steps, s.expansion_steps,
+              s.proportioning_steps);
+  if (scene.interface.has_adhesion())
+    std::printf("  bonds: %ld debond rounds, %ld broken now, %ld broken in all of %zu\n", s.debond_rounds,
+                s.newly_broken, broken, s.bonds.size());
+  std::printf("  macro strain  exx %.6e  eyy %.6e  exy %.6e\n", s.strain(0), s.strain(1), s.strain(2));
+  std::printf("  Hill-Mandel   <s> - s_applied = (%.2e, %.2e, %.2e)\n", s.average_stress(0) - sigma(0),
+              s.average_stress(1) - sigma(1), s.average_stress(2) - sigma(2));
+  std::printf("  KKT: projected gradient %.2e (rel), |G l - e| %.2e (rel), bound violation %.2e,\n"
+              "       complementarity %.2e, penetration %.2e, glue jump %.2e, equilibrium %.2e (rel)\n",
+              s.kkt.relative_projected_gradient, s.kkt.relative_equality_residual, s.kkt.bound_violation,
+              s.kkt.complementarity, s.kkt.max_penetration, s.kkt.max_glue_jump, s.kkt.relative_equilibrium);
+  std::printf("  seconds: assembly %.3f, factorisation %.3f, dual setup %.3f, QP %.3f (F %.3f, Q %.3f, M^-1 %.3f), "
+              "recovery %.3f; %d thread(s)\n",
+              s.seconds.assembly, s.seconds.factorisation, s.seconds.dual_setup, s.seconds.qp, s.seconds.qp_F,
+              s.seconds.qp_Q, s.seconds.qp_preconditioner, s.seconds.recovery, outcome.threads_used);
+  if (scene.solver.preconditioner != Preconditioner::none)
+    std::printf("  preconditioner %s: %ld applications\n", to_string(scene.solver.preconditioner),
+                s.preconditioner_applications);
+}
+
+}  // namespace dualcell::stage

@@ -1,0 +1,36 @@
+#pragma once
+// The solve stage as one call (dualcell-solve): one macro stress σ̄ through the scene's boundary
+// condition, from a given bond state, written to solution.h5 (+ XDMF); and its summary.
+#include <string>
+
+#include <Eigen/Core>
+
+#include "feti/solver.hpp"
+
+namespace dualcell::stage {
+
+// Exit code of a solve that stopped without converging, or whose recovered solution failed its
+// check (the file is still written, with its status).
+inline constexpr int exit_not_converged = 4;
+
+struct SolveOptions {
+  std::string scene_file, mesh_file, out;
+  std::string stress_text;   // "sxx,syy,sxy" as given on the command line
+  std::string bonds_file;    // a solution.h5 whose bond state is the start; empty: intact
+  int threads = 0;
+};
+
+struct SolveOutcome {
+  Scene scene;
+  int dim_u = 0, threads_used = 1;
+  feti::Solution solution;
+};
+
+// "0.01,0,-2e-3" → (σxx, σyy, σxy); anything else is an InputError quoting `text`.
+Eigen::Vector3d parse_stress(const std::string& text);
+
+SolveOutcome run_solve(const SolveOptions& options);
+// The one-screen summary: status, iterations, macro strain, Hill–Mandel, KKT, seconds per phase.
+void print_solve_summary(const SolveOptions& options, const SolveOutcome& outcome);
+
+}  // namespace dualcell::stage

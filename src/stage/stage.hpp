@@ -1,0 +1,38 @@
+#pragma once
+// The stages as library calls: what each executable in src/apps does between parsing its
+// options and printing its summary, so that a main() is options, one call and the summary.
+// This header: the shape every stage's main() shares, run the stage's call and turn any
+// exception into one line on stderr ("<stage>: error: <what>") and a non-zero exit; and the
+// inputs that dualcell-solve and dualcell-sweep share (a scene and the mesh made from it).
+#include <functional>
+#include <string>
+
+#include "core/scene.hpp"
+#include "mesh/mesh.hpp"
+
+namespace dualcell {
+
+// Exit codes of every stage.
+inline constexpr int exit_ok = 0;
+inline constexpr int exit_input_error = 1;     // bad scene, file, value or output path
+inline constexpr int exit_internal_error = 3;  // a bug or an unexpected system failure
+
+int run_stage(const char* stage, const std::function<void()>& body);
+
+namespace stage {
+
+// Prints the scene's warnings (e.g. near-incompressible materials) as "<stage>: warning: ...".
+void print_warnings(const char* stage, const Scene& scene);
+
+// A scene and the mesh made from it, checked to be of the same geometry (otherwise an
+// InputError naming the key that differs), with the mesh file's content hash for provenance.
+struct SceneAndMesh {
+  Scene scene;
+  mesh::Mesh mesh;
+  std::string mesh_file, mesh_hash;
+};
+SceneAndMesh load_scene_and_mesh(const char* stage, const std::string& scene_file, const std::string& mesh_file);
+
+}  // namespace stage
+
+}  // namespace dualcell

@@ -1,0 +1,24 @@
+#pragma once
+// The sweep stage as one call (dualcell-sweep): every path of the scene through one solver
+// (setup once for the whole sweep), each finished path journaled at once in <out>.parts/ so that
+// an interrupted run, even by kill -9, resumes where it stopped and ends with the same sweep.h5;
+// progress with an ETA on stderr when it is a terminal.
+#include <string>
+
+namespace dualcell::stage {
+
+struct SweepOptions {
+  std::string scene_file, mesh_file, out;
+  int threads = 0;            // 0 = all OpenMP offers; results do not depend on it
+  bool progress = false;      // progress line on stderr
+  long interrupt_after = 0;   // tests of the resume: _exit(137) after this many computed paths
+};
+
+struct SweepSummary {
+  int paths = 0, resumed = 0, fuses = 0, unconverged_steps = 0;
+  double seconds = 0;
+};
+
+SweepSummary run_sweep(const SweepOptions& options);
+
+}  // namespace dualcell::stage

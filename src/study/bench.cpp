@@ -1,0 +1,294 @@
+// The performance study (`make -C pipelines bench`, dualcell-bench): numerical scalability, the
+// linear-solve floor, sweep steps, memory, threads, and where the time goes. Ratios are measured
+// within one run, so a busy machine shifts them less than absolute times.
+//
+//   numerical scalability  blocks 1×1 … 32×32 at degree 2, and degrees 1 … 8 on a 4×4 block:
+//                          outer and inner iterations and applications of F, compression along
+//                          x, no adhesion, symmetry boundary, E_f/E_m = 100
+//   preconditioners        none, lumped, Dirichlet on the same cases: F and M⁻¹ applications,
+//                          time, the fitted growth in H/h
+//   floor                  one contact solve (setup + solve) against one CHOLMOD factorise and
+//                          solve of the bonded problem as one body, same mesh, ~1e5 and ~1e6 DOF,
+//                          with the time per phase
+//   threads                the ~1e5 case on 1 and on all threads: speed-up, and the largest
+//                          difference of λ and u between the two (the design gives 0)
+//   sweep step             a further (warm-started, proportional) step against the first one
+//   memory                 peak resident set per DOF of the contact solve at ~1e6 DOF
+#include "study/bench.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+#include <omp.h>
+#include <sys/resource.h>
+
+#include "feti/solver.hpp"
+#include "io/atomic_output.hpp"
+#include "io/json.hpp"
+#include "study/monolithic.hpp"
+
+namespace dualcell::study {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+Scene block(int cells, int degree, Preconditioner preconditioner = Preconditioner::none, double strength = 0) {
+  Scene s;
+  s.geometry.cells = {cells, cells};
+  s.geometry.cell_size = 1;
+  s.geometry.fibre_radius = 0.3;
+  s.geometry.degree = degree;
+  s.fibre = {1e5, 0.2};
+  s.matrix = {1e3, 0.4};
+  s.interface = {strength, strength};
+  s.load.boundary = Boundary::symmetry;
+  s.solver.tolerance = 1e-8;
+  s.solver.preconditioner = preconditioner;
+  return s;
+}
+
+long peak_rss_bytes() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return usage.ru_maxrss * 1024L;
+}
+
+std::string format(const char* pattern, auto... values) {
+  char line[512];
+  std::snprintf(line, sizeof line, pattern, values...);
+  return line;
+}
+
+struct Run {
+  int cells, degree, dofs;
+  long rows;
+  int threads;
+  Preconditioner preconditioner;
+  long outer, cg, expansion, proportioning, applications, preconditioner_applications;
+  double setup_seconds, solve_seconds;
+  feti::Timings phases;
+  bool converged;
+  Eigen::VectorXd lambda, u, f;
+};
+
+Run contact(int cells, int degree, int threads, Preconditioner preconditioner = Preconditioner::none) {
+  const Scene s = block(cells, degree, preconditioner);
+  const mesh::Mesh m = mesh::build_mesh(s.geometry);
+  const auto t0 = Clock::now();  // the mesh is an input of both solvers, timed in neither
+  feti::ContactSolver solver(m, s, threads);
+  const double setup = since(t0);
+  const auto t1 = Clock::now();
+  feti::Solution r = solver.solve({-10, 0, 0}, solver.intact());
+  const double solve = since(t1);
+  const int used_threads = solver.setup().parallel() ? solver.setup().threads() : 1;
+  return {cells,         degree,          m.dim_u(),     r.n_rows,      used_threads,
+          preconditioner, r.outer_iterations, r.cg_steps, r.expansion_steps, r.proportioning_steps,
+          r.operator_applications, r.preconditioner_applications, setup, solve, r.seconds, r.converged(),
+          std::move(r.lambda), std::move(r.u), solver.setup().load({-10, 0, 0})};
+}
+
+// Least-squares slope of log(applications) against log(H/h), H/h = 4k intervals per cell edge.
+double degree_exponent(const std::vector<Run>& runs) {
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  for (const Run& r : runs) {
+    const double x = std::log(4.0 * r.degree), y = std::log(static_cast<double>(r.applications));
+    sx += x, sy += y, sxx += x * x, sxy += x * y;
+  }
+  const double n = static_cast<double>(runs.size());
+  return (n * sxy - sx * sy) / (n * sxx - sx * sx);
+}
+
+const char* const run_header =
+    "| cells | DOF | dim λ | outer | CG | expansion | proportioning | F applications | M⁻¹ applications | setup s | "
+    "solve s |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
+
+std::string run_row(const Run& r) {
+  return format("| %d×%d, k=%d | %d | %ld | %ld | %ld | %ld | %ld | %ld | %ld | %.3f | %.3f |\n", r.cells, r.cells,
+                r.degree, r.dofs, r.rows, r.outer, r.cg, r.expansion, r.proportioning, r.applications,
+                r.preconditioner_applications, r.setup_seconds, r.solve_seconds);
+}
+
+std::string run_json(const Run& r) {
+  return io::JsonObject()
+      .add("cells", std::to_string(r.cells * r.cells))
+      .add("degree", std::to_string(r.degree))
+      .add("dofs", std::to_string(r.dofs))
+      .add_text("preconditioner", to_string(r.preconditioner))
+      .add("operator_applications", std::to_string(r.applications))
+      .add("preconditioner_applications", std::to_string(r.preconditioner_applications))
+      .add("outer_iterations", std::to_string(r.outer))
+      .add("seconds", io::json_number(r.setup_seconds + r.solve_seconds))
+      .add("converged", r.converged ? "true" : "false")
+      .str(6);
+}
+
+// Where the time of one solve goes, per phase (setup once per mesh and material; the rest per load).
+std::string phase_row(const char* name, const Run& r) {
+  const feti::Timings& t = r.phases;
+  const double rest = t.qp - t.qp_F - t.qp_Q - t.qp_preconditioner;
+  return format("| %s | %d | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f |\n", name, r.threads,
+                t.assembly, t.factorisation, t.dual_setup, t.qp_F, t.qp_Q, t.qp_preconditioner, rest, t.recovery);
+}
+const char* const phase_header =
+    "| case | threads | assembly | factorisation | dual setup (B, G, GGᵀ) | QP: F | QP: Q (coarse) | QP: M⁻¹ | QP: "
+    "other (vectors, d, λ₀) | recovery |\n|---|---|---|---|---|---|---|---|---|---|\n";
+
+}  // namespace
+
+std::string run_bench(const BenchOptions& options) {
+const bool quick = options.quick;
+const int all = options.threads > 0 ? options.threads : omp_get_max_threads();
+std::filesystem::create_directories(options.out_dir);
+io::AtomicOutputs outputs;
+const auto md_tmp = outputs.add(options.out_dir / "bench.md");
+const auto json_tmp = outputs.add(options.out_dir / "summary.json");
+std::ostringstream md;
+io::JsonObject json;
+std::vector<std::string> scalability_json, preconditioners_json, floor_json;
+  md << "# dualcell benchmark\n\nCompression along x, no adhesion, symmetry boundary, E_f/E_m = 100, r = 0.3, "
+        "tolerance 1e-8. Seconds are wall time on this machine in this run. Iteration counts do not depend on "
+        "the thread count; the scalability rows run on one thread.\n\n";
+  auto progress = [](const char* what) { std::fprintf(stderr, "dualcell-bench: %s\n", what); };
+
+  // Numerical scalability: block size and degree, for every preconditioner.
+  const std::vector<int> blocks = quick ? std::vector<int>{1, 2, 4} : std::vector<int>{1, 2, 4, 8, 16, 32};
+  const int max_degree = quick ? 3 : 8;
+  std::ostringstream summary_md;
+  summary_md << "## Preconditioners: summary\n\n| preconditioner | F applications, largest block / 2×2 | growth "
+                "exponent in H/h | solve s, largest block | solve s, 4×4 k=" << max_degree << " |\n|---|---|---|---|---|\n";
+  double exponent_none = 0, blocks_ratio_none = 0;
+  for (Preconditioner p : {Preconditioner::none, Preconditioner::lumped, Preconditioner::dirichlet}) {
+    progress((std::string("scalability, preconditioner ") + to_string(p)).c_str());
+    md << "## Numerical scalability, preconditioner " << to_string(p) << ": block size (degree 2)\n\n" << run_header;
+    long ops_2x2 = 0;
+    Run largest{};
+    for (int n : blocks) {
+      Run r = contact(n, 2, 1, p);
+      if (n == 2) ops_2x2 = r.applications;
+      md << run_row(r);
+      scalability_json.push_back(run_json(r));
+      largest = std::move(r);
+    }
+    const double ratio = static_cast<double>(largest.applications) / ops_2x2;
+    md << "\nF applications, " << largest.cells << "×" << largest.cells << " against 2×2: " << ratio
+       << " (target ≤ 1.5)\n\n## Numerical scalability, preconditioner " << to_string(p)
+       << ": degree (4×4 cells)\n\n" << run_header;
+    std::vector<Run> by_degree;
+    for (int k = 1; k <= max_degree; ++k) {
+      by_degree.push_back(contact(4, k, 1, p));
+      md << run_row(by_degree.back());
+      scalability_json.push_back(run_json(by_degree.back()));
+    }
+    const double exponent = degree_exponent(by_degree);
+    md << "\nFitted growth of F applications with H/h: exponent " << exponent << " (target ≤ 0.5)\n\n";
+    summary_md << format("| %s | %.2f | %.2f | %.2f | %.2f |\n", to_string(p), ratio, exponent, largest.solve_seconds,
+                         by_degree.back().solve_seconds);
+    preconditioners_json.push_back(io::JsonObject()
+                                       .add_text("preconditioner", to_string(p))
+                                       .add("blocks_ratio_largest_to_2x2", io::json_number(ratio))
+                                       .add("degree_exponent", io::json_number(exponent))
+                                       .str(6));
+    if (p == Preconditioner::none) exponent_none = exponent, blocks_ratio_none = ratio;
+  }
+  md << summary_md.str() << "\n";
+  json.add("scalability", io::json_list(scalability_json))
+      .add("degree_exponent", io::json_number(exponent_none))
+      .add("blocks_ratio_largest_to_2x2", io::json_number(blocks_ratio_none))
+      .add("preconditioners", io::json_list(preconditioners_json));
+
+  // Floor and memory, on all threads.
+  progress("floor");
+  md << "## The floor: contact solve against one monolithic CHOLMOD solve\n\nThe contact solve (assembly, "
+        "factorisations, dual setup, QP, recovery) on up to " << all
+     << " thread(s), no preconditioner; against CHOLMOD's analyse, factorise and solve of the assembled bonded "
+        "problem as one body (supernodal, automatic ordering, one thread, the system's BLAS: libblas.so.3). The mesh "
+        "is timed in neither.\n\n| case | DOF | contact setup s | contact solve s | contact total s | CHOLMOD factorise+solve s "
+        "| ratio | peak RSS bytes/DOF |\n|---|---|---|---|---|---|---|---|\n";
+  const std::vector<std::pair<int, int>> floors = quick ? std::vector<std::pair<int, int>>{{4, 2}}
+                                                        : std::vector<std::pair<int, int>>{{16, 3}, {32, 5}};
+  double bytes_per_dof = 0;
+  std::vector<Run> floor_runs;
+  for (std::size_t i = 0; i < floors.size(); ++i) {
+    const auto [n, k] = floors[i];
+    Run r = contact(n, k, all);
+    const long rss = peak_rss_bytes();
+    const Scene bonded = block(n, k, Preconditioner::none, 1e12);
+    const mesh::Mesh m = mesh::build_mesh(bonded.geometry);
+    double cholesky = 0;  // same mesh and load (the load does not depend on the bonds)
+    const Eigen::VectorXd u = study::monolithic_solve(m, bonded, r.f, false, false, &cholesky);
+    bytes_per_dof = static_cast<double>(rss) / r.dofs;
+    const double total = r.setup_seconds + r.solve_seconds;
+    // The peak resident set is the process's: it says something about a row only when that row
+    // is the largest problem so far (the last one).
+    const std::string memory = i + 1 == floors.size() ? format("%.0f", bytes_per_dof) : std::string("(earlier rows)");
+    md << format("| %d×%d, k=%d | %d | %.2f | %.2f | %.2f | %.2f | %.2f | %s |\n", n, n, k, r.dofs, r.setup_seconds,
+                 r.solve_seconds, total, cholesky, total / cholesky, memory.c_str());
+    floor_json.push_back(io::JsonObject()
+                             .add("dofs", std::to_string(r.dofs))
+                             .add("contact_seconds", io::json_number(total))
+                             .add("cholesky_seconds", io::json_number(cholesky))
+                             .add("contact_threads", std::to_string(r.threads))
+                             .str(6));
+    floor_runs.push_back(std::move(r));
+  }
+  md << "\nTargets: ratio ≤ 3 at ~1e5 DOF and ≤ 2 at ~1e6 DOF. Peak RSS is the whole process's (it includes "
+        "earlier rows); bytes/DOF at the largest case: "
+     << bytes_per_dof << " (target ≤ 2048).\n\n## Where the time goes (seconds per phase)\n\n" << phase_header;
+  for (const Run& r : floor_runs)
+    md << phase_row(format("%d×%d, k=%d", r.cells, r.cells, r.degree).c_str(), r);
+
+  // Threads: the ~1e5 case on one thread against all.
+  progress("threads");
+  const auto [tn, tk] = quick ? std::pair<int, int>{4, 2} : std::pair<int, int>{16, 3};
+  const Run one = contact(tn, tk, 1);
+  const Run many = contact(tn, tk, all);
+  if (many.threads != all) progress("threads: the case is below the size from which threads spread");
+  const double speedup = (one.setup_seconds + one.solve_seconds) / (many.setup_seconds + many.solve_seconds);
+  const double lambda_difference = (one.lambda - many.lambda).lpNorm<Eigen::Infinity>() /
+                                   std::max(one.lambda.lpNorm<Eigen::Infinity>(), 1e-300);
+  const double u_difference = (one.u - many.u).lpNorm<Eigen::Infinity>() / std::max(one.u.lpNorm<Eigen::Infinity>(), 1e-300);
+  md << phase_row(format("%d×%d, k=%d", tn, tn, tk).c_str(), one) << phase_row(format("%d×%d, k=%d", tn, tn, tk).c_str(), many)
+     << "\n## Threads\n\n" << tn << "×" << tn << " cells, degree " << tk << ": setup + solve "
+     << one.setup_seconds + one.solve_seconds << " s on 1 thread, " << many.setup_seconds + many.solve_seconds
+     << " s on " << many.threads << ": speed-up " << speedup << " (setup " << one.setup_seconds / many.setup_seconds
+     << ", solve " << one.solve_seconds / many.solve_seconds << "). Largest relative difference between the two: λ "
+     << lambda_difference << ", u " << u_difference << " (target: ≤ 1e-14).\n\n";
+  json.add("floor", io::json_list(floor_json))
+      .add("threads", io::JsonObject()
+                          .add("count", std::to_string(many.threads))
+                          .add("speedup", io::json_number(speedup))
+                          .add("max_relative_difference_lambda", io::json_number(lambda_difference))
+                          .add("max_relative_difference_u", io::json_number(u_difference))
+                          .str(4));
+
+  // Sweep step: a further proportional step against the first one (setup included).
+  progress("sweep step");
+  const auto [sn, sk] = quick ? std::pair<int, int>{4, 2} : std::pair<int, int>{16, 3};
+  const Scene s = block(sn, sk);
+  const auto t0 = Clock::now();
+  const mesh::Mesh m = mesh::build_mesh(s.geometry);
+  feti::ContactSolver solver(m, s, all);
+  const feti::Solution first_step = solver.solve({-10, 0, 0}, solver.intact());
+  const double first_seconds = since(t0);
+  const Eigen::VectorXd lambda = 2 * first_step.lambda, multiplier = 2 * first_step.multiplier;
+  const auto t1 = Clock::now();
+  const feti::Solution second = solver.solve({-20, 0, 0}, solver.intact(), &lambda, &multiplier);
+  const double second_seconds = since(t1);
+  const double ratio = second_seconds / first_seconds;
+  md << "## Sweep step\n\n" << sn << "×" << sn << " cells, degree " << sk << ": first step (setup + solve) "
+     << first_seconds << " s, " << first_step.operator_applications << " F applications; a further step "
+     << second_seconds << " s, " << second.operator_applications << " F applications: ratio " << ratio
+     << " (target ≤ 0.1).\n\nThe thesis' cases beside the thesis' figures: thesis.md (make -C pipelines thesis).\n";
+  json.add("sweep_step_ratio", io::json_number(ratio)).add("bytes_per_dof", io::json_number(bytes_per_dof));
+  std::ofstream(md_tmp) << md.str();
+  std::ofstream(json_tmp) << json.str() << "\n";
+  outputs.commit();
+  return md.str();
+}
+
+}  // namespace dualcell::study

@@ -1,0 +1,17 @@
+#pragma once
+// The performance study behind `make -C pipelines bench` (what it measures: study/bench.cpp).
+#include <filesystem>
+#include <string>
+
+namespace dualcell::study {
+
+struct BenchOptions {
+  std::filesystem::path out_dir;  // bench.md and summary.json go here (atomically)
+  bool quick = false;             // small sizes only: a smoke test, not a measurement
+  int threads = 0;                // for the multi-threaded rows; 0 = all OpenMP offers
+};
+
+// Runs the study, writes bench.md and summary.json, and returns the Markdown report.
+std::string run_bench(const BenchOptions& options);
+
+}  // namespace dualcell::study
