@@ -1,10 +1,12 @@
 #pragma once
 // The scene: one TOML file shared by every stage (mesh, solve, sweep, fit, export).
-// Every key is validated; an unknown key, a wrong type or a value out of range is an
-// InputError naming the file, the line, the key, the value and the allowed range.
-// All keys and their defaults are documented in README.md ("Scene files").
+// Reading (parse_scene) checks the TOML, the tables, the keys and their types; validate()
+// checks every value's range and the combinations of keys, for scenes read from a file and for
+// scenes built in code alike, with the same one-line messages naming the file, the line, the
+// key, the value and the allowed range. All keys and their defaults: README.md ("Scene files").
 #include <array>
 #include <filesystem>
+#include <map>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -67,6 +69,11 @@ struct SolverSettings {
   Preconditioner preconditioner = Preconditioner::none;
 };
 
+struct WrittenKey {
+  std::string where;  // "file:line:column"
+  std::string value;  // as written
+};
+
 struct Scene {
   std::filesystem::path file;   // where it was read from ("<string>" when parsed from text)
   std::string text;             // the scene file verbatim, for provenance
@@ -81,6 +88,9 @@ struct Scene {
   SolverSettings solver;
   // Advice that does not stop a stage (printed as "<stage>: warning: ..."), e.g. locking.
   std::vector<std::string> warnings;
+  // Where each key was written, for a scene read from a file ("geometry.degree" → where
+  // "scene.toml:5:10", value "3" as written); empty for a scene built in code.
+  std::map<std::string, WrittenKey> written;
 
   int n_cells() const { return geometry.cells[0] * geometry.cells[1]; }
 };
@@ -113,6 +123,12 @@ inline constexpr ConstituentField constituent_fields[] = {
 // Largest mesh a scene may ask for (nodes of all subdomains, dim u = 2 × nodes): 3×3 cells at
 // degree 256 or 100×100 at degree 6 fit, 4096×4096 at degree 256 (10^13 nodes) does not.
 inline constexpr long max_mesh_nodes = 10'000'000;
+
+// Every range and combination of keys; an InputError naming the first violation. The stages,
+// the solver (feti::FetiSetup) and the studies call it on every scene they use.
+void validate(const Scene& scene);
+// Advice for a valid scene that does not stop a stage (e.g. near-incompressible materials).
+std::vector<std::string> scene_warnings(const Scene& scene);
 
 // Reads and validates a scene file; relative material paths resolve against its folder.
 Scene load_scene(const std::filesystem::path& file);

@@ -46,6 +46,7 @@ void Subdomain::apply_K_plus(const Eigen::VectorXd& y, Eigen::VectorXd& x, Eigen
 
 FetiSetup::FetiSetup(const mesh::Mesh& mesh, const Scene& scene, int threads, int min_dofs_per_thread)
     : mesh_(mesh), scene_(scene), threads_(threads > 0 ? threads : omp_get_max_threads()) {
+  validate(scene_);  // scenes built in code are checked like scenes read from a file
   const auto t0 = Clock::now();
   parallel_ = threads_ > 1 && mesh.dim_u() >= static_cast<long>(min_dofs_per_thread) * threads_;
   const int S = static_cast<int>(mesh.subdomains.size());

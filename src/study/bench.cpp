@@ -49,6 +49,7 @@ Scene block(int cells, int degree, Preconditioner preconditioner = Preconditione
   s.load.boundary = Boundary::symmetry;
   s.solver.tolerance = 1e-8;
   s.solver.preconditioner = preconditioner;
+  validate(s);
   return s;
 }
 

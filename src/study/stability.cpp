@@ -64,6 +64,7 @@ StabilityRow run_stability_case(const StabilityCase& c, double tolerance) {
   scene.interface = {strength, strength};
   scene.load.boundary = c.boundary;
   scene.solver.tolerance = tolerance;
+  validate(scene);
   const double t = c.direction_deg * std::numbers::pi / 180;
   const Eigen::Vector3d N(std::cos(t) * std::cos(t), std::sin(t) * std::sin(t),
                           c.boundary == Boundary::symmetry ? 0.0 : std::cos(t) * std::sin(t));

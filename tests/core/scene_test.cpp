@@ -1,6 +1,8 @@
 // Scene parsing: every key validated, errors name the file, the key, the value and the range.
 #include "core/scene.hpp"
 
+#include <functional>
+
 #include <gtest/gtest.h>
 
 #include "core/error.hpp"
@@ -72,7 +74,7 @@ TEST(Scene, ErrorsNameFileKeyValueAndRange) {
       {scene_text(1, 1, 1, 0.3, "[solver]\ntolerance = 2\n"), "[solver] tolerance = 2: out of range"},
       {scene_text(1, 1, 1, 0.3, "[sweep]\nmagnitudes = [1, 0]\n"), "[sweep] magnitudes"},
       {scene_text(1, 1, 1, 0.3, "[load]\nboundary = \"traction\"\nbody_force = [0, -1]\n"),
-       "[load] body_force: a body force needs boundary = \"symmetry\""},
+       "[load] body_force = [0, -1]: a body force needs boundary = \"symmetry\""},
       {scene_text(1, 1, 1, 0.3, "[interface]\nnormal_strength = 1\n[load]\nbody_force = [0, -1]\n"),
        "a body force cannot be combined with adhesion"},
   };
@@ -81,6 +83,45 @@ TEST(Scene, ErrorsNameFileKeyValueAndRange) {
     EXPECT_NE(message.find(c.expected), std::string::npos) << "got: " << message << "\nfor:\n" << c.text;
     EXPECT_EQ(message.rfind("scene.toml", 0), 0u) << message;  // starts with the file name
     EXPECT_EQ(message.find('\n'), std::string::npos) << "one line: " << message;
+  }
+}
+
+// validate() is the one range check: a scene built in code gets the message a file gets, with
+// "scene" (or its file name) in place of file:line:column and the value as stored.
+TEST(Scene, ScenesBuiltInCodeAreValidatedWithTheSameMessages) {
+  struct Case {
+    std::function<void(Scene&)> edit;
+    std::string toml_extra, expected;
+  };
+  const std::vector<Case> cases = {
+      {[](Scene& s) { s.geometry.degree = 0; }, "", "[geometry] degree = 0: out of range: an integer in [1, 256]"},
+      {[](Scene& s) { s.matrix.nu = 0.5; }, "", "[matrix] nu = 0.5: out of range: -1 < nu < 0.5"},
+      {[](Scene& s) { s.interface.normal_strength = -1; }, "[interface]\nnormal_strength = -1\n",
+       "[interface] normal_strength = -1: out of range: normal_strength >= 0"},
+      {[](Scene& s) { s.sweep.magnitudes = {1, 0}; }, "[sweep]\nmagnitudes = [1, 0]\n",
+       "[sweep] magnitudes = [1, 0]: out of range: must be an array of at least 1 numbers, each non-zero"},
+      {[](Scene& s) { s.solver.rho_growth = 0.5; }, "[solver]\nrho_growth = 0.5\n",
+       "[solver] rho_growth = 0.5: out of range: 1 <= rho_growth <= 1e3"},
+      {[](Scene& s) { s.geometry.fibre_radius = 0.5; }, "", "fibre touches or crosses its cell's edge"},
+  };
+  for (const auto& c : cases) {
+    Scene scene = parse_scene(scene_text(1, 1, 1, 0.3), "scene.toml");
+    EXPECT_NO_THROW(validate(scene));
+    scene.written.clear();  // as if built in code
+    scene.file.clear();
+    c.edit(scene);
+    std::string message;
+    try {
+      validate(scene);
+    } catch (const InputError& e) {
+      message = e.what();
+    }
+    EXPECT_EQ(message.rfind("scene: ", 0), 0u) << message;
+    EXPECT_NE(message.find(c.expected), std::string::npos) << message;
+    if (!c.toml_extra.empty()) {  // the same words from a file, after its file:line:column
+      const std::string from_file = error_of(scene_text(1, 1, 1, 0.3, c.toml_extra));
+      EXPECT_EQ(from_file.substr(from_file.find(": [") + 2), message.substr(message.find(": [") + 2)) << from_file;
+    }
   }
 }
 
