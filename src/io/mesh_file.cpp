@@ -1,10 +1,10 @@
 #include "io/mesh_file.hpp"
 
-#include <charconv>
 #include <cmath>
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/text.hpp"
 #include "io/atomic_output.hpp"
 #include "io/hdf5.hpp"
 #include "io/provenance.hpp"
@@ -240,17 +240,6 @@ MeshFile read_mesh(const std::filesystem::path& h5) {
   check_structure(m, is_fibre, where);
   return out;
 }
-
-namespace {
-
-// Shortest text that reads back to the same double ("0.3", not "0.29999999999999999").
-std::string shortest(double x) {
-  char buffer[32];
-  const auto end = std::to_chars(buffer, buffer + sizeof buffer, x).ptr;
-  return std::string(buffer, end);
-}
-
-}  // namespace
 
 std::string geometry_mismatch(const mesh::Mesh& mesh, const Scene& scene) {
   const Geometry& a = mesh.geometry;
