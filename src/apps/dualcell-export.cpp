@@ -12,7 +12,7 @@
 #include <CLI/CLI.hpp>
 
 #include "stage/stage.hpp"
-#include "law/export.hpp"
+#include "stage/law.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{"dualcell-export: write a law.h5 as JSON, CSV or CalculiX/Abaqus material cards\n"
@@ -33,12 +33,12 @@ int main(int argc, char** argv) {
 
   return dualcell::run_stage("dualcell-export", [&] {
     using namespace dualcell;
-    law::ExportOptions options;
+    stage::ExportOptions options;
     options.law_file = law_file;
     options.out = out;
     options.format = law::parse_export_format(format);
     options.name = name;
-    const std::string written = law::export_law(options);
+    const std::string written = stage::export_law(options);
     if (!quiet) std::printf("dualcell-export: %s -> %s (%s)\n", law_file.c_str(), out.c_str(), written.c_str());
   });
 }

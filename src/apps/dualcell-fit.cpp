@@ -13,10 +13,7 @@
 #include <CLI/CLI.hpp>
 
 #include "stage/stage.hpp"
-#include "fit/fit.hpp"
-#include "io/hash.hpp"
-#include "io/law_file.hpp"
-#include "io/sweep_file.hpp"
+#include "stage/law.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{"dualcell-fit: fit the bilinear tension/compression law to a sweep and write law.h5\n"
@@ -30,14 +27,9 @@ int main(int argc, char** argv) {
 
   return dualcell::run_stage("dualcell-fit", [&] {
     using namespace dualcell;
-    const io::SweepHeader header = io::read_sweep_header(sweep_file);
-    const std::vector<sweep::PathResult> paths = io::read_sweep(sweep_file);
-    law::Law law = fit::fit_law(paths, header);
-    law.provenance.sweep_file = sweep_file;
-    law.provenance.sweep_hash = io::file_hash(sweep_file);
-    io::write_law(out, law);
+    const law::Law law = stage::run_fit(sweep_file, out);
     if (quiet) return;
-    std::printf("dualcell-fit: %s -> %s (%zu paths)\n", sweep_file.c_str(), out.c_str(), paths.size());
+    std::printf("dualcell-fit: %s -> %s (%zu directions)\n", sweep_file.c_str(), out.c_str(), law.directions.size());
     std::printf("  %8s %12s %10s %12s %10s %8s %8s %8s %12s %10s\n", "theta", "E_tension", "se", "E_compress", "se",
                 "Ec/Et", "nu_t", "nu_c", "fuse_stress", "jump x");
     for (const auto& d : law.directions)

@@ -134,7 +134,7 @@ void write_law(const std::filesystem::path& file, const Law& law) {
     f.write_attribute(group, "stress_state", law.stress_state);
     f.write_attribute(group, "shear_convention", std::string(law::shear_convention));
     write_constituents(f, group, law.constituents);
-    write_provenance(f, law_format, law.provenance);
+    write_provenance(f, law::format_name, law.provenance);
   }
   outputs.commit();
 }
@@ -142,7 +142,7 @@ void write_law(const std::filesystem::path& file, const Law& law) {
 Law read_law(const std::filesystem::path& file) {
   const File f = File::open_read(file);
   const Reader r(f);
-  check_format(f, law_format);
+  check_format(f, law::format_name);
   if (!f.exists(group)) r.fail(group, "missing group");
 
   Law law;

@@ -9,11 +9,10 @@
 
 namespace dualcell::io {
 
-// The formats the stages write (layouts in README.md).
+// The formats the stages write (layouts in README.md); law.h5's is law::format_name.
 inline constexpr const char* mesh_format = "dualcell mesh 1";
 inline constexpr const char* solution_format = "dualcell solution 1";
 inline constexpr const char* sweep_format = "dualcell sweep 1";
-inline constexpr const char* law_format = "dualcell law 1";
 
 // Refuses a file whose root attribute `format` is not `format`, with one line:
 // "<file>: not a dualcell law file (root attribute format is 'dualcell sweep 1', expected 'dualcell law 1')".

@@ -3,24 +3,17 @@
 #include <cctype>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 
 #include <Eigen/Eigenvalues>
 
 #include "core/error.hpp"
-#include "io/atomic_output.hpp"
-#include "io/json.hpp"
-#include "io/law_file.hpp"
-#include "io/provenance.hpp"
+#include "core/json.hpp"
 #include "law/fields.hpp"
 
 namespace dualcell::law {
 
 namespace {
 
-using io::json_array;
-using io::json_number;
-using io::json_string;
 
 std::string format_double(const char* format, double value) {
   char text[64];
@@ -132,17 +125,6 @@ std::string material_cards(const std::string& material_name, const std::string& 
   return out;
 }
 
-std::string describe(const Law& law, ExportFormat format, const std::string& name) {
-  switch (format) {
-    case ExportFormat::json:
-      return "JSON, " + std::to_string(law.directions.size()) + " directions";
-    case ExportFormat::csv:
-      return "CSV, " + std::to_string(law.directions.size()) + " rows";
-    case ExportFormat::calculix:
-      return "CalculiX, materials " + name + "_TENSION and " + name + "_COMPRESSION";
-  }
-  return "";
-}
 
 }  // namespace
 
@@ -225,8 +207,8 @@ SolidMaterial solid_material(const Eigen::Matrix3d& S_ps_in, const Law& law, con
 }
 
 std::string law_json(const Law& law) {
-  io::JsonObject o;
-  o.add_text("format", io::law_format);
+  JsonObject o;
+  o.add_text("format", format_name);
   for (const auto& field : provenance_fields)
     if (!(law.provenance.*field.text).empty()) o.add_text(field.attribute, law.provenance.*field.text);
   o.add_text("units", law.units);
@@ -280,7 +262,7 @@ std::string law_calculix(const Law& law, const std::string& name, const std::str
   const OutOfPlane z = rule_of_mixtures(law);
   std::string out;
   out += std::string("** dualcell law for CalculiX/Abaqus, written by dualcell-export ") + code_version + "\n";
-  out += "** from " + one_line(source) + " (" + io::law_format + "; fit by " + one_line(law.provenance.code_version) +
+  out += "** from " + one_line(source) + " (" + format_name + "; fit by " + one_line(law.provenance.code_version) +
          "; sweep " + one_line(law.provenance.sweep_file) + ", hash " + one_line(law.provenance.sweep_hash) + ")\n";
   out += "** units: " + one_line(law.units) + "\n";
   out += "** Material axes: 1 = x, 2 = y (the plane of the cells), 3 = z = fibre direction.\n"
@@ -301,24 +283,5 @@ std::string law_calculix(const Law& law, const std::string& name, const std::str
   return out;
 }
 
-std::string export_law(const ExportOptions& options) {
-  const Law law = io::read_law(options.law_file);
-  std::string text;
-  switch (options.format) {
-    case ExportFormat::json: text = law_json(law); break;
-    case ExportFormat::csv: text = law_csv(law); break;
-    case ExportFormat::calculix: text = law_calculix(law, options.name, options.law_file.string()); break;
-  }
-  io::AtomicOutputs outputs;
-  const auto tmp = outputs.add(options.out);
-  {
-    std::ofstream file(tmp, std::ios::binary | std::ios::trunc);
-    file << text;
-    file.close();
-    if (!file) throw InputError(options.out.string() + ": cannot write output");
-  }
-  outputs.commit();
-  return describe(law, options.format, options.name);
-}
 
 }  // namespace dualcell::law

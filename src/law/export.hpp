@@ -19,7 +19,6 @@
 //
 // The Schur complement of S33 in the 3D S is S_ps, so the 3D compliance is positive definite
 // exactly when S_ps is and E3 > 0: an inadmissible fit is refused, not exported.
-#include <filesystem>
 #include <string>
 
 #include <Eigen/Core>
@@ -69,14 +68,6 @@ std::string law_csv(const Law& law);
 // units, formulas and provenance. `source` is the law file named in the comments.
 std::string law_calculix(const Law& law, const std::string& name, const std::string& source);
 
-struct ExportOptions {
-  std::filesystem::path law_file, out;
-  ExportFormat format = ExportFormat::json;
-  std::string name = "DUALCELL";  // CalculiX material base name: a letter, then letters, digits, _
-};
 
-// Reads law_file, converts, writes `out` atomically (nothing is left behind on any error) and
-// returns a one-line description of what was written.
-std::string export_law(const ExportOptions& options);
 
 }  // namespace dualcell::law

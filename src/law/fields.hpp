@@ -47,6 +47,9 @@ inline constexpr ComplianceMember compliance_members[] = {
     {"S_compression", &Law::compression},
 };
 
+// The root attribute `format` of law.h5, and the JSON export's "format".
+inline constexpr const char* format_name = "dualcell law 1";
+
 // Stated in every law.h5 and export, so that a reader never has to guess the shear factor.
 inline constexpr const char* shear_convention =
     "engineering shear (Voigt): (exx, eyy, gxy) = S (sxx, syy, sxy) with gxy = 2 exy; "

@@ -27,7 +27,7 @@
 
 #include "feti/solver.hpp"
 #include "io/atomic_output.hpp"
-#include "io/json.hpp"
+#include "core/json.hpp"
 #include "study/monolithic.hpp"
 
 namespace dualcell::study {
@@ -115,7 +115,7 @@ std::string run_row(const Run& r) {
 }
 
 std::string run_json(const Run& r) {
-  return io::JsonObject()
+  return JsonObject()
       .add("cells", std::to_string(r.cells * r.cells))
       .add("degree", std::to_string(r.degree))
       .add("dofs", std::to_string(r.dofs))
@@ -123,7 +123,7 @@ std::string run_json(const Run& r) {
       .add("operator_applications", std::to_string(r.applications))
       .add("preconditioner_applications", std::to_string(r.preconditioner_applications))
       .add("outer_iterations", std::to_string(r.outer))
-      .add("seconds", io::json_number(r.setup_seconds + r.solve_seconds))
+      .add("seconds", json_number(r.setup_seconds + r.solve_seconds))
       .add("converged", r.converged ? "true" : "false")
       .str(6);
 }
@@ -149,7 +149,7 @@ io::AtomicOutputs outputs;
 const auto md_tmp = outputs.add(options.out_dir / "bench.md");
 const auto json_tmp = outputs.add(options.out_dir / "summary.json");
 std::ostringstream md;
-io::JsonObject json;
+JsonObject json;
 std::vector<std::string> scalability_json, preconditioners_json, floor_json;
   md << "# dualcell benchmark\n\nCompression along x, no adhesion, symmetry boundary, E_f/E_m = 100, r = 0.3, "
         "tolerance 1e-8. Seconds are wall time on this machine in this run. Iteration counts do not depend on "
@@ -189,18 +189,18 @@ std::vector<std::string> scalability_json, preconditioners_json, floor_json;
     md << "\nFitted growth of F applications with H/h: exponent " << exponent << " (target ≤ 0.5)\n\n";
     summary_md << format("| %s | %.2f | %.2f | %.2f | %.2f |\n", to_string(p), ratio, exponent, largest.solve_seconds,
                          by_degree.back().solve_seconds);
-    preconditioners_json.push_back(io::JsonObject()
+    preconditioners_json.push_back(JsonObject()
                                        .add_text("preconditioner", to_string(p))
-                                       .add("blocks_ratio_largest_to_2x2", io::json_number(ratio))
-                                       .add("degree_exponent", io::json_number(exponent))
+                                       .add("blocks_ratio_largest_to_2x2", json_number(ratio))
+                                       .add("degree_exponent", json_number(exponent))
                                        .str(6));
     if (p == Preconditioner::none) exponent_none = exponent, blocks_ratio_none = ratio;
   }
   md << summary_md.str() << "\n";
-  json.add("scalability", io::json_list(scalability_json))
-      .add("degree_exponent", io::json_number(exponent_none))
-      .add("blocks_ratio_largest_to_2x2", io::json_number(blocks_ratio_none))
-      .add("preconditioners", io::json_list(preconditioners_json));
+  json.add("scalability", json_list(scalability_json))
+      .add("degree_exponent", json_number(exponent_none))
+      .add("blocks_ratio_largest_to_2x2", json_number(blocks_ratio_none))
+      .add("preconditioners", json_list(preconditioners_json));
 
   // Floor and memory, on all threads.
   progress("floor");
@@ -229,10 +229,10 @@ std::vector<std::string> scalability_json, preconditioners_json, floor_json;
     const std::string memory = i + 1 == floors.size() ? format("%.0f", bytes_per_dof) : std::string("(earlier rows)");
     md << format("| %d×%d, k=%d | %d | %.2f | %.2f | %.2f | %.2f | %.2f | %s |\n", n, n, k, r.dofs, r.setup_seconds,
                  r.solve_seconds, total, cholesky, total / cholesky, memory.c_str());
-    floor_json.push_back(io::JsonObject()
+    floor_json.push_back(JsonObject()
                              .add("dofs", std::to_string(r.dofs))
-                             .add("contact_seconds", io::json_number(total))
-                             .add("cholesky_seconds", io::json_number(cholesky))
+                             .add("contact_seconds", json_number(total))
+                             .add("cholesky_seconds", json_number(cholesky))
                              .add("contact_threads", std::to_string(r.threads))
                              .str(6));
     floor_runs.push_back(std::move(r));
@@ -259,12 +259,12 @@ std::vector<std::string> scalability_json, preconditioners_json, floor_json;
      << " s on " << many.threads << ": speed-up " << speedup << " (setup " << one.setup_seconds / many.setup_seconds
      << ", solve " << one.solve_seconds / many.solve_seconds << "). Largest relative difference between the two: λ "
      << lambda_difference << ", u " << u_difference << " (target: ≤ 1e-14).\n\n";
-  json.add("floor", io::json_list(floor_json))
-      .add("threads", io::JsonObject()
+  json.add("floor", json_list(floor_json))
+      .add("threads", JsonObject()
                           .add("count", std::to_string(many.threads))
-                          .add("speedup", io::json_number(speedup))
-                          .add("max_relative_difference_lambda", io::json_number(lambda_difference))
-                          .add("max_relative_difference_u", io::json_number(u_difference))
+                          .add("speedup", json_number(speedup))
+                          .add("max_relative_difference_lambda", json_number(lambda_difference))
+                          .add("max_relative_difference_u", json_number(u_difference))
                           .str(4));
 
   // Sweep step: a further proportional step against the first one (setup included).
@@ -285,7 +285,7 @@ std::vector<std::string> scalability_json, preconditioners_json, floor_json;
      << first_seconds << " s, " << first_step.operator_applications << " F applications; a further step "
      << second_seconds << " s, " << second.operator_applications << " F applications: ratio " << ratio
      << " (target ≤ 0.1).\n\nThe thesis' cases beside the thesis' figures: thesis.md (make -C pipelines thesis).\n";
-  json.add("sweep_step_ratio", io::json_number(ratio)).add("bytes_per_dof", io::json_number(bytes_per_dof));
+  json.add("sweep_step_ratio", json_number(ratio)).add("bytes_per_dof", json_number(bytes_per_dof));
   std::ofstream(md_tmp) << md.str();
   std::ofstream(json_tmp) << json.str() << "\n";
   outputs.commit();

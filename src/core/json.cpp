@@ -1,9 +1,9 @@
-#include "io/json.hpp"
+#include "core/json.hpp"
 
 #include <cmath>
 #include <cstdio>
 
-namespace dualcell::io {
+namespace dualcell {
 
 std::string json_number(double value) {
   if (!std::isfinite(value)) return "null";
@@ -79,4 +79,4 @@ std::string JsonObject::str(int indent) const {
   return out;
 }
 
-}  // namespace dualcell::io
+}  // namespace dualcell

@@ -7,7 +7,7 @@
 
 #include <Eigen/Core>
 
-namespace dualcell::io {
+namespace dualcell {
 
 std::string json_number(double value);  // shortest round-trip form (%.17g), null when not finite
 std::string json_string(const std::string& text);
@@ -28,4 +28,4 @@ class JsonObject {
   std::vector<std::pair<std::string, std::string>> members_;
 };
 
-}  // namespace dualcell::io
+}  // namespace dualcell

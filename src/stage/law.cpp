@@ -1,0 +1,60 @@
+#include "stage/law.hpp"
+
+#include <fstream>
+
+#include "core/error.hpp"
+#include "fit/fit.hpp"
+#include "io/atomic_output.hpp"
+#include "io/hash.hpp"
+#include "io/law_file.hpp"
+#include "io/sweep_file.hpp"
+
+namespace dualcell::stage {
+
+law::Law run_fit(const std::filesystem::path& sweep_file, const std::filesystem::path& out) {
+  const io::SweepHeader header = io::read_sweep_header(sweep_file);
+  const std::vector<sweep::PathResult> paths = io::read_sweep(sweep_file);
+  law::Law law = fit::fit_law(paths, header);
+  law.provenance.sweep_file = sweep_file.string();
+  law.provenance.sweep_hash = io::file_hash(sweep_file);
+  io::write_law(out, law);
+  return law;
+}
+
+namespace {
+
+std::string describe(const law::Law& law, law::ExportFormat format, const std::string& name) {
+  switch (format) {
+    case law::ExportFormat::json:
+      return "JSON, " + std::to_string(law.directions.size()) + " directions";
+    case law::ExportFormat::csv:
+      return "CSV, " + std::to_string(law.directions.size()) + " rows";
+    case law::ExportFormat::calculix:
+      return "CalculiX, materials " + name + "_TENSION and " + name + "_COMPRESSION";
+  }
+  return "";
+}
+
+}  // namespace
+
+std::string export_law(const ExportOptions& options) {
+  const law::Law law = io::read_law(options.law_file);
+  std::string text;
+  switch (options.format) {
+    case law::ExportFormat::json: text = law::law_json(law); break;
+    case law::ExportFormat::csv: text = law::law_csv(law); break;
+    case law::ExportFormat::calculix: text = law::law_calculix(law, options.name, options.law_file.string()); break;
+  }
+  io::AtomicOutputs outputs;
+  const auto tmp = outputs.add(options.out);
+  {
+    std::ofstream file(tmp, std::ios::binary | std::ios::trunc);
+    file << text;
+    file.close();
+    if (!file) throw InputError(options.out.string() + ": cannot write output");
+  }
+  outputs.commit();
+  return describe(law, options.format, options.name);
+}
+
+}  // namespace dualcell::stage
