@@ -57,8 +57,8 @@ DualProblem::DualProblem(const FetiSetup& setup, Constraints constraints)
     local.z.resize(n_local);
     local.y.resize(subs[s].n_dofs);
     local.x.resize(subs[s].n_dofs);
-    local.K_plus_scratch.resize(subs[s].is_macro ? 0 : subs[s].n_dofs - static_cast<int>(subs[s].fixing_dofs.size()));
-    local.K_ii_scratch.resize(subs[s].K_ii_inverse ? subs[s].n_dofs - static_cast<int>(subs[s].boundary_dofs.size()) : 0);
+    local.K_plus_scratch.resize(subs[s].is_macro ? 0 : subs[s].K_plus->scratch_size());
+    local.K_ii_scratch.resize(subs[s].K_ii_inverse ? subs[s].K_ii_inverse->scratch_size() : 0);
   }
   G_.resize(G_rows, constraints_.n_rows());
   G_.setFromTriplets(G_triplets.begin(), G_triplets.end());

@@ -25,7 +25,7 @@
 
 #include "feti/constraints.hpp"
 #include "feti/setup.hpp"
-#include "linalg/cholmod.hpp"
+#include "linalg/sparse_cholesky.hpp"
 
 namespace dualcell::feti {
 

@@ -89,7 +89,7 @@ FetiSetup::FetiSetup(const mesh::Mesh& mesh, const Scene& scene, int threads, in
   for_each_subdomain([&](int s) {
     Subdomain& sub = subdomains_[s];
     if (!sub.is_macro)
-      sub.K_plus = std::make_unique<linalg::FixedDofPseudoInverse>(sub.K, sub.fixing_dofs, subdomain_factor_options);
+      sub.K_plus = std::make_unique<linalg::FixingNodeInverse>(sub.K, sub.fixing_dofs, subdomain_factor_options);
   });
   if (scene.solver.preconditioner == Preconditioner::dirichlet) {
     // The nodes B touches with intact bonds (breaks remove rows, never columns), both
@@ -108,7 +108,7 @@ FetiSetup::FetiSetup(const mesh::Mesh& mesh, const Scene& scene, int threads, in
           sub.boundary_dofs.push_back(2 * (v - ms.node_begin));
           sub.boundary_dofs.push_back(2 * (v - ms.node_begin) + 1);
         }
-      sub.K_ii_inverse = std::make_unique<linalg::FixedDofPseudoInverse>(sub.K, sub.boundary_dofs, subdomain_factor_options);
+      sub.K_ii_inverse = std::make_unique<linalg::FixingNodeInverse>(sub.K, sub.boundary_dofs, subdomain_factor_options);
     });
   }
   seconds_factorisation = seconds_since(t1);

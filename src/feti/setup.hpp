@@ -20,7 +20,7 @@
 #include <Eigen/SparseCore>
 
 #include "core/scene.hpp"
-#include "linalg/cholmod.hpp"
+#include "linalg/fixing_node_inverse.hpp"
 #include "mesh/mesh.hpp"
 
 namespace dualcell::feti {
@@ -33,12 +33,12 @@ struct Subdomain {
   int n_dofs = 0;
   Eigen::SparseMatrix<double> K;
   Eigen::MatrixXd R;
-  std::unique_ptr<linalg::FixedDofPseudoInverse> K_plus;  // null for the macro subdomain
+  std::unique_ptr<linalg::FixingNodeInverse> K_plus;  // null for the macro subdomain
   std::vector<Eigen::Index> fixing_dofs;                   // the 3 DOFs removed to make K regular
   // The Dirichlet preconditioner only (S_i = K_bb − K_bi K_ii⁻¹ K_ib): the DOFs of the nodes
   // that rows of B touch (both components) and K_ii⁻¹ as the pseudo-inverse fixing exactly them.
   std::vector<Eigen::Index> boundary_dofs;
-  std::unique_ptr<linalg::FixedDofPseudoInverse> K_ii_inverse;
+  std::unique_ptr<linalg::FixingNodeInverse> K_ii_inverse;
   // x = K⁺ y (zero for the macro subdomain); x must have size n_dofs. scratch: n_dofs − 3
   // doubles owned by the caller, so one subdomain may be applied from any thread.
   void apply_K_plus(const Eigen::VectorXd& y, Eigen::VectorXd& x, Eigen::VectorXd& scratch) const;

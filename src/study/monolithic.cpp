@@ -9,7 +9,7 @@
 #include <Eigen/SparseCore>
 
 #include "fem/assembly.hpp"
-#include "linalg/cholmod.hpp"
+#include "linalg/sparse_cholesky.hpp"
 
 namespace dualcell::study {
 

@@ -1,4 +1,4 @@
-#include "linalg/cholmod.hpp"
+#include "linalg/sparse_cholesky.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -252,13 +252,7 @@ CholeskyStatus CholmodCommon::status() const noexcept {
     return status_from_cholmod(raw_status());
 }
 
-std::size_t CholmodCommon::memory_in_use() const noexcept {
-    return common_ ? common_->memory_inuse : 0;
-}
 
-std::size_t CholmodCommon::peak_memory() const noexcept {
-    return common_ ? common_->memory_usage : 0;
-}
 
 // ==========================================================================
 // SparseCholesky
@@ -324,12 +318,10 @@ SparseCholesky::SparseCholesky(SparseCholesky&& o) noexcept
     : options_(o.options_),
       common_(std::move(o.common_)),
       factor_(std::exchange(o.factor_, nullptr)),
-      ws_vec_(std::exchange(o.ws_vec_, Workspace{})),
-      ws_block_(std::exchange(o.ws_block_, Workspace{})),
+      ws_(std::exchange(o.ws_, Workspace{})),
       n_(std::exchange(o.n_, 0)),
       analyzed_(std::exchange(o.analyzed_, false)),
       factorized_(std::exchange(o.factorized_, false)),
-      rcond_(std::exchange(o.rcond_, 1.0)),
       pattern_ptr_(std::move(o.pattern_ptr_)),
       pattern_idx_(std::move(o.pattern_idx_)),
       marker_(std::move(o.marker_)),
@@ -342,12 +334,10 @@ SparseCholesky& SparseCholesky::operator=(SparseCholesky&& o) noexcept {
     options_ = o.options_;
     common_ = std::move(o.common_);
     factor_ = std::exchange(o.factor_, nullptr);
-    ws_vec_ = std::exchange(o.ws_vec_, Workspace{});
-    ws_block_ = std::exchange(o.ws_block_, Workspace{});
+    ws_ = std::exchange(o.ws_, Workspace{});
     n_ = std::exchange(o.n_, 0);
     analyzed_ = std::exchange(o.analyzed_, false);
     factorized_ = std::exchange(o.factorized_, false);
-    rcond_ = std::exchange(o.rcond_, 1.0);
     pattern_ptr_ = std::move(o.pattern_ptr_);
     pattern_idx_ = std::move(o.pattern_idx_);
     marker_ = std::move(o.marker_);
@@ -367,8 +357,7 @@ void SparseCholesky::free_workspace(Workspace& ws) noexcept {
 void SparseCholesky::release() noexcept {
     cholmod_common* c = common_.get();
     if (c == nullptr) return;
-    free_workspace(ws_vec_);
-    free_workspace(ws_block_);
+    free_workspace(ws_);
     if (factor_ != nullptr) cholmod_free_factor(&factor_, c);
     factor_ = nullptr;
     analyzed_ = false;
@@ -524,7 +513,6 @@ CholeskyStatus SparseCholesky::factorize(const SparseMatrix& matrix) {
 
     if (n_ == 0) {
         factorized_ = true;
-        rcond_ = 1.0;
         last_status_ = CholeskyStatus::ok;
         return last_status_;
     }
@@ -556,12 +544,12 @@ CholeskyStatus SparseCholesky::factorize(const SparseMatrix& matrix) {
     last_message_ = common_.last_message();
 
     common_.begin_call();
-    rcond_ = cholmod_rcond(factor_, c);
+    const double rcond = cholmod_rcond(factor_, c);
     (void)common_.end_call();
-    if (options_.rcond_warning_threshold > 0.0 && !(rcond_ >= options_.rcond_warning_threshold)) {
+    if (options_.rcond_warning_threshold > 0.0 && !(rcond >= options_.rcond_warning_threshold)) {
         st = CholeskyStatus::numerical_warning;
         std::ostringstream os;
-        os << "rcond estimate " << rcond_ << " below threshold "
+        os << "rcond estimate " << rcond << " below threshold "
            << options_.rcond_warning_threshold;
         if (!last_message_.empty()) os << "; " << last_message_;
         last_message_ = os.str();
@@ -605,10 +593,11 @@ CholeskyStatus SparseCholesky::compute(const SparseMatrix& matrix) {
     return factorize(matrix);
 }
 
-void SparseCholesky::solve_impl(const double* b, Eigen::Index ncols, Workspace& ws, double* x) {
+void SparseCholesky::solve_impl(const double* b, double* x) {
+    Workspace& ws = ws_;
     cholmod_dense B{};
     B.nrow = static_cast<std::size_t>(n_);
-    B.ncol = static_cast<std::size_t>(ncols);
+    B.ncol = 1;
     B.nzmax = B.nrow * B.ncol;
     B.d = B.nrow;
     B.x = const_cast<double*>(b);  // read only by cholmod_solve2
@@ -632,9 +621,9 @@ void SparseCholesky::solve_impl(const double* b, Eigen::Index ncols, Workspace& 
         }
     }
     // CHOLMOD 5.x quirk: the simplicial path of cholmod_solve2 asks for
-    // Y = max(4, k) x n, but its internal ptrans() reshapes Y in place to
-    // (last chunk width) x n, so for k = 1 (or k not a multiple of 4) the next
-    // call finds a "wrong" shape and reallocates Y every time.  Restore the
+    // Y = max(4, k) x n (k = 1 here), but its internal ptrans() reshapes Y in
+    // place to 1 x n, so the next call finds a "wrong" shape and reallocates Y
+    // every time.  Restore the
     // header; only the header is touched, and only if Y's buffer (nzmax)
     // really holds that shape, so this is memory-safe for any CHOLMOD version.
     if (!factor_->is_super && ws.Y != nullptr) {
@@ -660,334 +649,9 @@ void SparseCholesky::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
     // If b and x alias, the resize is a no-op (sizes match) and CHOLMOD has
     // read all of B before X is copied out.
     x.resize(n_);
-    solve_impl(b.data(), 1, ws_vec_, x.data());
+    solve_impl(b.data(), x.data());
 }
 
-void SparseCholesky::solve(const Eigen::MatrixXd& B, Eigen::MatrixXd& X) {
-    require_factorized(CholeskyPhase::solve);
-    if (B.rows() != n_)
-        throw CholeskyError(CholeskyStatus::invalid_input, CholeskyPhase::solve, n_,
-                            size_mismatch("right-hand side block", B.rows(), B.cols(), n_));
-    const Eigen::Index k = B.cols();
-    if (n_ == 0 || k == 0) {
-        X.resize(n_, k);
-        return;
-    }
-    X.resize(n_, k);  // no-op if B and X alias (same shape)
-    solve_impl(B.data(), k, k == 1 ? ws_vec_ : ws_block_, X.data());
-}
 
-bool SparseCholesky::is_supernodal() const noexcept {
-    return factor_ != nullptr && factor_->is_super;
-}
-
-std::int64_t SparseCholesky::nnz_factor() const noexcept {
-    if (factor_ == nullptr) return 0;
-    const cholmod_factor* L = factor_;
-    std::int64_t nnz = 0;
-    if (L->is_super) {
-        const int* super = static_cast<const int*>(L->super);
-        const int* pi = static_cast<const int*>(L->pi);
-        for (std::size_t s = 0; s < L->nsuper; ++s) {
-            const std::int64_t nc = super[s + 1] - super[s];
-            const std::int64_t nr = pi[s + 1] - pi[s];
-            nnz += nr * nc - nc * (nc - 1) / 2;  // lower trapezoid
-        }
-    } else if (L->xtype != CHOLMOD_PATTERN && L->nz != nullptr) {
-        const int* nz = static_cast<const int*>(L->nz);
-        for (std::size_t j = 0; j < L->n; ++j) nnz += nz[j];
-    } else if (L->ColCount != nullptr) {
-        const int* cc = static_cast<const int*>(L->ColCount);
-        for (std::size_t j = 0; j < L->n; ++j) nnz += cc[j];
-    }
-    return nnz;
-}
-
-std::size_t SparseCholesky::bytes() const noexcept {
-    if (factor_ == nullptr) return 0;
-    const cholmod_factor* L = factor_;
-    constexpr std::size_t isz = sizeof(int);  // itype CHOLMOD_INT
-    constexpr std::size_t dsz = sizeof(double);
-    const std::size_t n = L->n;
-    std::size_t b = sizeof(cholmod_factor);
-    b += 2 * n * isz;  // Perm, ColCount
-    if (L->IPerm != nullptr) b += n * isz;
-    if (L->is_super) {
-        b += (3 * (L->nsuper + 1) + L->ssize) * isz;  // super, pi, px, s
-        b += L->xsize * dsz;                          // x (projected if symbolic)
-    } else {
-        std::size_t lnz = L->nzmax;
-        if (L->xtype == CHOLMOD_PATTERN) lnz = static_cast<std::size_t>(nnz_factor());
-        b += (n + 1 + n + 2 * (n + 2)) * isz;  // p, nz, next, prev
-        b += lnz * (isz + dsz);                // i, x
-    }
-    return b;
-}
-
-double SparseCholesky::rcond() const {
-    require_factorized(CholeskyPhase::solve);
-    return rcond_;
-}
-
-// ==========================================================================
-// FixedDofPseudoInverse
-// ==========================================================================
-
-namespace {
-
-[[noreturn]] void setup_error(Eigen::Index n, const std::string& detail) {
-    throw CholeskyError(CholeskyStatus::invalid_input, CholeskyPhase::setup, n, detail);
-}
-
-// The two small dense kernels below are written out by hand on purpose:
-// Eigen 3.4's HouseholderQR / JacobiSVD / SelfAdjointEigenSolver trigger
-// GCC 12 -Wmaybe-uninitialized false positives inside Eigen at -O2 when
-// Eigen is included with -I (not -isystem), which -Werror turns into errors.
-
-// Q = orthonormal basis of range(R) by modified Gram-Schmidt, applied twice
-// ("twice is enough").  Returns false if a column loses all but a 1e-10
-// fraction of its norm, i.e. the columns of R are (numerically) dependent.
-bool orthonormalize(const Eigen::MatrixXd& R, Eigen::MatrixXd& Q) {
-    Q = R;
-    for (Eigen::Index j = 0; j < Q.cols(); ++j) {
-        const double original = Q.col(j).norm();
-        for (int pass = 0; pass < 2; ++pass)
-            for (Eigen::Index i = 0; i < j; ++i) Q.col(j) -= Q.col(i).dot(Q.col(j)) * Q.col(i);
-        const double remaining = Q.col(j).norm();
-        if (!(remaining > 1e-10 * original)) return false;
-        Q.col(j) /= remaining;
-    }
-    return true;
-}
-
-// Smallest singular value of a small square matrix by one-sided (Hestenes)
-// Jacobi: rotate column pairs until mutually orthogonal; the singular values
-// are then the column norms.  O(m^3) per sweep, m = number of fixed DOFs.
-double smallest_singular_value(Eigen::MatrixXd A) {
-    const Eigen::Index m = A.cols();
-    if (m == 0) return 0.0;
-    for (int sweep = 0; sweep < 60; ++sweep) {
-        bool rotated = false;
-        for (Eigen::Index p = 0; p + 1 < m; ++p)
-            for (Eigen::Index q = p + 1; q < m; ++q) {
-                const double alpha = A.col(p).squaredNorm();
-                const double beta = A.col(q).squaredNorm();
-                const double gamma = A.col(p).dot(A.col(q));
-                if (!(std::abs(gamma) > 1e-15 * std::sqrt(alpha * beta))) continue;
-                rotated = true;
-                const double zeta = (beta - alpha) / (2.0 * gamma);
-                const double t =
-                    std::copysign(1.0, zeta) / (std::abs(zeta) + std::sqrt(1.0 + zeta * zeta));
-                const double c = 1.0 / std::sqrt(1.0 + t * t);
-                const double s = c * t;
-                for (Eigen::Index r = 0; r < A.rows(); ++r) {
-                    const double ap = A(r, p), aq = A(r, q);
-                    A(r, p) = c * ap - s * aq;
-                    A(r, q) = s * ap + c * aq;
-                }
-            }
-        if (!rotated) break;
-    }
-    return A.colwise().norm().minCoeff();
-}
-
-// Sorted copy of the fixed DOF list; throws on out-of-range or repeated ones.
-std::vector<Eigen::Index> sorted_fixed_dofs(Eigen::Index n, std::span<const Eigen::Index> dofs) {
-    std::vector<Eigen::Index> fixed(dofs.begin(), dofs.end());
-    std::sort(fixed.begin(), fixed.end());
-    for (std::size_t k = 0; k < fixed.size(); ++k) {
-        if (fixed[k] < 0 || fixed[k] >= n)
-            setup_error(n, "fixed DOF " + std::to_string(fixed[k]) + " out of range [0, " +
-                               std::to_string(n) + ")");
-        if (k > 0 && fixed[k] == fixed[k - 1])
-            setup_error(n, "fixed DOF " + std::to_string(fixed[k]) + " listed twice");
-    }
-    return fixed;
-}
-
-}  // namespace
-
-FixedDofPseudoInverse::FixedDofPseudoInverse(const SparseMatrix& K,
-                                             std::span<const Eigen::Index> fixed_dofs,
-                                             const CholmodOptions& options)
-    : options_(options) {
-    build(K, fixed_dofs);
-}
-
-FixedDofPseudoInverse::FixedDofPseudoInverse(const SparseMatrix& K,
-                                             std::span<const Eigen::Index> fixed_dofs,
-                                             const Eigen::MatrixXd& kernel,
-                                             const KernelCheck& check,
-                                             const CholmodOptions& options)
-    : options_(options) {
-    const Eigen::Index n = K.rows();
-    if (K.rows() != K.cols())
-        setup_error(n, "K is not square (" + std::to_string(K.rows()) + "x" +
-                           std::to_string(K.cols()) + ")");
-    const auto m = static_cast<Eigen::Index>(fixed_dofs.size());
-    if (kernel.rows() != n || kernel.cols() != m)
-        setup_error(n, "kernel basis is " + std::to_string(kernel.rows()) + "x" +
-                           std::to_string(kernel.cols()) + ", expected " + std::to_string(n) + "x" +
-                           std::to_string(m) + " (one kernel vector per fixed DOF)");
-    (void)sorted_fixed_dofs(n, fixed_dofs);  // range/duplicate errors first
-    if (m > 0) {
-        // Orthonormal basis Q of range(R); fails if R's columns are dependent.
-        Eigen::MatrixXd Q;
-        if (!orthonormalize(kernel, Q))
-            setup_error(n, "kernel basis columns are linearly dependent");
-
-        // ||K Q||_F relative to ||K||_F, both from the lower triangle.
-        double k2 = 0.0;
-        for (Eigen::Index j = 0; j < K.outerSize(); ++j)
-            for (SparseMatrix::InnerIterator it(K, j); it; ++it) {
-                if (it.row() > j)
-                    k2 += 2.0 * it.value() * it.value();
-                else if (it.row() == j)
-                    k2 += it.value() * it.value();
-            }
-        const Eigen::MatrixXd KQ = K.selfadjointView<Eigen::Lower>() * Q;
-        const double rel = k2 > 0.0 ? KQ.norm() / std::sqrt(k2) : 0.0;
-        if (!(rel <= check.residual_tol)) {
-            std::ostringstream os;
-            os << "kernel basis is not in ker K: ||K Q||_F / ||K||_F = " << rel << " > "
-               << check.residual_tol;
-            setup_error(n, os.str());
-        }
-
-        Eigen::MatrixXd Qf(m, m);
-        for (Eigen::Index r = 0; r < m; ++r) Qf.row(r) = Q.row(fixed_dofs[r]);
-        const double smin = smallest_singular_value(Qf);
-        if (!(smin >= check.min_fixed_singular)) {
-            std::ostringstream os;
-            os << "fixed DOFs do not determine the kernel: sigma_min(Q(fixed,:)) = " << smin
-               << " < " << check.min_fixed_singular
-               << " (some kernel vector (nearly) vanishes on the fixed DOFs)";
-            setup_error(n, os.str());
-        }
-    }
-    build(K, fixed_dofs);
-}
-
-void FixedDofPseudoInverse::build(const SparseMatrix& K, std::span<const Eigen::Index> fixed_dofs) {
-    const Eigen::Index n = K.rows();
-    if (K.rows() != K.cols())
-        setup_error(n, "K is not square (" + std::to_string(K.rows()) + "x" +
-                           std::to_string(K.cols()) + ")");
-    n_ = n;
-    fixed_ = sorted_fixed_dofs(n, fixed_dofs);
-
-    // Reduced numbering: new_index[i] = position among free DOFs, or -1.
-    std::vector<int> new_index(static_cast<std::size_t>(n), -1);
-    free_.clear();
-    free_.reserve(static_cast<std::size_t>(n) - fixed_.size());
-    {
-        std::size_t f = 0;
-        for (Eigen::Index i = 0; i < n; ++i) {
-            if (f < fixed_.size() && fixed_[f] == i) {
-                ++f;
-                continue;
-            }
-            new_index[static_cast<std::size_t>(i)] = static_cast<int>(free_.size());
-            free_.push_back(i);
-        }
-    }
-    const auto nr = static_cast<Eigen::Index>(free_.size());
-
-    // K_rr, lower triangle only.  The renumbering is monotone, so "lower"
-    // in K and in K_rr coincide and row order within a column is kept.
-    std::int64_t strictly_lower = 0, strictly_upper = 0, kept = 0;
-    for (Eigen::Index j = 0; j < n; ++j)
-        for (SparseMatrix::InnerIterator it(K, j); it; ++it) {
-            if (it.row() > j)
-                ++strictly_lower;
-            else if (it.row() < j)
-                ++strictly_upper;
-            if (it.row() >= j && new_index[it.row()] >= 0 && new_index[j] >= 0) ++kept;
-        }
-    if (strictly_upper > 0 && strictly_lower == 0)
-        setup_error(n,
-                    "K has only upper-triangular off-diagonal entries; only the lower "
-                    "triangle is read (pass full or lower storage)");
-
-    SparseMatrix Krr(nr, nr);
-    Krr.resizeNonZeros(static_cast<Eigen::Index>(kept));
-    int* outer = Krr.outerIndexPtr();
-    int* inner = Krr.innerIndexPtr();
-    double* val = Krr.valuePtr();
-    int pos = 0;
-    outer[0] = 0;
-    for (Eigen::Index c = 0; c < nr; ++c) {
-        const Eigen::Index j = free_[static_cast<std::size_t>(c)];
-        for (SparseMatrix::InnerIterator it(K, j); it; ++it) {
-            const int r = new_index[it.row()];
-            if (it.row() >= j && r >= 0) {
-                inner[pos] = r;
-                val[pos] = it.value();
-                ++pos;
-            }
-        }
-        outer[c + 1] = pos;
-    }
-
-    SparseCholesky chol(options_);  // released at the end: L_ is all that is kept
-    status_ = chol.compute(Krr);
-    fr_.resize(nr);
-    SparseCholesky::TriangularFactor factor = chol.triangular_factor();
-    L_ = std::move(factor.L);
-    gather_.resize(static_cast<std::size_t>(nr));
-    for (Eigen::Index k = 0; k < nr; ++k)
-        gather_[static_cast<std::size_t>(k)] = free_[static_cast<std::size_t>(factor.perm[static_cast<std::size_t>(k)])];
-}
-
-void FixedDofPseudoInverse::require_factor(Eigen::Index rows) const {
-    // A moved-from object has lost its vectors but kept n_.
-    if (static_cast<Eigen::Index>(gather_.size() + fixed_.size()) != n_ || L_.rows() != static_cast<Eigen::Index>(gather_.size()))
-        throw CholeskyError(CholeskyStatus::invalid_input, CholeskyPhase::solve, n_,
-                            "FixedDofPseudoInverse has no factorization (moved from?)");
-    if (rows != n_)
-        throw CholeskyError(CholeskyStatus::invalid_input, CholeskyPhase::solve, n_,
-                            size_mismatch("right-hand side", rows, 1, n_));
-}
-
-void FixedDofPseudoInverse::apply(const Eigen::VectorXd& f, Eigen::VectorXd& x, Eigen::VectorXd& scratch) const {
-    require_factor(f.size());
-    const auto nr = static_cast<Eigen::Index>(gather_.size());
-    if (x.size() != n_ || scratch.size() != nr)
-        throw CholeskyError(CholeskyStatus::invalid_input, CholeskyPhase::solve, n_,
-                            "FixedDofPseudoInverse::apply: x must have size n() = " + std::to_string(n_) +
-                                " and scratch n() - fixed_dofs().size() = " + std::to_string(nr));
-    for (Eigen::Index k = 0; k < nr; ++k) scratch[k] = f[gather_[static_cast<std::size_t>(k)]];
-    L_.triangularView<Eigen::Lower>().solveInPlace(scratch);
-    L_.transpose().triangularView<Eigen::Upper>().solveInPlace(scratch);
-    for (Eigen::Index i : fixed_) x[i] = 0.0;
-    for (Eigen::Index k = 0; k < nr; ++k) x[gather_[static_cast<std::size_t>(k)]] = scratch[k];
-}
-
-void FixedDofPseudoInverse::apply(const Eigen::VectorXd& f, Eigen::VectorXd& x) {
-    require_factor(f.size());
-    const auto nr = static_cast<Eigen::Index>(gather_.size());
-    for (Eigen::Index k = 0; k < nr; ++k) fr_[k] = f[gather_[static_cast<std::size_t>(k)]];
-    L_.triangularView<Eigen::Lower>().solveInPlace(fr_);
-    L_.transpose().triangularView<Eigen::Upper>().solveInPlace(fr_);
-    x.resize(n_);  // after the gather: f and x may alias
-    for (Eigen::Index i : fixed_) x[i] = 0.0;
-    for (Eigen::Index k = 0; k < nr; ++k) x[gather_[static_cast<std::size_t>(k)]] = fr_[k];
-}
-
-void FixedDofPseudoInverse::apply(const Eigen::MatrixXd& F, Eigen::MatrixXd& X) {
-    require_factor(F.rows());
-    const auto nr = static_cast<Eigen::Index>(gather_.size());
-    const Eigen::Index k = F.cols();
-    Fr_.resize(nr, k);  // no-op when the shape is unchanged
-    for (Eigen::Index c = 0; c < k; ++c)
-        for (Eigen::Index r = 0; r < nr; ++r) Fr_(r, c) = F(gather_[static_cast<std::size_t>(r)], c);
-    L_.triangularView<Eigen::Lower>().solveInPlace(Fr_);
-    L_.transpose().triangularView<Eigen::Upper>().solveInPlace(Fr_);
-    X.resize(n_, k);  // after the gather: F and X may alias
-    for (Eigen::Index c = 0; c < k; ++c) {
-        for (Eigen::Index i : fixed_) X(i, c) = 0.0;
-        for (Eigen::Index r = 0; r < nr; ++r) X(gather_[static_cast<std::size_t>(r)], c) = Fr_(r, c);
-    }
-}
 
 }  // namespace dualcell::linalg

@@ -1,0 +1,56 @@
+#pragma once
+// K⁺ of a floating subdomain by fixing nodes (docs/method.md, "The generalised inverse K⁺"):
+// a generalised inverse (K K⁺ K = K) of a symmetric positive SEMI-definite K (n × n) with a
+// kernel of dimension m. With f the m fixed DOFs and r the rest, such that K_rr = K(r, r) is
+// regular,
+//
+//     K⁺ = Pᵀ [ K_rr⁻¹  0 ] P,   i.e. x_r = K_rr⁻¹ f_r,  x_f = 0.
+//              [ 0       0 ]
+//
+// This is a generalised inverse exactly when rank(K_rr) = rank(K): exactly dim ker K DOFs are
+// fixed and no kernel vector vanishes on them (feti::FetiSetup fixes three DOFs of two
+// well-separated nodes of each subdomain). It is symmetric, not the Moore–Penrose inverse; for
+// f ⟂ ker K, x = K⁺ f solves K x = f.
+//
+// K_rr (lower triangle of K, as linalg::SparseCholesky reads it) is factorised once in the
+// constructor; the factor is then copied out of CHOLMOD as a plain CSC L and CHOLMOD's copy is
+// released, so every apply() is two sparse triangular sweeps (Eigen), gather and scatter fused
+// with the fill-reducing permutation: no CHOLMOD call, no BLAS, no allocation, and const, so
+// that threads may apply one instance at once, each with its own scratch.
+#include <span>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+
+#include "linalg/sparse_cholesky.hpp"
+
+namespace dualcell::linalg {
+
+class FixingNodeInverse {
+ public:
+  using SparseMatrix = SparseCholesky::SparseMatrix;
+
+  // fixed_dofs: distinct indices in [0, n), any order. Throws CholeskyError (setup phase for
+  // bad DOF lists; analyze/factorize phases from CHOLMOD, e.g. not_positive_definite when the
+  // fixed DOFs leave K_rr indefinite).
+  FixingNodeInverse(const SparseMatrix& K, std::span<const Eigen::Index> fixed_dofs,
+                    const CholmodOptions& options = {});
+
+  // x = K⁺ f (zeros at the fixed DOFs). x must have size n(), scratch n() − fixed DOFs; f and x
+  // may be the same object.
+  void apply(const Eigen::VectorXd& f, Eigen::VectorXd& x, Eigen::VectorXd& scratch) const;
+
+  Eigen::Index n() const noexcept { return n_; }
+  // Size of the scratch apply() needs: n() minus the fixed DOFs.
+  Eigen::Index scratch_size() const noexcept { return static_cast<Eigen::Index>(gather_.size()); }
+
+ private:
+  Eigen::Index n_ = 0;
+  std::vector<Eigen::Index> fixed_;  // sorted
+  // K_rr = Pᵀ L Lᵀ P as a plain CSC factor; gather_[k] = the DOF of K at position k of P K_rr Pᵀ.
+  SparseMatrix L_;
+  std::vector<Eigen::Index> gather_;
+};
+
+}  // namespace dualcell::linalg
