@@ -72,6 +72,7 @@ def polar(law, outbase):
         g = f["law"]
         theta = list(g["direction_deg"][:])
         Et, Ec, onset = list(g["E_tension"][:]), list(g["E_compression"][:]), list(g["onset_stress"][:])
+        after = list(g["E_after_fuse"][:])
     # E(θ + 180°) = E(θ) exactly (n⊗n is the same tensor): the measured directions are drawn
     # again half a turn on, as a separate block, so that no line crosses unmeasured directions.
     def curve(values, shift):
@@ -80,11 +81,18 @@ def polar(law, outbase):
     def both(values):
         return curve(values, 0) + "\n\n" + curve(values, 180)
     data = {"Et.dat": both(Et), "Ec.dat": both(Ec)}
-    polar_plot = ("set title 'Apparent plane-strain moduli by load direction θ'\nset polar\nset angles degrees\n"
+    # With adhesion the moduli before any break are the bonded (linear) ones; the tangent
+    # modulus past the tension fuse is where tension and compression part.
+    after_fuse = ""
+    if any(not math.isnan(v) for v in after):
+        data["after.dat"] = both(after)
+        after_fuse = (", \\\n  'after.dat' using 1:2 with linespoints lw 2 pt 9 lc rgb '#d02020' "
+                      "title 'E tension past the fuse'")
+    polar_plot = ("set title 'Moduli by load direction θ'\nset polar\nset angles degrees\n"
                   "set grid polar 30\nset size square\nunset border\nunset xtics\nunset ytics\nset rtics\n"
                   "set key bottom outside\n"
                   "plot 'Ec.dat' using 1:2 with linespoints lw 2 pt 7 lc rgb '#8000c0' title 'E compression', \\\n"
-                  "  'Et.dat' using 1:2 with linespoints lw 2 pt 5 lc rgb '#009060' title 'E tension'\n")
+                  "  'Et.dat' using 1:2 with linespoints lw 2 pt 5 lc rgb '#009060' title 'E tension'" + after_fuse + "\n")
     if any(not math.isnan(v) for v in onset):
         data["onset.dat"] = curve(onset, 0)
         script = ("set multiplot layout 1,2\n" + polar_plot +
