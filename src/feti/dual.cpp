@@ -217,9 +217,9 @@ Eigen::VectorXd DualProblem::lambda_0(const Eigen::VectorXd& e) const {
 
 Eigen::VectorXd DualProblem::coarse_solve(const Eigen::VectorXd& r) const {
   G_scratch_.noalias() = G_ * r;
-  Eigen::VectorXd beta;
-  GGt_.solve(G_scratch_, beta);
-  return beta;
+  Eigen::VectorXd alpha_hat;
+  GGt_.solve(G_scratch_, alpha_hat);
+  return alpha_hat;
 }
 
 Eigen::VectorXd DualProblem::K_plus_residual(const Eigen::VectorXd& f, const Eigen::VectorXd& lambda) const {

@@ -5,9 +5,9 @@
 //   F = B K⁺ Bᵀ,  d = B K⁺ f − c,  G = R̂ᵀ Bᵀ,  e = R̂ᵀ f
 //   min ½ λᵀFλ − λᵀd   s.t.  Gλ = e,  ℓ ≤ λ ≤ υ
 //
-// made homogeneous by λ = λ₀ + μ with λ₀ = Gᵀ(GGᵀ)⁻¹e (bounds shifted by −λ₀), and solved
-// with the orthogonal projector P = I − Q, Q = Gᵀ(GGᵀ)⁻¹G, as min ½μᵀPFPμ − μᵀP(d − Fλ₀)
-// s.t. Qμ = 0 (SMALBE) and the shifted bounds (MPRGP inside).
+// made homogeneous by λ = λ₀ + x with λ₀ = Gᵀ(GGᵀ)⁻¹e (bounds shifted by −λ₀), and solved
+// with the orthogonal projector P = I − Q, Q = Gᵀ(GGᵀ)⁻¹G, as min ½xᵀPFPx − xᵀP(d − Fλ₀)
+// s.t. Qx = 0 (SMALBE, whose multiplier of Qx = 0 is μ) and the shifted bounds (MPRGP inside).
 //
 //   symbol | variable            | note
 //   -------+---------------------+-----------------------------------------------------

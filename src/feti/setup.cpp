@@ -36,7 +36,7 @@ std::vector<Eigen::Index> fixing_dofs(const mesh::Mesh& mesh, const mesh::Subdom
 
 }  // namespace
 
-void Subdomain::apply_K_plus(const Eigen::VectorXd& y, Eigen::VectorXd& x, Eigen::VectorXd& scratch) const {
+void FloatingSubdomain::apply_K_plus(const Eigen::VectorXd& y, Eigen::VectorXd& x, Eigen::VectorXd& scratch) const {
   if (is_macro) {
     x.setZero();
     return;
@@ -53,7 +53,7 @@ FetiSetup::FetiSetup(const mesh::Mesh& mesh, const Scene& scene, int threads, in
   subdomains_.resize(S);
   for_each_subdomain([&](int s) {
     const mesh::Subdomain& ms = mesh.subdomains[s];
-    Subdomain& sub = subdomains_[s];
+    FloatingSubdomain& sub = subdomains_[s];
     sub.index = s;
     sub.is_fibre = ms.is_fibre;
     sub.dof_begin = 2 * ms.node_begin;
@@ -64,7 +64,7 @@ FetiSetup::FetiSetup(const mesh::Mesh& mesh, const Scene& scene, int threads, in
   });
   n_dofs_ = mesh.dim_u();
   if (scene.load.boundary == Boundary::periodic) {
-    Subdomain macro;
+    FloatingSubdomain macro;
     macro.index = S;
     macro.is_macro = true;
     macro.dof_begin = n_dofs_;
@@ -75,7 +75,7 @@ FetiSetup::FetiSetup(const mesh::Mesh& mesh, const Scene& scene, int threads, in
     n_dofs_ += 3;
   }
   dof_owner_.assign(n_dofs_, -1);
-  for (const Subdomain& sub : subdomains_)
+  for (const FloatingSubdomain& sub : subdomains_)
     for (int d = 0; d < sub.n_dofs; ++d) dof_owner_[sub.dof_begin + d] = sub.index;
   seconds_assembly = seconds_since(t0);
 
@@ -87,7 +87,7 @@ FetiSetup::FetiSetup(const mesh::Mesh& mesh, const Scene& scene, int threads, in
   const linalg::CholmodOptions subdomain_factor_options{linalg::FactorKind::simplicial, linalg::Ordering::amd};
   const auto t1 = Clock::now();
   for_each_subdomain([&](int s) {
-    Subdomain& sub = subdomains_[s];
+    FloatingSubdomain& sub = subdomains_[s];
     if (!sub.is_macro)
       sub.K_plus = std::make_unique<linalg::FixingNodeInverse>(sub.K, sub.fixing_dofs, subdomain_factor_options);
   });
@@ -100,7 +100,7 @@ FetiSetup::FetiSetup(const mesh::Mesh& mesh, const Scene& scene, int threads, in
       for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(rows.B, r); it; ++it)
         if (it.col() < mesh.dim_u()) on_boundary[it.col() / 2] = 1;  // not the macro DOFs
     for_each_subdomain([&](int s) {
-      Subdomain& sub = subdomains_[s];
+      FloatingSubdomain& sub = subdomains_[s];
       if (sub.is_macro) return;
       const mesh::Subdomain& ms = mesh.subdomains[s];
       for (int v = ms.node_begin; v < ms.node_end; ++v)

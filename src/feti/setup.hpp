@@ -2,12 +2,12 @@
 // What Total FETI needs per mesh and material, built once and reused for every load case and
 // every bond state (METHOD §4–5):
 //
-//   symbol | variable                 | meaning
-//   -------+--------------------------+-------------------------------------------------
-//   K_i    | Subdomain::K             | stiffness of subdomain i (floating: ker K_i = span R_i)
-//   R_i    | Subdomain::R             | orthonormal rigid-body modes (dim_i × 3)
-//   K_i⁺   | Subdomain::K_plus        | fixing-node generalised inverse, CHOLMOD factor
-//   f      | FetiSetup::load(σ̄)      | tractions σ̄·n on the loaded edges + body force
+//   symbol | variable                   | meaning
+//   -------+----------------------------+-------------------------------------------------
+//   K_i    | FloatingSubdomain::K       | stiffness of subdomain i (floating: ker K_i = span R_i)
+//   R_i    | FloatingSubdomain::R       | orthonormal rigid-body modes (dim_i × 3)
+//   K_i⁺   | FloatingSubdomain::K_plus  | fixing-node generalised inverse (linalg::FixingNodeInverse)
+//   f      | FetiSetup::load(σ̄)         | tractions σ̄·n on the loaded edges + body force
 //
 // Each subdomain owns its data (no global state), so subdomains are spread over threads
 // (for_each_subdomain) and could be spread over MPI ranks the same way. With the periodic boundary a "macro" subdomain holds the macroscopic
@@ -25,7 +25,8 @@
 
 namespace dualcell::feti {
 
-struct Subdomain {
+// The FETI data of one subdomain of the mesh (mesh::Subdomain says which nodes and triangles).
+struct FloatingSubdomain {
   int index = 0;
   bool is_fibre = false;
   bool is_macro = false;
@@ -55,7 +56,7 @@ class FetiSetup {
 
   const mesh::Mesh& mesh() const { return mesh_; }
   const Scene& scene() const { return scene_; }
-  const std::vector<Subdomain>& subdomains() const { return subdomains_; }
+  const std::vector<FloatingSubdomain>& subdomains() const { return subdomains_; }
   int n_dofs() const { return n_dofs_; }   // dim u (+3 macro DOFs with the periodic boundary)
   int dim_u() const { return mesh_.dim_u(); }
   int subdomain_of_dof(int dof) const { return dof_owner_[dof]; }
@@ -99,7 +100,7 @@ class FetiSetup {
  private:
   const mesh::Mesh& mesh_;
   Scene scene_;
-  std::vector<Subdomain> subdomains_;
+  std::vector<FloatingSubdomain> subdomains_;
   std::vector<int> dof_owner_;
   int n_dofs_ = 0;
   int threads_ = 1;

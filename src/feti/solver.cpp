@@ -120,8 +120,9 @@ Solution ContactSolver::solve_problem(const DualProblem& dual, double& norm_PFP,
   }
 
   const Eigen::VectorXd lower = con.lower - lambda0, upper = con.upper - lambda0;
-  Eigen::VectorXd mu = Eigen::VectorXd::Zero(m);
-  if (warm_lambda && warm_lambda->size() == m) mu = warm_lambda->cwiseQuotient(con.weight) - lambda0;
+  // The QP's unknown: λ − λ₀ (scaled rows), zero or the caller's warm start.
+  Eigen::VectorXd lambda_shift = Eigen::VectorXd::Zero(m);
+  if (warm_lambda && warm_lambda->size() == m) lambda_shift = warm_lambda->cwiseQuotient(con.weight) - lambda0;
 
   const SolverSettings& settings = setup_.scene().solver;
   qp::SmalbeOptions options;
@@ -151,7 +152,7 @@ Solution ContactSolver::solve_problem(const DualProblem& dual, double& norm_PFP,
   // SMALBE's m = Ĝᵀμ, in λ-space; warm-started with the caller's when it fits this problem.
   Eigen::VectorXd multiplier = Eigen::VectorXd::Zero(m);
   if (warm_multiplier && warm_multiplier->size() == m) multiplier = *warm_multiplier;
-  out.qp = qp::smalbe(A, Q, b, lower, upper, mu, multiplier, options);
+  out.qp = qp::smalbe(A, Q, b, lower, upper, lambda_shift, multiplier, options);
   out.seconds.qp = seconds_since(t_qp);
   out.seconds.qp_F = dual.profile().F - profile_before.F;
   out.seconds.qp_Q = dual.profile().Q - profile_before.Q;
@@ -163,7 +164,7 @@ Solution ContactSolver::solve_problem(const DualProblem& dual, double& norm_PFP,
   out.expansion_steps = out.qp.counters.expansion_steps;
   out.proportioning_steps = out.qp.counters.proportioning_steps;
 
-  const Eigen::VectorXd lambda_scaled = lambda0 + mu;
+  const Eigen::VectorXd lambda_scaled = lambda0 + lambda_shift;
   out.lambda = lambda_scaled.cwiseProduct(con.weight);
   out.multiplier = multiplier;
   const auto t_rec = Clock::now();
@@ -192,11 +193,12 @@ void ContactSolver::recover(const DualProblem& dual, const Eigen::VectorXd& f, c
   Eigen::VectorXd g(con.n_rows());
   dual.apply_F(lambda_scaled, g);
   g -= d + multiplier;
-  const Eigen::VectorXd beta = dual.coarse_solve(g);
+  // α̂: amplitudes of the modes R̂ that B sees; α = V α̂ per subdomain (R̂_i = R_i V_i).
+  const Eigen::VectorXd alpha_hat = dual.coarse_solve(g);
   out.alpha = Eigen::VectorXd::Zero(3 * S);
   for (int s = 0; s < S; ++s) {
     const auto& local = locals[s];
-    const Eigen::Vector3d alpha = local.V * beta.segment(local.G_offset, local.V.cols());
+    const Eigen::Vector3d alpha = local.V * alpha_hat.segment(local.G_offset, local.V.cols());
     out.alpha.segment<3>(3 * s) = alpha;
     u.segment(subs[s].dof_begin, subs[s].n_dofs) += subs[s].R * alpha;
   }
@@ -211,7 +213,7 @@ void ContactSolver::recover(const DualProblem& dual, const Eigen::VectorXd& f, c
   const Eigen::VectorXd Bu = con.B * u;
   for (int s = 0; s < S; ++s) {
     if (!subs[s].is_fibre) continue;
-    const Subdomain& sub = subs[s];
+    const FloatingSubdomain& sub = subs[s];
     const auto& local = locals[s];
     // Target: the rigid motion that best fits u_matrix − u_fibre at the rim.
     Eigen::MatrixXd fit(2 * pairs_of_fibre[s].size(), 3);

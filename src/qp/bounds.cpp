@@ -12,26 +12,26 @@ constexpr double infinity = std::numeric_limits<double>::infinity();
 }
 
 GradientSplit split_gradient(const Eigen::VectorXd& x, const Eigen::VectorXd& g, const Eigen::VectorXd& l,
-                             const Eigen::VectorXd& u, double alpha_bar, Eigen::VectorXd& phi, Eigen::VectorXd& beta) {
+                             const Eigen::VectorXd& u, double omega_bar, Eigen::VectorXd& phi, Eigen::VectorXd& psi) {
   GradientSplit split;
   for (Eigen::Index i = 0; i < x.size(); ++i) {
     const bool at_lower = x[i] <= l[i];
     const bool at_upper = x[i] >= u[i];
     if (!at_lower && !at_upper) {
       phi[i] = g[i];
-      beta[i] = 0.0;
-      // φ̃ caps the free gradient by the distance to the bound it points at, over ᾱ.
+      psi[i] = 0.0;
+      // φ̃ caps the free gradient by the distance to the bound it points at, over ω̄.
       const double phi_tilde =
-          g[i] > 0.0 ? std::min((x[i] - l[i]) / alpha_bar, g[i]) : std::max((x[i] - u[i]) / alpha_bar, g[i]);
+          g[i] > 0.0 ? std::min((x[i] - l[i]) / omega_bar, g[i]) : std::max((x[i] - u[i]) / omega_bar, g[i]);
       split.phi_norm2 += g[i] * g[i];
       split.phi_tilde_dot_phi += phi_tilde * g[i];
     } else {
       phi[i] = 0.0;
       if (at_lower && at_upper) {
-        beta[i] = 0.0;
+        psi[i] = 0.0;
       } else {
-        beta[i] = at_lower ? std::min(g[i], 0.0) : std::max(g[i], 0.0);
-        split.beta_norm2 += beta[i] * beta[i];
+        psi[i] = at_lower ? std::min(g[i], 0.0) : std::max(g[i], 0.0);
+        split.psi_norm2 += psi[i] * psi[i];
       }
     }
   }
@@ -75,25 +75,25 @@ FeasibleStep max_feasible_step(const Eigen::VectorXd& x, const Eigen::VectorXd& 
                                const Eigen::VectorXd& u) {
   FeasibleStep step{infinity, -1};
   for (Eigen::Index i = 0; i < x.size(); ++i) {
-    double alpha = infinity;
+    double omega = infinity;
     if (d[i] > 0.0) {
-      alpha = (x[i] - l[i]) / d[i];
+      omega = (x[i] - l[i]) / d[i];
     } else if (d[i] < 0.0) {
-      alpha = (x[i] - u[i]) / d[i];
+      omega = (x[i] - u[i]) / d[i];
     }
-    if (alpha < step.alpha) {
-      step = {alpha, i};
+    if (omega < step.omega) {
+      step = {omega, i};
     }
   }
   return step;
 }
 
-void step_within_box(double alpha, const Eigen::VectorXd& d, const FeasibleStep& limit, const Eigen::VectorXd& l,
+void step_within_box(double omega, const Eigen::VectorXd& d, const FeasibleStep& limit, const Eigen::VectorXd& l,
                      const Eigen::VectorXd& u, Eigen::VectorXd& x) {
   // A longer step would be a logic error, which the clamp below must not hide.
-  assert(alpha <= limit.alpha);
-  x -= alpha * d;
-  if (limit.blocking >= 0 && alpha >= limit.alpha) {
+  assert(omega <= limit.omega);
+  x -= omega * d;
+  if (limit.blocking >= 0 && omega >= limit.omega) {
     const Eigen::Index i = limit.blocking;
     x[i] = d[i] > 0.0 ? l[i] : u[i];
   }

@@ -5,20 +5,22 @@
 // Z. Dostál, J. Schöberl: Minimizing quadratic functions subject to bound constraints with the
 // rate of convergence and finite termination, Comput. Optim. Appl. 30 (2005) 23–43 (MPRGP);
 // lower and upper bounds and the reduced free gradient φ̃ as in Z. Dostál, Optimal Quadratic
-// Programming Algorithms, Springer 2009, ch. 5. Definitions of φ, β, φ̃, gᴾ: qp/bounds.hpp.
+// Programming Algorithms, Springer 2009, ch. 5. Definitions of φ, ψ (β in the papers), φ̃, gᴾ:
+// qp/bounds.hpp. Step lengths are ω here (α in the papers; α is the rigid-body amplitude in
+// this project, docs/method.md glossary).
 //
 // Every step is one of
-//   x proportional, ‖β‖² ≤ Γ² φ̃ᵀφ (φ̃, not φ, on the right: the paper's test for ᾱ-steps):
-//     CG step          x ← x - α_cg p, α_cg = gᵀp / pᵀAp, if feasible (α_cg ≤ α_f);
-//                      p ← z - γ p, γ = zᵀAp / pᵀAp
-//     expansion step   x½ ← x - α_f p (half step to the boundary),
-//                      x ← P_Ω(x½ - ᾱ φ(x½)), g ← A x - b, p ← z
+//   x proportional, ‖ψ‖² ≤ Γ² φ̃ᵀφ (φ̃, not φ, on the right: the paper's test for ω̄-steps):
+//     CG step          x ← x - ω_cg p, ω_cg = gᵀp / pᵀAp, if feasible (ω_cg ≤ ω_f);
+//                      p ← z - ζ p, ζ = zᵀAp / pᵀAp
+//     expansion step   x½ ← x - ω_f p (half step to the boundary),
+//                      x ← P_Ω(x½ - ω̄ φ(x½)), g ← A x - b, p ← z
 //   otherwise:
-//     proportioning    x ← x - α β, α = min(α_cg, α_f), α_cg = ‖β‖² / βᵀAβ, p ← z
+//     proportioning    x ← x - ω ψ, ω = min(ω_cg, ω_f), ω_cg = ‖ψ‖² / ψᵀAψ, p ← z
 // with z = φ without a preconditioner. The proportioning step is capped by the feasible step
-// α_f along -β: with a box, releasing a component from one bound can carry it past the other,
-// and the paper's lower-bound-only α_cg would leave Ω. f is convex along -β with minimiser
-// α_cg, so any α ≤ α_cg still decreases f. All moves go through step_within_box, so every
+// ω_f along -ψ: with a box, releasing a component from one bound can carry it past the other,
+// and the paper's lower-bound-only ω_cg would leave Ω. f is convex along -ψ with minimiser
+// ω_cg, so any ω ≤ ω_cg still decreases f. All moves go through step_within_box, so every
 // iterate is feasible up to the last bit.
 //
 // Preconditioning in face (optional; Dostál 2009, §5.10). With a preconditioner M⁻¹ ≈ A⁻¹
@@ -30,15 +32,15 @@
 // studied in J. Kružík, D. Horák: Accelerating MPGP-type methods through preconditioning,
 // arXiv:2507.00617, 2025). z, p and the steps vanish off F, so within a face this is PCG on
 // min f(x - d), d_i = 0 off F, i.e. on A_FF d_F = g_F, with preconditioner (M⁻¹)_FF:
-//   γ = zᵀAp / pᵀAp makes the new p A-conjugate to the old one;
-//   α_cg = gᵀp / pᵀAp is the exact minimiser of f along -p. After an exact line search the new
-//   gradient is orthogonal to the old p, so gᵀp = gᵀz - γ gᵀp_old = gᵀz = φᵀz, and
-//   α_cg = φᵀz / pᵀAp is the textbook PCG step rᵀz_r / p_rᵀAp_r for the residual r = -φ
-//   (z_r = -z, p_r = -p, x ← x + α p_r). gᵀp is kept as the computed form: it stays the exact
+//   ζ = zᵀAp / pᵀAp makes the new p A-conjugate to the old one;
+//   ω_cg = gᵀp / pᵀAp is the exact minimiser of f along -p. After an exact line search the new
+//   gradient is orthogonal to the old p, so gᵀp = gᵀz - ζ gᵀp_old = gᵀz = φᵀz, and
+//   ω_cg = φᵀz / pᵀAp is the textbook PCG step rᵀz_r / p_rᵀAp_r for the residual r = -φ
+//   (z_r = -z, p_r = -p, x ← x + ω p_r). gᵀp is kept as the computed form: it stays the exact
 //   minimiser when round-off erodes the orthogonality, and it is what the unpreconditioned
 //   code computes.
-// Without bounds and with M⁻¹ = A⁻¹: z = A⁻¹g, α_cg = gᵀA⁻¹g / gᵀA⁻¹g = 1 and x - z = A⁻¹b,
-// one step. The expansion step (fixed ᾱ along φ, projected), the proportioning step along β,
+// Without bounds and with M⁻¹ = A⁻¹: z = A⁻¹g, ω_cg = gᵀA⁻¹g / gᵀA⁻¹g = 1 and x - z = A⁻¹b,
+// one step. The expansion step (fixed ω̄ along φ, projected), the proportioning step along ψ,
 // the proportioning test and the stopping test on ‖gᴾ‖ stay unpreconditioned, as in the book,
 // so the feasibility and monotonicity arguments are unchanged; the direction restarts (p ← z)
 // whenever the free set may have changed (after expansion and proportioning steps and on a
@@ -52,12 +54,12 @@
 // Symbol → variable
 //   A, b, l, u, x       A, b, l, u, x
 //   g = A x - b         work.g
-//   φ, β                work.phi, work.beta
+//   φ, ψ                work.phi, work.psi
 //   M⁻¹, z              opts.preconditioner, work.z (z is work.phi without M⁻¹)
 //   φ̃ᵀφ, ‖gᴾ‖           split.phi_tilde_dot_phi, gP_norm
 //   p, A p, pᵀAp        work.p, work.Ap, pAp (of the last CG step: pAp_last)
-//   α_cg, α_f, ᾱ        alpha_cg, alpha_f (FeasibleStep), alpha_bar
-//   γ, Γ                gamma, opts.Gamma
+//   ω_cg, ω_f, ω̄        omega_cg, omega_f (FeasibleStep), omega_bar
+//   ζ, Γ                zeta, opts.Gamma
 //   ‖A‖, ε              norm_A, tolerance
 #include "qp/mprgp.hpp"
 
@@ -113,8 +115,8 @@ std::string check_options(const MprgpOptions& opts) {
   if (!(opts.Gamma > 0.0) || !std::isfinite(opts.Gamma)) {
     return "Gamma must be positive and finite";
   }
-  if (!(opts.alpha_bar_factor > 0.0 && opts.alpha_bar_factor <= 2.0)) {
-    return "alpha_bar_factor must lie in (0, 2]";
+  if (!(opts.omega_bar_factor > 0.0 && opts.omega_bar_factor <= 2.0)) {
+    return "omega_bar_factor must lie in (0, 2]";
   }
   if (!(opts.norm_A >= 0.0) || !std::isfinite(opts.norm_A)) {
     return "norm_A must be finite and non-negative (0 = estimate)";
@@ -170,7 +172,7 @@ Result mprgp(const LinearOperator& A, const Eigen::VectorXd& b, const Eigen::Vec
   work.p.resize(n);
   work.Ap.resize(n);
   work.phi.resize(n);
-  work.beta.resize(n);
+  work.psi.resize(n);
   const bool preconditioned = static_cast<bool>(opts.preconditioner);
   if (preconditioned) {
     work.z.resize(n);
@@ -185,8 +187,8 @@ Result mprgp(const LinearOperator& A, const Eigen::VectorXd& b, const Eigen::Vec
       return fail_non_finite("the norm estimate");
     }
   }
-  // A = 0 leaves ᾱ free (2/‖A‖ = ∞); take ‖A‖ = 1 for it.
-  const double alpha_bar = opts.alpha_bar_factor / (norm_A > 0.0 ? norm_A : 1.0);
+  // A = 0 leaves ω̄ free (2/‖A‖ = ∞); take ‖A‖ = 1 for it.
+  const double omega_bar = opts.omega_bar_factor / (norm_A > 0.0 ? norm_A : 1.0);
   const double b_norm = b.norm();
   const double scale = b_norm > 0.0 ? b_norm : 1.0;
   const double tolerance = std::max(opts.absolute_tolerance, opts.relative_tolerance * scale);
@@ -221,9 +223,9 @@ Result mprgp(const LinearOperator& A, const Eigen::VectorXd& b, const Eigen::Vec
     return fail_non_finite("A x at the initial guess");
   }
   bool gradient_is_fresh = true;
-  GradientSplit split = split_gradient(x, work.g, l, u, alpha_bar, work.phi, work.beta);
+  GradientSplit split = split_gradient(x, work.g, l, u, omega_bar, work.phi, work.psi);
   double gP_norm = split.projected_norm();
-  // How the next CG-branch step forms p: p ← z, or p ← z - γ p after a CG step, whose
+  // How the next CG-branch step forms p: p ← z, or p ← z - ζ p after a CG step, whose
   // pᵀAp is kept in pAp_last and A p in work.Ap (untouched until that step's A p).
   enum class Direction { restart, conjugate };
   Direction next_direction = Direction::restart;
@@ -245,7 +247,7 @@ Result mprgp(const LinearOperator& A, const Eigen::VectorXd& b, const Eigen::Vec
         return fail_non_finite("A x");
       }
       gradient_is_fresh = true;
-      split = split_gradient(x, work.g, l, u, alpha_bar, work.phi, work.beta);
+      split = split_gradient(x, work.g, l, u, omega_bar, work.phi, work.psi);
       gP_norm = split.projected_norm();
       next_direction = Direction::restart;
       continue;
@@ -268,8 +270,8 @@ Result mprgp(const LinearOperator& A, const Eigen::VectorXd& b, const Eigen::Vec
     }
     ++steps;
 
-    if (split.beta_norm2 <= opts.Gamma * opts.Gamma * split.phi_tilde_dot_phi) {
-      // Proportional: φ ≠ 0 here (φ = 0 would force β = 0, i.e. gᴾ = 0).
+    if (split.psi_norm2 <= opts.Gamma * opts.Gamma * split.phi_tilde_dot_phi) {
+      // Proportional: φ ≠ 0 here (φ = 0 would force ψ = 0, i.e. gᴾ = 0).
       const Eigen::VectorXd* z = &work.phi;
       if (preconditioned) {
         if (!precondition_free_gradient()) {
@@ -278,8 +280,8 @@ Result mprgp(const LinearOperator& A, const Eigen::VectorXd& b, const Eigen::Vec
         z = &work.z;
       }
       if (next_direction == Direction::conjugate) {
-        const double gamma = z->dot(work.Ap) / pAp_last;
-        work.p = *z - gamma * work.p;
+        const double zeta = z->dot(work.Ap) / pAp_last;
+        work.p = *z - zeta * work.p;
       } else {
         work.p = *z;
       }
@@ -301,58 +303,58 @@ Result mprgp(const LinearOperator& A, const Eigen::VectorXd& b, const Eigen::Vec
       if (!std::isfinite(pAp)) {
         return fail_non_finite("A p");
       }
-      const FeasibleStep alpha_f = max_feasible_step(x, work.p, l, u);
-      const double alpha_cg = negligible_curvature(pAp, work.p.squaredNorm()) ? infinity : g_dot_p / pAp;
+      const FeasibleStep omega_f = max_feasible_step(x, work.p, l, u);
+      const double omega_cg = negligible_curvature(pAp, work.p.squaredNorm()) ? infinity : g_dot_p / pAp;
 
-      if (alpha_cg <= alpha_f.alpha) {
-        step_within_box(alpha_cg, work.p, alpha_f, l, u, x);
-        work.g -= alpha_cg * work.Ap;
+      if (omega_cg <= omega_f.omega) {
+        step_within_box(omega_cg, work.p, omega_f, l, u, x);
+        work.g -= omega_cg * work.Ap;
         gradient_is_fresh = false;
-        split = split_gradient(x, work.g, l, u, alpha_bar, work.phi, work.beta);
+        split = split_gradient(x, work.g, l, u, omega_bar, work.phi, work.psi);
         pAp_last = pAp;
         next_direction = Direction::conjugate;
         ++counters.cg_steps;
-      } else if (alpha_f.alpha == infinity) {
+      } else if (omega_f.omega == infinity) {
         result.status = Status::unbounded;
         reason =
             "f decreases without bound along a direction of zero curvature that no "
             "bound blocks";
         break;
       } else {
-        step_within_box(alpha_f.alpha, work.p, alpha_f, l, u, x);
-        work.g -= alpha_f.alpha * work.Ap;
+        step_within_box(omega_f.omega, work.p, omega_f, l, u, x);
+        work.g -= omega_f.omega * work.Ap;
         observe(x);
-        split_gradient(x, work.g, l, u, alpha_bar, work.phi, work.beta);
-        x -= alpha_bar * work.phi;
+        split_gradient(x, work.g, l, u, omega_bar, work.phi, work.psi);
+        x -= omega_bar * work.phi;
         project_onto_box(l, u, x);
         if (!recompute_gradient()) {
           return fail_non_finite("A x after an expansion step");
         }
         gradient_is_fresh = true;
-        split = split_gradient(x, work.g, l, u, alpha_bar, work.phi, work.beta);
+        split = split_gradient(x, work.g, l, u, omega_bar, work.phi, work.psi);
         next_direction = Direction::restart;
         ++counters.expansion_steps;
       }
     } else {
-      // Proportioning along the chopped gradient β releases active components.
-      A(work.beta, work.Ap);
+      // Proportioning along the chopped gradient ψ releases active components.
+      A(work.psi, work.Ap);
       ++counters.operator_applications;
-      const double dAd = work.beta.dot(work.Ap);
+      const double dAd = work.psi.dot(work.Ap);
       if (!std::isfinite(dAd)) {
-        return fail_non_finite("A β");
+        return fail_non_finite("A psi");
       }
-      const FeasibleStep alpha_f = max_feasible_step(x, work.beta, l, u);
-      const double alpha_cg = negligible_curvature(dAd, split.beta_norm2) ? infinity : split.beta_norm2 / dAd;
-      const double alpha = std::min(alpha_cg, alpha_f.alpha);
-      if (alpha == infinity) {
+      const FeasibleStep omega_f = max_feasible_step(x, work.psi, l, u);
+      const double omega_cg = negligible_curvature(dAd, split.psi_norm2) ? infinity : split.psi_norm2 / dAd;
+      const double omega = std::min(omega_cg, omega_f.omega);
+      if (omega == infinity) {
         result.status = Status::unbounded;
         reason = "f decreases without bound along a released component";
         break;
       }
-      step_within_box(alpha, work.beta, alpha_f, l, u, x);
-      work.g -= alpha * work.Ap;
+      step_within_box(omega, work.psi, omega_f, l, u, x);
+      work.g -= omega * work.Ap;
       gradient_is_fresh = false;
-      split = split_gradient(x, work.g, l, u, alpha_bar, work.phi, work.beta);
+      split = split_gradient(x, work.g, l, u, omega_bar, work.phi, work.psi);
       next_direction = Direction::restart;
       ++counters.proportioning_steps;
     }

@@ -20,10 +20,10 @@ struct MprgpOptions {
   double absolute_tolerance = 0;
   // Budget of steps (CG + expansion + proportioning).
   long max_iterations = 10000;
-  // Proportioning parameter Γ > 0 in ‖β‖² ≤ Γ² φ̃ᵀφ.
+  // Proportioning parameter Γ > 0 in ‖ψ‖² ≤ Γ² φ̃ᵀφ.
   double Gamma = 1.0;
-  // Expansion steplength ᾱ = alpha_bar_factor/‖A‖, factor in (0, 2].
-  double alpha_bar_factor = 1.95;
+  // Expansion steplength ω̄ = omega_bar_factor/‖A‖, factor in (0, 2].
+  double omega_bar_factor = 1.95;
   // ‖A‖; 0 → estimated by 20 power iterations (counted as operator applications).
   double norm_A = 0;
   // Status stagnated after this many consecutive steps in which neither the objective decreased
@@ -51,9 +51,9 @@ using StoppingTest = std::function<bool(const Eigen::VectorXd& x, const Eigen::V
 struct MprgpWorkspace {
   Eigen::VectorXd g;     // gradient A x - b
   Eigen::VectorXd p;     // conjugate direction
-  Eigen::VectorXd Ap;    // A p, A β, or A x on recomputation
+  Eigen::VectorXd Ap;    // A p, A ψ, or A x on recomputation
   Eigen::VectorXd phi;   // free gradient φ
-  Eigen::VectorXd beta;  // chopped gradient β
+  Eigen::VectorXd psi;   // chopped gradient ψ
   Eigen::VectorXd z;     // preconditioned free gradient χ_F ⊙ M⁻¹φ (with a preconditioner only)
 };
 

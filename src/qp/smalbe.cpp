@@ -1,5 +1,6 @@
 // SMALBE-M — SemiMonotonic Augmented Lagrangian for Bound and Equality constraints, variant with
-// adaptive precision M, plus a bounded penalty growth safeguard.
+// adaptive precision ξ (M in Dostál's book; here M⁻¹ is the preconditioner), plus a bounded
+// penalty growth safeguard.
 //
 // Solves   min f(x) = ½ xᵀA x - bᵀx   s.t.   Q x = 0,   l ≤ x ≤ u,
 // with Q = Ĝᵀ Ĝ (Ĝ orthonormal rows) the orthogonal projector onto Im Ĝᵀ, so Qx = 0 ⇔ Ĝx = 0
@@ -7,18 +8,18 @@
 // equal to ρ, so ρ up to ‖A‖ costs the inner solver nothing.
 //
 // Z. Dostál, Optimal Quadratic Programming Algorithms, Springer 2009, ch. 6 (SMALBE; SMALBE-M
-// keeps ρ and adapts M). The multiplier μ of Ĝx = 0 is kept as m = Ĝᵀμ ∈ Im Q, so
+// keeps ρ and adapts ξ). The multiplier μ of Ĝx = 0 is kept as m = Ĝᵀμ ∈ Im Q, so
 //   L(x, m, ρ) = ½ xᵀA x - bᵀx + mᵀx + ρ/2 xᵀQ x = ½ xᵀ(A + ρQ) x - (b - m)ᵀx,
 //   ∇ₓL = A x - b + m + ρ Q x.
 // Outer iteration k:
 //   1. inner MPRGP on A + ρQ, right side b - m, from the previous x, until
-//        ‖gᴾ‖ ≤ min(M ‖Qx‖, η)   or the final test below holds;
+//        ‖gᴾ‖ ≤ min(ξ ‖Qx‖, η)   or the final test below holds;
 //   2. m ← m + ρ Q x   (then A x - b + m is the gradient the inner solver just reduced);
 //   3. stop if ‖gᴾ‖ ≤ ε_g and ‖A‖‖Qx‖ ≤ ε_e;
 //   4. if k > 0 and L(x_k, m_k, ρ) < L(x_{k-1}, m_{k-1}, ρ) + ρ/2 ‖Q x_k‖² (beyond round-off),
-//      then M ← M/β;
-//   5. safeguard: if the inner solve converged and ‖Q x_k‖ > α_f ‖Q x_{k-1}‖ in rho_patience
-//      consecutive outer iterations, then ρ ← min(γρ, ρ_max), and the bound ‖A + ρQ‖ grows
+//      then ξ ← ξ/c_ξ;
+//   5. safeguard: if the inner solve converged and ‖Q x_k‖ > r_Q ‖Q x_{k-1}‖ in rho_patience
+//      consecutive outer iterations, then ρ ← min(c_ρ ρ, ρ_max), and the bound ‖A + ρQ‖ grows
 //      by the same amount.
 // Why step 5: with ρ fixed the multiplier iteration contracts like 1/(1 + ρτ), τ the smallest
 // eigenvalue of the dual Schur complement on the free set; when the active set leaves Ĝ little
@@ -42,8 +43,8 @@
 // Symbol → variable
 //   A, Q, b, l, u, x    A, Q, b, l, u, x
 //   m = Ĝᵀμ             m
-//   ρ, M, η, β          rho, M, eta, opts.beta
-//   γ, α_f, ρ_max       opts.rho_growth, opts.feasibility_reduction, rho_max
+//   ρ, ξ, η, c_ξ        rho, xi, eta, opts.xi_reduction
+//   c_ρ, r_Q, ρ_max     opts.rho_growth, opts.feasibility_reduction, rho_max
 //   b - m               b_minus_m
 //   Q x, ‖Q x‖          Qx, Qx_norm (Qx_norm_previous for k - 1)
 //   L(x_k, m_k, ρ)      lagrangian, lagrangian_previous
@@ -77,11 +78,11 @@ std::string check_options(const SmalbeOptions& opts) {
   if (!(opts.eta_factor > 0.0) || !std::isfinite(opts.eta_factor)) {
     return "eta_factor must be positive and finite";
   }
-  if (!(opts.M0 > 0.0) || !std::isfinite(opts.M0)) {
-    return "M0 must be positive and finite";
+  if (!(opts.xi0 > 0.0) || !std::isfinite(opts.xi0)) {
+    return "xi0 must be positive and finite";
   }
-  if (!(opts.beta > 1.0) || !std::isfinite(opts.beta)) {
-    return "beta must be finite and greater than 1";
+  if (!(opts.xi_reduction > 1.0) || !std::isfinite(opts.xi_reduction)) {
+    return "xi_reduction must be finite and greater than 1";
   }
   if (opts.rho_patience < 1) {
     return "rho_patience must be at least 1";
@@ -198,18 +199,18 @@ Result smalbe(const LinearOperator& A, const LinearOperator& Q, const Eigen::Vec
   const double tolerance_g = opts.relative_tolerance * scale;
   const double tolerance_e = opts.equality_tolerance * scale / scale_A;
   const double eta = opts.eta_factor * scale;
-  double M = opts.M0 * scale_A;
+  double xi = opts.xi0 * scale_A;
 
-  // Inner test: ‖gᴾ‖ ≤ min(M‖Qx‖, η), or the outer test already holds. Both need ‖gᴾ‖ ≤
+  // Inner test: ‖gᴾ‖ ≤ min(ξ‖Qx‖, η), or the outer test already holds. Both need ‖gᴾ‖ ≤
   // max(η, ε_g), so Q x is only formed near the end of an inner solve.
   const double gate = std::max(eta, tolerance_g);
-  const StoppingTest inner_stop = [&](const Eigen::VectorXd& xi, const Eigen::VectorXd&, double gP_norm) {
+  const StoppingTest inner_stop = [&](const Eigen::VectorXd& x_inner, const Eigen::VectorXd&, double gP_norm) {
     if (gP_norm > gate) {
       return false;
     }
-    Q(xi, Qx);
+    Q(x_inner, Qx);
     const double Qx_norm = Qx.norm();
-    return gP_norm <= std::min(M * Qx_norm, eta) || (gP_norm <= tolerance_g && Qx_norm <= tolerance_e);
+    return gP_norm <= std::min(xi * Qx_norm, eta) || (gP_norm <= tolerance_g && Qx_norm <= tolerance_e);
   };
 
   double lagrangian_previous = 0.0;
@@ -261,11 +262,11 @@ Result smalbe(const LinearOperator& A, const LinearOperator& Q, const Eigen::Vec
       message << "smalbe: outer iteration " << k << ": " << inner_result.message;
       break;
     }
-    // A shortfall within the round-off of L is no evidence: M is not decreased for it.
+    // A shortfall within the round-off of L is no evidence: ξ is not decreased for it.
     const double shortfall = lagrangian_previous + 0.5 * rho * Qx_norm * Qx_norm - lagrangian;
     const double noise = 16.0 * epsilon * (std::abs(lagrangian) + std::abs(lagrangian_previous));
     if (k > 0 && shortfall > noise) {
-      M /= opts.beta;
+      xi /= opts.xi_reduction;
     }
     lagrangian_previous = lagrangian;
     const bool slow = inner_result.status == Status::converged && k > 0 &&

@@ -25,18 +25,18 @@ struct SmalbeOptions {
   long max_operator_applications = 100000;
   double rho0_factor = 1.0;  // ρ₀ = rho0_factor·‖A‖
   double eta_factor = 0.1;   // η = eta_factor·‖b‖
-  double M0 = 1.0;           // M₀ = M0·‖A‖ (relative to ‖A‖ like ρ)
-  double beta = 10;          // M ← M/beta when the augmented Lagrangian grows too little
-  // Safeguard beyond SMALBE-M (penalty growth as in Dostál 1997 and the thesis): ρ ← γρ,
-  // γ = rho_growth, when an inner solve converged but ‖Qx‖ fell by less than the factor
-  // feasibility_reduction, up to rho_max_factor·‖A‖. rho_growth = 1 gives plain SMALBE-M.
+  double xi0 = 1.0;          // ξ₀ = xi0·‖A‖ (relative to ‖A‖ like ρ)
+  double xi_reduction = 10;  // ξ ← ξ/xi_reduction when the augmented Lagrangian grows too little
+  // Safeguard beyond SMALBE-M (penalty growth as in Dostál 1997 and the thesis): ρ ← c_ρ ρ,
+  // c_ρ = rho_growth, when an inner solve converged but ‖Qx‖ fell by less than the factor
+  // feasibility_reduction (r_Q), up to rho_max_factor·‖A‖. rho_growth = 1 gives plain SMALBE-M.
   double rho_growth = 10;
   double feasibility_reduction = 0.1;
   double rho_max_factor = 100;
   // ρ grows only after this many consecutive outer iterations of too little feasibility gain
   // (1: at the first). One slow iteration is no evidence of slow contraction: in the FETI
   // contact problems the first outer iterations change the active set, and growing ρ there
-  // shrinks every later expansion step (ᾱ = 1.95/max(‖A‖, ρ)) for nothing.
+  // shrinks every later expansion step (ω̄ = 1.95/max(‖A‖, ρ)) for nothing.
   long rho_patience = 1;
   // The caller asserts A Q = Q A = 0 (A = PFP with P = I − Q, as in FETI): then the spectra of A
   // and ρQ live on orthogonal subspaces and ‖A + ρQ‖ = max(‖A‖, ρ) exactly, so no power
@@ -54,7 +54,7 @@ struct SmalbeOptions {
   // composed forms (A, Q and preconditioner are still used elsewhere); empty → composed.
   std::function<void(const Eigen::VectorXd& v, double s, Eigen::VectorXd& y)> A_plus_shifted_Q,
       preconditioner_plus_shifted_Q;
-  // Inner MPRGP: Gamma, alpha_bar_factor, max_iterations (per inner solve), stagnation_window,
+  // Inner MPRGP: Gamma, omega_bar_factor, max_iterations (per inner solve), stagnation_window,
   // on_iterate are used; norm_A is ‖A‖ of the caller's A (0 → estimated); its tolerances are
   // replaced by SMALBE's inner stopping test. inner.preconditioner must be empty (it is built
   // from preconditioner, for the current ρ).

@@ -184,7 +184,7 @@ TEST(Mprgp, DegenerateSolutions) {
 }
 
 // Narrow boxes entered from the lower corner with a large load: the first steps release many
-// components at once, and an uncapped proportioning step (α_cg ≈ ‖b‖/λ ≫ width) would carry
+// components at once, and an uncapped proportioning step (ω_cg ≈ ‖b‖/λ ≫ width) would carry
 // them far past the upper bound. Every iterate is observed.
 TEST(Mprgp, EveryIterateStaysInANarrowBox) {
   std::mt19937 rng(505);
@@ -269,7 +269,7 @@ TEST(Mprgp, InvalidInputIsRejectedAndLeavesXUnchanged) {
   opts.Gamma = 0.0;
   run(b, l, u, l, opts);
   opts = {};
-  opts.alpha_bar_factor = 2.5;
+  opts.omega_bar_factor = 2.5;
   run(b, l, u, l, opts);
 }
 
@@ -502,11 +502,11 @@ TEST(MprgpPreconditioning, EmptyPreconditionerLeavesTheMethodUnchanged) {
   }
 }
 
-// No active bounds and M⁻¹ = A⁻¹: z = A⁻¹g, α_cg = gᵀA⁻¹g / gᵀA⁻¹g = 1 and x - z = A⁻¹b, so
+// No active bounds and M⁻¹ = A⁻¹: z = A⁻¹g, ω_cg = gᵀA⁻¹g / gᵀA⁻¹g = 1 and x - z = A⁻¹b, so
 // one PCG step solves the problem whatever κ(A) (here 1e3). The step is exact up to round-off of
 // order κ(A)·ε·‖x*‖ ≈ 1e-13‖x*‖; 1e-10 leaves room and is still far below the error
 // ‖gᴾ‖/λ_min ≤ 1e-10‖b‖/1e-3 = 1e-7‖b‖ that the stopping test alone would allow. Bounds that
-// are infinite and bounds that stay inactive (α_cg ≤ α_f) are both covered.
+// are infinite and bounds that stay inactive (ω_cg ≤ ω_f) are both covered.
 TEST(MprgpPreconditioning, ExactInverseWithoutActiveBoundsIsOnePcgStep) {
   std::mt19937 rng(3202);
   for (int trial = 0; trial < 6; ++trial) {

@@ -227,7 +227,7 @@ TEST(Smalbe, InvalidInputIsRejectedAndLeavesXUnchanged) {
   run(bad, l, u, {}, defaults);                      // NaN in b
   run(b, l, u, Eigen::VectorXd::Ones(2), defaults);  // multiplier of the wrong size
   SmalbeOptions opts;
-  opts.beta = 1.0;
+  opts.xi_reduction = 1.0;
   run(b, l, u, {}, opts);
   opts = {};
   opts.inner.Gamma = -1.0;
