@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Our solver figures for the thesis' section 7.1 cases beside the thesis' own (METHOD.md §9).
+"""Our solver figures for the thesis' section 7.1 cases beside the thesis' own (data/thesis-2001-solver.csv).
 
 usage: thesis_table.py THESIS_CSV CASES_DIR OUT.md
 

@@ -13,7 +13,7 @@
 
 namespace dualcell {
 
-// Linear isotropic material, plane strain (METHOD §1).
+// Linear isotropic material, plane strain (docs/method.md §1).
 struct Material {
   double E = 0;
   double nu = 0;
@@ -24,10 +24,10 @@ struct Geometry {
   double cell_size = 1.0;                 // edge length of one square cell
   double fibre_radius = 0.3;              // r
   std::array<double, 2> fibre_offset{0, 0};  // fibre centre minus cell centre
-  int degree = 1;                         // k: 4k+1 nodes on each cell edge (thesis §6.2)
+  int degree = 1;                         // k: 4k+1 nodes on each cell edge (docs/method.md §2)
 };
 
-// Interface strengths per unit interface length (force/length); 0 = no adhesion (METHOD §6).
+// Interface strengths per unit interface length (force/length); 0 = no adhesion (docs/method.md §1, §4).
 struct Interface {
   double normal_strength = 0;
   double tangential_strength = 0;
@@ -51,7 +51,7 @@ struct SweepSettings {
   double fuse_tolerance = 1e-3;                // relative load bracket of the debond jump
 };
 
-// Preconditioner of the dual operator F (METHOD §5; Farhat, Mandel, Roux 1994): none, the
+// Preconditioner of the dual operator F (docs/method.md §8; Farhat, Mandel, Roux 1994): none, the
 // lumped one Σ B_i K_i B_iᵀ, or the Dirichlet one Σ B_i S_i B_iᵀ (S_i the Schur complement of
 // K_i on its boundary), both with stiffness-weighted rows; applied by MPRGP in the free face.
 enum class Preconditioner { none, lumped, dirichlet };
@@ -65,7 +65,7 @@ struct SolverSettings {
   double rho_growth = 10.0;                // SMALBE penalty safeguard factor; 1 = plain SMALBE-M
   int rho_patience = 5;                    // ... applied after this many slow outer iterations in a row
   double Gamma = 1.0;                      // MPRGP proportioning parameter
-  int max_debond_rounds = 1000;            // break / re-solve rounds per load (METHOD §6)
+  int max_debond_rounds = 1000;            // break / re-solve rounds per load (docs/method.md §11)
   Preconditioner preconditioner = Preconditioner::none;
 };
 

@@ -1,5 +1,5 @@
 #pragma once
-// Plane-strain linear (constant-strain) triangle, thesis §3.1–3.2, METHOD §1.
+// Plane-strain linear (constant-strain) triangle (docs/method.md §1, §3).
 // Pure functions: coordinates and material in, element matrices out; no assembly here.
 //
 //   D  = E(1-ν)/((1+ν)(1-2ν)) [[1, ν/(1-ν), 0], [ν/(1-ν), 1, 0], [0, 0, (1-2ν)/(2(1-ν))]]

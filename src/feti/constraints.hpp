@@ -1,5 +1,5 @@
 #pragma once
-// The constraint rows of Total FETI (METHOD §4–6): B u ≤ c (interface non-penetration) and
+// The constraint rows of Total FETI (docs/method.md §4): B u ≤ c (interface non-penetration) and
 // B u = c (gluing, Dirichlet, periodicity), each row with the bounds of its multiplier.
 //
 //   row kind     | B row                               | multiplier bounds  (ℓ ≤ λ ≤ υ)

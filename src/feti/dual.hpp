@@ -1,5 +1,5 @@
 #pragma once
-// The dual problem of Total FETI (METHOD §5, thesis §4.1 and §4.6), for one set of
+// The dual problem of Total FETI (docs/method.md §6), for one set of
 // constraints (one bond state):
 //
 //   F = B K⁺ Bᵀ,  d = B K⁺ f − c,  G = R̂ᵀ Bᵀ,  e = R̂ᵀ f

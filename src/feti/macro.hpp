@@ -1,5 +1,5 @@
 #pragma once
-// Homogenised quantities (METHOD §8).
+// Homogenised quantities (docs/method.md §12).
 #include <Eigen/Core>
 
 #include "core/scene.hpp"

@@ -14,7 +14,7 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
-// Fixing nodes (METHOD §5): node a far from the centroid, node b far from a; fix both
+// Fixing nodes (docs/method.md §5): node a far from the centroid, node b far from a; fix both
 // components of a and the component of b across the line ab, which removes the rotation.
 std::vector<Eigen::Index> fixing_dofs(const mesh::Mesh& mesh, const mesh::Subdomain& sub) {
   Eigen::Vector2d centroid = Eigen::Vector2d::Zero();

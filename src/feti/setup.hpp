@@ -1,6 +1,6 @@
 #pragma once
 // What Total FETI needs per mesh and material, built once and reused for every load case and
-// every bond state (METHOD §4–5):
+// every bond state (docs/method.md §3–§5):
 //
 //   symbol | variable                   | meaning
 //   -------+----------------------------+-------------------------------------------------
@@ -11,7 +11,7 @@
 //
 // Each subdomain owns its data (no global state), so subdomains are spread over threads
 // (for_each_subdomain) and could be spread over MPI ranks the same way. With the periodic boundary a "macro" subdomain holds the macroscopic
-// strain (εxx, εyy, γxy): K = 0, R = I₃, K⁺ = 0, load |Ω|·σ̄ (METHOD §8).
+// strain (εxx, εyy, γxy): K = 0, R = I₃, K⁺ = 0, load |Ω|·σ̄ (docs/method.md §3).
 #include <exception>
 #include <memory>
 #include <vector>

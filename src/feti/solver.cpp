@@ -174,7 +174,7 @@ Solution ContactSolver::solve_problem(const DualProblem& dual, double& norm_PFP,
   return out;
 }
 
-// u = K⁺(f − Bᵀλ) + Rα (METHOD §5). The KKT amplitudes come from the equality multiplier of
+// u = K⁺(f − Bᵀλ) + Rα (docs/method.md §9). The KKT amplitudes come from the equality multiplier of
 // SMALBE: with g = Fλ − d and m its multiplier, B u − c = −(P g + m) vanishes on active rows
 // and is ≤ 0 on open ones when α = (GGᵀ)⁻¹G(g − m). They are unique where the active
 // constraints determine the motion. Where they do not (a fibre touching at one point or at
@@ -383,7 +383,7 @@ Solution ContactSolver::solve(const Eigen::Vector3d& sigma, const BondState& bon
     seconds.qp_Q += s.seconds.qp_Q;
     seconds.qp_preconditioner += s.seconds.qp_preconditioner;
     seconds.recovery += s.seconds.recovery;
-    // Bonds at their strength break, normal and tangential together (METHOD §6). No loop at
+    // Bonds at their strength break, normal and tangential together (docs/method.md §11). No loop at
     // all without adhesion.
     std::vector<int> breaking;
     if (adhesion && s.qp_converged()) {

@@ -1,6 +1,6 @@
 #pragma once
 // The contact/adhesion solver: one macroscopic stress σ̄ in, displacements, interface forces,
-// macro strain and a KKT report out (METHOD §5–8). Setup (assembly, K⁺ factorisations) is done
+// macro strain and a KKT report out (docs/method.md §6–§12). Setup (assembly, K⁺ factorisations) is done
 // once in the constructor and reused for every load case and bond state; the dual problem
 // (B, G, GGᵀ) is rebuilt only when the bond state changes.
 //
@@ -87,12 +87,12 @@ class ContactSolver {
   Solution solve_fixed(const Eigen::Vector3d& sigma, const BondState& bonds,
                        const Eigen::VectorXd* warm_lambda = nullptr, const Eigen::VectorXd* warm_multiplier = nullptr);
   // Solve, break every bond at its strength (normal and tangential together), re-solve until
-  // no new break (METHOD §6). `bonds` is the state before the load; the result carries the new one.
+  // no new break (docs/method.md §11). `bonds` is the state before the load; the result carries the new one.
   Solution solve(const Eigen::Vector3d& sigma, const BondState& bonds, const Eigen::VectorXd* warm_lambda = nullptr,
                  const Eigen::VectorXd* warm_multiplier = nullptr);
 
   // s* = min over bonded rows of bound/λ(σ̄): the load factor t at which the first bond of the
-  // intact interface reaches its strength under t·σ̄ (METHOD §8), from one solve of the bonded
+  // intact interface reaches its strength under t·σ̄ (docs/method.md §11), from one solve of the bonded
   // problem with the strength bounds lifted (what remains, λ_n ≥ 0 where s_n = 0, is a cone,
   // so the response is positively homogeneous in t). +inf without adhesion; NaN when that
   // solve did not converge. Scenes with adhesion have no body force (checked on reading).

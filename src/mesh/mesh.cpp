@@ -25,7 +25,7 @@ double ring_angle(int di, int dj, int l) {
   return std::numbers::pi / 4 * perimeter_position(di, dj, l) / l;
 }
 
-// Fibre ring radius as a fraction of r, pushed slightly towards the rim (thesis §6.2):
+// Fibre ring radius as a fraction of r, pushed slightly towards the rim (docs/method.md §2):
 // g(0) = 0, g(1) = 1, g'(1) = 0.8 so the outermost ring of elements is a little thinner.
 double fibre_ring_radius(double x) { return x * (1.2 - 0.2 * x); }
 

@@ -1,5 +1,5 @@
 #pragma once
-// The mapped mesh of a block of ex × ey fibre cells (METHOD §2–3, thesis §6.2).
+// The mapped mesh of a block of ex × ey fibre cells (docs/method.md §2).
 //
 // Each cell gives two subdomains, each with its own nodes (interface nodes duplicated):
 //   * the matrix: the (4k+1)² square grid of the cell minus the interior of its middle

@@ -1,11 +1,11 @@
 #pragma once
-// Load paths in magnitude and direction (issue: the sweep stage). A path is a unit macro
+// Load paths in magnitude and direction (docs/method.md §13). A path is a unit macro
 // stress N (uniaxial n⊗n with n = (cos θ, sin θ), or a general tensor) and a sign; its steps
 // follow the scene's magnitudes of that sign in increasing size, carry the bond state (breaks
 // are irreversible) and warm-start from the previous multipliers scaled to the new load.
 // Tension and compression each start from the unloaded, intact state.
 //
-// The fuse: with adhesion, the exact debond onset s* (METHOD §8) is inserted as a step, and
+// The fuse: with adhesion, the exact debond onset s* (docs/method.md §11) is inserted as a step, and
 // wherever new breaks appear between two steps the load is bisected until the jump is
 // bracketed within fuse_tolerance·load; the states just before and after are recorded.
 #include <functional>

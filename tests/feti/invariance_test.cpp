@@ -1,4 +1,4 @@
-// Invariances the homogenised response must have (issue: numerical stability): scaling laws,
+// Invariances the homogenised response must have (README, "Numerical stability on stiff and extreme cases"): scaling laws,
 // the square cell's 90° symmetry, near-voids (Cherkaev, Lurie & Milton 1992), and the locking
 // warning for nearly incompressible materials.
 #include <cmath>

@@ -1,4 +1,4 @@
-// The dual contact/adhesion solver against independent solutions (METHOD §5–8).
+// The dual contact/adhesion solver against independent solutions (docs/method.md §6–§12).
 #include "feti/solver.hpp"
 
 #include <cmath>
@@ -66,7 +66,7 @@ TEST(ContactSolver, BondedEqualsMonolithicPrimalForEveryBoundary) {
 
 // Subdomain work on 1, 2 and 3 threads (every preconditioner): every subdomain is worked on by one thread and the
 // contributions are summed in subdomain order, so the solution is the same to the last bit
-// (the issue asks 1e-14; equality is what the design gives). Adhesion with breaks, so that
+// (the README's target is 1e-14; equality is what the design gives). Adhesion with breaks, so that
 // the debonding rounds and the warm-started problems are covered too.
 TEST(ContactSolver, ResultsDoNotDependOnTheThreadCount) {
   for (Preconditioner p : {Preconditioner::none, Preconditioner::lumped, Preconditioner::dirichlet}) {

@@ -22,7 +22,7 @@ namespace {
 using testing::bin;
 using testing::run_command;
 
-// The issue's requirement on the apparent modulus in CalculiX.
+// The required agreement of the apparent modulus in CalculiX (README, "Stage: dualcell-export").
 constexpr double ccx_tolerance = 0.005;
 
 // The plane-strain compliance of a 3D one: ε33 = 0 ⇒ σ33 = −(S31 σ11 + S32 σ22 + S34 σ12)/S33,
@@ -262,7 +262,7 @@ TEST(Export, JsonIsReadByPythonWithEveryObject) {
   io::write_law(dir / "law.h5", law);
   const auto r = run_command(export_command(dir, "law.h5", "json", "law.json"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  // Debian's python3, as the issue asks: strict JSON (no NaN literal) that json.load accepts.
+  // Debian's python3: strict JSON (no NaN literal) that json.load accepts.
   const auto parse = run_command("/usr/bin/python3 -c 'import json,sys; json.load(open(sys.argv[1]))' " +
                                  (dir / "law.json").string());
   EXPECT_EQ(parse.exit_code, 0) << parse.output;

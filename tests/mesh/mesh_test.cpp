@@ -22,7 +22,7 @@ Geometry geometry(int ex, int ey, int k, double r, double dx = 0, double dy = 0)
 }
 
 TEST(Mesh, DimensionsMatchTheThesis) {
-  // METHOD §9: 3×3 cells at degree 1..4 give dim u = 594, 1746, 3474, 5778;
+  // The thesis' table (data/thesis-2001-solver.csv): 3×3 cells at degree 1..4 give dim u = 594, 1746, 3474, 5778;
   // degree 3: 1×1 → 386, 2×2 → 1544, 4×4 → 6176.
   const int expected[] = {594, 1746, 3474, 5778};
   for (int k = 1; k <= 4; ++k) EXPECT_EQ(build_mesh(geometry(3, 3, k, 0.3)).dim_u(), expected[k - 1]) << k;

@@ -1,5 +1,5 @@
 // Load paths: linearity without adhesion, bimodularity, directional symmetry, the bonded
-// response below the onset, and the fuse (METHOD §8, thesis §7.2).
+// response below the onset, and the fuse (docs/method.md §11, §13).
 #include "sweep/sweep.hpp"
 
 #include <cmath>
@@ -87,7 +87,7 @@ TEST(Sweep, WithoutAdhesionLinearBimodularAndDirectional) {
   EXPECT_GT(std::abs(E[2] / E[0] - 1), 0.01);
 }
 
-// The thesis §7.2 fuse on a smaller block: stiff fibres, weak adhesion, tension along x.
+// The thesis' tension fuse (scenes/fuse.toml) on a smaller block: stiff fibres, weak adhesion, tension along x.
 TEST(Sweep, AdhesionBondedBelowOnsetThenAFuse) {
   const Scene scene = make_scene(2, 2, 0.4, Boundary::symmetry, 1e5, 1e3, 10, {0}, {3, 6.5});
   const mesh::Mesh m = mesh::build_mesh(scene.geometry);

@@ -1,0 +1,60 @@
+// The layers of src/ include one another only as docs/architecture.md's table allows: every
+// `#include "folder/..."` in every source file is checked against it, so the document and the
+// tree cannot drift apart, and a dependency against the layering fails here first.
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <regex>
+#include <set>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "test_util.hpp"
+
+namespace dualcell {
+namespace {
+
+// The table of docs/architecture.md ("may include"); apps may include every layer.
+const std::map<std::string, std::set<std::string>> allowed = {
+    {"core", {}},
+    {"linalg", {}},
+    {"qp", {}},
+    {"mesh", {"core"}},
+    {"fem", {"core", "mesh"}},
+    {"feti", {"core", "mesh", "fem", "linalg", "qp"}},
+    {"sweep", {"core", "feti"}},
+    {"law", {"core"}},
+    {"io", {"core", "mesh", "fem", "feti", "sweep", "law"}},
+    {"fit", {"core", "sweep", "law", "io"}},
+    {"stage", {"core", "mesh", "feti", "sweep", "law", "io", "fit"}},
+    {"study", {"core", "mesh", "fem", "linalg", "feti", "io"}},
+};
+
+TEST(Architecture, LayersIncludeOnlyWhatTheTableAllows) {
+  const std::filesystem::path src = testing::source_dir() + "/src";
+  const std::regex include(R"(^\s*#\s*include\s*"([a-z_]+)/)");
+  int checked = 0;
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(src)) {
+    if (!entry.is_regular_file()) continue;
+    const std::string layer = entry.path().parent_path().filename().string();
+    if (layer == "apps") continue;
+    const auto rule = allowed.find(layer);
+    ASSERT_NE(rule, allowed.end()) << "folder src/" << layer << " is not in docs/architecture.md's table";
+    std::ifstream in(entry.path());
+    std::string line;
+    std::smatch match;
+    while (std::getline(in, line)) {
+      if (!std::regex_search(line, match, include)) continue;
+      const std::string target = match[1];
+      ++checked;
+      if (target == layer) continue;
+      EXPECT_TRUE(rule->second.count(target)) << entry.path().string() << " includes " << target << "/: " << layer
+                                              << " may include only what docs/architecture.md lists";
+    }
+  }
+  EXPECT_GT(checked, 100);  // the scan saw the tree
+}
+
+}  // namespace
+}  // namespace dualcell
