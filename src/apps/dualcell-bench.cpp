@@ -2,16 +2,16 @@
 // scalability, preconditioners, the linear-solve floor, threads, sweep steps, memory.
 //
 //   dualcell-bench --out-dir pipelines/out/bench [--quick] [--threads N]
-#include <cstdio>
-
 #include <CLI/CLI.hpp>
+#include <cstdio>
 
 #include "stage/stage.hpp"
 #include "study/bench.hpp"
 
 int main(int argc, char** argv) {
-  CLI::App app{"dualcell-bench: performance tables (scalability, preconditioners, floor, threads, sweep step, "
-               "memory) and summary.json"};
+  CLI::App app{
+      "dualcell-bench: performance tables (scalability, preconditioners, floor, threads, sweep step, "
+      "memory) and summary.json"};
   dualcell::study::BenchOptions options;
   app.add_option("--out-dir", options.out_dir, "folder for bench.md and summary.json")->required();
   app.add_flag("--quick", options.quick, "small sizes only (a smoke test, not a measurement)");

@@ -7,16 +7,16 @@
 // so a refused or failed export leaves no file.
 //
 //   dualcell-export --law law.h5 --format calculix --out law.inp --name GLASS_EPOXY
+#include <CLI/CLI.hpp>
 #include <cstdio>
 
-#include <CLI/CLI.hpp>
-
-#include "stage/stage.hpp"
 #include "stage/law.hpp"
+#include "stage/stage.hpp"
 
 int main(int argc, char** argv) {
-  CLI::App app{"dualcell-export: write a law.h5 as JSON, CSV or CalculiX/Abaqus material cards\n"
-               "(layout and formulas: README.md, \"Stage: dualcell-export\")."};
+  CLI::App app{
+      "dualcell-export: write a law.h5 as JSON, CSV or CalculiX/Abaqus material cards\n"
+      "(layout and formulas: README.md, \"Stage: dualcell-export\")."};
   std::string law_file, format, out, name = "DUALCELL";
   bool quiet = false;
   app.add_option("--law", law_file, "law.h5 written by dualcell-fit")->required();

@@ -7,17 +7,17 @@
 // definiteness, and the cone-wise linear check. Writes law.h5 (layout: README.md, "law.h5").
 //
 //   dualcell-fit --sweep sweep.h5 --out law.h5
+#include <CLI/CLI.hpp>
 #include <cmath>
 #include <cstdio>
 
-#include <CLI/CLI.hpp>
-
-#include "stage/stage.hpp"
 #include "stage/law.hpp"
+#include "stage/stage.hpp"
 
 int main(int argc, char** argv) {
-  CLI::App app{"dualcell-fit: fit the bilinear tension/compression law to a sweep and write law.h5\n"
-               "(layout: README.md, \"law.h5\")."};
+  CLI::App app{
+      "dualcell-fit: fit the bilinear tension/compression law to a sweep and write law.h5\n"
+      "(layout: README.md, \"law.h5\")."};
   std::string sweep_file, out;
   bool quiet = false;
   app.add_option("--sweep", sweep_file, "sweep.h5 written by dualcell-sweep")->required();
@@ -33,16 +33,15 @@ int main(int argc, char** argv) {
     std::printf("  %8s %12s %10s %12s %10s %8s %8s %8s %12s %10s\n", "theta", "E_tension", "se", "E_compress", "se",
                 "Ec/Et", "nu_t", "nu_c", "fuse_stress", "jump x");
     for (const auto& d : law.directions)
-      std::printf("  %8.2f %12.5g %10.2e %12.5g %10.2e %8.4f %8.4f %8.4f %12.5g %10.3g\n", d.direction_deg,
-                  d.E_tension, d.E_tension_se, d.E_compression, d.E_compression_se, d.E_compression / d.E_tension,
-                  d.nu_tension, d.nu_compression, d.fuse_stress, d.fuse_strain_ratio);
+      std::printf("  %8.2f %12.5g %10.2e %12.5g %10.2e %8.4f %8.4f %8.4f %12.5g %10.3g\n", d.direction_deg, d.E_tension,
+                  d.E_tension_se, d.E_compression, d.E_compression_se, d.E_compression / d.E_tension, d.nu_tension,
+                  d.nu_compression, d.fuse_stress, d.fuse_strain_ratio);
     for (const auto* fit : {&law.tension, &law.compression}) {
       std::printf("  S_%s (engineering shear), rank %d, relative residual %.2e, %s:\n",
                   fit == &law.tension ? "tension" : "compression", fit->rank, fit->relative_residual,
                   fit->rank < 6 ? "not all entries determined by these directions"
                                 : (fit->symmetric_positive_definite ? "SPD" : "NOT positive definite"));
-      for (int i = 0; i < 3; ++i)
-        std::printf("    %14.6e %14.6e %14.6e\n", fit->S(i, 0), fit->S(i, 1), fit->S(i, 2));
+      for (int i = 0; i < 3; ++i) std::printf("    %14.6e %14.6e %14.6e\n", fit->S(i, 0), fit->S(i, 1), fit->S(i, 2));
     }
     if (!std::isnan(law.cone_rank_one_ratio))
       std::printf("  cone-wise linear (Curnier-He-Zysset): rank-one ratio %.3f -> %s\n", law.cone_rank_one_ratio,

@@ -5,18 +5,18 @@
 // ParaView) and prints a summary.
 //
 //   dualcell-mesh --config pipelines/scenes/default.toml --out mesh.h5
+#include <CLI/CLI.hpp>
 #include <cstdio>
 
-#include <CLI/CLI.hpp>
-
 #include "core/scene.hpp"
-#include "stage/stage.hpp"
 #include "io/mesh_file.hpp"
 #include "mesh/mesh.hpp"
+#include "stage/stage.hpp"
 
 int main(int argc, char** argv) {
-  CLI::App app{"dualcell-mesh: mesh a block of fibre cells (fibre disc + matrix square-with-hole per cell)\n"
-               "and write mesh.h5 with mesh.xdmf beside it (layout: README.md, \"mesh.h5\")."};
+  CLI::App app{
+      "dualcell-mesh: mesh a block of fibre cells (fibre disc + matrix square-with-hole per cell)\n"
+      "and write mesh.h5 with mesh.xdmf beside it (layout: README.md, \"mesh.h5\")."};
   std::string config, out;
   bool quiet = false;
   app.add_option("--config", config, "scene file (TOML)")->required();
@@ -33,8 +33,8 @@ int main(int argc, char** argv) {
     if (quiet) return;
     const Geometry& g = m.geometry;
     std::printf("dualcell-mesh: %s -> %s\n", config.c_str(), out.c_str());
-    std::printf("  cells            %d x %d (cell size %g, fibre radius %g, offset [%g, %g], degree %d)\n",
-                g.cells[0], g.cells[1], g.cell_size, g.fibre_radius, g.fibre_offset[0], g.fibre_offset[1], g.degree);
+    std::printf("  cells            %d x %d (cell size %g, fibre radius %g, offset [%g, %g], degree %d)\n", g.cells[0],
+                g.cells[1], g.cell_size, g.fibre_radius, g.fibre_offset[0], g.fibre_offset[1], g.degree);
     std::printf("  subdomains       %zu (%d fibre + %d matrix)\n", m.subdomains.size(), m.n_cells(), m.n_cells());
     std::printf("  nodes            %d\n", m.n_nodes());
     std::printf("  triangles        %zu\n", m.triangles.size());

@@ -7,16 +7,16 @@
 // of each phase.
 //
 //   dualcell-solve --config scene.toml --mesh mesh.h5 --stress 0.01,0,0 --out solution.h5
-#include <cstdio>
-
 #include <CLI/CLI.hpp>
+#include <cstdio>
 
 #include "stage/solve.hpp"
 #include "stage/stage.hpp"
 
 int main(int argc, char** argv) {
-  CLI::App app{"dualcell-solve: one macroscopic stress through the dual (Total FETI) contact/adhesion solver.\n"
-               "Writes solution.h5 and solution.xdmf (layout: README.md, \"solution.h5\")."};
+  CLI::App app{
+      "dualcell-solve: one macroscopic stress through the dual (Total FETI) contact/adhesion solver.\n"
+      "Writes solution.h5 and solution.xdmf (layout: README.md, \"solution.h5\")."};
   dualcell::stage::SolveOptions options;
   bool quiet = false;
   app.add_option("--config", options.scene_file, "scene file (TOML)")->required();

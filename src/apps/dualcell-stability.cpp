@@ -3,17 +3,18 @@
 // silent NaN/Inf, or a stop without a diagnostic).
 //
 //   dualcell-stability --out stability.csv [--summary stability.md] [--fast]
-#include <cstdio>
+#include <unistd.h>
 
 #include <CLI/CLI.hpp>
-#include <unistd.h>
+#include <cstdio>
 
 #include "stage/stage.hpp"
 #include "study/stability.hpp"
 
 int main(int argc, char** argv) {
-  CLI::App app{"dualcell-stability: run the solver over stiffness contrasts, Poisson ratios, fibre sizes and\n"
-               "positions, adhesion, load magnitudes, directions and boundary conditions; write a table."};
+  CLI::App app{
+      "dualcell-stability: run the solver over stiffness contrasts, Poisson ratios, fibre sizes and\n"
+      "positions, adhesion, load magnitudes, directions and boundary conditions; write a table."};
   dualcell::study::StabilityOptions options;
   app.add_option("--out", options.csv, "CSV, one row per case")->required();
   app.add_option("--summary", options.summary, "Markdown summary (per boundary and factor)");

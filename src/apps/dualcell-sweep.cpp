@@ -7,17 +7,18 @@
 // interrupted run resumes; the final sweep.h5 appears complete at the end (stage/sweep.hpp).
 //
 //   dualcell-sweep --config scene.toml --mesh mesh.h5 --out sweep.h5
-#include <cstdio>
+#include <unistd.h>
 
 #include <CLI/CLI.hpp>
-#include <unistd.h>
+#include <cstdio>
 
 #include "stage/stage.hpp"
 #include "stage/sweep.hpp"
 
 int main(int argc, char** argv) {
-  CLI::App app{"dualcell-sweep: sweep load paths (directions x tension/compression x magnitudes) with bond history\n"
-               "and the fuse; writes sweep.h5 (layout: README.md, \"sweep.h5\"). Resumes an interrupted run."};
+  CLI::App app{
+      "dualcell-sweep: sweep load paths (directions x tension/compression x magnitudes) with bond history\n"
+      "and the fuse; writes sweep.h5 (layout: README.md, \"sweep.h5\"). Resumes an interrupted run."};
   dualcell::stage::SweepOptions options;
   bool quiet = false;
   app.add_option("--config", options.scene_file, "scene file (TOML)")->required();

@@ -11,18 +11,24 @@ namespace dualcell {
 
 const char* to_string(Preconditioner p) {
   switch (p) {
-    case Preconditioner::none: return "none";
-    case Preconditioner::lumped: return "lumped";
-    case Preconditioner::dirichlet: return "dirichlet";
+    case Preconditioner::none:
+      return "none";
+    case Preconditioner::lumped:
+      return "lumped";
+    case Preconditioner::dirichlet:
+      return "dirichlet";
   }
   return "?";
 }
 
 const char* to_string(Boundary b) {
   switch (b) {
-    case Boundary::symmetry: return "symmetry";
-    case Boundary::traction: return "traction";
-    case Boundary::periodic: return "periodic";
+    case Boundary::symmetry:
+      return "symmetry";
+    case Boundary::traction:
+      return "traction";
+    case Boundary::periodic:
+      return "periodic";
   }
   return "?";
 }
@@ -73,8 +79,9 @@ void validate(const Scene& scene) {
   const auto finite = [](double) { return true; };
 
   const Geometry& geo = scene.geometry;
-  c.reals("geometry", "cells", {double(geo.cells[0]), double(geo.cells[1])},
-          [](double v) { return v >= 1 && v <= 4096; }, "an array of 2 numbers, each an integer in [1, 4096]");
+  c.reals(
+      "geometry", "cells", {double(geo.cells[0]), double(geo.cells[1])}, [](double v) { return v >= 1 && v <= 4096; },
+      "an array of 2 numbers, each an integer in [1, 4096]");
   c.real("geometry", "cell_size", geo.cell_size, positive, "cell_size > 0");
   c.real("geometry", "fibre_radius", geo.fibre_radius, positive, "fibre_radius > 0");
   c.reals("geometry", "fibre_offset", {geo.fibre_offset[0], geo.fibre_offset[1]}, finite,
@@ -82,13 +89,11 @@ void validate(const Scene& scene) {
   c.integer("geometry", "degree", geo.degree, 1, 256);
   // A bound on the mesh a scene may ask for: beyond it the mesh stage would allocate (and the
   // solver factorise) more than any machine holds; 16k² + 16k + 1 nodes per cell.
-  const double nodes =
-      double(geo.cells[0]) * geo.cells[1] * (16.0 * geo.degree * geo.degree + 16.0 * geo.degree + 1);
+  const double nodes = double(geo.cells[0]) * geo.cells[1] * (16.0 * geo.degree * geo.degree + 16.0 * geo.degree + 1);
   if (nodes > max_mesh_nodes) {
     std::ostringstream s;
-    s << "the mesh would have " << static_cast<long long>(nodes) << " nodes (" << geo.cells[0] << " x "
-      << geo.cells[1] << " cells at degree " << geo.degree << ": 16k^2 + 16k + 1 per cell), more than the limit "
-      << max_mesh_nodes;
+    s << "the mesh would have " << static_cast<long long>(nodes) << " nodes (" << geo.cells[0] << " x " << geo.cells[1]
+      << " cells at degree " << geo.degree << ": 16k^2 + 16k + 1 per cell), more than the limit " << max_mesh_nodes;
     c.fail("geometry", "cells", shortest({double(geo.cells[0]), double(geo.cells[1])}), s.str());
   }
   const double half = geo.cell_size / 2;
@@ -101,10 +106,11 @@ void validate(const Scene& scene) {
     }
   }
 
-  for (const auto& [name, m] : {std::pair<const char*, const Material*>{"fibre", &scene.fibre},
-                                {"matrix", &scene.matrix}}) {
+  for (const auto& [name, m] :
+       {std::pair<const char*, const Material*>{"fibre", &scene.fibre}, {"matrix", &scene.matrix}}) {
     c.real(name, "E", m->E, positive, "E > 0");
-    c.real(name, "nu", m->nu, [](double v) { return v > -1 && v < 0.5; }, "-1 < nu < 0.5");
+    c.real(
+        name, "nu", m->nu, [](double v) { return v > -1 && v < 0.5; }, "-1 < nu < 0.5");
   }
 
   c.real("interface", "normal_strength", scene.interface.normal_strength, non_negative,
@@ -119,35 +125,43 @@ void validate(const Scene& scene) {
   // silently be wrong.
   if (bf[0] != 0 || bf[1] != 0) {
     if (scene.load.boundary != Boundary::symmetry)
-      c.fail("load", "body_force", "", "a body force needs boundary = \"symmetry\" (the traction and periodic "
+      c.fail("load", "body_force", "",
+             "a body force needs boundary = \"symmetry\" (the traction and periodic "
              "boundaries have no reactions to carry its resultant)");
     if (scene.interface.has_adhesion())
-      c.fail("load", "body_force", "", "a body force cannot be combined with adhesion (the debond onset is "
+      c.fail("load", "body_force", "",
+             "a body force cannot be combined with adhesion (the debond onset is "
              "computed for the macro stress alone)");
   }
 
   const SweepSettings& sw = scene.sweep;
   if (sw.directions_deg.empty()) c.fail("sweep", "directions_deg", "[]", "must be an array of at least 1 numbers");
-  c.reals("sweep", "directions_deg", sw.directions_deg, [](double v) { return v >= -360 && v <= 360; },
-          "an array of at least 1 numbers, each in [-360, 360] degrees");
+  c.reals(
+      "sweep", "directions_deg", sw.directions_deg, [](double v) { return v >= -360 && v <= 360; },
+      "an array of at least 1 numbers, each in [-360, 360] degrees");
   if (sw.magnitudes.empty()) c.fail("sweep", "magnitudes", "[]", "must be an array of at least 1 numbers");
-  c.reals("sweep", "magnitudes", sw.magnitudes, [](double v) { return v != 0; },
-          "an array of at least 1 numbers, each non-zero");
+  c.reals(
+      "sweep", "magnitudes", sw.magnitudes, [](double v) { return v != 0; },
+      "an array of at least 1 numbers, each non-zero");
   for (const auto& t : sw.stress_directions)
     if (!(std::isfinite(t[0]) && std::isfinite(t[1]) && std::isfinite(t[2])) || (t[0] == 0 && t[1] == 0 && t[2] == 0))
       c.fail("sweep", "stress_directions", shortest(std::vector<double>(t.begin(), t.end())),
              "must be an array of [sxx, syy, sxy] stress tensors, each finite and not all zero");
-  c.real("sweep", "fuse_tolerance", sw.fuse_tolerance, [](double v) { return v > 0 && v < 1; },
-         "0 < fuse_tolerance < 1");
+  c.real(
+      "sweep", "fuse_tolerance", sw.fuse_tolerance, [](double v) { return v > 0 && v < 1; }, "0 < fuse_tolerance < 1");
 
   const SolverSettings& so = scene.solver;
-  c.real("solver", "tolerance", so.tolerance, [](double v) { return v >= 1e-15 && v < 1; }, "1e-15 <= tolerance < 1");
+  c.real(
+      "solver", "tolerance", so.tolerance, [](double v) { return v >= 1e-15 && v < 1; }, "1e-15 <= tolerance < 1");
   c.integer("solver", "max_outer_iterations", so.max_outer_iterations, 1, 100000);
   c.integer("solver", "max_operator_applications", so.max_operator_applications, 1, 1000000000L);
-  c.real("solver", "rho_factor", so.rho_factor, [](double v) { return v > 0 && v <= 1e6; }, "0 < rho_factor <= 1e6");
-  c.real("solver", "rho_growth", so.rho_growth, [](double v) { return v >= 1 && v <= 1e3; }, "1 <= rho_growth <= 1e3");
+  c.real(
+      "solver", "rho_factor", so.rho_factor, [](double v) { return v > 0 && v <= 1e6; }, "0 < rho_factor <= 1e6");
+  c.real(
+      "solver", "rho_growth", so.rho_growth, [](double v) { return v >= 1 && v <= 1e3; }, "1 <= rho_growth <= 1e3");
   c.integer("solver", "rho_patience", so.rho_patience, 1, 100000);
-  c.real("solver", "Gamma", so.Gamma, [](double v) { return v > 0 && v <= 1e3; }, "0 < Gamma <= 1e3");
+  c.real(
+      "solver", "Gamma", so.Gamma, [](double v) { return v > 0 && v <= 1e3; }, "0 < Gamma <= 1e3");
   c.integer("solver", "max_debond_rounds", so.max_debond_rounds, 1, 1000000);
 }
 
@@ -162,7 +176,9 @@ std::vector<std::string> scene_warnings(const Scene& scene) {
     if (material->nu >= 0.45) {
       const auto at = scene.written.find(std::string(name) + ".nu");
       std::ostringstream w;
-      w << (at != scene.written.end() ? at->second.where : scene.file.empty() ? "scene" : scene.file.string())
+      w << (at != scene.written.end() ? at->second.where
+            : scene.file.empty()      ? "scene"
+                                      : scene.file.string())
         << ": [" << name << "] nu = " << material->nu
         << ": nearly incompressible; linear triangles lock, so moduli come out too stiff (about 3 % at nu = 0.45, "
            "more towards 0.5); compare with a higher degree before trusting them";

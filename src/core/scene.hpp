@@ -20,11 +20,11 @@ struct Material {
 };
 
 struct Geometry {
-  std::array<int, 2> cells{1, 1};         // ex, ey
-  double cell_size = 1.0;                 // edge length of one square cell
-  double fibre_radius = 0.3;              // r
+  std::array<int, 2> cells{1, 1};            // ex, ey
+  double cell_size = 1.0;                    // edge length of one square cell
+  double fibre_radius = 0.3;                 // r
   std::array<double, 2> fibre_offset{0, 0};  // fibre centre minus cell centre
-  int degree = 1;                         // k: 4k+1 nodes on each cell edge (docs/method.md §2)
+  int degree = 1;                            // k: 4k+1 nodes on each cell edge (docs/method.md §2)
 };
 
 // Interface strengths per unit interface length (force/length); 0 = no adhesion (docs/method.md §1, §4).
@@ -48,7 +48,7 @@ struct SweepSettings {
   // General load paths besides the uniaxial ones: stress tensors (σxx, σyy, σxy), normalised
   // to unit Frobenius norm, each swept with the same signed magnitudes.
   std::vector<std::array<double, 3>> stress_directions;
-  double fuse_tolerance = 1e-3;                // relative load bracket of the debond jump
+  double fuse_tolerance = 1e-3;  // relative load bracket of the debond jump
 };
 
 // Preconditioner of the dual operator F (docs/method.md §8; Farhat, Mandel, Roux 1994): none, the
@@ -58,14 +58,14 @@ enum class Preconditioner { none, lumped, dirichlet };
 const char* to_string(Preconditioner p);
 
 struct SolverSettings {
-  double tolerance = 1e-8;                 // relative KKT tolerance of the dual QP
-  int max_outer_iterations = 200;          // SMALBE outer iterations
-  long max_operator_applications = 200000; // applications of F = B K+ B^T
-  double rho_factor = 1.0;                 // SMALBE penalty rho = rho_factor * ||F||
-  double rho_growth = 10.0;                // SMALBE penalty safeguard factor; 1 = plain SMALBE-M
-  int rho_patience = 5;                    // ... applied after this many slow outer iterations in a row
-  double Gamma = 1.0;                      // MPRGP proportioning parameter
-  int max_debond_rounds = 1000;            // break / re-solve rounds per load (docs/method.md §11)
+  double tolerance = 1e-8;                  // relative KKT tolerance of the dual QP
+  int max_outer_iterations = 200;           // SMALBE outer iterations
+  long max_operator_applications = 200000;  // applications of F = B K+ B^T
+  double rho_factor = 1.0;                  // SMALBE penalty rho = rho_factor * ||F||
+  double rho_growth = 10.0;                 // SMALBE penalty safeguard factor; 1 = plain SMALBE-M
+  int rho_patience = 5;                     // ... applied after this many slow outer iterations in a row
+  double Gamma = 1.0;                       // MPRGP proportioning parameter
+  int max_debond_rounds = 1000;             // break / re-solve rounds per load (docs/method.md §11)
   Preconditioner preconditioner = Preconditioner::none;
 };
 
@@ -75,10 +75,10 @@ struct WrittenKey {
 };
 
 struct Scene {
-  std::filesystem::path file;   // where it was read from ("<string>" when parsed from text)
-  std::string text;             // the scene file verbatim, for provenance
-  std::string material_file;    // resolved path of `material = "..."`, empty when inline
-  std::string material_text;    // that file verbatim
+  std::filesystem::path file;  // where it was read from ("<string>" when parsed from text)
+  std::string text;            // the scene file verbatim, for provenance
+  std::string material_file;   // resolved path of `material = "..."`, empty when inline
+  std::string material_text;   // that file verbatim
   Geometry geometry;
   Material fibre;
   Material matrix;

@@ -1,5 +1,7 @@
 // Reading a scene file (TOML, toml++): syntax, tables, keys and types, with the place and the
 // text of every key remembered for validate()'s messages (core/scene.hpp).
+#include <toml++/toml.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -7,8 +9,6 @@
 #include <limits>
 #include <set>
 #include <sstream>
-
-#include <toml++/toml.h>
 
 #include "core/error.hpp"
 #include "core/scene.hpp"
@@ -31,8 +31,7 @@ std::string read_text(const std::filesystem::path& file, const std::string& what
   char buffer[1 << 16];
   while (in.read(buffer, sizeof buffer) || in.gcount() > 0) {
     text.append(buffer, static_cast<std::size_t>(in.gcount()));
-    if (text.size() > max_file_bytes)
-      throw InputError(file.string() + ": larger than 16 MiB, not a " + what + " file");
+    if (text.size() > max_file_bytes) throw InputError(file.string() + ": larger than 16 MiB, not a " + what + " file");
   }
   if (in.bad()) throw InputError(file.string() + ": cannot read " + what + " file");
   return text;
@@ -74,8 +73,11 @@ std::string for_toml(std::string_view text) {
       valid = (b & 0xC0) == 0x80;
       cp = (cp << 6) | (b & 0x3Fu);
     }
-    valid = valid && cp >= (n == 2 ? 0x80u : n == 3 ? 0x800u : 0x10000u) && cp <= 0x10FFFF &&
-            !(cp >= 0xD800 && cp <= 0xDFFF);
+    valid = valid &&
+            cp >= (n == 2   ? 0x80u
+                   : n == 3 ? 0x800u
+                            : 0x10000u) &&
+            cp <= 0x10FFFF && !(cp >= 0xD800 && cp <= 0xDFFF);
     if (valid) {
       out += replacement;
       i += n;
@@ -183,7 +185,8 @@ class TableReader {
     remember(key, *n);
     auto i = n->as_integer();
     if (!i) fail(n, key, show(*n, lines_), "must be an integer");
-    return static_cast<T>(std::clamp<std::int64_t>(i->get(), std::numeric_limits<T>::min(), std::numeric_limits<T>::max()));
+    return static_cast<T>(
+        std::clamp<std::int64_t>(i->get(), std::numeric_limits<T>::min(), std::numeric_limits<T>::max()));
   }
 
   // An array of numbers (integers accepted) of a size in [min_size, max_size].
@@ -193,8 +196,9 @@ class TableReader {
     if (!n) return fallback;
     remember(key, *n);
     auto a = n->as_array();
-    const std::string what = "an array of " +
-        (min_size == max_size ? std::to_string(min_size) : "at least " + std::to_string(min_size)) + " numbers";
+    const std::string what =
+        "an array of " + (min_size == max_size ? std::to_string(min_size) : "at least " + std::to_string(min_size)) +
+        " numbers";
     if (!a || a->size() < min_size || a->size() > max_size) fail(n, key, show(*n, lines_), "must be " + what);
     std::vector<double> v;
     for (const toml::node& e : *a) {
@@ -235,8 +239,7 @@ class TableReader {
     return out;
   }
 
-  std::string string(std::string_view key, std::string fallback,
-                     const std::vector<std::string>& allowed = {}) {
+  std::string string(std::string_view key, std::string fallback, const std::vector<std::string>& allowed = {}) {
     const toml::node* n = node(key);
     if (!n) return fallback;
     auto s = n->as_string();
@@ -291,8 +294,7 @@ toml::table parse_toml(std::string_view text, const std::string& file) {
       if (!written.empty()) what.replace(at, replacement.size(), written);
     }
     std::ostringstream s;
-    s << file << ':' << e.source().begin.line << ':' << e.source().begin.column
-      << ": TOML syntax error: " << what;
+    s << file << ':' << e.source().begin.line << ':' << e.source().begin.column << ": TOML syntax error: " << what;
     throw InputError(s.str());
   }
 }
@@ -301,8 +303,8 @@ const toml::table* sub_table(const toml::table& root, std::string_view name, con
   const toml::node* n = root.get(name);
   if (!n) return nullptr;
   if (!n->is_table())
-    throw InputError(file + ":" + std::to_string(n->source().begin.line) + ": [" +
-                     std::string(name) + "] must be a table");
+    throw InputError(file + ":" + std::to_string(n->source().begin.line) + ": [" + std::string(name) +
+                     "] must be a table");
   return n->as_table();
 }
 
@@ -315,8 +317,7 @@ Scene parse_scene(std::string_view text, const std::filesystem::path& file) {
   scene.text = std::string(text);
   const toml::table root = parse_toml(text, fname);
 
-  const std::vector<std::string> tables{"geometry", "fibre", "matrix", "interface", "load",
-                                        "sweep", "solver"};
+  const std::vector<std::string> tables{"geometry", "fibre", "matrix", "interface", "load", "sweep", "solver"};
   const std::vector<std::string> lines = split_lines(text);
   TableReader top(&root, "top level", fname, lines);
   std::string material = top.string("material", "");
@@ -336,7 +337,8 @@ Scene parse_scene(std::string_view text, const std::filesystem::path& file) {
     const std::string k(key.str());
     if (k == "material") continue;
     if (std::find(tables.begin(), tables.end(), k) == tables.end())
-      top.fail(&value, key_text(key, lines), "", "unknown table or key; allowed: material, [geometry], [fibre], "
+      top.fail(&value, key_text(key, lines), "",
+               "unknown table or key; allowed: material, [geometry], [fibre], "
                "[matrix], [interface], [load], [sweep], [solver]");
   }
 
@@ -393,7 +395,8 @@ Scene parse_scene(std::string_view text, const std::filesystem::path& file) {
   }
   if (!fibre_table) throw InputError(material_name + ": missing table [fibre] (E, nu)");
   if (!matrix_table) throw InputError(material_name + ": missing table [matrix] (E, nu)");
-  const std::vector<std::string> material_lines = split_lines(material.empty() ? text : std::string_view(scene.material_text));
+  const std::vector<std::string> material_lines =
+      split_lines(material.empty() ? text : std::string_view(scene.material_text));
   TableReader ft(fibre_table, "fibre", material_name, material_lines, &scene.written);
   scene.fibre = read_material(ft);
   TableReader mt(matrix_table, "matrix", material_name, material_lines, &scene.written);
@@ -408,7 +411,7 @@ Scene parse_scene(std::string_view text, const std::filesystem::path& file) {
   // [load]
   TableReader lt(sub_table(root, "load", fname), "load", fname, lines, &scene.written);
   const std::string boundary = lt.string("boundary", "symmetry", {"symmetry", "traction", "periodic"});
-  scene.load.boundary = boundary == "symmetry" ? Boundary::symmetry
+  scene.load.boundary = boundary == "symmetry"   ? Boundary::symmetry
                         : boundary == "traction" ? Boundary::traction
                                                  : Boundary::periodic;
   const auto bf = lt.reals("body_force", {0, 0}, 2, 2);

@@ -46,8 +46,8 @@ Eigen::MatrixXd rigid_body_modes(const mesh::Mesh& mesh, int s) {
   return R;
 }
 
-void add_edge_traction(const mesh::Mesh& mesh, int a, int b, const Eigen::Vector2d& t_a,
-                       const Eigen::Vector2d& t_b, Eigen::VectorXd& f) {
+void add_edge_traction(const mesh::Mesh& mesh, int a, int b, const Eigen::Vector2d& t_a, const Eigen::Vector2d& t_b,
+                       Eigen::VectorXd& f) {
   // ∫ N_a t ds = L (2 t_a + t_b) / 6 for linear N and linear t on an edge of length L.
   const double L = (mesh.nodes[b] - mesh.nodes[a]).norm();
   const Eigen::Vector2d fa = L * (2 * t_a + t_b) / 6;

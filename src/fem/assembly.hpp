@@ -22,8 +22,8 @@ Eigen::MatrixXd rigid_body_modes(const mesh::Mesh& mesh, int s);
 
 // Consistent nodal forces of a traction varying linearly from t_a at node a to t_b at node b
 // along the straight edge (a, b), added to the global vector f (size dim u).
-void add_edge_traction(const mesh::Mesh& mesh, int a, int b, const Eigen::Vector2d& t_a,
-                       const Eigen::Vector2d& t_b, Eigen::VectorXd& f);
+void add_edge_traction(const mesh::Mesh& mesh, int a, int b, const Eigen::Vector2d& t_a, const Eigen::Vector2d& t_b,
+                       Eigen::VectorXd& f);
 
 // Consistent nodal forces of a constant body force (per unit area) over subdomain s.
 void add_body_force(const mesh::Mesh& mesh, int s, const Eigen::Vector2d& body_force, Eigen::VectorXd& f);

@@ -8,14 +8,12 @@ Eigen::Matrix3d plane_strain_D(const Material& m) {
   const double nu = m.nu;
   const double scale = m.E * (1 - nu) / ((1 + nu) * (1 - 2 * nu));
   Eigen::Matrix3d D;
-  D << 1, nu / (1 - nu), 0,
-       nu / (1 - nu), 1, 0,
-       0, 0, (1 - 2 * nu) / (2 * (1 - nu));
+  D << 1, nu / (1 - nu), 0, nu / (1 - nu), 1, 0, 0, 0, (1 - 2 * nu) / (2 * (1 - nu));
   return scale * D;
 }
 
-Matrix36 strain_displacement(const Eigen::Vector2d& p0, const Eigen::Vector2d& p1,
-                             const Eigen::Vector2d& p2, double& area) {
+Matrix36 strain_displacement(const Eigen::Vector2d& p0, const Eigen::Vector2d& p1, const Eigen::Vector2d& p2,
+                             double& area) {
   // Shape function gradients: ∇N_i = (y_j - y_k, x_k - x_j) / (2A) for (i, j, k) cyclic.
   const double two_area = (p1.x() - p0.x()) * (p2.y() - p0.y()) - (p2.x() - p0.x()) * (p1.y() - p0.y());
   area = 0.5 * two_area;
@@ -31,8 +29,8 @@ Matrix36 strain_displacement(const Eigen::Vector2d& p0, const Eigen::Vector2d& p
   return B;
 }
 
-Matrix66 triangle_stiffness(const Eigen::Vector2d& p0, const Eigen::Vector2d& p1,
-                            const Eigen::Vector2d& p2, const Eigen::Matrix3d& D) {
+Matrix66 triangle_stiffness(const Eigen::Vector2d& p0, const Eigen::Vector2d& p1, const Eigen::Vector2d& p2,
+                            const Eigen::Matrix3d& D) {
   double area;
   const Matrix36 B = strain_displacement(p0, p1, p2, area);
   return std::abs(area) * B.transpose() * D * B;

@@ -20,11 +20,11 @@ using Vector6 = Eigen::Matrix<double, 6, 1>;
 Eigen::Matrix3d plane_strain_D(const Material& material);
 
 // Strain-displacement matrix B_e of the triangle (p0, p1, p2); returns its signed area in `area`.
-Matrix36 strain_displacement(const Eigen::Vector2d& p0, const Eigen::Vector2d& p1,
-                             const Eigen::Vector2d& p2, double& area);
+Matrix36 strain_displacement(const Eigen::Vector2d& p0, const Eigen::Vector2d& p1, const Eigen::Vector2d& p2,
+                             double& area);
 
 // Element stiffness K_e = |A| B_eᵀ D B_e.
-Matrix66 triangle_stiffness(const Eigen::Vector2d& p0, const Eigen::Vector2d& p1,
-                            const Eigen::Vector2d& p2, const Eigen::Matrix3d& D);
+Matrix66 triangle_stiffness(const Eigen::Vector2d& p0, const Eigen::Vector2d& p1, const Eigen::Vector2d& p2,
+                            const Eigen::Matrix3d& D);
 
 }  // namespace dualcell::fem

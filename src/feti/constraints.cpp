@@ -10,11 +10,16 @@ namespace dualcell::feti {
 
 const char* to_string(RowKind kind) {
   switch (kind) {
-    case RowKind::glue: return "glue";
-    case RowKind::dirichlet: return "dirichlet";
-    case RowKind::periodic: return "periodic";
-    case RowKind::normal: return "normal";
-    case RowKind::tangential: return "tangential";
+    case RowKind::glue:
+      return "glue";
+    case RowKind::dirichlet:
+      return "dirichlet";
+    case RowKind::periodic:
+      return "periodic";
+    case RowKind::normal:
+      return "normal";
+    case RowKind::tangential:
+      return "tangential";
   }
   return "?";
 }
@@ -141,9 +146,10 @@ Constraints build_constraints(const mesh::Mesh& mesh, const Scene& scene, const 
   const std::vector<int> bottom_points = side_points(mesh, mesh::bottom, classes);
   switch (scene.load.boundary) {
     case Boundary::symmetry: {
-      // u_x = 0 on x = 0 and u_y = 0 on y = 0 (the `symmetry` boundary, docs/method.md §12), once per physical point: the
-      // other copies follow through their glue rows.
-      for (int v : side_points(mesh, mesh::left, classes)) rows.add(RowKind::dirichlet, -1, {{2 * v, 1.0}}, -inf, inf, w_single);
+      // u_x = 0 on x = 0 and u_y = 0 on y = 0 (the `symmetry` boundary, docs/method.md §12), once per physical point:
+      // the other copies follow through their glue rows.
+      for (int v : side_points(mesh, mesh::left, classes))
+        rows.add(RowKind::dirichlet, -1, {{2 * v, 1.0}}, -inf, inf, w_single);
       for (int v : bottom_points) rows.add(RowKind::dirichlet, -1, {{2 * v + 1, 1.0}}, -inf, inf, w_single);
       break;
     }

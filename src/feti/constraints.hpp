@@ -19,10 +19,9 @@
 // F = B K⁺ Bᵀ has a diagonal of the same order (that of the matrix, ~1/E_m) whatever the
 // stiffness contrast; the stored B, c and
 // bounds are the scaled ones (λ_scaled = λ / w, force = w·λ_scaled).
+#include <Eigen/SparseCore>
 #include <cstdint>
 #include <vector>
-
-#include <Eigen/SparseCore>
 
 #include "core/scene.hpp"
 #include "mesh/mesh.hpp"
@@ -41,13 +40,13 @@ struct Constraints {
   // B over the global DOFs (2·n_nodes, plus 3 macro-strain DOFs εxx, εyy, γxy at the end for
   // the periodic boundary), scaled rows.
   Eigen::SparseMatrix<double, Eigen::RowMajor> B;
-  Eigen::VectorXd c;          // right-hand side (scaled)
-  Eigen::VectorXd lower;      // ℓ (scaled), −inf where free
-  Eigen::VectorXd upper;      // υ (scaled), +inf where free
-  Eigen::VectorXd weight;     // w_r
+  Eigen::VectorXd c;       // right-hand side (scaled)
+  Eigen::VectorXd lower;   // ℓ (scaled), −inf where free
+  Eigen::VectorXd upper;   // υ (scaled), +inf where free
+  Eigen::VectorXd weight;  // w_r
   std::vector<RowKind> kind;
-  std::vector<int> pair;      // interface pair of normal/tangential rows, glue pair of glue rows, else −1
-  int n_macro_dofs = 0;       // 3 with the periodic boundary, else 0
+  std::vector<int> pair;  // interface pair of normal/tangential rows, glue pair of glue rows, else −1
+  int n_macro_dofs = 0;   // 3 with the periodic boundary, else 0
   int n_rows() const { return static_cast<int>(kind.size()); }
 };
 

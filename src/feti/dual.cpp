@@ -1,10 +1,9 @@
 #include "feti/dual.hpp"
 
+#include <Eigen/Eigenvalues>
 #include <chrono>
 #include <stdexcept>
 #include <string>
-
-#include <Eigen/Eigenvalues>
 
 namespace dualcell::feti {
 
@@ -205,7 +204,8 @@ Eigen::VectorXd DualProblem::e(const Eigen::VectorXd& f) const {
   const auto& subs = setup_.subdomains();
   for (std::size_t s = 0; s < locals_.size(); ++s) {
     const Local& local = locals_[s];
-    e.segment(local.G_offset, local.R_hat.cols()) = local.R_hat.transpose() * f.segment(subs[s].dof_begin, subs[s].n_dofs);
+    e.segment(local.G_offset, local.R_hat.cols()) =
+        local.R_hat.transpose() * f.segment(subs[s].dof_begin, subs[s].n_dofs);
   }
   return e;
 }

@@ -18,10 +18,9 @@
 //   GGᵀ    | GGt_                | small sparse SPD, CHOLMOD, factorised once per problem
 //
 // No matrix of size dim u or dim λ is ever dense: F and Q are applied as operators.
-#include <vector>
-
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
+#include <vector>
 
 #include "feti/constraints.hpp"
 #include "feti/setup.hpp"
@@ -36,11 +35,11 @@ class DualProblem {
   DualProblem& operator=(const DualProblem&) = delete;
 
   struct Local {
-    std::vector<int> rows;                               // global row indices, ascending
-    Eigen::SparseMatrix<double, Eigen::RowMajor> B;      // rows.size() × n_dofs
-    Eigen::MatrixXd R_hat;                               // n_dofs × r_i
-    Eigen::MatrixXd V;                                   // 3 × r_i: R_hat = R V
-    int G_offset = 0;                                    // first row of G for this subdomain
+    std::vector<int> rows;                           // global row indices, ascending
+    Eigen::SparseMatrix<double, Eigen::RowMajor> B;  // rows.size() × n_dofs
+    Eigen::MatrixXd R_hat;                           // n_dofs × r_i
+    Eigen::MatrixXd V;                               // 3 × r_i: R_hat = R V
+    int G_offset = 0;                                // first row of G for this subdomain
     // Preconditioner row factors δ_ri / w_r² (see apply_preconditioner); empty without one.
     Eigen::VectorXd preconditioner_scale;
     // scratch for operator applications (no allocation per application); each subdomain's

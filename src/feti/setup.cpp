@@ -1,8 +1,8 @@
 #include "feti/setup.hpp"
 
-#include <chrono>
-
 #include <omp.h>
+
+#include <chrono>
 
 #include "fem/assembly.hpp"
 #include "feti/constraints.hpp"
@@ -108,7 +108,8 @@ FetiSetup::FetiSetup(const mesh::Mesh& mesh, const Scene& scene, int threads, in
           sub.boundary_dofs.push_back(2 * (v - ms.node_begin));
           sub.boundary_dofs.push_back(2 * (v - ms.node_begin) + 1);
         }
-      sub.K_ii_inverse = std::make_unique<linalg::FixingNodeInverse>(sub.K, sub.boundary_dofs, subdomain_factor_options);
+      sub.K_ii_inverse =
+          std::make_unique<linalg::FixingNodeInverse>(sub.K, sub.boundary_dofs, subdomain_factor_options);
     });
   }
   seconds_factorisation = seconds_since(t1);
@@ -120,8 +121,12 @@ Eigen::VectorXd FetiSetup::load(const Eigen::Vector3d& sigma) const {
   S << sigma(0), sigma(2), sigma(2), sigma(1);
   std::vector<int> sides;
   switch (scene_.load.boundary) {
-    case Boundary::symmetry: sides = {mesh::right, mesh::top}; break;
-    case Boundary::traction: sides = {mesh::left, mesh::right, mesh::bottom, mesh::top}; break;
+    case Boundary::symmetry:
+      sides = {mesh::right, mesh::top};
+      break;
+    case Boundary::traction:
+      sides = {mesh::left, mesh::right, mesh::bottom, mesh::top};
+      break;
     case Boundary::periodic:
       f.tail<3>() = volume() * sigma;
       break;

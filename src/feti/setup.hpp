@@ -10,14 +10,13 @@
 //   f      | FetiSetup::load(σ̄)         | tractions σ̄·n on the loaded edges + body force
 //
 // Each subdomain owns its data (no global state), so subdomains are spread over threads
-// (for_each_subdomain) and could be spread over MPI ranks the same way. With the periodic boundary a "macro" subdomain holds the macroscopic
-// strain (εxx, εyy, γxy): K = 0, R = I₃, K⁺ = 0, load |Ω|·σ̄ (docs/method.md §3).
+// (for_each_subdomain) and could be spread over MPI ranks the same way. With the periodic boundary a "macro" subdomain
+// holds the macroscopic strain (εxx, εyy, γxy): K = 0, R = I₃, K⁺ = 0, load |Ω|·σ̄ (docs/method.md §3).
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
 #include <exception>
 #include <memory>
 #include <vector>
-
-#include <Eigen/Core>
-#include <Eigen/SparseCore>
 
 #include "core/scene.hpp"
 #include "linalg/fixing_node_inverse.hpp"
@@ -30,12 +29,12 @@ struct FloatingSubdomain {
   int index = 0;
   bool is_fibre = false;
   bool is_macro = false;
-  int dof_begin = 0;   // first global DOF
+  int dof_begin = 0;  // first global DOF
   int n_dofs = 0;
   Eigen::SparseMatrix<double> K;
   Eigen::MatrixXd R;
   std::unique_ptr<linalg::FixingNodeInverse> K_plus;  // null for the macro subdomain
-  std::vector<Eigen::Index> fixing_dofs;                   // the 3 DOFs removed to make K regular
+  std::vector<Eigen::Index> fixing_dofs;              // the 3 DOFs removed to make K regular
   // The Dirichlet preconditioner only (S_i = K_bb − K_bi K_ii⁻¹ K_ib): the DOFs of the nodes
   // that rows of B touch (both components) and K_ii⁻¹ as the pseudo-inverse fixing exactly them.
   std::vector<Eigen::Index> boundary_dofs;
@@ -57,7 +56,7 @@ class FetiSetup {
   const mesh::Mesh& mesh() const { return mesh_; }
   const Scene& scene() const { return scene_; }
   const std::vector<FloatingSubdomain>& subdomains() const { return subdomains_; }
-  int n_dofs() const { return n_dofs_; }   // dim u (+3 macro DOFs with the periodic boundary)
+  int n_dofs() const { return n_dofs_; }  // dim u (+3 macro DOFs with the periodic boundary)
   int dim_u() const { return mesh_.dim_u(); }
   int subdomain_of_dof(int dof) const { return dof_owner_[dof]; }
 

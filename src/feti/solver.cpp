@@ -1,13 +1,12 @@
 #include "feti/solver.hpp"
 
+#include <Eigen/SVD>
 #include <chrono>
-#include <cstdio>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <map>
 #include <optional>
-
-#include <Eigen/SVD>
 
 #include "core/error.hpp"
 #include "feti/macro.hpp"
@@ -35,7 +34,8 @@ bool is_active(const Constraints& con, const Eigen::VectorXd& lambda_scaled, int
 class ProjectedPlusShiftedQ {
  public:
   using Apply = void (DualProblem::*)(const Eigen::VectorXd&, Eigen::VectorXd&) const;
-  ProjectedPlusShiftedQ(const DualProblem& dual, Apply T, int m) : dual_(dual), T_(T), Qx_(m), Px_(m), TPx_(m), QTPx_(m) {}
+  ProjectedPlusShiftedQ(const DualProblem& dual, Apply T, int m)
+      : dual_(dual), T_(T), Qx_(m), Px_(m), TPx_(m), QTPx_(m) {}
   void operator()(const Eigen::VectorXd& x, double shift, Eigen::VectorXd& y) {
     dual_.apply_Q(x, Qx_);
     Px_ = x - Qx_;
@@ -341,8 +341,7 @@ void ContactSolver::report(const DualProblem& dual, const Eigen::VectorXd& f, co
   auto check = [&](double value, double limit, const char* what) {
     if (value > limit) {
       out.primal_ok = false;
-      if (out.primal_message.empty())
-      {
+      if (out.primal_message.empty()) {
         char text[160];
         std::snprintf(text, sizeof text, "recovered solution fails its check: %s %.3g > %.3g", what, value, limit);
         out.primal_message = text;
@@ -417,10 +416,13 @@ Solution ContactSolver::solve(const Eigen::Vector3d& sigma, const BondState& bon
     warm.resize(next.n_rows());
     // Structural rows keep their order; interface rows are found by (kind, pair).
     std::map<std::pair<int, int>, double> by_key;
-    for (int r = 0; r < old.n_rows(); ++r) by_key[{static_cast<int>(old.kind[r]), is_structural(old.kind[r]) ? r : old.pair[r]}] = s.lambda(r);
+    for (int r = 0; r < old.n_rows(); ++r)
+      by_key[{static_cast<int>(old.kind[r]), is_structural(old.kind[r]) ? r : old.pair[r]}] = s.lambda(r);
     for (int r = 0; r < next.n_rows(); ++r) {
       const auto it = by_key.find({static_cast<int>(next.kind[r]), is_structural(next.kind[r]) ? r : next.pair[r]});
-      warm(r) = it == by_key.end() ? 0.0 : std::clamp(it->second, next.lower(r) * next.weight(r), next.upper(r) * next.weight(r));
+      warm(r) = it == by_key.end()
+                    ? 0.0
+                    : std::clamp(it->second, next.lower(r) * next.weight(r), next.upper(r) * next.weight(r));
     }
   }
   total.newly_broken = newly_broken;

@@ -11,10 +11,9 @@
 //   α      | Solution::alpha        | rigid-body amplitudes per subdomain (u = K⁺(f−Bᵀλ) + Rα)
 //   ε̄      | Solution::strain       | (1/|Ω|) ∮ sym(u ⊗ n) ds over the outer boundary
 //   s*     | debond_onset()         | load factor at which the first bond reaches its strength
+#include <Eigen/Core>
 #include <memory>
 #include <optional>
-
-#include <Eigen/Core>
 
 #include "feti/constraints.hpp"
 #include "feti/dual.hpp"
@@ -28,10 +27,10 @@ struct KktReport {
   double relative_projected_gradient = 0;  // SMALBE: ‖gᴾ‖/‖b‖ of the dual QP
   double relative_equality_residual = 0;   // ‖Gλ − e‖ / max(‖e‖, ‖G‖‖λ‖)
   double bound_violation = 0;              // max (ℓ−λ, λ−υ, 0), force units
-  double complementarity = 0;              // max min(λ−ℓ, υ−λ, ‖λ‖∞)·|gap| over interface rows, force × length
-  double max_penetration = 0;              // max (n·(u_f − u_m), 0), length units
-  double max_glue_jump = 0;                // max |B u − c| over glue, Dirichlet, periodic rows, length
-  double relative_equilibrium = 0;         // max_i ‖K_i u_i − f_i + B_iᵀλ‖∞ / ‖f‖∞
+  double complementarity = 0;  // max min(λ−ℓ, υ−λ, ‖λ‖∞)·|gap| over interface rows, force × length
+  double max_penetration = 0;  // max (n·(u_f − u_m), 0), length units
+  double max_glue_jump = 0;    // max |B u − c| over glue, Dirichlet, periodic rows, length
+  double relative_equilibrium = 0;  // max_i ‖K_i u_i − f_i + B_iᵀλ‖∞ / ‖f‖∞
 };
 
 struct Timings {
@@ -47,18 +46,18 @@ struct Solution {
   Eigen::Vector3d sigma = Eigen::Vector3d::Zero();           // applied (σxx, σyy, σxy)
   Eigen::Vector3d strain = Eigen::Vector3d::Zero();          // (εxx, εyy, εxy), tensor shear
   Eigen::Vector3d average_stress = Eigen::Vector3d::Zero();  // volume average of element stresses
-  Eigen::VectorXd u;              // global DOFs (+3 macro DOFs εxx, εyy, γxy when periodic)
-  Eigen::VectorXd lambda;         // per row of B, physical (force) units
-  Eigen::VectorXd multiplier;     // SMALBE's equality multiplier m (scaled rows), for warm starts
-  Eigen::VectorXd alpha;          // 3 per subdomain
+  Eigen::VectorXd u;                                   // global DOFs (+3 macro DOFs εxx, εyy, γxy when periodic)
+  Eigen::VectorXd lambda;                              // per row of B, physical (force) units
+  Eigen::VectorXd multiplier;                          // SMALBE's equality multiplier m (scaled rows), for warm starts
+  Eigen::VectorXd alpha;                               // 3 per subdomain
   std::vector<double> normal_force, tangential_force;  // per interface pair (0 where no row)
-  BondState bonds;                // after this solve (and its breaks)
-  long newly_broken = 0;          // bonds broken by this solve's debonding loop
-  long debond_rounds = 0;         // QP solves in the debonding loop
-  long n_rows = 0;                // dim λ of the last QP
-  qp::Result qp;                  // of the last QP
-  long operator_applications = 0; // F applications, all QPs of this solve
-  long preconditioner_applications = 0;  // M⁻¹ applications (SolverSettings::preconditioner)
+  BondState bonds;                                     // after this solve (and its breaks)
+  long newly_broken = 0;                               // bonds broken by this solve's debonding loop
+  long debond_rounds = 0;                              // QP solves in the debonding loop
+  long n_rows = 0;                                     // dim λ of the last QP
+  qp::Result qp;                                       // of the last QP
+  long operator_applications = 0;                      // F applications, all QPs of this solve
+  long preconditioner_applications = 0;                // M⁻¹ applications (SolverSettings::preconditioner)
   long outer_iterations = 0, cg_steps = 0, expansion_steps = 0, proportioning_steps = 0;
   KktReport kkt;
   // The recovered primal solution, checked (not assumed): penetration and glue jumps within

@@ -1,6 +1,11 @@
-#include "core/version.hpp"
 #include "fit/fit.hpp"
 
+#include <gsl/gsl_fit.h>
+#include <gsl/gsl_multifit.h>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/LU>
+#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -8,13 +13,8 @@
 #include <memory>
 #include <numbers>
 
-#include <Eigen/Eigenvalues>
-#include <Eigen/LU>
-#include <Eigen/SVD>
-#include <gsl/gsl_fit.h>
-#include <gsl/gsl_multifit.h>
-
 #include "core/error.hpp"
+#include "core/version.hpp"
 
 namespace dualcell::fit {
 
@@ -125,7 +125,8 @@ law::ComplianceFit fit_compliance(const std::vector<sweep::PathResult>& paths, i
   // Which entries the directions determine: those orthogonal to the null space of X.
   Eigen::JacobiSVD<Eigen::MatrixXd> svd(X, Eigen::ComputeFullV);
   int rank = 0;
-  for (int j = 0; j < svd.singularValues().size(); ++j) rank += svd.singularValues()(j) > 1e-10 * svd.singularValues()(0);
+  for (int j = 0; j < svd.singularValues().size(); ++j)
+    rank += svd.singularValues()(j) > 1e-10 * svd.singularValues()(0);
   out.rank = rank;
   const Eigen::MatrixXd null = svd.matrixV().rightCols(6 - rank);
 

@@ -1,11 +1,11 @@
 #include "io/atomic_output.hpp"
 
+#include <unistd.h>
+
 #include <cerrno>
 #include <cstring>
 #include <fstream>
 #include <system_error>
-
-#include <unistd.h>
 
 #include "core/error.hpp"
 
@@ -23,8 +23,7 @@ std::filesystem::path AtomicOutputs::add(const std::filesystem::path& target) {
   temporary += ".tmp." + std::to_string(::getpid());
   {
     std::ofstream probe(temporary, std::ios::binary | std::ios::trunc);
-    if (!probe)
-      throw InputError(target.string() + ": cannot write output: " + std::strerror(errno));
+    if (!probe) throw InputError(target.string() + ": cannot write output: " + std::strerror(errno));
   }
   files_.emplace_back(temporary, target);
   return temporary;

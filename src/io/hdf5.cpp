@@ -101,8 +101,8 @@ void File::remove(const std::string& object) {
 
 namespace {
 
-void write_dataset(hid_t file, const std::string& name, const void* data, hid_t type,
-                   const std::vector<hsize_t>& dims, const std::filesystem::path& path) {
+void write_dataset(hid_t file, const std::string& name, const void* data, hid_t type, const std::vector<hsize_t>& dims,
+                   const std::filesystem::path& path) {
   Handle space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), H5Sclose);
   Handle lcpl(H5Pcreate(H5P_LINK_CREATE), H5Pclose);
   H5Pset_create_intermediate_group(lcpl.get(), 1);
@@ -194,8 +194,8 @@ void write_attr(hid_t file, const std::string& object, const std::string& name, 
                 const void* data, const std::filesystem::path& path) {
   if (H5Aexists_by_name(file, object.c_str(), name.c_str(), H5P_DEFAULT) > 0)
     H5Adelete_by_name(file, object.c_str(), name.c_str(), H5P_DEFAULT);
-  Handle attr(H5Acreate_by_name(file, object.c_str(), name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT,
-                                H5P_DEFAULT), H5Aclose);
+  Handle attr(H5Acreate_by_name(file, object.c_str(), name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+              H5Aclose);
   if (!attr.valid() || H5Awrite(attr.get(), type, data) < 0)
     throw InputError(path.string() + ": " + object + ": cannot write attribute " + name);
 }
@@ -228,8 +228,7 @@ void File::write_attribute(const std::string& object, const std::string& name, c
   write_attr(file_.get(), object, name, H5T_NATIVE_DOUBLE, space.get(), value.data(), path_);
 }
 
-void File::write_attribute(const std::string& object, const std::string& name,
-                           const std::vector<std::int64_t>& value) {
+void File::write_attribute(const std::string& object, const std::string& name, const std::vector<std::int64_t>& value) {
   const hsize_t n = value.size();
   Handle space(H5Screate_simple(1, &n, nullptr), H5Sclose);
   write_attr(file_.get(), object, name, H5T_NATIVE_INT64, space.get(), value.data(), path_);

@@ -4,12 +4,12 @@
 // h5dump and every HDF5 reader expect. Every read states the shape it expects; a missing or
 // mis-shaped object is an InputError naming the file, the object, the shape expected and the
 // shape found, so that no format reader checks shapes by hand.
+#include <hdf5.h>
+
 #include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
-
-#include <hdf5.h>
 
 namespace dualcell::io {
 

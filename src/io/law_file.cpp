@@ -14,8 +14,8 @@ namespace dualcell::io {
 
 namespace {
 
-using law::ComplianceFit;
 using law::compliance_members;
+using law::ComplianceFit;
 using law::direction_columns;
 using law::Law;
 
@@ -68,8 +68,8 @@ class Reader {
   int count(const std::string& name, std::int64_t lo, std::int64_t hi) const {
     const std::int64_t v = ints(name, {1})[0];
     if (v < lo || v > hi)
-      fail(object(name), "value " + std::to_string(v) + " out of range [" + std::to_string(lo) + ", " +
-                             std::to_string(hi) + "]");
+      fail(object(name),
+           "value " + std::to_string(v) + " out of range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
     return static_cast<int>(v);
   }
 

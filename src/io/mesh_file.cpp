@@ -210,8 +210,8 @@ MeshFile read_mesh(const std::filesystem::path& h5) {
   const auto tri_range = rows_of<2>(f, "/mesh/subdomain_triangles", static_cast<std::int64_t>(T) + 1, S);
   int next_node = 0, next_tri = 0;
   for (std::size_t s = 0; s < S; ++s) {
-    mesh::Subdomain sub{is_fibre[s] != 0, static_cast<int>(cell[s]), node_range[s][0], node_range[s][1],
-                        tri_range[s][0], tri_range[s][1]};
+    mesh::Subdomain sub{is_fibre[s] != 0, static_cast<int>(cell[s]), node_range[s][0],
+                        node_range[s][1], tri_range[s][0],           tri_range[s][1]};
     if (sub.node_begin != next_node || sub.node_end <= sub.node_begin || sub.triangle_begin != next_tri ||
         sub.triangle_end <= sub.triangle_begin)
       throw InputError(where + "/mesh/subdomain_nodes or subdomain_triangles: subdomain " + std::to_string(s) +
@@ -220,16 +220,19 @@ MeshFile read_mesh(const std::filesystem::path& h5) {
     next_tri = sub.triangle_end;
     m.subdomains.push_back(sub);
   }
-  if (next_node != N || next_tri != static_cast<int>(T)) throw InputError(where + "subdomains do not cover all nodes and triangles");
+  if (next_node != N || next_tri != static_cast<int>(T))
+    throw InputError(where + "subdomains do not cover all nodes and triangles");
   for (std::size_t t = 0; t < T; ++t) {
-    if (tri_sub[t] < 0 || tri_sub[t] >= static_cast<std::int64_t>(S)) throw InputError(where + "/mesh/triangle_subdomain: index out of range");
+    if (tri_sub[t] < 0 || tri_sub[t] >= static_cast<std::int64_t>(S))
+      throw InputError(where + "/mesh/triangle_subdomain: index out of range");
     m.triangle_subdomain.push_back(static_cast<int>(tri_sub[t]));
   }
   const auto centres = f.read_doubles("/mesh/fibre_centres", {any_extent, 2});
   for (std::size_t c = 0; c < centres.size() / 2; ++c) m.fibre_centres.emplace_back(centres[2 * c], centres[2 * c + 1]);
   m.interface_pairs = rows_of<2>(f, "/mesh/interface_pairs", N);
   for (auto c : f.read_ints("/mesh/interface_cell", {m.interface_pairs.size()}, " like /mesh/interface_pairs")) {
-    if (c < 0 || c >= static_cast<std::int64_t>(m.fibre_centres.size())) throw InputError(where + "/mesh/interface_cell: index out of range");
+    if (c < 0 || c >= static_cast<std::int64_t>(m.fibre_centres.size()))
+      throw InputError(where + "/mesh/interface_cell: index out of range");
     m.interface_cell.push_back(static_cast<int>(c));
   }
   m.glue_pairs = rows_of<2>(f, "/mesh/glue_pairs", N);
@@ -246,7 +249,8 @@ std::string geometry_mismatch(const mesh::Mesh& mesh, const Scene& scene) {
   const Geometry& b = scene.geometry;
   std::ostringstream s;
   if (a.cells != b.cells)
-    s << "[geometry] cells: mesh [" << a.cells[0] << ", " << a.cells[1] << "], scene [" << b.cells[0] << ", " << b.cells[1] << "]";
+    s << "[geometry] cells: mesh [" << a.cells[0] << ", " << a.cells[1] << "], scene [" << b.cells[0] << ", "
+      << b.cells[1] << "]";
   else if (a.degree != b.degree)
     s << "[geometry] degree: mesh " << a.degree << ", scene " << b.degree;
   else if (a.cell_size != b.cell_size)

@@ -15,7 +15,7 @@ void write_mesh(const mesh::Mesh& mesh, const Scene& scene, const std::filesyste
 
 struct MeshFile {
   mesh::Mesh mesh;
-  std::string scene_text;       // the scene the mesh was made from
+  std::string scene_text;  // the scene the mesh was made from
 };
 MeshFile read_mesh(const std::filesystem::path& h5);
 

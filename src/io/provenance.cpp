@@ -29,9 +29,8 @@ Provenance read_provenance(const File& file, std::initializer_list<const char*> 
   for (const char* attribute : required) file.read_string_attribute("/", attribute);  // "missing attribute ..."
   Provenance provenance;
   for (const auto& field : provenance_fields)
-    provenance.*field.text = file.has_attribute("/", field.attribute)
-                                 ? file.read_string_attribute("/", field.attribute)
-                                 : std::string();
+    provenance.*field.text =
+        file.has_attribute("/", field.attribute) ? file.read_string_attribute("/", field.attribute) : std::string();
   return provenance;
 }
 

@@ -68,16 +68,19 @@ void write_solution(const std::filesystem::path& h5, const mesh::Mesh& mesh, con
 
     f.write("/macro/stress", std::vector<double>{s.sigma(0), s.sigma(1), s.sigma(2)}, {3});
     f.write("/macro/strain", std::vector<double>{s.strain(0), s.strain(1), s.strain(2)}, {3});
-    f.write("/macro/average_stress", std::vector<double>{s.average_stress(0), s.average_stress(1), s.average_stress(2)}, {3});
+    f.write("/macro/average_stress", std::vector<double>{s.average_stress(0), s.average_stress(1), s.average_stress(2)},
+            {3});
 
     f.create_group("/solver");
     f.write_attribute("/solver", "status", std::string(qp::to_string(s.qp.status)));
     f.write_attribute("/solver", "message", s.qp.message);
     f.write_attribute("/solver", "primal_ok", std::int64_t{s.primal_ok});
     f.write_attribute("/solver", "primal_message", s.primal_message);
-    for (const auto& field : solver_count_fields) f.write_attribute("/solver", field.attribute, std::int64_t{s.*field.count});
+    for (const auto& field : solver_count_fields)
+      f.write_attribute("/solver", field.attribute, std::int64_t{s.*field.count});
     f.write_attribute("/solver", "dim_u", std::int64_t{mesh.dim_u()});
-    for (const auto& field : solver_seconds_fields) f.write_attribute("/solver", field.attribute, s.seconds.*field.seconds);
+    for (const auto& field : solver_seconds_fields)
+      f.write_attribute("/solver", field.attribute, s.seconds.*field.seconds);
     f.write_attribute("/solver", "preconditioner", std::string(to_string(scene.solver.preconditioner)));
     f.write_attribute("/solver", "tolerance", scene.solver.tolerance);
     f.create_group("/kkt");

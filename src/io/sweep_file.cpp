@@ -25,15 +25,18 @@ void write_path(File& f, const sweep::PathResult& p) {
   f.create_group(g);
   f.write_attribute(g, "direction_deg", p.spec.direction_deg);
   f.write_attribute(g, "sign", std::int64_t{p.spec.sign});
-  f.write_attribute(g, "unit_stress", std::vector<double>{p.spec.unit_stress(0), p.spec.unit_stress(1), p.spec.unit_stress(2)});
+  f.write_attribute(g, "unit_stress",
+                    std::vector<double>{p.spec.unit_stress(0), p.spec.unit_stress(1), p.spec.unit_stress(2)});
   f.write_attribute(g, "schedule", p.spec.loads);
   for (const StepColumn& c : step_columns) {
     const std::string name = g + "/" + c.name;
     if (c.real || c.vector) {
       std::vector<double> v;
       for (const auto& s : p.steps) {
-        if (c.real) v.push_back(s.*c.real);
-        else v.insert(v.end(), (s.*c.vector).data(), (s.*c.vector).data() + 3);
+        if (c.real)
+          v.push_back(s.*c.real);
+        else
+          v.insert(v.end(), (s.*c.vector).data(), (s.*c.vector).data() + 3);
       }
       f.write(name, v, c.real ? Shape{n} : Shape{n, 3});
     } else {
@@ -45,8 +48,10 @@ void write_path(File& f, const sweep::PathResult& p) {
   if (p.fuse) {
     for (const FuseField& z : fuse_fields) {
       const std::string name = g + "/fuse/" + z.name;
-      if (z.real) f.write(name, std::vector<double>{(*p.fuse).*z.real}, {1});
-      else f.write(name, std::vector<double>((*p.fuse.*z.vector).data(), (*p.fuse.*z.vector).data() + 3), {3});
+      if (z.real)
+        f.write(name, std::vector<double>{(*p.fuse).*z.real}, {1});
+      else
+        f.write(name, std::vector<double>((*p.fuse.*z.vector).data(), (*p.fuse.*z.vector).data() + 3), {3});
     }
   }
 }
@@ -71,14 +76,18 @@ sweep::PathResult read_path(const File& f, int index) {
     if (c.real || c.vector) {
       const auto v = f.read_doubles(name, c.real ? Shape{n} : Shape{n, 3}, " like " + g + "/load");
       for (hsize_t i = 0; i < n; ++i) {
-        if (c.real) p.steps[i].*c.real = v[i];
-        else p.steps[i].*c.vector = {v[3 * i], v[3 * i + 1], v[3 * i + 2]};
+        if (c.real)
+          p.steps[i].*c.real = v[i];
+        else
+          p.steps[i].*c.vector = {v[3 * i], v[3 * i + 1], v[3 * i + 2]};
       }
     } else {
       const auto v = f.read_ints(name, {n}, " like " + g + "/load");
       for (hsize_t i = 0; i < n; ++i) {
-        if (c.count) p.steps[i].*c.count = v[i];
-        else p.steps[i].*c.flag = v[i] != 0;
+        if (c.count)
+          p.steps[i].*c.count = v[i];
+        else
+          p.steps[i].*c.flag = v[i] != 0;
       }
     }
   }
@@ -95,8 +104,10 @@ sweep::PathResult read_path(const File& f, int index) {
     for (const FuseField& field : fuse_fields) {
       const std::string name = g + "/fuse/" + field.name;
       const auto v = f.read_doubles(name, {field.real ? hsize_t{1} : hsize_t{3}});
-      if (field.real) z.*field.real = v[0];
-      else z.*field.vector = {v[0], v[1], v[2]};
+      if (field.real)
+        z.*field.real = v[0];
+      else
+        z.*field.vector = {v[0], v[1], v[2]};
     }
     p.fuse = z;
   }
@@ -140,8 +151,7 @@ void write_part(const std::filesystem::path& out, const sweep::PathResult& path,
   outputs.commit();
 }
 
-std::optional<sweep::PathResult> read_part(const std::filesystem::path& out, int index,
-                                           const SweepHeader& header) {
+std::optional<sweep::PathResult> read_part(const std::filesystem::path& out, int index, const SweepHeader& header) {
   char name[32];
   std::snprintf(name, sizeof name, "path-%03d.h5", index);
   const auto file = parts_folder(out) / name;
@@ -186,7 +196,8 @@ std::vector<sweep::PathResult> read_sweep(const std::filesystem::path& file) {
   std::vector<sweep::PathResult> paths;
   for (int i = 0; i < n; ++i) {
     if (!f.exists(group_of(i)))
-      throw InputError(file.string() + ": " + group_of(i) + ": missing (the file says n_paths = " + std::to_string(n) + ")");
+      throw InputError(file.string() + ": " + group_of(i) + ": missing (the file says n_paths = " + std::to_string(n) +
+                       ")");
     paths.push_back(read_path(f, i));
   }
   return paths;

@@ -26,10 +26,10 @@ struct SweepHeader {
 // One column of /paths/NNN: a member of sweep::Step per row (exactly one member pointer set).
 struct StepColumn {
   const char* name;
-  double sweep::Step::*real = nullptr;            // float64, n
+  double sweep::Step::*real = nullptr;             // float64, n
   Eigen::Vector3d sweep::Step::*vector = nullptr;  // float64, n×3
-  long sweep::Step::*count = nullptr;             // int64, n
-  bool sweep::Step::*flag = nullptr;              // int64 0/1, n
+  long sweep::Step::*count = nullptr;              // int64, n
+  bool sweep::Step::*flag = nullptr;               // int64 0/1, n
 };
 inline const StepColumn step_columns[] = {
     {"load", &sweep::Step::load},

@@ -39,8 +39,8 @@ void write_xdmf(const std::filesystem::path& xdmf, const std::string& h5_name, c
       out << "      <Attribute Name=\"" << f.name << "\" AttributeType=\"" << type << "\" Center=\""
           << (f.on_cells ? "Cell" : "Node") << "\">\n"
           << "        <DataItem Dimensions=\"" << dims_text(f.dims) << "\" NumberType=\""
-          << (f.integer ? "Int" : "Float") << "\" Precision=\"8\" Format=\"HDF\">" << h5_name << ":"
-          << f.dataset << "</DataItem>\n      </Attribute>\n";
+          << (f.integer ? "Int" : "Float") << "\" Precision=\"8\" Format=\"HDF\">" << h5_name << ":" << f.dataset
+          << "</DataItem>\n      </Attribute>\n";
     }
     out << "    </Grid>\n";
   }

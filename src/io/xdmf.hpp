@@ -11,18 +11,18 @@ namespace dualcell::io {
 
 struct XdmfField {
   std::string name;
-  std::string dataset;                 // path inside the HDF5 file
-  bool on_cells = true;                // Center="Cell" or "Node"
-  std::vector<std::uint64_t> dims;     // shape of the dataset
+  std::string dataset;              // path inside the HDF5 file
+  bool on_cells = true;             // Center="Cell" or "Node"
+  std::vector<std::uint64_t> dims;  // shape of the dataset
   bool integer = false;
 };
 
 struct XdmfGrid {
   std::string name = "mesh";
-  std::string nodes_dataset;           // N×2 (GeometryType XY) or N×3 (XYZ)
+  std::string nodes_dataset;  // N×2 (GeometryType XY) or N×3 (XYZ)
   std::uint64_t n_nodes = 0;
   int geometry_dim = 2;
-  std::string triangles_dataset;       // T×3, 0-based
+  std::string triangles_dataset;  // T×3, 0-based
   std::uint64_t n_triangles = 0;
   std::vector<XdmfField> fields;
 };

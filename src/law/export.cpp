@@ -1,10 +1,9 @@
 #include "law/export.hpp"
 
+#include <Eigen/Eigenvalues>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
-
-#include <Eigen/Eigenvalues>
 
 #include "core/error.hpp"
 #include "core/json.hpp"
@@ -13,7 +12,6 @@
 namespace dualcell::law {
 
 namespace {
-
 
 std::string format_double(const char* format, double value) {
   char text[64];
@@ -51,12 +49,16 @@ void check_constituents(const Law& law, const std::string& file) {
       throw InputError(where + "attribute " + name + " = " + format_double("%g", value) + ": out of range " + range +
                        " (the constituents give the out-of-plane constants of the 3D material)");
   };
-  need(std::isfinite(law.constituents.fibre_E) && law.constituents.fibre_E > 0, "fibre_E", law.constituents.fibre_E, "> 0");
-  need(std::isfinite(law.constituents.matrix_E) && law.constituents.matrix_E > 0, "matrix_E", law.constituents.matrix_E, "> 0");
-  need(law.constituents.fibre_nu > -1 && law.constituents.fibre_nu < 0.5, "fibre_nu", law.constituents.fibre_nu, "(-1, 0.5)");
-  need(law.constituents.matrix_nu > -1 && law.constituents.matrix_nu < 0.5, "matrix_nu", law.constituents.matrix_nu, "(-1, 0.5)");
-  need(law.constituents.fibre_volume_fraction >= 0 && law.constituents.fibre_volume_fraction < 1, "fibre_volume_fraction",
-       law.constituents.fibre_volume_fraction, "[0, 1)");
+  need(std::isfinite(law.constituents.fibre_E) && law.constituents.fibre_E > 0, "fibre_E", law.constituents.fibre_E,
+       "> 0");
+  need(std::isfinite(law.constituents.matrix_E) && law.constituents.matrix_E > 0, "matrix_E", law.constituents.matrix_E,
+       "> 0");
+  need(law.constituents.fibre_nu > -1 && law.constituents.fibre_nu < 0.5, "fibre_nu", law.constituents.fibre_nu,
+       "(-1, 0.5)");
+  need(law.constituents.matrix_nu > -1 && law.constituents.matrix_nu < 0.5, "matrix_nu", law.constituents.matrix_nu,
+       "(-1, 0.5)");
+  need(law.constituents.fibre_volume_fraction >= 0 && law.constituents.fibre_volume_fraction < 1,
+       "fibre_volume_fraction", law.constituents.fibre_volume_fraction, "[0, 1)");
 }
 
 struct OutOfPlane {
@@ -67,9 +69,9 @@ OutOfPlane rule_of_mixtures(const Law& law) {
   const double Vf = law.constituents.fibre_volume_fraction;
   const double G_f = law.constituents.fibre_E / (2 * (1 + law.constituents.fibre_nu));
   const double G_m = law.constituents.matrix_E / (2 * (1 + law.constituents.matrix_nu));
-  return {Vf * law.constituents.fibre_E + (1 - Vf) * law.constituents.matrix_E,  // E3 = Vf E_f + (1 − Vf) E_m
+  return {Vf * law.constituents.fibre_E + (1 - Vf) * law.constituents.matrix_E,    // E3 = Vf E_f + (1 − Vf) E_m
           Vf * law.constituents.fibre_nu + (1 - Vf) * law.constituents.matrix_nu,  // ν31 = Vf ν_f + (1 − Vf) ν_m
-          1 / (Vf / G_f + (1 - Vf) / G_m)};              // 1/G = Vf/G_f + (1 − Vf)/G_m
+          1 / (Vf / G_f + (1 - Vf) / G_m)};                                        // 1/G = Vf/G_f + (1 − Vf)/G_m
 }
 
 // Three comment lines, one per row.
@@ -99,8 +101,8 @@ std::string material_cards(const std::string& material_name, const std::string& 
   out += "*MATERIAL, NAME=" + material_name + "\n";
   if (m.orthotropic) {
     const auto& k = m.constants;
-    out += "** normal-shear coupling " + format_double("%.2g", m.coupling) + " (<= " +
-           format_double("%.0e", coupling_tolerance) + ", dropped): engineering constants\n";
+    out += "** normal-shear coupling " + format_double("%.2g", m.coupling) +
+           " (<= " + format_double("%.0e", coupling_tolerance) + ", dropped): engineering constants\n";
     out += "** E1, E2, E3, nu12, nu13, nu23, G12, G13 / G23\n";
     out += "*ELASTIC, TYPE=ENGINEERING CONSTANTS\n";
     const double first[] = {k.E1, k.E2, k.E3, k.nu12, k.nu13, k.nu23, k.G12, k.G13};
@@ -110,8 +112,9 @@ std::string material_cards(const std::string& material_name, const std::string& 
   }
   out += "** normal-shear coupling " + format_double("%.2g", m.coupling) + " (> " +
          format_double("%.0e", coupling_tolerance) + "): engineering constants cannot hold it; full stiffness\n";
-  out += "** D1111, D1122, D2222, D1133, D2233, D3333, D1112, D2212 / D3312, D1212, D1113, D2213, D3313, D1213,\n"
-         "** D1313, D1123 / D2223, D3323, D1223, D1323, D2323 (engineering shear: D1212 = G12)\n";
+  out +=
+      "** D1111, D1122, D2222, D1133, D2233, D3333, D1112, D2212 / D3312, D1212, D1113, D2213, D3313, D1213,\n"
+      "** D1313, D1123 / D2223, D3323, D1223, D1323, D2323 (engineering shear: D1212 = G12)\n";
   out += "*ELASTIC, TYPE=ANISO\n";
   // The manual's order is the upper triangle of C column by column in the Voigt order
   // (11, 22, 33, 12, 13, 23), eight numbers per line.
@@ -125,7 +128,6 @@ std::string material_cards(const std::string& material_name, const std::string& 
   return out;
 }
 
-
 }  // namespace
 
 ExportFormat parse_export_format(const std::string& text) {
@@ -138,8 +140,8 @@ ExportFormat parse_export_format(const std::string& text) {
 SolidMaterial solid_material(const Eigen::Matrix3d& S_ps_in, const Law& law, const std::string& file,
                              const std::string& fit_name) {
   const std::string what = file + ": /law/" + fit_name;
-  static const char* entry_names[3][3] = {{"xx,xx", "xx,yy", "xx,xy"}, {"yy,xx", "yy,yy", "yy,xy"},
-                                          {"xy,xx", "xy,yy", "xy,xy"}};
+  static const char* entry_names[3][3] = {
+      {"xx,xx", "xx,yy", "xx,xy"}, {"yy,xx", "yy,yy", "yy,xy"}, {"xy,xx", "xy,yy", "xy,xy"}};
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j)
       if (!std::isfinite(S_ps_in(i, j)))
@@ -265,23 +267,27 @@ std::string law_calculix(const Law& law, const std::string& name, const std::str
   out += "** from " + one_line(source) + " (" + format_name + "; fit by " + one_line(law.provenance.code_version) +
          "; sweep " + one_line(law.provenance.sweep_file) + ", hash " + one_line(law.provenance.sweep_hash) + ")\n";
   out += "** units: " + one_line(law.units) + "\n";
-  out += "** Material axes: 1 = x, 2 = y (the plane of the cells), 3 = z = fibre direction.\n"
-         "** " + name + "_TENSION and " + name + "_COMPRESSION are the secant laws fitted to the tension and the\n"
-         "** compression paths (bimodular: choose by the sign of the load). Plane-strain elements (CPE*,\n"
-         "** eps33 = 0) in the x-y plane reproduce the fitted plane-strain compliance S exactly:\n"
-         "**   S11 = Sps11 + S13^2/S33, S22 = Sps22 + S23^2/S33, S12 = Sps12 + S13 S23/S33, 1/G12 = Sps33,\n"
-         "** out of plane by the rule of mixtures:\n"
-         "**   E3 = Vf Ef + (1 - Vf) Em, nu31 = nu32 = Vf nuf + (1 - Vf) num  (S13 = S23 = -nu31/E3, S33 = 1/E3),\n"
-         "**   1/G13 = 1/G23 = Vf/Gf + (1 - Vf)/Gm, G = E/(2 (1 + nu)),\n";
-  out += "** with Vf = " + format_double("%.6g", law.constituents.fibre_volume_fraction) + ", fibre E = " +
-         format_double("%.6g", law.constituents.fibre_E) + ", nu = " + format_double("%.6g", law.constituents.fibre_nu) + ", matrix E = " +
-         format_double("%.6g", law.constituents.matrix_E) + ", nu = " + format_double("%.6g", law.constituents.matrix_nu) + ": E3 = " +
-         format_double("%.6g", z.E3) + ", nu31 = " + format_double("%.6g", z.nu31) + ", G13 = G23 = " +
-         format_double("%.6g", z.G_longitudinal) + "\n";
+  out +=
+      "** Material axes: 1 = x, 2 = y (the plane of the cells), 3 = z = fibre direction.\n"
+      "** " +
+      name + "_TENSION and " + name +
+      "_COMPRESSION are the secant laws fitted to the tension and the\n"
+      "** compression paths (bimodular: choose by the sign of the load). Plane-strain elements (CPE*,\n"
+      "** eps33 = 0) in the x-y plane reproduce the fitted plane-strain compliance S exactly:\n"
+      "**   S11 = Sps11 + S13^2/S33, S22 = Sps22 + S23^2/S33, S12 = Sps12 + S13 S23/S33, 1/G12 = Sps33,\n"
+      "** out of plane by the rule of mixtures:\n"
+      "**   E3 = Vf Ef + (1 - Vf) Em, nu31 = nu32 = Vf nuf + (1 - Vf) num  (S13 = S23 = -nu31/E3, S33 = 1/E3),\n"
+      "**   1/G13 = 1/G23 = Vf/Gf + (1 - Vf)/Gm, G = E/(2 (1 + nu)),\n";
+  out += "** with Vf = " + format_double("%.6g", law.constituents.fibre_volume_fraction) +
+         ", fibre E = " + format_double("%.6g", law.constituents.fibre_E) +
+         ", nu = " + format_double("%.6g", law.constituents.fibre_nu) +
+         ", matrix E = " + format_double("%.6g", law.constituents.matrix_E) +
+         ", nu = " + format_double("%.6g", law.constituents.matrix_nu) + ": E3 = " + format_double("%.6g", z.E3) +
+         ", nu31 = " + format_double("%.6g", z.nu31) + ", G13 = G23 = " + format_double("%.6g", z.G_longitudinal) +
+         "\n";
   out += material_cards(name + "_TENSION", "S_tension", tension, law.tension.S);
   out += material_cards(name + "_COMPRESSION", "S_compression", compression, law.compression.S);
   return out;
 }
-
 
 }  // namespace dualcell::law

@@ -19,9 +19,8 @@
 //
 // The Schur complement of S33 in the 3D S is S_ps, so the 3D compliance is positive definite
 // exactly when S_ps is and E3 > 0: an inadmissible fit is refused, not exported.
-#include <string>
-
 #include <Eigen/Core>
+#include <string>
 
 #include "law/law.hpp"
 
@@ -67,7 +66,5 @@ std::string law_csv(const Law& law);
 // Two *MATERIALs, <name>_TENSION and <name>_COMPRESSION, with comment lines stating the axes,
 // units, formulas and provenance. `source` is the law file named in the comments.
 std::string law_calculix(const Law& law, const std::string& name, const std::string& source);
-
-
 
 }  // namespace dualcell::law

@@ -7,11 +7,10 @@
 // so S is symmetric for an elastic law. Per direction θ (uniaxial stress s·n⊗n, n = (cos θ,
 // sin θ), t = (−sin θ, cos θ)): ε_nn = n·ε·n, ε_tt = t·ε·t; the apparent plane-strain modulus
 // is E = s/ε_nn and ν = −ε_tt/ε_nn. NaN marks a value the data do not determine.
+#include <Eigen/Core>
 #include <limits>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "core/provenance.hpp"
 #include "core/scene.hpp"
@@ -39,8 +38,8 @@ struct DirectionLaw {
 struct ComplianceFit {
   Eigen::Matrix3d S = Eigen::Matrix3d::Constant(std::numeric_limits<double>::quiet_NaN());
   Eigen::Matrix3d S_se = Eigen::Matrix3d::Constant(std::numeric_limits<double>::quiet_NaN());
-  int rank = 0;                    // of the least-squares design (6 unknowns of the symmetric S)
-  double relative_residual = 0;    // ‖ε − Sσ‖ / ‖ε‖ over all points used
+  int rank = 0;                            // of the least-squares design (6 unknowns of the symmetric S)
+  double relative_residual = 0;            // ‖ε − Sσ‖ / ‖ε‖ over all points used
   std::vector<double> direction_residual;  // the same per direction (same order as directions)
   bool symmetric_positive_definite = false;
   int n_points = 0;
@@ -51,10 +50,10 @@ struct Law {
   ComplianceFit tension, compression;
   // Cone-wise linear form (Curnier, He & Zysset, J. Elasticity 37, 1995): the stiffness jump
   // C_t − C_c across the switching plane must be rank-one, ΔC = β c⊗c.
-  double cone_rank_one_ratio = 0;     // |second eigenvalue| / |first| of ΔC (0 = exactly rank-one)
-  bool cone_wise_linear = false;      // ratio below 0.05 and both fits SPD
+  double cone_rank_one_ratio = 0;                         // |second eigenvalue| / |first| of ΔC (0 = exactly rank-one)
+  bool cone_wise_linear = false;                          // ratio below 0.05 and both fits SPD
   Eigen::Vector3d cone_normal = Eigen::Vector3d::Zero();  // c (unit), in engineering-shear strain space
-  double cone_beta = 0;               // β
+  double cone_beta = 0;                                   // β
   // Constituents, for the out-of-plane constants of the exports (rule of mixtures).
   Constituents constituents;
   std::string units = "stress and moduli in the units of the input scene; strains dimensionless";

@@ -17,11 +17,10 @@
 // released, so every apply() is two sparse triangular sweeps (Eigen), gather and scatter fused
 // with the fill-reducing permutation: no CHOLMOD call, no BLAS, no allocation, and const, so
 // that threads may apply one instance at once, each with its own scratch.
-#include <span>
-#include <vector>
-
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
+#include <span>
+#include <vector>
 
 #include "linalg/sparse_cholesky.hpp"
 

@@ -21,9 +21,7 @@ int perimeter_position(int di, int dj, int l) {
   return 7 * l + (dj + l);  // di == l, dj < 0
 }
 
-double ring_angle(int di, int dj, int l) {
-  return std::numbers::pi / 4 * perimeter_position(di, dj, l) / l;
-}
+double ring_angle(int di, int dj, int l) { return std::numbers::pi / 4 * perimeter_position(di, dj, l) / l; }
 
 // Fibre ring radius as a fraction of r, pushed slightly towards the rim (docs/method.md §2):
 // g(0) = 0, g(1) = 1, g'(1) = 0.8 so the outermost ring of elements is a little thinner.
@@ -102,8 +100,8 @@ Mesh build_mesh(const Geometry& geometry) {
       }
       for (int j = 0; j < n; ++j) {
         for (int i = 0; i < n; ++i) {
-          const int q[4] = {grid[i + (n + 1) * j], grid[i + 1 + (n + 1) * j],
-                            grid[i + 1 + (n + 1) * (j + 1)], grid[i + (n + 1) * (j + 1)]};
+          const int q[4] = {grid[i + (n + 1) * j], grid[i + 1 + (n + 1) * j], grid[i + 1 + (n + 1) * (j + 1)],
+                            grid[i + (n + 1) * (j + 1)]};
           // A quad belongs to the matrix unless it lies inside the middle block.
           const bool in_hole = i >= k && i < 3 * k && j >= k && j < 3 * k;
           if (in_hole) continue;
@@ -137,8 +135,8 @@ Mesh build_mesh(const Geometry& geometry) {
       }
       for (int j = 0; j < m; ++j)
         for (int i = 0; i < m; ++i)
-          split_quad(mesh.nodes, fgrid[i + (m + 1) * j], fgrid[i + 1 + (m + 1) * j],
-                     fgrid[i + 1 + (m + 1) * (j + 1)], fgrid[i + (m + 1) * (j + 1)], mesh.triangles);
+          split_quad(mesh.nodes, fgrid[i + (m + 1) * j], fgrid[i + 1 + (m + 1) * j], fgrid[i + 1 + (m + 1) * (j + 1)],
+                     fgrid[i + (m + 1) * (j + 1)], mesh.triangles);
       fibre.node_end = mesh.n_nodes();
       fibre.triangle_end = static_cast<int>(mesh.triangles.size());
       const int fibre_index = static_cast<int>(mesh.subdomains.size());
@@ -153,8 +151,7 @@ Mesh build_mesh(const Geometry& geometry) {
         for (int i = 0; i <= m; ++i) {
           const int di = i - k, dj = j - k;
           if (std::max(std::abs(di), std::abs(dj)) != k) continue;
-          ring.push_back({perimeter_position(di, dj, k),
-                          {fgrid[i + (m + 1) * j], grid[(i + k) + (n + 1) * (j + k)]}});
+          ring.push_back({perimeter_position(di, dj, k), {fgrid[i + (m + 1) * j], grid[(i + k) + (n + 1) * (j + k)]}});
         }
       }
       std::sort(ring.begin(), ring.end());
@@ -170,8 +167,7 @@ Mesh build_mesh(const Geometry& geometry) {
   auto at = [&](int cell, int i, int j) { return matrix_grid[cell][i + (n + 1) * j]; };
   for (int cy = 0; cy < ey; ++cy)
     for (int cx = 0; cx + 1 < ex; ++cx)
-      for (int j = 0; j <= n; ++j)
-        mesh.glue_pairs.push_back({at(cx + ex * cy, n, j), at(cx + 1 + ex * cy, 0, j)});
+      for (int j = 0; j <= n; ++j) mesh.glue_pairs.push_back({at(cx + ex * cy, n, j), at(cx + 1 + ex * cy, 0, j)});
   for (int cy = 0; cy + 1 < ey; ++cy)
     for (int cx = 0; cx < ex; ++cx)
       for (int i = (cx > 0 ? 1 : 0); i <= n; ++i)

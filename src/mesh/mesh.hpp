@@ -12,11 +12,10 @@
 // Interface pairs (fibre node, matrix node) coincide exactly, and so do glue pairs
 // (matrix nodes of neighbouring cells on a shared edge; at a cross point of four cells only
 // three pairs, so that the gluing rows are linearly independent).
+#include <Eigen/Core>
 #include <array>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "core/scene.hpp"
 
@@ -24,8 +23,8 @@ namespace dualcell::mesh {
 
 struct Subdomain {
   bool is_fibre = false;
-  int cell = 0;            // cx + ex*cy
-  int node_begin = 0;      // rows [node_begin, node_end) of Mesh::nodes
+  int cell = 0;        // cx + ex*cy
+  int node_begin = 0;  // rows [node_begin, node_end) of Mesh::nodes
   int node_end = 0;
   int triangle_begin = 0;  // rows [triangle_begin, triangle_end) of Mesh::triangles
   int triangle_end = 0;
@@ -39,11 +38,11 @@ inline constexpr std::array<const char*, 4> side_names{"left", "right", "bottom"
 
 struct Mesh {
   Geometry geometry;
-  std::vector<Eigen::Vector2d> nodes;             // all subdomains' nodes stacked
-  std::vector<std::array<int, 3>> triangles;      // global node indices, counter-clockwise
+  std::vector<Eigen::Vector2d> nodes;         // all subdomains' nodes stacked
+  std::vector<std::array<int, 3>> triangles;  // global node indices, counter-clockwise
   std::vector<int> triangle_subdomain;
   std::vector<Subdomain> subdomains;
-  std::vector<Eigen::Vector2d> fibre_centres;     // one per cell, exact circle centre
+  std::vector<Eigen::Vector2d> fibre_centres;       // one per cell, exact circle centre
   std::vector<std::array<int, 2>> interface_pairs;  // (fibre node, matrix node)
   std::vector<int> interface_cell;                  // cell of each interface pair
   std::vector<std::array<int, 2>> glue_pairs;       // (matrix node, matrix node of a neighbour)

@@ -23,7 +23,7 @@ namespace dualcell::qp {
 
 struct GradientSplit {
   double phi_norm2 = 0;          // ‖φ‖²
-  double psi_norm2 = 0;         // ‖ψ‖²
+  double psi_norm2 = 0;          // ‖ψ‖²
   double phi_tilde_dot_phi = 0;  // φ̃ᵀφ, the right side of the proportioning test
   double projected_norm() const { return std::sqrt(phi_norm2 + psi_norm2); }
 };

@@ -49,12 +49,12 @@ using StoppingTest = std::function<bool(const Eigen::VectorXd& x, const Eigen::V
 // Work vectors, so that repeated solves (SMALBE's inner loop) do not allocate. On return, g holds
 // A x - b at the returned x (unless the status is invalid_input or non_finite).
 struct MprgpWorkspace {
-  Eigen::VectorXd g;     // gradient A x - b
-  Eigen::VectorXd p;     // conjugate direction
-  Eigen::VectorXd Ap;    // A p, A ψ, or A x on recomputation
-  Eigen::VectorXd phi;   // free gradient φ
-  Eigen::VectorXd psi;   // chopped gradient ψ
-  Eigen::VectorXd z;     // preconditioned free gradient χ_F ⊙ M⁻¹φ (with a preconditioner only)
+  Eigen::VectorXd g;    // gradient A x - b
+  Eigen::VectorXd p;    // conjugate direction
+  Eigen::VectorXd Ap;   // A p, A ψ, or A x on recomputation
+  Eigen::VectorXd phi;  // free gradient φ
+  Eigen::VectorXd psi;  // chopped gradient ψ
+  Eigen::VectorXd z;    // preconditioned free gradient χ_F ⊙ M⁻¹φ (with a preconditioner only)
 };
 
 // Empty when the options are valid, else a one-line description of the first invalid one.

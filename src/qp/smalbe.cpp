@@ -269,8 +269,8 @@ Result smalbe(const LinearOperator& A, const LinearOperator& Q, const Eigen::Vec
       xi /= opts.xi_reduction;
     }
     lagrangian_previous = lagrangian;
-    const bool slow = inner_result.status == Status::converged && k > 0 &&
-                      Qx_norm > opts.feasibility_reduction * Qx_norm_previous;
+    const bool slow =
+        inner_result.status == Status::converged && k > 0 && Qx_norm > opts.feasibility_reduction * Qx_norm_previous;
     slow_iterations = slow ? slow_iterations + 1 : 0;
     if (slow && rho < rho_max && slow_iterations >= opts.rho_patience) {
       const double rho_new = std::min(opts.rho_growth * rho, rho_max);

@@ -52,7 +52,7 @@ struct SmalbeOptions {
   // anyway inside A and M⁻¹ (FETI: A = PFP and P M⁻¹ P need P v = v − Q v), so that the inner
   // solver's A + ρQ and M⁻¹ + Q/ρ cost two applications of Q, not three. They must equal the
   // composed forms (A, Q and preconditioner are still used elsewhere); empty → composed.
-  std::function<void(const Eigen::VectorXd& v, double s, Eigen::VectorXd& y)> A_plus_shifted_Q,
+  std::function<void(const Eigen::VectorXd&v, double s, Eigen::VectorXd&y)> A_plus_shifted_Q,
       preconditioner_plus_shifted_Q;
   // Inner MPRGP: Gamma, omega_bar_factor, max_iterations (per inner solve), stagnation_window,
   // on_iterate are used; norm_A is ‖A‖ of the caller's A (0 → estimated); its tolerances are

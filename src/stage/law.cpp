@@ -41,9 +41,15 @@ std::string export_law(const ExportOptions& options) {
   const law::Law law = io::read_law(options.law_file);
   std::string text;
   switch (options.format) {
-    case law::ExportFormat::json: text = law::law_json(law); break;
-    case law::ExportFormat::csv: text = law::law_csv(law); break;
-    case law::ExportFormat::calculix: text = law::law_calculix(law, options.name, options.law_file.string()); break;
+    case law::ExportFormat::json:
+      text = law::law_json(law);
+      break;
+    case law::ExportFormat::csv:
+      text = law::law_csv(law);
+      break;
+    case law::ExportFormat::calculix:
+      text = law::law_calculix(law, options.name, options.law_file.string());
+      break;
   }
   io::AtomicOutputs outputs;
   const auto tmp = outputs.add(options.out);

@@ -62,23 +62,26 @@ void print_solve_summary(const SolveOptions& options, const SolveOutcome& outcom
               options.mesh_file.c_str(), sigma(0), sigma(1), sigma(2), options.out.c_str());
   std::printf("  boundary %s, adhesion %s, dim u %d, dim lambda %ld\n", to_string(scene.load.boundary),
               scene.interface.has_adhesion() ? "yes" : "no", outcome.dim_u, s.n_rows);
-  std::printf("  status %s: %ld outer iterations, %ld operator applications (%ld CG, %ld expansion, %ld proportioning)\n",
-              qp::to_string(s.qp.status), s.outer_iterations, s.operator_applications, s.cg_steps, s.expansion_steps,
-              s.proportioning_steps);
+  std::printf(
+      "  status %s: %ld outer iterations, %ld operator applications (%ld CG, %ld expansion, %ld proportioning)\n",
+      qp::to_string(s.qp.status), s.outer_iterations, s.operator_applications, s.cg_steps, s.expansion_steps,
+      s.proportioning_steps);
   if (scene.interface.has_adhesion())
     std::printf("  bonds: %ld debond rounds, %ld broken now, %ld broken in all of %zu\n", s.debond_rounds,
                 s.newly_broken, broken, s.bonds.size());
   std::printf("  macro strain  exx %.6e  eyy %.6e  exy %.6e\n", s.strain(0), s.strain(1), s.strain(2));
   std::printf("  Hill-Mandel   <s> - s_applied = (%.2e, %.2e, %.2e)\n", s.average_stress(0) - sigma(0),
               s.average_stress(1) - sigma(1), s.average_stress(2) - sigma(2));
-  std::printf("  KKT: projected gradient %.2e (rel), |G l - e| %.2e (rel), bound violation %.2e,\n"
-              "       complementarity %.2e, penetration %.2e, glue jump %.2e, equilibrium %.2e (rel)\n",
-              s.kkt.relative_projected_gradient, s.kkt.relative_equality_residual, s.kkt.bound_violation,
-              s.kkt.complementarity, s.kkt.max_penetration, s.kkt.max_glue_jump, s.kkt.relative_equilibrium);
-  std::printf("  seconds: assembly %.3f, factorisation %.3f, dual setup %.3f, QP %.3f (F %.3f, Q %.3f, M^-1 %.3f), "
-              "recovery %.3f; %d thread(s)\n",
-              s.seconds.assembly, s.seconds.factorisation, s.seconds.dual_setup, s.seconds.qp, s.seconds.qp_F,
-              s.seconds.qp_Q, s.seconds.qp_preconditioner, s.seconds.recovery, outcome.threads_used);
+  std::printf(
+      "  KKT: projected gradient %.2e (rel), |G l - e| %.2e (rel), bound violation %.2e,\n"
+      "       complementarity %.2e, penetration %.2e, glue jump %.2e, equilibrium %.2e (rel)\n",
+      s.kkt.relative_projected_gradient, s.kkt.relative_equality_residual, s.kkt.bound_violation, s.kkt.complementarity,
+      s.kkt.max_penetration, s.kkt.max_glue_jump, s.kkt.relative_equilibrium);
+  std::printf(
+      "  seconds: assembly %.3f, factorisation %.3f, dual setup %.3f, QP %.3f (F %.3f, Q %.3f, M^-1 %.3f), "
+      "recovery %.3f; %d thread(s)\n",
+      s.seconds.assembly, s.seconds.factorisation, s.seconds.dual_setup, s.seconds.qp, s.seconds.qp_F, s.seconds.qp_Q,
+      s.seconds.qp_preconditioner, s.seconds.recovery, outcome.threads_used);
   if (scene.solver.preconditioner != Preconditioner::none)
     std::printf("  preconditioner %s: %ld applications\n", to_string(scene.solver.preconditioner),
                 s.preconditioner_applications);

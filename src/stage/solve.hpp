@@ -1,9 +1,8 @@
 #pragma once
 // The solve stage as one call (dualcell-solve): one macro stress σ̄ through the scene's boundary
 // condition, from a given bond state, written to solution.h5 (+ XDMF); and its summary.
-#include <string>
-
 #include <Eigen/Core>
+#include <string>
 
 #include "feti/solver.hpp"
 
@@ -15,8 +14,8 @@ inline constexpr int exit_not_converged = 4;
 
 struct SolveOptions {
   std::string scene_file, mesh_file, out;
-  std::string stress_text;   // "sxx,syy,sxy" as given on the command line
-  std::string bonds_file;    // a solution.h5 whose bond state is the start; empty: intact
+  std::string stress_text;  // "sxx,syy,sxy" as given on the command line
+  std::string bonds_file;   // a solution.h5 whose bond state is the start; empty: intact
   int threads = 0;
 };
 

@@ -1,10 +1,10 @@
 #include "stage/sweep.hpp"
 
+#include <unistd.h>
+
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-
-#include <unistd.h>
 
 #include "feti/solver.hpp"
 #include "io/atomic_output.hpp"

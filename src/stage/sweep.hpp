@@ -9,9 +9,9 @@ namespace dualcell::stage {
 
 struct SweepOptions {
   std::string scene_file, mesh_file, out;
-  int threads = 0;            // 0 = all OpenMP offers; results do not depend on it
-  bool progress = false;      // progress line on stderr
-  long interrupt_after = 0;   // tests of the resume: _exit(137) after this many computed paths
+  int threads = 0;           // 0 = all OpenMP offers; results do not depend on it
+  bool progress = false;     // progress line on stderr
+  long interrupt_after = 0;  // tests of the resume: _exit(137) after this many computed paths
 };
 
 struct SweepSummary {

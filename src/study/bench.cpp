@@ -16,18 +16,18 @@
 //   memory                 peak resident set per DOF of the contact solve at ~1e6 DOF
 #include "study/bench.hpp"
 
+#include <omp.h>
+#include <sys/resource.h>
+
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
 
-#include <omp.h>
-#include <sys/resource.h>
-
+#include "core/json.hpp"
 #include "feti/solver.hpp"
 #include "io/atomic_output.hpp"
-#include "core/json.hpp"
 #include "study/monolithic.hpp"
 
 namespace dualcell::study {
@@ -87,10 +87,25 @@ Run contact(int cells, int degree, int threads, Preconditioner preconditioner = 
   feti::Solution r = solver.solve({-10, 0, 0}, solver.intact());
   const double solve = since(t1);
   const int used_threads = solver.setup().parallel() ? solver.setup().threads() : 1;
-  return {cells,         degree,          m.dim_u(),     r.n_rows,      used_threads,
-          preconditioner, r.outer_iterations, r.cg_steps, r.expansion_steps, r.proportioning_steps,
-          r.operator_applications, r.preconditioner_applications, setup, solve, r.seconds, r.converged(),
-          std::move(r.lambda), std::move(r.u), solver.setup().load({-10, 0, 0})};
+  return {cells,
+          degree,
+          m.dim_u(),
+          r.n_rows,
+          used_threads,
+          preconditioner,
+          r.outer_iterations,
+          r.cg_steps,
+          r.expansion_steps,
+          r.proportioning_steps,
+          r.operator_applications,
+          r.preconditioner_applications,
+          setup,
+          solve,
+          r.seconds,
+          r.converged(),
+          std::move(r.lambda),
+          std::move(r.u),
+          solver.setup().load({-10, 0, 0})};
 }
 
 // Least-squares slope of log(applications) against log(H/h), H/h = 4k intervals per cell edge.
@@ -132,8 +147,8 @@ std::string run_json(const Run& r) {
 std::string phase_row(const char* name, const Run& r) {
   const feti::Timings& t = r.phases;
   const double rest = t.qp - t.qp_F - t.qp_Q - t.qp_preconditioner;
-  return format("| %s | %d | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f |\n", name, r.threads,
-                t.assembly, t.factorisation, t.dual_setup, t.qp_F, t.qp_Q, t.qp_preconditioner, rest, t.recovery);
+  return format("| %s | %d | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f |\n", name, r.threads, t.assembly,
+                t.factorisation, t.dual_setup, t.qp_F, t.qp_Q, t.qp_preconditioner, rest, t.recovery);
 }
 const char* const phase_header =
     "| case | threads | assembly | factorisation | dual setup (B, G, GGᵀ) | QP: F | QP: Q (coarse) | QP: M⁻¹ | QP: "
@@ -142,15 +157,15 @@ const char* const phase_header =
 }  // namespace
 
 std::string run_bench(const BenchOptions& options) {
-const bool quick = options.quick;
-const int all = options.threads > 0 ? options.threads : omp_get_max_threads();
-std::filesystem::create_directories(options.out_dir);
-io::AtomicOutputs outputs;
-const auto md_tmp = outputs.add(options.out_dir / "bench.md");
-const auto json_tmp = outputs.add(options.out_dir / "summary.json");
-std::ostringstream md;
-JsonObject json;
-std::vector<std::string> scalability_json, preconditioners_json, floor_json;
+  const bool quick = options.quick;
+  const int all = options.threads > 0 ? options.threads : omp_get_max_threads();
+  std::filesystem::create_directories(options.out_dir);
+  io::AtomicOutputs outputs;
+  const auto md_tmp = outputs.add(options.out_dir / "bench.md");
+  const auto json_tmp = outputs.add(options.out_dir / "summary.json");
+  std::ostringstream md;
+  JsonObject json;
+  std::vector<std::string> scalability_json, preconditioners_json, floor_json;
   md << "# dualcell benchmark\n\nCompression along x, no adhesion, symmetry boundary, E_f/E_m = 100, r = 0.3, "
         "tolerance 1e-8. Seconds are wall time on this machine in this run. Iteration counts do not depend on "
         "the thread count; the scalability rows run on one thread.\n\n";
@@ -161,7 +176,8 @@ std::vector<std::string> scalability_json, preconditioners_json, floor_json;
   const int max_degree = quick ? 3 : 8;
   std::ostringstream summary_md;
   summary_md << "## Preconditioners: summary\n\n| preconditioner | F applications, largest block / 2×2 | growth "
-                "exponent in H/h | solve s, largest block | solve s, 4×4 k=" << max_degree << " |\n|---|---|---|---|---|\n";
+                "exponent in H/h | solve s, largest block | solve s, 4×4 k="
+             << max_degree << " |\n|---|---|---|---|---|\n";
   double exponent_none = 0, blocks_ratio_none = 0;
   for (Preconditioner p : {Preconditioner::none, Preconditioner::lumped, Preconditioner::dirichlet}) {
     progress((std::string("scalability, preconditioner ") + to_string(p)).c_str());
@@ -177,8 +193,8 @@ std::vector<std::string> scalability_json, preconditioners_json, floor_json;
     }
     const double ratio = static_cast<double>(largest.applications) / ops_2x2;
     md << "\nF applications, " << largest.cells << "×" << largest.cells << " against 2×2: " << ratio
-       << " (target ≤ 1.5)\n\n## Numerical scalability, preconditioner " << to_string(p)
-       << ": degree (4×4 cells)\n\n" << run_header;
+       << " (target ≤ 1.5)\n\n## Numerical scalability, preconditioner " << to_string(p) << ": degree (4×4 cells)\n\n"
+       << run_header;
     std::vector<Run> by_degree;
     for (int k = 1; k <= max_degree; ++k) {
       by_degree.push_back(contact(4, k, 1, p));
@@ -205,13 +221,15 @@ std::vector<std::string> scalability_json, preconditioners_json, floor_json;
   // Floor and memory, on all threads.
   progress("floor");
   md << "## The floor: contact solve against one monolithic CHOLMOD solve\n\nThe contact solve (assembly, "
-        "factorisations, dual setup, QP, recovery) on up to " << all
+        "factorisations, dual setup, QP, recovery) on up to "
+     << all
      << " thread(s), no preconditioner; against CHOLMOD's analyse, factorise and solve of the assembled bonded "
         "problem as one body (supernodal, automatic ordering, one thread, the system's BLAS: libblas.so.3). The mesh "
-        "is timed in neither.\n\n| case | DOF | contact setup s | contact solve s | contact total s | CHOLMOD factorise+solve s "
+        "is timed in neither.\n\n| case | DOF | contact setup s | contact solve s | contact total s | CHOLMOD "
+        "factorise+solve s "
         "| ratio | peak RSS bytes/DOF |\n|---|---|---|---|---|---|---|---|\n";
-  const std::vector<std::pair<int, int>> floors = quick ? std::vector<std::pair<int, int>>{{4, 2}}
-                                                        : std::vector<std::pair<int, int>>{{16, 3}, {32, 5}};
+  const std::vector<std::pair<int, int>> floors =
+      quick ? std::vector<std::pair<int, int>>{{4, 2}} : std::vector<std::pair<int, int>>{{16, 3}, {32, 5}};
   double bytes_per_dof = 0;
   std::vector<Run> floor_runs;
   for (std::size_t i = 0; i < floors.size(); ++i) {
@@ -239,9 +257,9 @@ std::vector<std::string> scalability_json, preconditioners_json, floor_json;
   }
   md << "\nTargets: ratio ≤ 3 at ~1e5 DOF and ≤ 2 at ~1e6 DOF. Peak RSS is the whole process's (it includes "
         "earlier rows); bytes/DOF at the largest case: "
-     << bytes_per_dof << " (target ≤ 2048).\n\n## Where the time goes (seconds per phase)\n\n" << phase_header;
-  for (const Run& r : floor_runs)
-    md << phase_row(format("%d×%d, k=%d", r.cells, r.cells, r.degree).c_str(), r);
+     << bytes_per_dof << " (target ≤ 2048).\n\n## Where the time goes (seconds per phase)\n\n"
+     << phase_header;
+  for (const Run& r : floor_runs) md << phase_row(format("%d×%d, k=%d", r.cells, r.cells, r.degree).c_str(), r);
 
   // Threads: the ~1e5 case on one thread against all.
   progress("threads");
@@ -250,14 +268,16 @@ std::vector<std::string> scalability_json, preconditioners_json, floor_json;
   const Run many = contact(tn, tk, all);
   if (many.threads != all) progress("threads: the case is below the size from which threads spread");
   const double speedup = (one.setup_seconds + one.solve_seconds) / (many.setup_seconds + many.solve_seconds);
-  const double lambda_difference = (one.lambda - many.lambda).lpNorm<Eigen::Infinity>() /
-                                   std::max(one.lambda.lpNorm<Eigen::Infinity>(), 1e-300);
-  const double u_difference = (one.u - many.u).lpNorm<Eigen::Infinity>() / std::max(one.u.lpNorm<Eigen::Infinity>(), 1e-300);
-  md << phase_row(format("%d×%d, k=%d", tn, tn, tk).c_str(), one) << phase_row(format("%d×%d, k=%d", tn, tn, tk).c_str(), many)
-     << "\n## Threads\n\n" << tn << "×" << tn << " cells, degree " << tk << ": setup + solve "
-     << one.setup_seconds + one.solve_seconds << " s on 1 thread, " << many.setup_seconds + many.solve_seconds
-     << " s on " << many.threads << ": speed-up " << speedup << " (setup " << one.setup_seconds / many.setup_seconds
-     << ", solve " << one.solve_seconds / many.solve_seconds << "). Largest relative difference between the two: λ "
+  const double lambda_difference =
+      (one.lambda - many.lambda).lpNorm<Eigen::Infinity>() / std::max(one.lambda.lpNorm<Eigen::Infinity>(), 1e-300);
+  const double u_difference =
+      (one.u - many.u).lpNorm<Eigen::Infinity>() / std::max(one.u.lpNorm<Eigen::Infinity>(), 1e-300);
+  md << phase_row(format("%d×%d, k=%d", tn, tn, tk).c_str(), one)
+     << phase_row(format("%d×%d, k=%d", tn, tn, tk).c_str(), many) << "\n## Threads\n\n"
+     << tn << "×" << tn << " cells, degree " << tk << ": setup + solve " << one.setup_seconds + one.solve_seconds
+     << " s on 1 thread, " << many.setup_seconds + many.solve_seconds << " s on " << many.threads << ": speed-up "
+     << speedup << " (setup " << one.setup_seconds / many.setup_seconds << ", solve "
+     << one.solve_seconds / many.solve_seconds << "). Largest relative difference between the two: λ "
      << lambda_difference << ", u " << u_difference << " (target: ≤ 1e-14).\n\n";
   json.add("floor", json_list(floor_json))
       .add("threads", JsonObject()
@@ -281,9 +301,10 @@ std::vector<std::string> scalability_json, preconditioners_json, floor_json;
   const feti::Solution second = solver.solve({-20, 0, 0}, solver.intact(), &lambda, &multiplier);
   const double second_seconds = since(t1);
   const double ratio = second_seconds / first_seconds;
-  md << "## Sweep step\n\n" << sn << "×" << sn << " cells, degree " << sk << ": first step (setup + solve) "
-     << first_seconds << " s, " << first_step.operator_applications << " F applications; a further step "
-     << second_seconds << " s, " << second.operator_applications << " F applications: ratio " << ratio
+  md << "## Sweep step\n\n"
+     << sn << "×" << sn << " cells, degree " << sk << ": first step (setup + solve) " << first_seconds << " s, "
+     << first_step.operator_applications << " F applications; a further step " << second_seconds << " s, "
+     << second.operator_applications << " F applications: ratio " << ratio
      << " (target ≤ 0.1).\n\nThe thesis' cases beside the thesis' figures: thesis.md (make -C pipelines thesis).\n";
   json.add("sweep_step_ratio", json_number(ratio)).add("bytes_per_dof", json_number(bytes_per_dof));
   std::ofstream(md_tmp) << md.str();

@@ -1,12 +1,11 @@
 #include "study/monolithic.hpp"
 
+#include <Eigen/SparseCore>
 #include <chrono>
 #include <cmath>
 #include <map>
 #include <numeric>
 #include <vector>
-
-#include <Eigen/SparseCore>
 
 #include "fem/assembly.hpp"
 #include "linalg/sparse_cholesky.hpp"
@@ -38,17 +37,23 @@ Eigen::VectorXd monolithic_solve(const mesh::Mesh& m, const Scene& scene, const 
   auto on = [&](int v, int side) {
     const auto& x = m.nodes[v];
     switch (side) {
-      case mesh::left: return std::abs(x.x()) < tol;
-      case mesh::right: return std::abs(x.x() - W) < tol;
-      case mesh::bottom: return std::abs(x.y()) < tol;
-      default: return std::abs(x.y() - H) < tol;
+      case mesh::left:
+        return std::abs(x.x()) < tol;
+      case mesh::right:
+        return std::abs(x.x() - W) < tol;
+      case mesh::bottom:
+        return std::abs(x.y()) < tol;
+      default:
+        return std::abs(x.y() - H) < tol;
     }
   };
   // Slave map for periodic: root → (master root, H-coefficients of the jump per component).
   std::map<int, std::pair<int, Eigen::Matrix<double, 2, 3>>> slave;
   if (periodic) {
     std::map<std::pair<long, long>, int> at;  // rounded position → root
-    auto key = [&](const Eigen::Vector2d& x) { return std::pair<long, long>(std::lround(x.x() * 1e9), std::lround(x.y() * 1e9)); };
+    auto key = [&](const Eigen::Vector2d& x) {
+      return std::pair<long, long>(std::lround(x.x() * 1e9), std::lround(x.y() * 1e9));
+    };
     for (int v = 0; v < N; ++v) at[key(m.nodes[v])] = find(v);
     for (int v = 0; v < N; ++v) {
       const int root = find(v);

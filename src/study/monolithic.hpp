@@ -16,7 +16,7 @@ namespace dualcell::study {
 // `refine` = false skips the long-double refinement (the benchmark times one factorise+solve).
 // `seconds_factorise_solve`, when given, receives the wall time of CHOLMOD's analyse,
 // factorise and first solve alone (not the merging of nodes or the assembly of K_red).
-Eigen::VectorXd monolithic_solve(const mesh::Mesh& m, const Scene& scene, const Eigen::VectorXd& f,
-                                 bool holes = false, bool refine = true, double* seconds_factorise_solve = nullptr);
+Eigen::VectorXd monolithic_solve(const mesh::Mesh& m, const Scene& scene, const Eigen::VectorXd& f, bool holes = false,
+                                 bool refine = true, double* seconds_factorise_solve = nullptr);
 
 }  // namespace dualcell::study

@@ -23,13 +23,13 @@ std::vector<StabilityCase> stability_cases(bool fast) {
   const std::vector<double> ratios = fast ? std::vector<double>{1e-3, 1e6} : std::vector<double>{1e-3, 1, 1e3, 1e6};
   const std::vector<double> nus = fast ? std::vector<double>{0, 0.499} : std::vector<double>{0, 0.3, 0.45, 0.499};
   // Off-centre: ligament 0.03 between the fibre and the cell edge.
-  const std::vector<Geometry> geometries =
-      fast ? std::vector<Geometry>{{0.05, 0}, {0.3, 0.17}} : std::vector<Geometry>{{0.05, 0}, {0.3, 0}, {0.45, 0}, {0.3, 0.17}};
+  const std::vector<Geometry> geometries = fast ? std::vector<Geometry>{{0.05, 0}, {0.3, 0.17}}
+                                                : std::vector<Geometry>{{0.05, 0}, {0.3, 0}, {0.45, 0}, {0.3, 0.17}};
   const std::vector<std::string> adhesions = {"none", "tiny", "huge"};
   std::vector<StabilityCase> cases;
   for (const auto& [boundary, directions] : boundaries) {
-    const std::vector<double> dirs = fast ? std::vector<double>{directions.back() == 90 && directions.size() > 2 ? 45.0 : 0.0}
-                                          : directions;
+    const std::vector<double> dirs =
+        fast ? std::vector<double>{directions.back() == 90 && directions.size() > 2 ? 45.0 : 0.0} : directions;
     for (double direction : dirs) {
       // Materials × geometry × adhesion at unit load, tension and compression.
       for (double ratio : ratios)
@@ -42,7 +42,8 @@ std::vector<StabilityCase> stability_cases(bool fast) {
               }
       // Load magnitudes over 18 orders on the base case.
       for (double load : {1e-12, -1e-12, 1e-3, -1e-3, 1e6, -1e6})
-        for (const auto& adhesion : adhesions) cases.push_back({boundary, direction, 1e3, 0.3, 0.3, 0, adhesion, load, 2});
+        for (const auto& adhesion : adhesions)
+          cases.push_back({boundary, direction, 1e3, 0.3, 0.3, 0, adhesion, load, 2});
     }
   }
   return cases;
@@ -124,9 +125,9 @@ StabilityReport run_stability(const StabilityOptions& options) {
     csv << to_string(c.boundary) << ',' << c.direction_deg << ',' << c.stiffness_ratio << ',' << c.nu_matrix << ','
         << c.radius << ',' << c.offset << ',' << c.adhesion << ',' << c.load << ',' << row.status << ','
         << row.primal_ok << ',' << row.finite << ',' << row.ok << ',' << row.outer_iterations << ','
-        << row.operator_applications << ',' << row.relative_projected_gradient << ','
-        << row.relative_equality_residual << ',' << row.relative_equilibrium << ',' << row.penetration << ','
-        << row.glue_jump << ',' << row.broken << ',' << row.modulus << ',' << row.seconds << ',' << message << '\n';
+        << row.operator_applications << ',' << row.relative_projected_gradient << ',' << row.relative_equality_residual
+        << ',' << row.relative_equilibrium << ',' << row.penetration << ',' << row.glue_jump << ',' << row.broken << ','
+        << row.modulus << ',' << row.seconds << ',' << message << '\n';
     report.failed += !row.ok;
     auto tally = [&](const std::string& key) {
       Tally& t = by_factor[key];
@@ -149,7 +150,8 @@ StabilityReport run_stability(const StabilityOptions& options) {
     tally("adhesion " + c.adhesion);
     std::snprintf(key, sizeof key, "|load| %g", std::abs(c.load));
     tally(key);
-    if (show) std::fprintf(stderr, "\rdualcell-stability: case %zu of %zu, %d failed   ", i + 1, cases.size(), report.failed);
+    if (show)
+      std::fprintf(stderr, "\rdualcell-stability: case %zu of %zu, %d failed   ", i + 1, cases.size(), report.failed);
   }
   if (show) std::fprintf(stderr, "\n");
   csv.close();
@@ -158,7 +160,8 @@ StabilityReport run_stability(const StabilityOptions& options) {
     md << "# Stability matrix (" << cases.size() << " cases, tolerance " << options.tolerance << ")\n\n"
        << "A case passes when it converges with its primal check passed and every result finite, or stops with a "
           "diagnostic. Per factor value:\n\n"
-       << "| factor | cases | converged | failed | max F applications | max rel. projected gradient | max penetration / ‖u‖ |\n"
+       << "| factor | cases | converged | failed | max F applications | max rel. projected gradient | max penetration "
+          "/ ‖u‖ |\n"
        << "|---|---|---|---|---|---|---|\n";
     for (const auto& [name, t] : by_factor)
       md << "| " << name << " | " << t.n << " | " << t.converged << " | " << t.failed << " | " << t.max_ops << " | "

@@ -17,27 +17,27 @@ namespace dualcell::study {
 struct StabilityCase {
   Boundary boundary = Boundary::periodic;
   double direction_deg = 0;
-  double stiffness_ratio = 1;   // E_f / E_m (E_m = 1)
+  double stiffness_ratio = 1;  // E_f / E_m (E_m = 1)
   double nu_matrix = 0.3;
-  double radius = 0.3;          // cell size 1
-  double offset = 0;            // along x
+  double radius = 0.3;            // cell size 1
+  double offset = 0;              // along x
   std::string adhesion = "none";  // none, tiny (strength 1e-6), huge (1e6)
-  double load = 1;              // signed magnitude s, σ̄ = s n⊗n
+  double load = 1;                // signed magnitude s, σ̄ = s n⊗n
   int degree = 2;
 };
 
 struct StabilityRow {
   StabilityCase c;
-  std::string status;           // of the QP
+  std::string status;  // of the QP
   bool primal_ok = false;
-  bool finite = false;          // u, λ, strain all finite
-  bool ok = false;              // converged, checked and finite, or stopped with a diagnostic
+  bool finite = false;  // u, λ, strain all finite
+  bool ok = false;      // converged, checked and finite, or stopped with a diagnostic
   std::string message;
   long outer_iterations = 0, operator_applications = 0;
   double relative_projected_gradient = 0, relative_equality_residual = 0, relative_equilibrium = 0;
   double penetration = 0, glue_jump = 0;  // relative to ‖u‖∞
   int broken = 0;
-  double modulus = 0;           // s / ε_nn
+  double modulus = 0;  // s / ε_nn
   double seconds = 0;
 };
 

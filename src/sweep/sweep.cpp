@@ -20,8 +20,8 @@ Step make_step(double load, const feti::Solution& s, int broken, double seconds)
   step.broken_bonds = broken;
   step.outer_iterations = s.outer_iterations;
   step.operator_applications = s.operator_applications;
-  step.kkt_residual = std::max({s.kkt.relative_projected_gradient, s.kkt.relative_equality_residual,
-                                s.kkt.relative_equilibrium});
+  step.kkt_residual =
+      std::max({s.kkt.relative_projected_gradient, s.kkt.relative_equality_residual, s.kkt.relative_equilibrium});
   step.seconds = seconds;
   step.converged = s.converged();
   return step;
@@ -86,7 +86,8 @@ std::vector<PathSpec> plan_paths(const Scene& scene) {
     Eigen::Vector3d unit(t[0], t[1], t[2]);
     // Frobenius norm of the symmetric tensor: sqrt(σxx² + σyy² + 2σxy²).
     if (symmetry && unit(2) != 0)
-      throw InputError(scene.file.string() + ": [sweep] stress_directions has a tensor with sxy != 0: the symmetry "
+      throw InputError(scene.file.string() +
+                       ": [sweep] stress_directions has a tensor with sxy != 0: the symmetry "
                        "boundary carries only sxx and syy");
     unit /= std::sqrt(unit(0) * unit(0) + unit(1) * unit(1) + 2 * unit(2) * unit(2));
     add(std::numeric_limits<double>::quiet_NaN(), unit);

@@ -8,12 +8,11 @@
 // The fuse: with adhesion, the exact debond onset s* (docs/method.md §11) is inserted as a step, and
 // wherever new breaks appear between two steps the load is bisected until the jump is
 // bracketed within fuse_tolerance·load; the states just before and after are recorded.
+#include <Eigen/Core>
 #include <functional>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "core/scene.hpp"
 #include "feti/solver.hpp"
@@ -42,9 +41,9 @@ struct Step {
 
 // The largest jump along a path: the bracket whose strain along the load (N:ε) grows most.
 struct Fuse {
-  double onset_load = 0;    // predicted s* (signed): the first bond reaches its strength
-  double load_before = 0;   // largest bracketed load without the jump
-  double load_after = 0;    // smallest bracketed load with it
+  double onset_load = 0;   // predicted s* (signed): the first bond reaches its strength
+  double load_before = 0;  // largest bracketed load without the jump
+  double load_after = 0;   // smallest bracketed load with it
   Eigen::Vector3d strain_before = Eigen::Vector3d::Zero();
   Eigen::Vector3d strain_after = Eigen::Vector3d::Zero();
 };

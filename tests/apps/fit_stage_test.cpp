@@ -1,12 +1,12 @@
 // dualcell-fit on real sweeps: the modulus asymmetry, equal moduli for a homogeneous block,
 // the fuse threshold, and refusal of corrupt, truncated or incomplete sweep files.
-#include <cmath>
-
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "io/hdf5.hpp"
-#include "io/sweep_file.hpp"
 #include "io/law_file.hpp"
+#include "io/sweep_file.hpp"
 #include "test_util.hpp"
 
 namespace dualcell {
@@ -31,8 +31,10 @@ std::filesystem::path pipeline(const testing::ScratchDir& dir, const std::string
 
 TEST(FitStage, StiffFibresWithoutAdhesionAreBimodular) {
   testing::ScratchDir dir;
-  std::string text = testing::scene_text(1, 1, 2, 0.35, "[load]\nboundary = \"periodic\"\n"
-                                                        "[sweep]\ndirections_deg = [0, 45, 90]\nmagnitudes = [-0.2, -0.1, 0.1, 0.2]\n");
+  std::string text =
+      testing::scene_text(1, 1, 2, 0.35,
+                          "[load]\nboundary = \"periodic\"\n"
+                          "[sweep]\ndirections_deg = [0, 45, 90]\nmagnitudes = [-0.2, -0.1, 0.1, 0.2]\n");
   const law::Law law = io::read_law(pipeline(dir, text));
   ASSERT_EQ(law.directions.size(), 3u);
   for (const auto& d : law.directions) EXPECT_GT(d.E_compression / d.E_tension, 1.5) << d.direction_deg;
@@ -61,8 +63,9 @@ TEST(FitStage, HomogeneousBondedBlockHasEqualModuli) {
 TEST(FitStage, FuseStressIsTheSweepsBracket) {
   testing::ScratchDir dir;
   const std::string text = testing::scene_text(
-      1, 1, 1, 0.4, "[interface]\nnormal_strength = 0.05\ntangential_strength = 0.05\n[load]\nboundary = \"traction\"\n"
-                    "[sweep]\ndirections_deg = [0]\nmagnitudes = [0.02, 0.05, 0.1, 0.2]\n");
+      1, 1, 1, 0.4,
+      "[interface]\nnormal_strength = 0.05\ntangential_strength = 0.05\n[load]\nboundary = \"traction\"\n"
+      "[sweep]\ndirections_deg = [0]\nmagnitudes = [0.02, 0.05, 0.1, 0.2]\n");
   const law::Law law = io::read_law(pipeline(dir, text));
   const auto paths = io::read_sweep(dir / "sweep.h5");
   ASSERT_TRUE(paths[0].fuse.has_value());

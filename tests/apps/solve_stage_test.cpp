@@ -18,7 +18,8 @@ struct Prepared {
 void prepare(Prepared& p, const std::string& extra) {
   p.scene = p.dir.write("s.toml", testing::scene_text(2, 1, 2, 0.3, extra));
   p.mesh = p.dir / "mesh.h5";
-  const auto r = run_command(bin("dualcell-mesh") + " --quiet --config " + p.scene.string() + " --out " + p.mesh.string());
+  const auto r =
+      run_command(bin("dualcell-mesh") + " --quiet --config " + p.scene.string() + " --out " + p.mesh.string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
 }
 
@@ -47,9 +48,9 @@ TEST(SolveStage, WritesTheDocumentedLayout) {
   const auto bonded = f.read_ints("/interface/bonded", {io::any_extent});
   const long broken = std::count(bonded.begin(), bonded.end(), 0);
   EXPECT_GT(broken, 0);
-  const auto r2 = run_command(bin("dualcell-solve") + " --quiet --config " + p.scene.string() + " --mesh " +
-                              p.mesh.string() + " --stress 0.005,0,0 --bonds " + out.string() + " --out " +
-                              (p.dir / "next.h5").string());
+  const auto r2 =
+      run_command(bin("dualcell-solve") + " --quiet --config " + p.scene.string() + " --mesh " + p.mesh.string() +
+                  " --stress 0.005,0,0 --bonds " + out.string() + " --out " + (p.dir / "next.h5").string());
   EXPECT_EQ(r2.exit_code, 0) << r2.output;
   const auto after = io::File::open_read(p.dir / "next.h5").read_ints("/interface/bonded", {io::any_extent});
   for (std::size_t i = 0; i < bonded.size(); ++i)

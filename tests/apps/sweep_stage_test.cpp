@@ -26,20 +26,22 @@ std::string sweep_command(const std::filesystem::path& scene, const testing::Scr
 }
 
 const std::string paths_scene = testing::scene_text(
-    2, 1, 2, 0.3, "[load]\nboundary = \"traction\"\n[sweep]\ndirections_deg = [0, 30, 90]\nmagnitudes = [-2, -1, 1, 2]\n");
+    2, 1, 2, 0.3,
+    "[load]\nboundary = \"traction\"\n[sweep]\ndirections_deg = [0, 30, 90]\nmagnitudes = [-2, -1, 1, 2]\n");
 
 TEST(SweepStage, WritesTheDocumentedLayoutWithAFuse) {
   testing::ScratchDir dir;
-  const auto scene = make_mesh(dir, testing::scene_text(1, 1, 1, 0.4,
-                                                        "[interface]\nnormal_strength = 0.05\ntangential_strength = 0.05\n"
-                                                        "[load]\nboundary = \"traction\"\n"
-                                                        "[sweep]\ndirections_deg = [0]\nmagnitudes = [0.05, 0.2]\n"));
+  const auto scene =
+      make_mesh(dir, testing::scene_text(1, 1, 1, 0.4,
+                                         "[interface]\nnormal_strength = 0.05\ntangential_strength = 0.05\n"
+                                         "[load]\nboundary = \"traction\"\n"
+                                         "[sweep]\ndirections_deg = [0]\nmagnitudes = [0.05, 0.2]\n"));
   const auto r = run_command(sweep_command(scene, dir, "sweep.h5"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   io::File f = io::File::open_read(dir / "sweep.h5");
-  for (const char* name : {"load", "stress", "strain", "broken_bonds", "outer_iterations", "operator_applications",
-                           "kkt_residual", "seconds", "fuse/onset_load", "fuse/load_before", "fuse/load_after",
-                           "fuse/strain_before", "fuse/strain_after"})
+  for (const char* name :
+       {"load", "stress", "strain", "broken_bonds", "outer_iterations", "operator_applications", "kkt_residual",
+        "seconds", "fuse/onset_load", "fuse/load_before", "fuse/load_after", "fuse/strain_before", "fuse/strain_after"})
     EXPECT_TRUE(f.exists(std::string("/paths/000/") + name)) << name;
   EXPECT_EQ(f.read_int_attribute("/paths/000", "sign")[0], 1);
   EXPECT_EQ(f.read_double_attribute("/paths/000", "direction_deg")[0], 0.0);
@@ -89,7 +91,8 @@ TEST(SweepStage, RefusesAForeignMeshAndDirectionsTheBoundaryCannotCarry) {
   auto r = run_command(sweep_command(other, dir, "sweep.h5"));
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.output.find("[geometry] fibre_radius: mesh 0.3, scene 0.25"), std::string::npos) << r.output;
-  const auto symmetric = dir.write("sym.toml", testing::scene_text(2, 1, 2, 0.3, "[sweep]\ndirections_deg = [0, 45]\n"));
+  const auto symmetric =
+      dir.write("sym.toml", testing::scene_text(2, 1, 2, 0.3, "[sweep]\ndirections_deg = [0, 45]\n"));
   r = run_command(sweep_command(symmetric, dir, "sweep.h5"));
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.output.find("the symmetry boundary carries only shear-free directions"), std::string::npos) << r.output;

@@ -1,14 +1,14 @@
 // The layers of src/ include one another only as docs/architecture.md's table allows: every
 // `#include "folder/..."` in every source file is checked against it, so the document and the
 // tree cannot drift apart, and a dependency against the layering fails here first.
+#include <gtest/gtest.h>
+
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <regex>
 #include <set>
 #include <string>
-
-#include <gtest/gtest.h>
 
 #include "test_util.hpp"
 

@@ -1,9 +1,9 @@
 // Scene parsing: every key validated, errors name the file, the key, the value and the range.
 #include "core/scene.hpp"
 
-#include <functional>
-
 #include <gtest/gtest.h>
+
+#include <functional>
 
 #include "core/error.hpp"
 #include "test_util.hpp"
@@ -35,10 +35,12 @@ TEST(Scene, DefaultsAndValues) {
   const Scene plain = parse_scene(scene_text(1, 1, 1, 0.3, "[solver]\nrho_growth = 1\nrho_patience = 2\n"), "x.toml");
   EXPECT_EQ(plain.solver.rho_growth, 1.0);
   EXPECT_EQ(plain.solver.rho_patience, 2);
-  EXPECT_EQ(parse_scene(scene_text(1, 1, 1, 0.3, "[solver]\npreconditioner = \"dirichlet\"\n"), "x.toml").solver.preconditioner,
+  EXPECT_EQ(parse_scene(scene_text(1, 1, 1, 0.3, "[solver]\npreconditioner = \"dirichlet\"\n"), "x.toml")
+                .solver.preconditioner,
             Preconditioner::dirichlet);
-  EXPECT_EQ(parse_scene(scene_text(1, 1, 1, 0.3, "[solver]\npreconditioner = \"lumped\"\n"), "x.toml").solver.preconditioner,
-            Preconditioner::lumped);
+  EXPECT_EQ(
+      parse_scene(scene_text(1, 1, 1, 0.3, "[solver]\npreconditioner = \"lumped\"\n"), "x.toml").solver.preconditioner,
+      Preconditioner::lumped);
   EXPECT_DOUBLE_EQ(s.fibre.E, 100.0);
   EXPECT_DOUBLE_EQ(s.matrix.nu, 0.35);
   EXPECT_FALSE(s.interface.has_adhesion());
@@ -66,7 +68,8 @@ TEST(Scene, ErrorsNameFileKeyValueAndRange) {
        "[load] boundary = \"free\": must be one of \"symmetry\", \"traction\", \"periodic\""},
       {scene_text(1, 1, 1, 0.3, "[solver]\npreconditioner = \"jacobi\"\n"),
        "[solver] preconditioner = \"jacobi\": must be one of \"none\", \"lumped\", \"dirichlet\""},
-      {scene_text(1, 1, 1, 0.3, "[solver]\nrho_growth = 0.5\n"), "[solver] rho_growth = 0.5: out of range: 1 <= rho_growth <= 1e3"},
+      {scene_text(1, 1, 1, 0.3, "[solver]\nrho_growth = 0.5\n"),
+       "[solver] rho_growth = 0.5: out of range: 1 <= rho_growth <= 1e3"},
       {scene_text(1, 1, 1, 0.3, "[solver]\nrho_patience = 0\n"), "[solver] rho_patience = 0: out of range"},
       {scene_text(1, 1, 1, 0.3, "[load\n"), "TOML syntax error"},
       {"[geometry]\nfibre_radius = \"big\"\n", "[geometry] fibre_radius = \"big\": must be a number"},
@@ -98,7 +101,10 @@ TEST(Scene, ScenesBuiltInCodeAreValidatedWithTheSameMessages) {
       {[](Scene& s) { s.matrix.nu = 0.5; }, "", "[matrix] nu = 0.5: out of range: -1 < nu < 0.5"},
       {[](Scene& s) { s.interface.normal_strength = -1; }, "[interface]\nnormal_strength = -1\n",
        "[interface] normal_strength = -1: out of range: normal_strength >= 0"},
-      {[](Scene& s) { s.sweep.magnitudes = {1, 0}; }, "[sweep]\nmagnitudes = [1, 0]\n",
+      {[](Scene& s) {
+         s.sweep.magnitudes = {1, 0};
+       },
+       "[sweep]\nmagnitudes = [1, 0]\n",
        "[sweep] magnitudes = [1, 0]: out of range: must be an array of at least 1 numbers, each non-zero"},
       {[](Scene& s) { s.solver.rho_growth = 0.5; }, "[solver]\nrho_growth = 0.5\n",
        "[solver] rho_growth = 0.5: out of range: 1 <= rho_growth <= 1e3"},
@@ -141,8 +147,9 @@ TEST(Scene, MaterialFileResolvesAgainstSceneFolder) {
   EXPECT_DOUBLE_EQ(s.matrix.E, 2);
   EXPECT_NE(s.material_text.find("source"), std::string::npos);
 
-  const auto both = dir.write("b.toml", "material = \"materials/m.toml\"\n[geometry]\nfibre_radius = 0.3\n"
-                                        "[fibre]\nE = 1\nnu = 0.1\n");
+  const auto both = dir.write("b.toml",
+                              "material = \"materials/m.toml\"\n[geometry]\nfibre_radius = 0.3\n"
+                              "[fibre]\nE = 1\nnu = 0.1\n");
   EXPECT_THROW(load_scene(both), InputError);
   const auto missing = dir.write("c.toml", "material = \"nope.toml\"\n[geometry]\nfibre_radius = 0.3\n");
   try {

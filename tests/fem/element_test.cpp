@@ -2,11 +2,11 @@
 // patch test and consistent loads.
 #include "fem/element.hpp"
 
-#include <map>
-#include <random>
+#include <gtest/gtest.h>
 
 #include <Eigen/Dense>
-#include <gtest/gtest.h>
+#include <map>
+#include <random>
 
 #include "fem/assembly.hpp"
 #include "mesh/mesh.hpp"

@@ -1,9 +1,9 @@
-// Invariances the homogenised response must have (README, "Numerical stability on stiff and extreme cases"): scaling laws,
-// the square cell's 90° symmetry, near-voids (Cherkaev, Lurie & Milton 1992), and the locking
-// warning for nearly incompressible materials.
-#include <cmath>
-
+// Invariances the homogenised response must have (README, "Numerical stability on stiff and extreme cases"): scaling
+// laws, the square cell's 90° symmetry, near-voids (Cherkaev, Lurie & Milton 1992), and the locking warning for nearly
+// incompressible materials.
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 #include "feti/solver.hpp"
 #include "test_util.hpp"
@@ -71,8 +71,8 @@ TEST(Invariance, NearVoidsFollowCherkaevLurieMilton) {
 TEST(Invariance, NearlyIncompressibleMaterialsAreWarnedAbout) {
   const Scene fine = parse_scene(testing::scene_text(1, 1, 1, 0.3), "s.toml");
   EXPECT_TRUE(fine.warnings.empty());
-  const Scene locking = parse_scene(
-      "[geometry]\nfibre_radius = 0.3\n[fibre]\nE = 10\nnu = 0.2\n[matrix]\nE = 1\nnu = 0.499\n", "s.toml");
+  const Scene locking =
+      parse_scene("[geometry]\nfibre_radius = 0.3\n[fibre]\nE = 10\nnu = 0.2\n[matrix]\nE = 1\nnu = 0.499\n", "s.toml");
   ASSERT_EQ(locking.warnings.size(), 1u);
   EXPECT_NE(locking.warnings[0].find("[matrix] nu = 0.499: nearly incompressible; linear triangles lock"),
             std::string::npos)

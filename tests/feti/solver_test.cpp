@@ -1,11 +1,11 @@
 // The dual contact/adhesion solver against independent solutions (docs/method.md §6–§12).
 #include "feti/solver.hpp"
 
-#include <cmath>
-#include <map>
+#include <gtest/gtest.h>
 
 #include <Eigen/Dense>
-#include <gtest/gtest.h>
+#include <cmath>
+#include <map>
 
 #include "feti/macro.hpp"
 #include "study/monolithic.hpp"
@@ -40,8 +40,8 @@ TEST(ContactSolver, BondedEqualsMonolithicPrimalForEveryBoundary) {
       const Scene scene = make_scene(2, 2, 2, boundary, Ef, 1.0, 1e12);
       const mesh::Mesh m = mesh::build_mesh(scene.geometry);
       ContactSolver solver(m, scene);
-      const Eigen::Vector3d sigma = boundary == Boundary::symmetry ? Eigen::Vector3d(0.3, -0.1, 0)
-                                                                   : Eigen::Vector3d(0.3, -0.1, 0.2);
+      const Eigen::Vector3d sigma =
+          boundary == Boundary::symmetry ? Eigen::Vector3d(0.3, -0.1, 0) : Eigen::Vector3d(0.3, -0.1, 0.2);
       const Solution s = solver.solve_fixed(sigma, solver.intact());
       ASSERT_TRUE(s.converged()) << to_string(boundary) << ": " << qp::to_string(s.qp.status) << " " << s.qp.message;
       const Eigen::VectorXd u_ref = study::monolithic_solve(m, scene, solver.setup().load(sigma));
@@ -103,8 +103,8 @@ TEST(ContactSolver, PreconditionersGiveTheSameSolution) {
       scene.solver.preconditioner = p;
       const mesh::Mesh m = mesh::build_mesh(scene.geometry);
       ContactSolver solver(m, scene);
-      const Eigen::Vector3d sigma = boundary == Boundary::symmetry ? Eigen::Vector3d(0.3, -0.1, 0)
-                                                                   : Eigen::Vector3d(0.3, -0.1, 0.2);
+      const Eigen::Vector3d sigma =
+          boundary == Boundary::symmetry ? Eigen::Vector3d(0.3, -0.1, 0) : Eigen::Vector3d(0.3, -0.1, 0.2);
       const Solution s = solver.solve_fixed(sigma, solver.intact());
       ASSERT_TRUE(s.converged()) << to_string(p) << ", " << to_string(boundary) << ": " << s.qp.message;
       EXPECT_GT(s.preconditioner_applications, 0);
@@ -237,7 +237,8 @@ TEST(ContactSolver, TensionAgainstHolesAndBonded) {
     ContactSolver bonded(m, bonded_scene);
     const double E_contact = 1 / t.strain(0);
     const double E_bonded = 1 / bonded.solve_fixed(uniaxial, bonded.intact()).strain(0);
-    const double E_holes = 1 / feti::boundary_strain(m, study::monolithic_solve(m, scene, solver.setup().load(uniaxial), true))(0);
+    const double E_holes =
+        1 / feti::boundary_strain(m, study::monolithic_solve(m, scene, solver.setup().load(uniaxial), true))(0);
     EXPECT_LT(E_holes * 1.001, E_contact) << to_string(boundary);
     EXPECT_LT(E_contact, E_bonded * 0.999) << to_string(boundary);
     // Contact only where the normal points across the load (|n_y| > |n_x|), and on every

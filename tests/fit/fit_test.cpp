@@ -2,12 +2,12 @@
 // errors, the physics of the modulus asymmetry, the fuse threshold, and refusal of bad sweeps.
 #include "fit/fit.hpp"
 
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
 #include <cmath>
 #include <numbers>
 #include <random>
-
-#include <Eigen/Dense>
-#include <gtest/gtest.h>
 
 #include "io/hdf5.hpp"
 #include "test_util.hpp"
@@ -54,7 +54,8 @@ TEST(Fit, RecoversKnownLawsWithinTheirStandardErrors) {
   const law::Law law = fit_law(paths, {});
   ASSERT_EQ(law.directions.size(), directions.size());
   for (const auto& d : law.directions) {
-    const double c = std::cos(d.direction_deg * std::numbers::pi / 180), s = std::sin(d.direction_deg * std::numbers::pi / 180);
+    const double c = std::cos(d.direction_deg * std::numbers::pi / 180),
+                 s = std::sin(d.direction_deg * std::numbers::pi / 180);
     const Eigen::Vector3d N(c * c, s * s, c * s);
     const double E_t = 1 / N.dot(S_t * N), E_c = 1 / N.dot(S_c * N);
     // Seeded noise: the estimates must lie within 4 reported standard errors (a fit that

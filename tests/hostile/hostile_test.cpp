@@ -1,16 +1,16 @@
-// Hostile input, nothing lost (README, "Hostile input, nothing lost"): every stage run on every file of the committed corpus
-// data/hostile/ (malformed scene files, truncated and corrupted HDF5 inputs; expectations in
-// its expected.tsv files) answers within seconds with exit code 1 and exactly one line
+// Hostile input, nothing lost (README, "Hostile input, nothing lost"): every stage run on every file of the committed
+// corpus data/hostile/ (malformed scene files, truncated and corrupted HDF5 inputs; expectations in its expected.tsv
+// files) answers within seconds with exit code 1 and exactly one line
 // "<stage>: error: ..." containing the expected words, never a crash, a hang or an internal
 // error, and leaves nothing in its output folder; or accepts the file where the manifest says
 // so. And an output is only ever replaced whole: a refused or killed run leaves the previous
 // file byte-identical, and a killed sweep resumes to the same data.
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <fstream>
 #include <set>
 #include <sstream>
-
-#include <gtest/gtest.h>
 
 #include "io/sweep_file.hpp"
 #include "test_util.hpp"
@@ -115,7 +115,7 @@ void scenes_through(const std::string& stage, const std::string& before_out) {
     SCOPED_TRACE(stage + " on scenes/" + file + " (" + row.fields[3] + ")");
     reset(out);
     const Outcome r = run(bin(stage) + " --quiet --config " + quoted(scenes / file) + before_out + " --out " +
-                      quoted(out / "out.h5"));
+                          quoted(out / "out.h5"));
     if (ok) {
       expect_accepted(r);
       EXPECT_TRUE(fs::exists(out / "out.h5") && fs::exists(out / "out.xdmf"));
@@ -196,7 +196,7 @@ TEST(HostileScenes, DevicesFoldersAndMissingFiles) {
 struct Command {
   std::string stage, args;  // args without --out
   std::string out_name;
-  bool ok;                  // accepted regardless of the row (json/csv of a law only calculix refuses)
+  bool ok;  // accepted regardless of the row (json/csv of a law only calculix refuses)
 };
 
 // The commands that read a file of `kind`, as the manifest names them.
@@ -279,7 +279,8 @@ TEST(HostileOutputs, RefusedRerunKeepsThePreviousFile) {
   const auto second = dir.write("second.toml", testing::scene_text(2, 2, 2, 0.3));
   const fs::path out = dir / "out";
   fs::create_directories(out);
-  ASSERT_EQ(run(bin("dualcell-mesh") + " --quiet --config " + quoted(first) + " --out " + quoted(out / "m.h5")).exit_code, 0);
+  ASSERT_EQ(
+      run(bin("dualcell-mesh") + " --quiet --config " + quoted(first) + " --out " + quoted(out / "m.h5")).exit_code, 0);
   const std::string before = slurp(out / "m.h5");
   fs::remove(out / "m.xdmf");
   fs::create_directories(out / "m.xdmf");
@@ -298,7 +299,8 @@ void expect_kill_keeps_previous(const std::string& what, const std::string& comm
   SCOPED_TRACE(what);
   ASSERT_TRUE(fs::exists(target));
   const std::string before = slurp(target);
-  const Outcome r = run("prlimit --fsize=" + std::to_string(limit_bytes) + " -- " + command + " --out " + quoted(target));
+  const Outcome r =
+      run("prlimit --fsize=" + std::to_string(limit_bytes) + " -- " + command + " --out " + quoted(target));
   EXPECT_NE(r.exit_code, 0) << "the limit did not stop the write: " << r.err;
   if (r.exit_code == 1) {
     expect_no_temporary(target.parent_path());
@@ -332,11 +334,15 @@ TEST(HostileOutputs, KilledWhileWritingKeepsThePreviousFile) {
 // from its finished parts and writes the same data as an uninterrupted run.
 TEST(HostileOutputs, KilledSweepKeepsThePreviousFileAndResumes) {
   testing::ScratchDir dir;
-  const auto scene = dir.write(
-      "s.toml", testing::scene_text(1, 1, 1, 0.3, periodic + "[sweep]\ndirections_deg = [0, 30, 45, 60, 90, 120]\n"
-                                                             "magnitudes = [-0.02, -0.01, 0.01, 0.02]\n"));
-  const auto other = dir.write("other.toml", testing::scene_text(1, 1, 1, 0.3, periodic + "[sweep]\ndirections_deg = [0]\n"));
-  ASSERT_EQ(run(bin("dualcell-mesh") + " --quiet --config " + quoted(scene) + " --out " + quoted(dir / "mesh.h5")).exit_code, 0);
+  const auto scene =
+      dir.write("s.toml", testing::scene_text(1, 1, 1, 0.3,
+                                              periodic + "[sweep]\ndirections_deg = [0, 30, 45, 60, 90, 120]\n"
+                                                         "magnitudes = [-0.02, -0.01, 0.01, 0.02]\n"));
+  const auto other =
+      dir.write("other.toml", testing::scene_text(1, 1, 1, 0.3, periodic + "[sweep]\ndirections_deg = [0]\n"));
+  ASSERT_EQ(
+      run(bin("dualcell-mesh") + " --quiet --config " + quoted(scene) + " --out " + quoted(dir / "mesh.h5")).exit_code,
+      0);
   const std::string sweep = bin("dualcell-sweep") + " --quiet --mesh " + quoted(dir / "mesh.h5") + " --config ";
   ASSERT_EQ(run(sweep + quoted(scene) + " --out " + quoted(dir / "whole.h5")).exit_code, 0);
   ASSERT_EQ(run(sweep + quoted(other) + " --out " + quoted(dir / "sweep.h5")).exit_code, 0);

@@ -3,9 +3,9 @@
 // the file and the object.
 #include "io/law_file.hpp"
 
-#include <cstring>
-
 #include <gtest/gtest.h>
+
+#include <cstring>
 
 #include "core/error.hpp"
 #include "io/hdf5.hpp"
@@ -123,9 +123,9 @@ TEST(LawFile, HoldsTheDocumentedObjects) {
   write_law(dir / "law.h5", testing::synthetic_law());
   const io::File f = io::File::open_read(dir / "law.h5");
   // The names the README's law.h5 layout documents, and their shapes.
-  for (const char* name : {"direction_deg", "E_tension", "E_compression", "nu_tension", "nu_compression",
-                           "fuse_stress", "fuse_strain_jump", "E_after_fuse", "E_tension_se", "E_compression_se",
-                           "nu_tension_se", "nu_compression_se", "E_after_fuse_se"})
+  for (const char* name : {"direction_deg", "E_tension", "E_compression", "nu_tension", "nu_compression", "fuse_stress",
+                           "fuse_strain_jump", "E_after_fuse", "E_tension_se", "E_compression_se", "nu_tension_se",
+                           "nu_compression_se", "E_after_fuse_se"})
     EXPECT_EQ(f.shape(std::string("/law/") + name), (std::vector<hsize_t>{4})) << name;
   for (const char* name : {"S_tension", "S_compression", "S_tension_se", "S_compression_se"})
     EXPECT_EQ(f.shape(std::string("/law/") + name), (std::vector<hsize_t>{3, 3})) << name;

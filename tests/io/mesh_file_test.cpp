@@ -2,9 +2,9 @@
 // refusal of corrupt files.
 #include "io/mesh_file.hpp"
 
-#include <fstream>
-
 #include <gtest/gtest.h>
+
+#include <fstream>
 
 #include "core/error.hpp"
 #include "io/hdf5.hpp"

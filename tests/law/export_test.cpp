@@ -3,12 +3,12 @@
 // direction, and refusals of bad law files and inadmissible laws that leave no output.
 #include "law/export.hpp"
 
+#include <gtest/gtest.h>
+
 #include <fstream>
 #include <map>
 #include <numbers>
 #include <sstream>
-
-#include <gtest/gtest.h>
 
 #include "core/error.hpp"
 #include "io/hdf5.hpp"
@@ -153,9 +153,10 @@ std::map<int, Eigen::Vector2d> read_dat_displacements(const std::filesystem::pat
 Eigen::Vector3d ccx_strain(const testing::ScratchDir& dir, const std::string& material, double s, double theta_deg) {
   const double theta = theta_deg * std::numbers::pi / 180;
   const Eigen::Vector2d n(std::cos(theta), std::sin(theta)), t(-std::sin(theta), std::cos(theta));
-  std::string job = "** dualcell-export test: uniaxial stress on a plane-strain square\n"
-                    "*INCLUDE, INPUT=cards.inp\n"
-                    "*NODE, NSET=NALL\n";
+  std::string job =
+      "** dualcell-export test: uniaxial stress on a plane-strain square\n"
+      "*INCLUDE, INPUT=cards.inp\n"
+      "*NODE, NSET=NALL\n";
   for (int node = 0; node < 9; ++node) {
     const Eigen::Vector2d x = 0.5 * (node % 3) * n + 0.5 * (node / 3) * t;
     char line[96];
@@ -165,14 +166,21 @@ Eigen::Vector3d ccx_strain(const testing::ScratchDir& dir, const std::string& ma
   // CPE4 faces: P1 = nodes 1–2, P2 = 2–3, P3 = 3–4, P4 = 4–1; here P2 faces +n, P4 faces −n.
   const std::string pressure = std::to_string(-s);
   const std::string rotation_dof = std::abs(n(0)) >= std::abs(n(1)) ? "1" : "2";
-  job += "*ELEMENT, TYPE=CPE4, ELSET=EALL\n"
-         "1, 1, 2, 5, 4\n2, 2, 3, 6, 5\n3, 4, 5, 8, 7\n4, 5, 6, 9, 8\n"
-         "*NSET, NSET=CORNERS\n1, 3, 7, 9\n"
-         "*SOLID SECTION, ELSET=EALL, MATERIAL=" + material + "\n0.1\n"
-         "*BOUNDARY\n1, 1, 2\n7, " + rotation_dof + ", " + rotation_dof + "\n"
-         "*STEP\n*STATIC\n*DLOAD\n"
-         "2, P2, " + pressure + "\n4, P2, " + pressure + "\n1, P4, " + pressure + "\n3, P4, " + pressure + "\n"
-         "*NODE PRINT, NSET=CORNERS\nU\n*END STEP\n";
+  job +=
+      "*ELEMENT, TYPE=CPE4, ELSET=EALL\n"
+      "1, 1, 2, 5, 4\n2, 2, 3, 6, 5\n3, 4, 5, 8, 7\n4, 5, 6, 9, 8\n"
+      "*NSET, NSET=CORNERS\n1, 3, 7, 9\n"
+      "*SOLID SECTION, ELSET=EALL, MATERIAL=" +
+      material +
+      "\n0.1\n"
+      "*BOUNDARY\n1, 1, 2\n7, " +
+      rotation_dof + ", " + rotation_dof +
+      "\n"
+      "*STEP\n*STATIC\n*DLOAD\n"
+      "2, P2, " +
+      pressure + "\n4, P2, " + pressure + "\n1, P4, " + pressure + "\n3, P4, " + pressure +
+      "\n"
+      "*NODE PRINT, NSET=CORNERS\nU\n*END STEP\n";
   dir.write("square.inp", job);
   std::filesystem::remove(dir / "square.dat");
   // ccx writes its files next to the input, in the working folder.
@@ -204,8 +212,8 @@ void expect_ccx_reproduces(const testing::ScratchDir& dir, const std::string& ma
     std::printf("[ ccx      ] %-23s at %2.0f deg: E = %.7g, fitted %.7g, modulus error %.1e, strain error %.1e\n",
                 material.c_str(), theta_deg, modulus, fitted, modulus_error, strain_error);
     EXPECT_LT(modulus_error, ccx_tolerance) << material << " at " << theta_deg;
-    EXPECT_LT(strain_error, ccx_tolerance) << material << " at " << theta_deg << ": " << strain.transpose()
-                                           << " vs " << expected.transpose();
+    EXPECT_LT(strain_error, ccx_tolerance)
+        << material << " at " << theta_deg << ": " << strain.transpose() << " vs " << expected.transpose();
   }
 }
 
@@ -263,8 +271,8 @@ TEST(Export, JsonIsReadByPythonWithEveryObject) {
   const auto r = run_command(export_command(dir, "law.h5", "json", "law.json"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   // Debian's python3: strict JSON (no NaN literal) that json.load accepts.
-  const auto parse = run_command("/usr/bin/python3 -c 'import json,sys; json.load(open(sys.argv[1]))' " +
-                                 (dir / "law.json").string());
+  const auto parse =
+      run_command("/usr/bin/python3 -c 'import json,sys; json.load(open(sys.argv[1]))' " + (dir / "law.json").string());
   EXPECT_EQ(parse.exit_code, 0) << parse.output;
   const std::string script =
       "import json, math, sys\n"
@@ -281,8 +289,8 @@ TEST(Export, JsonIsReadByPythonWithEveryObject) {
       "assert d['stress_state'] == 'plane strain' and 'engineering shear' in d['shear_convention']\n"
       "assert abs(d['fibre_volume_fraction'] - math.pi * 0.09) < 1e-15\n"
       "print(len(d))\n";
-  const auto check = run_command("/usr/bin/python3 " + dir.write("check.py", script).string() + " " +
-                                 (dir / "law.json").string());
+  const auto check =
+      run_command("/usr/bin/python3 " + dir.write("check.py", script).string() + " " + (dir / "law.json").string());
   ASSERT_EQ(check.exit_code, 0) << check.output;
   // 20 per-direction columns, 7 objects per fit, 4 cone objects, 5 constituents, format and 5
   // provenance texts, 3 /law texts.
@@ -303,9 +311,10 @@ TEST(Export, CsvHasAHeaderAndOneRowPerDirection) {
   EXPECT_EQ(lines[1].rfind("0,6,0.01,", 0), 0u) << lines[1];
   EXPECT_NE(lines[4].find(",nan,"), std::string::npos) << lines[4];
   // The same file through Python's csv reader.
-  const auto check = run_command("/usr/bin/python3 -c 'import csv,sys; r = list(csv.DictReader(open(sys.argv[1]))); "
-                                 "print(len(r), r[3][\"fuse_stress\"], float(r[1][\"E_compression\"]))' " +
-                                 (dir / "law.csv").string());
+  const auto check = run_command(
+      "/usr/bin/python3 -c 'import csv,sys; r = list(csv.DictReader(open(sys.argv[1]))); "
+      "print(len(r), r[3][\"fuse_stress\"], float(r[1][\"E_compression\"]))' " +
+      (dir / "law.csv").string());
   EXPECT_EQ(check.output, "4 nan 9.5\n");
 }
 
@@ -350,8 +359,8 @@ TEST(Export, BadLawFilesAreRefusedWithOneLineAndNoOutput) {
   expect_refused(dir, "indefinite.h5", "calculix", "/law/S_tension: not positive definite");
   expect_refused(dir, "law.h5", "calculix", "--name 1ABC: expected a letter", " --name 1ABC");
   // A folder that does not exist.
-  const auto r = run_command(bin("dualcell-export") + " --law " + (dir / "law.h5").string() +
-                             " --format csv --out " + (dir / "no/such/law.csv").string());
+  const auto r = run_command(bin("dualcell-export") + " --law " + (dir / "law.h5").string() + " --format csv --out " +
+                             (dir / "no/such/law.csv").string());
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_NE(r.output.find("does not exist"), std::string::npos) << r.output;
 }

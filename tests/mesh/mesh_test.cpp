@@ -2,11 +2,11 @@
 // areas, the inscribed-polygon convergence of the fibre, orientation and quality.
 #include "mesh/mesh.hpp"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <map>
 #include <numbers>
-
-#include <gtest/gtest.h>
 
 namespace dualcell::mesh {
 namespace {
@@ -72,8 +72,8 @@ TEST(Mesh, NodeSubdomainsAndPairsAreConsistent) {
 }
 
 TEST(Mesh, AreasSumToTheBlockAndAreCounterClockwise) {
-  for (auto [ex, ey, k, r, dx] : {std::tuple{1, 1, 1, 0.3, 0.0}, {3, 3, 2, 0.45, 0.0}, {4, 2, 3, 0.05, 0.0},
-                                  {2, 3, 4, 0.3, 0.15}}) {
+  for (auto [ex, ey, k, r, dx] :
+       {std::tuple{1, 1, 1, 0.3, 0.0}, {3, 3, 2, 0.45, 0.0}, {4, 2, 3, 0.05, 0.0}, {2, 3, 4, 0.3, 0.15}}) {
     const Mesh m = build_mesh(geometry(ex, ey, k, r, dx, -dx / 2));
     double total = 0;
     for (int t = 0; t < static_cast<int>(m.triangles.size()); ++t) {
@@ -139,16 +139,16 @@ TEST(Mesh, MinimumAngleStaysAboveStatedBounds) {
     double r, dx, dy, bound_deg;
   };
   const Case cases[] = {
-      {0.05, 0.0, 0.0, 3.5},   {0.10, 0.0, 0.0, 8.0},    {0.15, 0.0, 0.0, 12.5},  {0.20, 0.0, 0.0, 19.0},
-      {0.30, 0.0, 0.0, 27.5},  {0.40, 0.0, 0.0, 18.5},   {0.45, 0.0, 0.0, 8.5},
-      {0.30, 0.15, 0.0, 10.5}, {0.30, 0.15, 0.075, 15.0}, {0.20, 0.25, 0.12, 11.5},  // ligament 0.05
-      {0.20, 0.28, 0.0, 4.5},                                                          // ligament 0.02
+      {0.05, 0.0, 0.0, 3.5},     {0.10, 0.0, 0.0, 8.0},    {0.15, 0.0, 0.0, 12.5}, {0.20, 0.0, 0.0, 19.0},
+      {0.30, 0.0, 0.0, 27.5},    {0.40, 0.0, 0.0, 18.5},   {0.45, 0.0, 0.0, 8.5},  {0.30, 0.15, 0.0, 10.5},
+      {0.30, 0.15, 0.075, 15.0}, {0.20, 0.25, 0.12, 11.5},  // ligament 0.05
+      {0.20, 0.28, 0.0, 4.5},                               // ligament 0.02
   };
   for (const auto& c : cases)
     for (int k = 1; k <= 6; ++k) {
       const Mesh m = build_mesh(geometry(1, 1, k, c.r, c.dx, c.dy));
-      EXPECT_GT(minimum_angle_deg(m), c.bound_deg) << "r = " << c.r << ", offset = (" << c.dx << ", " << c.dy
-                                                   << "), k = " << k;
+      EXPECT_GT(minimum_angle_deg(m), c.bound_deg)
+          << "r = " << c.r << ", offset = (" << c.dx << ", " << c.dy << "), k = " << k;
     }
 }
 

@@ -16,16 +16,16 @@ TEST(Pipeline, TinySceneEndToEndThenNothingToDo) {
   dir.write("scenes/tiny.toml",
             "material = \"../glass-epoxy.toml\"\n[geometry]\ncells = [1, 1]\nfibre_radius = 0.35\ndegree = 1\n"
             "[load]\nboundary = \"periodic\"\n[sweep]\ndirections_deg = [0, 45, 90]\nmagnitudes = [-0.01, 0.01]\n");
-  const std::string make = "make -C " + testing::source_dir() + "/pipelines SCENE=tiny SCENES=" +
-                           (dir / "scenes").string() + " OUT_ROOT=" + (dir / "out").string() +
-                           " BIN=" + DUALCELL_BIN_DIR + " BUILT=";
+  const std::string make = "make -C " + testing::source_dir() +
+                           "/pipelines SCENE=tiny SCENES=" + (dir / "scenes").string() +
+                           " OUT_ROOT=" + (dir / "out").string() + " BIN=" + DUALCELL_BIN_DIR + " BUILT=";
   const auto run = testing::run_command(make);
   ASSERT_EQ(run.exit_code, 0) << run.output;
   EXPECT_NE(run.output.find("results and pictures in"), std::string::npos) << run.output;
   const auto out = dir / "out" / "tiny";
-  for (const char* file : {"mesh.h5", "mesh.xdmf", "sweep.h5", "law.h5", "law.json", "law.csv", "law.inp",
-                           "stress_strain.png", "stress_strain.svg", "polar.png", "polar.svg", "deformed.png",
-                           "deformed.svg", "index.txt", "exports.done"})
+  for (const char* file :
+       {"mesh.h5", "mesh.xdmf", "sweep.h5", "law.h5", "law.json", "law.csv", "law.inp", "stress_strain.png",
+        "stress_strain.svg", "polar.png", "polar.svg", "deformed.png", "deformed.svg", "index.txt", "exports.done"})
     EXPECT_TRUE(std::filesystem::exists(out / file)) << file;
   const law::Law law = io::read_law(out / "law.h5");
   ASSERT_EQ(law.directions.size(), 3u);

@@ -370,8 +370,8 @@ TEST(Smalbe, FusedShiftedFormsGiveTheSameSolve) {
     if (preconditioned) opts.preconditioner = testing::dense_operator(M);
     long composed_Q = 0, fused_Q = 0;
     Eigen::VectorXd x1, m1, x2, m2;
-    const Result composed = smalbe(testing::dense_operator(p.A), testing::dense_operator(p.Q, &composed_Q), qp.b, qp.l,
-                                   qp.u, x1, m1, opts);
+    const Result composed =
+        smalbe(testing::dense_operator(p.A), testing::dense_operator(p.Q, &composed_Q), qp.b, qp.l, qp.u, x1, m1, opts);
     // The fused forms as FETI builds them: P v = v − Q v once, reused for the shift.
     Eigen::VectorXd Qv;
     const LinearOperator Q_counted = testing::dense_operator(p.Q, &fused_Q);
@@ -389,7 +389,8 @@ TEST(Smalbe, FusedShiftedFormsGiveTheSameSolve) {
         y += shift * Qv;
       };
     // Q itself uncounted: fused_Q counts only the hooks' applications.
-    const Result fused = smalbe(testing::dense_operator(p.A), testing::dense_operator(p.Q), qp.b, qp.l, qp.u, x2, m2, opts);
+    const Result fused =
+        smalbe(testing::dense_operator(p.A), testing::dense_operator(p.Q), qp.b, qp.l, qp.u, x2, m2, opts);
     ASSERT_EQ(composed.status, Status::converged);
     EXPECT_EQ(fused.status, Status::converged);
     EXPECT_LE((x1 - x2).norm(), 1e-12 * x1.norm());

@@ -2,9 +2,9 @@
 // finite results, or stops with a diagnostic; never a silent NaN or Inf.
 #include "study/stability.hpp"
 
-#include <cmath>
-
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 namespace dualcell::study {
 namespace {

@@ -2,9 +2,9 @@
 // response below the onset, and the fuse (docs/method.md §11, §13).
 #include "sweep/sweep.hpp"
 
-#include <cmath>
-
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 #include "core/error.hpp"
 #include "test_util.hpp"
@@ -122,7 +122,8 @@ TEST(Sweep, AdhesionBondedBelowOnsetThenAFuse) {
   const Fuse& f = *r.fuse;
   EXPECT_EQ(f.onset_load, onset);
   EXPECT_LE(f.load_after - f.load_before, scene.sweep.fuse_tolerance * f.load_after);
-  EXPECT_GE(f.strain_after(0), 1.5 * f.strain_before(0)) << "before " << f.strain_before(0) << " after " << f.strain_after(0);
+  EXPECT_GE(f.strain_after(0), 1.5 * f.strain_before(0))
+      << "before " << f.strain_before(0) << " after " << f.strain_after(0);
   // Loads along the path never decrease (history is monotone).
   for (std::size_t i = 1; i < r.steps.size(); ++i) EXPECT_GE(r.steps[i].load, r.steps[i - 1].load);
 }
