@@ -6,7 +6,6 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <regex>
 #include <set>
 #include <string>
 
@@ -33,7 +32,15 @@ const std::map<std::string, std::set<std::string>> allowed = {
 
 TEST(Architecture, LayersIncludeOnlyWhatTheTableAllows) {
   const std::filesystem::path src = testing::source_dir() + "/src";
-  const std::regex include(R"(^\s*#\s*include\s*"([a-z_]+)/)");
+  // The folder of `#include "folder/file"`, or empty (GCC 12 warns inside std::regex under the
+  // sanitizers, so this is parsed by hand).
+  const auto included_folder = [](const std::string& line) -> std::string {
+    const std::size_t hash = line.find_first_not_of(" \t");
+    if (hash == std::string::npos || line.compare(hash, 8, "#include") != 0) return {};
+    const std::size_t quote = line.find('"', hash);
+    const std::size_t slash = quote == std::string::npos ? quote : line.find('/', quote);
+    return slash == std::string::npos ? std::string() : line.substr(quote + 1, slash - quote - 1);
+  };
   int checked = 0;
   for (const auto& entry : std::filesystem::recursive_directory_iterator(src)) {
     if (!entry.is_regular_file()) continue;
@@ -43,10 +50,9 @@ TEST(Architecture, LayersIncludeOnlyWhatTheTableAllows) {
     ASSERT_NE(rule, allowed.end()) << "folder src/" << layer << " is not in docs/architecture.md's table";
     std::ifstream in(entry.path());
     std::string line;
-    std::smatch match;
     while (std::getline(in, line)) {
-      if (!std::regex_search(line, match, include)) continue;
-      const std::string target = match[1];
+      const std::string target = included_folder(line);
+      if (target.empty()) continue;
       ++checked;
       if (target == layer) continue;
       EXPECT_TRUE(rule->second.count(target)) << entry.path().string() << " includes " << target << "/: " << layer
