@@ -56,6 +56,10 @@ class ProjectedPlusShiftedQ {
 // components exactly on the bound).
 constexpr double at_strength_tolerance = 1e-7;
 
+// The tightest dual tolerance the primal check may ask for: a relative projected gradient of
+// 1e-14 is a few hundred ulps of its terms, below which SMALBE stagnates instead of converging.
+constexpr double min_qp_tolerance = 1e-14;
+
 }  // namespace
 
 ContactSolver::ContactSolver(const mesh::Mesh& mesh, const Scene& scene, int threads, int min_dofs_per_thread)
@@ -82,14 +86,37 @@ Solution ContactSolver::solve_fixed(const Eigen::Vector3d& sigma, const BondStat
   const DualProblem& dual = problem(bonds);
   const double dual_setup = rebuilt ? seconds_since(t0) : 0.0;
   Solution out = solve_problem(dual, norm_PFP_, sigma, warm_lambda, warm_multiplier);
+  // A well-posed problem must not end in "failed": when the QP converged but the recovered
+  // primal solution misses its check (a stiffness contrast amplifies the dual residual in u),
+  // the dual tolerance does not give the accuracy this problem needs. Tighten it a decade at a
+  // time and go on from the multipliers reached, down to min_qp_tolerance.
+  while (out.qp_converged() && !out.primal_ok && out.qp_tolerance > min_qp_tolerance) {
+    const double tighter = std::max(out.qp_tolerance / 10, min_qp_tolerance);
+    Solution next = solve_problem(dual, norm_PFP_, sigma, &out.lambda, &out.multiplier, tighter);
+    next.tightenings = out.tightenings + 1;
+    next.operator_applications += out.operator_applications;
+    next.preconditioner_applications += out.preconditioner_applications;
+    next.outer_iterations += out.outer_iterations;
+    next.cg_steps += out.cg_steps;
+    next.expansion_steps += out.expansion_steps;
+    next.proportioning_steps += out.proportioning_steps;
+    next.seconds.qp += out.seconds.qp;
+    next.seconds.qp_F += out.seconds.qp_F;
+    next.seconds.qp_Q += out.seconds.qp_Q;
+    next.seconds.qp_preconditioner += out.seconds.qp_preconditioner;
+    next.seconds.recovery += out.seconds.recovery;
+    out = std::move(next);
+  }
   out.bonds = bonds;
   out.seconds.dual_setup = dual_setup;
   return out;
 }
 
 Solution ContactSolver::solve_problem(const DualProblem& dual, double& norm_PFP, const Eigen::Vector3d& sigma,
-                                      const Eigen::VectorXd* warm_lambda, const Eigen::VectorXd* warm_multiplier) {
+                                      const Eigen::VectorXd* warm_lambda, const Eigen::VectorXd* warm_multiplier,
+                                      double qp_tolerance) {
   Solution out;
+  out.qp_tolerance = qp_tolerance > 0 ? qp_tolerance : setup_.scene().solver.tolerance;
   out.sigma = sigma;
   out.seconds.assembly = setup_.seconds_assembly;
   out.seconds.factorisation = setup_.seconds_factorisation;
@@ -126,8 +153,8 @@ Solution ContactSolver::solve_problem(const DualProblem& dual, double& norm_PFP,
 
   const SolverSettings& settings = setup_.scene().solver;
   qp::SmalbeOptions options;
-  options.relative_tolerance = settings.tolerance;
-  options.equality_tolerance = settings.tolerance;
+  options.relative_tolerance = out.qp_tolerance;
+  options.equality_tolerance = out.qp_tolerance;
   options.max_outer_iterations = settings.max_outer_iterations;
   options.max_operator_applications = settings.max_operator_applications;
   options.rho0_factor = settings.rho_factor;
@@ -360,7 +387,7 @@ Solution ContactSolver::solve(const Eigen::Vector3d& sigma, const BondState& bon
                               const Eigen::VectorXd* warm_multiplier) {
   BondState current = bonds;
   Solution total;
-  long applications = 0, preconditioning = 0, outer = 0, cg = 0, expansion = 0, proportioning = 0;
+  long applications = 0, preconditioning = 0, outer = 0, cg = 0, expansion = 0, proportioning = 0, tightenings = 0;
   Timings seconds;
   int newly_broken = 0;
   Eigen::VectorXd warm;
@@ -374,6 +401,7 @@ Solution ContactSolver::solve(const Eigen::Vector3d& sigma, const BondState& bon
     preconditioning += s.preconditioner_applications;
     outer += s.outer_iterations;
     cg += s.cg_steps;
+    tightenings += s.tightenings;
     expansion += s.expansion_steps;
     proportioning += s.proportioning_steps;
     seconds.dual_setup += s.seconds.dual_setup;
@@ -430,6 +458,7 @@ Solution ContactSolver::solve(const Eigen::Vector3d& sigma, const BondState& bon
   total.preconditioner_applications = preconditioning;
   total.outer_iterations = outer;
   total.cg_steps = cg;
+  total.tightenings = tightenings;
   total.expansion_steps = expansion;
   total.proportioning_steps = proportioning;
   total.seconds.dual_setup = seconds.dual_setup;

@@ -59,6 +59,10 @@ struct Solution {
   long operator_applications = 0;                      // F applications, all QPs of this solve
   long preconditioner_applications = 0;                // M⁻¹ applications (SolverSettings::preconditioner)
   long outer_iterations = 0, cg_steps = 0, expansion_steps = 0, proportioning_steps = 0;
+  // Times the dual tolerance was tightened because a converged QP did not give the primal
+  // accuracy the check asks (docs/method.md §10), and the dual tolerance of the last QP.
+  long tightenings = 0;
+  double qp_tolerance = 0;
   KktReport kkt;
   // The recovered primal solution, checked (not assumed): penetration and glue jumps within
   // primal_tolerance·‖u‖∞, complementarity within primal_tolerance·‖λ‖∞‖u‖∞.
@@ -109,8 +113,11 @@ class ContactSolver {
   BondState intact() const { return intact_bonds(setup_.mesh(), setup_.scene().interface); }
 
  private:
+  // One QP at the dual tolerance `qp_tolerance` (the scene's when ≤ 0); the primal check always
+  // uses the scene's tolerance.
   Solution solve_problem(const DualProblem& problem, double& norm_PFP, const Eigen::Vector3d& sigma,
-                         const Eigen::VectorXd* warm_lambda, const Eigen::VectorXd* warm_multiplier = nullptr);
+                         const Eigen::VectorXd* warm_lambda, const Eigen::VectorXd* warm_multiplier = nullptr,
+                         double qp_tolerance = 0);
   void recover(const DualProblem& problem, const Eigen::VectorXd& f, const Eigen::VectorXd& d,
                const Eigen::VectorXd& lambda_scaled, const Eigen::VectorXd& multiplier, Solution& out) const;
   void report(const DualProblem& problem, const Eigen::VectorXd& f, const Eigen::VectorXd& lambda_scaled,

@@ -83,6 +83,7 @@ void write_solution(const std::filesystem::path& h5, const mesh::Mesh& mesh, con
       f.write_attribute("/solver", field.attribute, s.seconds.*field.seconds);
     f.write_attribute("/solver", "preconditioner", std::string(to_string(scene.solver.preconditioner)));
     f.write_attribute("/solver", "tolerance", scene.solver.tolerance);
+    f.write_attribute("/solver", "qp_tolerance", s.qp_tolerance);
     f.create_group("/kkt");
     for (const auto& field : kkt_fields) f.write_attribute("/kkt", field.attribute, s.kkt.*field.value);
 

@@ -26,6 +26,7 @@ inline constexpr SolverCountField solver_count_fields[] = {
     {"debond_rounds", &feti::Solution::debond_rounds},
     {"newly_broken", &feti::Solution::newly_broken},
     {"dim_lambda", &feti::Solution::n_rows},
+    {"tightenings", &feti::Solution::tightenings},
 };
 
 // Seconds per phase, as float attributes of /solver.

@@ -66,6 +66,9 @@ void print_solve_summary(const SolveOptions& options, const SolveOutcome& outcom
       "  status %s: %ld outer iterations, %ld operator applications (%ld CG, %ld expansion, %ld proportioning)\n",
       qp::to_string(s.qp.status), s.outer_iterations, s.operator_applications, s.cg_steps, s.expansion_steps,
       s.proportioning_steps);
+  if (s.tightenings > 0)
+    std::printf("  the primal check asked for more accuracy: dual tolerance tightened %ld time(s) to %.0e\n",
+                s.tightenings, s.qp_tolerance);
   if (scene.interface.has_adhesion())
     std::printf("  bonds: %ld debond rounds, %ld broken now, %ld broken in all of %zu\n", s.debond_rounds,
                 s.newly_broken, broken, s.bonds.size());
