@@ -21,6 +21,8 @@ const char* to_string(Preconditioner p) {
   return "?";
 }
 
+const char* to_string(Element e) { return e == Element::p1 ? "p1" : "p2"; }
+
 const char* to_string(Boundary b) {
   switch (b) {
     case Boundary::symmetry:
@@ -88,12 +90,15 @@ void validate(const Scene& scene) {
           "an array of 2 numbers, each a finite number");
   c.integer("geometry", "degree", geo.degree, 1, 256);
   // A bound on the mesh a scene may ask for: beyond it the mesh stage would allocate (and the
-  // solver factorise) more than any machine holds; 16k² + 16k + 1 nodes per cell.
-  const double nodes = double(geo.cells[0]) * geo.cells[1] * (16.0 * geo.degree * geo.degree + 16.0 * geo.degree + 1);
+  // solver factorise) more than any machine holds; 16m² + 16m + 1 nodes per cell with m = k for
+  // p1 and m = 2k for p2.
+  const double m = double(geo.degree) * element_order(geo.element);
+  const double nodes = double(geo.cells[0]) * geo.cells[1] * (16.0 * m * m + 16.0 * m + 1);
   if (nodes > max_mesh_nodes) {
     std::ostringstream s;
     s << "the mesh would have " << static_cast<long long>(nodes) << " nodes (" << geo.cells[0] << " x " << geo.cells[1]
-      << " cells at degree " << geo.degree << ": 16k^2 + 16k + 1 per cell), more than the limit " << max_mesh_nodes;
+      << " cells at degree " << geo.degree << " with " << to_string(geo.element)
+      << " elements: 16m^2 + 16m + 1 per cell, m = k for p1, 2k for p2), more than the limit " << max_mesh_nodes;
     c.fail("geometry", "cells", shortest({double(geo.cells[0]), double(geo.cells[1])}), s.str());
   }
   const double half = geo.cell_size / 2;

@@ -19,12 +19,20 @@ struct Material {
   double nu = 0;
 };
 
+// Finite element of the mesh (docs/method.md §3): linear 3-node or quadratic 6-node triangles.
+enum class Element { p1, p2 };
+const char* to_string(Element e);
+// Nodes per triangle edge minus one: 1 for p1, 2 for p2 (a p2 mesh of degree k has the nodes of
+// the p1 mesh of degree 2k).
+inline int element_order(Element e) { return e == Element::p1 ? 1 : 2; }
+
 struct Geometry {
   std::array<int, 2> cells{1, 1};            // ex, ey
   double cell_size = 1.0;                    // edge length of one square cell
   double fibre_radius = 0.3;                 // r
   std::array<double, 2> fibre_offset{0, 0};  // fibre centre minus cell centre
-  int degree = 1;                            // k: 4k+1 nodes on each cell edge (docs/method.md §2)
+  int degree = 1;                            // k: 4k+1 element corners on each cell edge (docs/method.md §2)
+  Element element = Element::p1;
 };
 
 // Interface strengths per unit interface length (force/length); 0 = no adhesion (docs/method.md §1, §4).

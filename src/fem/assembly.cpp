@@ -7,16 +7,28 @@
 
 namespace dualcell::fem {
 
+namespace {
+
+// Nodes of a boundary edge in edge_shape's order: (a, b) or (a, b, mid).
+int edge_nodes(const mesh::Edge& edge, int v[3]) {
+  v[0] = edge.a, v[1] = edge.b, v[2] = edge.mid;
+  return edge.mid >= 0 ? 3 : 2;
+}
+
+}  // namespace
+
 Eigen::SparseMatrix<double> assemble_stiffness(const mesh::Mesh& mesh, int s, const Material& material) {
   const mesh::Subdomain& sub = mesh.subdomains[s];
   const Eigen::Matrix3d D = plane_strain_D(material);
+  const int n = mesh.triangles.width();
   std::vector<Eigen::Triplet<double>> triplets;
-  triplets.reserve(36 * static_cast<std::size_t>(sub.n_triangles()));
+  triplets.reserve(4 * n * n * static_cast<std::size_t>(sub.n_triangles()));
   for (int t = sub.triangle_begin; t < sub.triangle_end; ++t) {
-    const auto& tri = mesh.triangles[t];
-    const Matrix66 Ke = triangle_stiffness(mesh.nodes[tri[0]], mesh.nodes[tri[1]], mesh.nodes[tri[2]], D);
-    for (int a = 0; a < 3; ++a)
-      for (int b = 0; b < 3; ++b)
+    const auto tri = mesh.triangles[t];
+    const std::vector<Eigen::Vector2d> x = mesh::triangle_points(mesh, t);
+    const Eigen::MatrixXd Ke = element_stiffness(x, D);
+    for (int a = 0; a < n; ++a)
+      for (int b = 0; b < n; ++b)
         for (int ca = 0; ca < 2; ++ca)
           for (int cb = 0; cb < 2; ++cb)
             triplets.emplace_back(2 * (tri[a] - sub.node_begin) + ca, 2 * (tri[b] - sub.node_begin) + cb,
@@ -46,38 +58,98 @@ Eigen::MatrixXd rigid_body_modes(const mesh::Mesh& mesh, int s) {
   return R;
 }
 
-void add_edge_traction(const mesh::Mesh& mesh, int a, int b, const Eigen::Vector2d& t_a, const Eigen::Vector2d& t_b,
-                       Eigen::VectorXd& f) {
-  // ∫ N_a t ds = L (2 t_a + t_b) / 6 for linear N and linear t on an edge of length L.
-  const double L = (mesh.nodes[b] - mesh.nodes[a]).norm();
-  const Eigen::Vector2d fa = L * (2 * t_a + t_b) / 6;
-  const Eigen::Vector2d fb = L * (t_a + 2 * t_b) / 6;
-  f.segment<2>(2 * a) += fa;
-  f.segment<2>(2 * b) += fb;
+void add_edge_traction(const mesh::Mesh& mesh, const mesh::Edge& edge, const Eigen::Vector2d& t_a,
+                       const Eigen::Vector2d& t_b, Eigen::VectorXd& f) {
+  // ∫ N_i t ds with t linear in the edge parameter s and ds = |x'(s)| ds.
+  int v[3];
+  const int n = edge_nodes(edge, v);
+  for (const EdgePoint& q : edge_rule()) {
+    double N[3], dN[3];
+    edge_shape(n, q.s, N, dN);
+    Eigen::Vector2d dx = Eigen::Vector2d::Zero();
+    for (int i = 0; i < n; ++i) dx += dN[i] * mesh.nodes[v[i]];
+    const Eigen::Vector2d t = (1 - q.s) * t_a + q.s * t_b;
+    for (int i = 0; i < n; ++i) f.segment<2>(2 * v[i]) += (q.weight * dx.norm() * N[i]) * t;
+  }
+}
+
+std::array<double, 3> edge_weights(std::span<const Eigen::Vector2d> x) {
+  const int n = static_cast<int>(x.size());
+  std::array<double, 3> w{0, 0, 0};
+  for (const EdgePoint& q : edge_rule()) {
+    double N[3], dN[3];
+    edge_shape(n, q.s, N, dN);
+    Eigen::Vector2d dx = Eigen::Vector2d::Zero();
+    for (int i = 0; i < n; ++i) dx += dN[i] * x[i];
+    for (int i = 0; i < n; ++i) w[i] += q.weight * dx.norm() * N[i];
+  }
+  return w;
+}
+
+Eigen::Matrix2d edge_moment(const mesh::Mesh& mesh, const mesh::Edge& edge, const Eigen::VectorXd& u) {
+  // n ds = (y'(s), −x'(s)) ds for an edge oriented counter-clockwise; the integrand is a
+  // polynomial of degree ≤ 3, so the rule is exact.
+  int v[3];
+  const int n = edge_nodes(edge, v);
+  Eigen::Matrix2d H = Eigen::Matrix2d::Zero();
+  for (const EdgePoint& q : edge_rule()) {
+    double N[3], dN[3];
+    edge_shape(n, q.s, N, dN);
+    Eigen::Vector2d dx = Eigen::Vector2d::Zero(), u_q = Eigen::Vector2d::Zero();
+    for (int i = 0; i < n; ++i) {
+      dx += dN[i] * mesh.nodes[v[i]];
+      u_q += N[i] * u.segment<2>(2 * v[i]);
+    }
+    H += q.weight * u_q * Eigen::Vector2d(dx.y(), -dx.x()).transpose();
+  }
+  return H;
 }
 
 void add_body_force(const mesh::Mesh& mesh, int s, const Eigen::Vector2d& body_force, Eigen::VectorXd& f) {
   const mesh::Subdomain& sub = mesh.subdomains[s];
+  const int n = mesh.triangles.width();
   for (int t = sub.triangle_begin; t < sub.triangle_end; ++t) {
-    const double share = std::abs(mesh::triangle_area(mesh, t)) / 3;
-    for (int v : mesh.triangles[t]) f.segment<2>(2 * v) += share * body_force;
+    const auto tri = mesh.triangles[t];
+    const std::vector<Eigen::Vector2d> x = mesh::triangle_points(mesh, t);
+    for (const TrianglePoint& q : triangle_rule()) {
+      double N[6], dxi[6], deta[6], det_J;
+      triangle_shape(n, q.xi, q.eta, N, dxi, deta);
+      strain_displacement_at(x, q.xi, q.eta, det_J);
+      for (int i = 0; i < n; ++i) f.segment<2>(2 * tri[i]) += (q.weight * std::abs(det_J) * N[i]) * body_force;
+    }
   }
 }
 
-Eigen::MatrixXd element_stresses(const mesh::Mesh& mesh, const Material& fibre, const Material& matrix,
+ElementStresses element_stresses(const mesh::Mesh& mesh, const Material& fibre, const Material& matrix,
                                  const Eigen::VectorXd& u) {
   const Eigen::Matrix3d D_fibre = plane_strain_D(fibre), D_matrix = plane_strain_D(matrix);
-  Eigen::MatrixXd stress(mesh.triangles.size(), 3);
-  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-    const auto& tri = mesh.triangles[t];
-    double area;
-    const Matrix36 B = strain_displacement(mesh.nodes[tri[0]], mesh.nodes[tri[1]], mesh.nodes[tri[2]], area);
-    Vector6 ue;
-    for (int v = 0; v < 3; ++v) ue.segment<2>(2 * v) = u.segment<2>(2 * tri[v]);
-    const bool is_fibre = mesh.subdomains[mesh.triangle_subdomain[t]].is_fibre;
-    stress.row(t) = ((is_fibre ? D_fibre : D_matrix) * (B * ue)).transpose();
+  const std::size_t T = mesh.triangles.size();
+  const int n = mesh.triangles.width();
+  ElementStresses out{Eigen::MatrixXd(T, 3), Eigen::MatrixXd(T, 3), Eigen::VectorXd(T)};
+  Eigen::VectorXd ue(2 * n);
+  for (std::size_t t = 0; t < T; ++t) {
+    const auto tri = mesh.triangles[t];
+    for (int v = 0; v < n; ++v) ue.segment<2>(2 * v) = u.segment<2>(2 * tri[v]);
+    const Eigen::Matrix3d& D = mesh.subdomains[mesh.triangle_subdomain[t]].is_fibre ? D_fibre : D_matrix;
+    const std::vector<Eigen::Vector2d> x = mesh::triangle_points(mesh, static_cast<int>(t));
+    double det_J;
+    out.centroid.row(t) = (D * (strain_displacement_at(x, 1.0 / 3, 1.0 / 3, det_J) * ue)).transpose();
+    if (n == 3) {
+      out.average.row(t) = out.centroid.row(t);
+      out.area(t) = std::abs(det_J) / 2;
+      continue;
+    }
+    Eigen::Vector3d integral = Eigen::Vector3d::Zero();
+    double area = 0;
+    for (const TrianglePoint& q : triangle_rule()) {
+      const Eigen::MatrixXd B = strain_displacement_at(x, q.xi, q.eta, det_J);
+      integral += (q.weight * std::abs(det_J)) * (D * (B * ue));
+      area += q.weight * std::abs(det_J);
+    }
+    out.average.row(t) = (integral / area).transpose();
+    out.area(t) = area;
   }
-  return stress;
+  return out;
 }
 
 }  // namespace dualcell::fem

@@ -5,6 +5,8 @@
 // [2·node_begin, 2·node_end), so K = diag(K_1..K_s) is never formed as one matrix.
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
+#include <array>
+#include <span>
 
 #include "core/scene.hpp"
 #include "mesh/mesh.hpp"
@@ -20,17 +22,32 @@ Eigen::SparseMatrix<double> assemble_stiffness(const mesh::Mesh& mesh, int s, co
 // centroid as centre the three columns are orthogonal before normalisation.
 Eigen::MatrixXd rigid_body_modes(const mesh::Mesh& mesh, int s);
 
-// Consistent nodal forces of a traction varying linearly from t_a at node a to t_b at node b
-// along the straight edge (a, b), added to the global vector f (size dim u).
-void add_edge_traction(const mesh::Mesh& mesh, int a, int b, const Eigen::Vector2d& t_a, const Eigen::Vector2d& t_b,
-                       Eigen::VectorXd& f);
+// Consistent nodal forces ∫ N_i t ds of a traction varying linearly (in the edge parameter)
+// from t_a at end a to t_b at end b of a boundary edge (2 or 3 nodes), added to the global
+// vector f (size dim u).
+void add_edge_traction(const mesh::Mesh& mesh, const mesh::Edge& edge, const Eigen::Vector2d& t_a,
+                       const Eigen::Vector2d& t_b, Eigen::VectorXd& f);
 
-// Consistent nodal forces of a constant body force (per unit area) over subdomain s.
+// Consistent nodal forces ∫ N_i b dA of a constant body force (per unit area) over subdomain s.
 void add_body_force(const mesh::Mesh& mesh, int s, const Eigen::Vector2d& body_force, Eigen::VectorXd& f);
 
-// Constant stress of every triangle of the mesh (Voigt: σxx, σyy, σxy) from the global
-// displacement u, using each triangle's subdomain material.
-Eigen::MatrixXd element_stresses(const mesh::Mesh& mesh, const Material& fibre, const Material& matrix,
+// ∫ N_p ds over the edge with nodes x (2: straight, 3: a, b, mid on a parabola), per node: the
+// consistent nodal weights of a unit line load.
+std::array<double, 3> edge_weights(std::span<const Eigen::Vector2d> x);
+
+// ∫ u ⊗ n ds over a boundary edge (n the outward normal of an edge oriented counter-clockwise
+// around the domain), from the nodal displacements along it.
+Eigen::Matrix2d edge_moment(const mesh::Mesh& mesh, const mesh::Edge& edge, const Eigen::VectorXd& u);
+
+// Stresses of every triangle (Voigt: σxx, σyy, σxy) from the global displacement u, with each
+// triangle's subdomain material: at the centroid (ξ = η = ⅓) and the volume average
+// (1/A) ∫ σ dA; the two agree for p1 (constant strain). `area` is each triangle's area.
+struct ElementStresses {
+  Eigen::MatrixXd centroid;  // T × 3
+  Eigen::MatrixXd average;   // T × 3
+  Eigen::VectorXd area;      // T
+};
+ElementStresses element_stresses(const mesh::Mesh& mesh, const Material& fibre, const Material& matrix,
                                  const Eigen::VectorXd& u);
 
 }  // namespace dualcell::fem

@@ -1,5 +1,6 @@
 #include "fem/element.hpp"
 
+#include <Eigen/LU>
 #include <cmath>
 
 namespace dualcell::fem {
@@ -34,6 +35,111 @@ Matrix66 triangle_stiffness(const Eigen::Vector2d& p0, const Eigen::Vector2d& p1
   double area;
   const Matrix36 B = strain_displacement(p0, p1, p2, area);
   return std::abs(area) * B.transpose() * D * B;
+}
+
+}  // namespace dualcell::fem
+
+namespace dualcell::fem {
+
+const std::array<TrianglePoint, 6>& triangle_rule() {
+  // Symmetric 6-point rule of degree 4 (Dunavant 1985): two orbits (a, a, 1 − 2a), weights for a
+  // reference triangle of area 1 halved to area ½.
+  constexpr double a1 = 0.44594849091596488632, w1 = 0.22338158967801146570 / 2;
+  constexpr double a2 = 0.09157621350977074346, w2 = 0.10995174365532186764 / 2;
+  static const std::array<TrianglePoint, 6> rule{{{a1, a1, w1},
+                                                  {1 - 2 * a1, a1, w1},
+                                                  {a1, 1 - 2 * a1, w1},
+                                                  {a2, a2, w2},
+                                                  {1 - 2 * a2, a2, w2},
+                                                  {a2, 1 - 2 * a2, w2}}};
+  return rule;
+}
+
+void triangle_shape(int n, double xi, double eta, double* N, double* dN_dxi, double* dN_deta) {
+  // Barycentric L0 = 1 − ξ − η, L1 = ξ, L2 = η.
+  const double L[3] = {1 - xi - eta, xi, eta};
+  const double dL_dxi[3] = {-1, 1, 0}, dL_deta[3] = {-1, 0, 1};
+  if (n == 3) {
+    for (int i = 0; i < 3; ++i) {
+      N[i] = L[i];
+      dN_dxi[i] = dL_dxi[i];
+      dN_deta[i] = dL_deta[i];
+    }
+    return;
+  }
+  // Corners N_i = L_i (2 L_i − 1); mid-side of edge (i, j): N = 4 L_i L_j.
+  for (int i = 0; i < 3; ++i) {
+    N[i] = L[i] * (2 * L[i] - 1);
+    dN_dxi[i] = (4 * L[i] - 1) * dL_dxi[i];
+    dN_deta[i] = (4 * L[i] - 1) * dL_deta[i];
+    const int j = (i + 1) % 3;
+    N[3 + i] = 4 * L[i] * L[j];
+    dN_dxi[3 + i] = 4 * (dL_dxi[i] * L[j] + L[i] * dL_dxi[j]);
+    dN_deta[3 + i] = 4 * (dL_deta[i] * L[j] + L[i] * dL_deta[j]);
+  }
+}
+
+Eigen::MatrixXd strain_displacement_at(std::span<const Eigen::Vector2d> x, double xi, double eta, double& det_J) {
+  const int n = static_cast<int>(x.size());
+  double N[6], dxi[6], deta[6];
+  triangle_shape(n, xi, eta, N, dxi, deta);
+  // J = ∂x/∂(ξ, η): column 0 = Σ x_i dN_i/dξ, column 1 = Σ x_i dN_i/dη.
+  Eigen::Matrix2d J = Eigen::Matrix2d::Zero();
+  for (int i = 0; i < n; ++i) {
+    J.col(0) += x[i] * dxi[i];
+    J.col(1) += x[i] * deta[i];
+  }
+  det_J = J.determinant();
+  const Eigen::Matrix2d J_inv_T = J.inverse().transpose();
+  Eigen::MatrixXd B = Eigen::MatrixXd::Zero(3, 2 * n);
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector2d g = J_inv_T * Eigen::Vector2d(dxi[i], deta[i]);  // ∇N_i
+    B(0, 2 * i) = g.x();
+    B(1, 2 * i + 1) = g.y();
+    B(2, 2 * i) = g.y();
+    B(2, 2 * i + 1) = g.x();
+  }
+  return B;
+}
+
+Eigen::MatrixXd element_stiffness(std::span<const Eigen::Vector2d> x, const Eigen::Matrix3d& D) {
+  if (x.size() == 3) return triangle_stiffness(x[0], x[1], x[2], D);
+  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(2 * x.size(), 2 * x.size());
+  for (const TrianglePoint& q : triangle_rule()) {
+    double det_J;
+    const Eigen::MatrixXd B = strain_displacement_at(x, q.xi, q.eta, det_J);
+    K.noalias() += (q.weight * std::abs(det_J)) * B.transpose() * D * B;
+  }
+  return K;
+}
+
+double element_area(std::span<const Eigen::Vector2d> x) {
+  double area = 0;
+  for (const TrianglePoint& q : triangle_rule()) {
+    double det_J;
+    strain_displacement_at(x, q.xi, q.eta, det_J);
+    area += q.weight * std::abs(det_J);
+  }
+  return area;
+}
+
+void edge_shape(int n, double s, double* N, double* dN_ds) {
+  if (n == 2) {
+    N[0] = 1 - s, N[1] = s;
+    dN_ds[0] = -1, dN_ds[1] = 1;
+    return;
+  }
+  N[0] = (1 - s) * (1 - 2 * s), N[1] = s * (2 * s - 1), N[2] = 4 * s * (1 - s);
+  dN_ds[0] = 4 * s - 3, dN_ds[1] = 4 * s - 1, dN_ds[2] = 4 - 8 * s;
+}
+
+const std::array<EdgePoint, 5>& edge_rule() {
+  // Gauss–Legendre on [−1, 1] mapped to [0, 1]: s = (1 + x)/2, weight w/2.
+  constexpr double x1 = 0.53846931010568309104, x2 = 0.90617984593866399280;
+  constexpr double w0 = 128.0 / 225, w1 = 0.47862867049936646804, w2 = 0.23692688505618908751;
+  static const std::array<EdgePoint, 5> rule{
+      {{(1 - x2) / 2, w2 / 2}, {(1 - x1) / 2, w1 / 2}, {0.5, w0 / 2}, {(1 + x1) / 2, w1 / 2}, {(1 + x2) / 2, w2 / 2}}};
+  return rule;
 }
 
 }  // namespace dualcell::fem

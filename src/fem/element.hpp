@@ -1,12 +1,19 @@
 #pragma once
-// Plane-strain linear (constant-strain) triangle (docs/method.md §1, §3).
-// Pure functions: coordinates and material in, element matrices out; no assembly here.
+// Plane-strain triangles (docs/method.md §1, §3): the linear 3-node triangle (p1, constant
+// strain) and the quadratic isoparametric 6-node triangle (p2). Pure functions: coordinates and
+// material in, element matrices out; no assembly here.
 //
 //   D  = E(1-ν)/((1+ν)(1-2ν)) [[1, ν/(1-ν), 0], [ν/(1-ν), 1, 0], [0, 0, (1-2ν)/(2(1-ν))]]
-//   ε  = B_e u_e    (Voigt: εxx, εyy, γxy = 2εxy, engineering shear)
-//   K_e = A Bᵀ D B  (unit thickness)
-// Element DOFs are node-interleaved: (u0x, u0y, u1x, u1y, u2x, u2y).
+//   ε  = ∇ˢ u_e     (Voigt: εxx, εyy, γxy = 2εxy, engineering shear; ∇ˢ the 3 × 2n
+//                    strain-displacement matrix of the element's n nodes)
+//   K_e = ∫ ∇ˢᵀ D ∇ˢ dA  (unit thickness): exact A ∇ˢᵀ D ∇ˢ for p1; for p2 the 6-point
+//                    degree-4 rule on the reference triangle with the isoparametric map x(ξ, η)
+//                    (exact for straight-sided elements, whose integrand is of degree 2)
+// Element DOFs are node-interleaved: (u0x, u0y, u1x, u1y, ...), nodes in the order of
+// mesh::Triangles (corners, then mid-sides of (0,1), (1,2), (2,0)).
 #include <Eigen/Core>
+#include <array>
+#include <span>
 
 #include "core/scene.hpp"
 
@@ -19,12 +26,42 @@ using Vector6 = Eigen::Matrix<double, 6, 1>;
 // Plane-strain elasticity matrix D (Voigt, engineering shear).
 Eigen::Matrix3d plane_strain_D(const Material& material);
 
-// Strain-displacement matrix B_e of the triangle (p0, p1, p2); returns its signed area in `area`.
+// Strain-displacement matrix of the p1 triangle (p0, p1, p2); returns its signed area in `area`.
 Matrix36 strain_displacement(const Eigen::Vector2d& p0, const Eigen::Vector2d& p1, const Eigen::Vector2d& p2,
                              double& area);
 
-// Element stiffness K_e = |A| B_eᵀ D B_e.
+// Element stiffness K_e = |A| ∇ˢᵀ D ∇ˢ of the p1 triangle.
 Matrix66 triangle_stiffness(const Eigen::Vector2d& p0, const Eigen::Vector2d& p1, const Eigen::Vector2d& p2,
                             const Eigen::Matrix3d& D);
+
+// A point of the 6-point degree-4 rule on the reference triangle {ξ, η ≥ 0, ξ + η ≤ 1}: weights
+// sum to the reference area ½.
+struct TrianglePoint {
+  double xi, eta, weight;
+};
+const std::array<TrianglePoint, 6>& triangle_rule();
+
+// Shape functions of the p1 (n = 3) or p2 (n = 6) triangle at (ξ, η), and their derivatives
+// dN/dξ, dN/dη; arrays of length n.
+void triangle_shape(int n, double xi, double eta, double* N, double* dN_dxi, double* dN_deta);
+
+// The isoparametric map at (ξ, η) of an element with nodes x (3 or 6): the strain-displacement
+// matrix (3 × 2n) and det J (positive for a counter-clockwise element).
+Eigen::MatrixXd strain_displacement_at(std::span<const Eigen::Vector2d> x, double xi, double eta, double& det_J);
+
+// Element stiffness of a p1 or p2 element (2n × 2n) with nodes x.
+Eigen::MatrixXd element_stiffness(std::span<const Eigen::Vector2d> x, const Eigen::Matrix3d& D);
+
+// Area ∫ dA of a p1 or p2 element (exact: det J is of degree ≤ 2).
+double element_area(std::span<const Eigen::Vector2d> x);
+
+// Shape functions of an edge with n = 2 nodes (a, b) or n = 3 (a, b, mid) at s ∈ [0, 1] from a
+// to b, and their derivatives d/ds.
+void edge_shape(int n, double s, double* N, double* dN_ds);
+// 5-point Gauss–Legendre rule on [0, 1] (exact to degree 9): the rule of every edge integral.
+struct EdgePoint {
+  double s, weight;
+};
+const std::array<EdgePoint, 5>& edge_rule();
 
 }  // namespace dualcell::fem

@@ -6,6 +6,8 @@
 #include <map>
 #include <numeric>
 
+#include "fem/assembly.hpp"
+
 namespace dualcell::feti {
 
 const char* to_string(RowKind kind) {
@@ -34,23 +36,17 @@ Eigen::Vector2d interface_normal(const mesh::Mesh& mesh, int p) {
 }
 
 std::vector<double> interface_lengths(const mesh::Mesh& mesh) {
-  const int n = static_cast<int>(mesh.interface_pairs.size());
-  std::vector<double> length(n, 0.0);
-  // Pairs are stored cell by cell, counter-clockwise: the neighbours of p on the rim are the
-  // previous and next pair of the same cell, cyclically.
-  int begin = 0;
-  while (begin < n) {
-    int end = begin;
-    while (end < n && mesh.interface_cell[end] == mesh.interface_cell[begin]) ++end;
-    const int m = end - begin;
-    for (int i = 0; i < m; ++i) {
-      const Eigen::Vector2d& a = mesh.nodes[mesh.interface_pairs[begin + i][0]];
-      const Eigen::Vector2d& b = mesh.nodes[mesh.interface_pairs[begin + (i + 1) % m][0]];
-      const double chord = (b - a).norm();
-      length[begin + i] += chord / 2;
-      length[begin + (i + 1) % m] += chord / 2;
-    }
-    begin = end;
+  // L_p = ∫ φ_p ds over the rim edges around pair p, on the fibre's side (the matrix edge runs
+  // through the same nodes): half of the two neighbouring chords for p1; for p2 the weights of
+  // the parabola through each edge's three nodes (about 1/6, 4/6, 1/6 of its length).
+  std::vector<double> length(mesh.interface_pairs.size(), 0.0);
+  for (const mesh::Edge& e : mesh::interface_edges(mesh)) {
+    const int pairs[3] = {e.a, e.b, e.mid};
+    const int n = e.mid >= 0 ? 3 : 2;
+    std::vector<Eigen::Vector2d> x;
+    for (int i = 0; i < n; ++i) x.push_back(mesh.nodes[mesh.interface_pairs[pairs[i]][0]]);
+    const std::array<double, 3> w = fem::edge_weights(x);
+    for (int i = 0; i < n; ++i) length[pairs[i]] += w[i];
   }
   return length;
 }
@@ -77,8 +73,9 @@ class NodeClasses {
 std::vector<int> side_points(const mesh::Mesh& mesh, int side, NodeClasses& classes) {
   std::map<double, int> by_position;
   const int axis = (side == mesh::left || side == mesh::right) ? 1 : 0;
-  for (const auto& edge : mesh.boundary_edges[side])
-    for (int v : edge) {
+  for (const mesh::Edge& edge : mesh.boundary_edges[side])
+    for (int v : {edge.a, edge.b, edge.mid}) {
+      if (v < 0) continue;
       const double key = mesh.nodes[v][axis];
       if (!by_position.count(key)) by_position[key] = classes.find(v);
     }

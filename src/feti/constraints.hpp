@@ -11,7 +11,7 @@
 //   tangential   | t·u_f − t·u_m            = 0        | bonded only: −s_t·L_p ≤ λ ≤ s_t·L_p
 //
 // n is the fibre's outward normal at the node from the exact circle, t = (−n_y, n_x), L_p the
-// lumped interface length of pair p (half its two rim edges), s_n and s_t the strengths per
+// interface length of pair p, ∫ φ_p ds over its rim edges (half its two chords for p1), s_n and s_t the strengths per
 // unit length: nodal bounds consistent with nodal forces, so results do not depend on the
 // mesh degree. A scene without adhesion has no tangential rows; one cell has no glue rows.
 //
@@ -52,7 +52,8 @@ struct Constraints {
 
 // Exact outward normal of the fibre at the fibre node of interface pair p.
 Eigen::Vector2d interface_normal(const mesh::Mesh& mesh, int p);
-// Lumped interface length of each pair (half of its two neighbouring rim chords).
+// Interface length of each pair: L_p = ∫ φ_p ds over the rim (φ_p the shape function of the
+// pair's node along the rim edges); for p1 half of its two neighbouring chords.
 std::vector<double> interface_lengths(const mesh::Mesh& mesh);
 
 Constraints build_constraints(const mesh::Mesh& mesh, const Scene& scene, const BondState& bonds);

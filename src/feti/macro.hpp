@@ -7,12 +7,13 @@
 
 namespace dualcell::feti {
 
-// ε̄ = (1/|Ω|) ∮ sym(u ⊗ n) ds over the block's outer boundary, u linear on each edge. It
+// ε̄ = (1/|Ω|) ∮ sym(u ⊗ n) ds over the block's outer boundary, u interpolated along each
+// edge by the edge's shape functions. It
 // counts interface openings, which a volume average of element strains misses.
 // Returns (εxx, εyy, εxy) with tensor shear.
 Eigen::Vector3d boundary_strain(const mesh::Mesh& mesh, const Eigen::VectorXd& u);
 
-// (1/|Ω|) Σ_e |A_e| σ_e over all triangles: equals the applied σ̄ when the forces are in
+// (1/|Ω|) Σ_e ∫_e σ dA over all triangles: equals the applied σ̄ when the forces are in
 // equilibrium (Hill–Mandel); returns (σxx, σyy, σxy).
 Eigen::Vector3d average_stress(const mesh::Mesh& mesh, const Material& fibre, const Material& matrix,
                                const Eigen::VectorXd& u);

@@ -132,10 +132,10 @@ Eigen::VectorXd FetiSetup::load(const Eigen::Vector3d& sigma) const {
       break;
   }
   for (int side : sides)
-    for (const auto& [a, b] : mesh_.boundary_edges[side]) {
-      const Eigen::Vector2d e = mesh_.nodes[b] - mesh_.nodes[a];
+    for (const mesh::Edge& edge : mesh_.boundary_edges[side]) {
+      const Eigen::Vector2d e = mesh_.nodes[edge.b] - mesh_.nodes[edge.a];  // the outer edges are straight
       const Eigen::Vector2d t = S * Eigen::Vector2d(e.y(), -e.x()).normalized();
-      fem::add_edge_traction(mesh_, a, b, t, t, f);
+      fem::add_edge_traction(mesh_, edge, t, t, f);
     }
   const Eigen::Vector2d body(scene_.load.body_force[0], scene_.load.body_force[1]);
   if (body.squaredNorm() > 0)

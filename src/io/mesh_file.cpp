@@ -1,5 +1,6 @@
 #include "io/mesh_file.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -23,6 +24,20 @@ std::vector<std::int64_t> flatten(const std::vector<std::array<int, N>>& rows) {
   return flat;
 }
 
+std::vector<std::int64_t> flatten(const mesh::Triangles& triangles) {
+  return {triangles.flat().begin(), triangles.flat().end()};
+}
+
+// Boundary edges as rows (a, b) for p1 or (a, b, mid) for p2.
+std::vector<std::int64_t> flatten(const std::vector<mesh::Edge>& edges, int width) {
+  std::vector<std::int64_t> flat;
+  for (const auto& e : edges) {
+    flat.insert(flat.end(), {e.a, e.b});
+    if (width == 3) flat.push_back(e.mid);
+  }
+  return flat;
+}
+
 std::vector<double> flatten(const std::vector<Eigen::Vector2d>& points) {
   std::vector<double> flat;
   flat.reserve(points.size() * 2);
@@ -34,17 +49,25 @@ std::vector<double> flatten(const std::vector<Eigen::Vector2d>& points) {
 }
 
 // Rows of N node (or range) indices, each in [0, max_index).
-template <std::size_t N>
-std::vector<std::array<int, N>> rows_of(const File& f, const std::string& name, std::int64_t max_index,
-                                        hsize_t n_rows = any_extent) {
-  const auto flat = f.read_ints(name, {n_rows, N});
-  std::vector<std::array<int, N>> rows(flat.size() / N);
+std::vector<int> indices_of(const File& f, const std::string& name, std::int64_t max_index, hsize_t n_rows,
+                            hsize_t width) {
+  const auto flat = f.read_ints(name, {n_rows, width});
+  std::vector<int> out(flat.size());
   for (std::size_t i = 0; i < flat.size(); ++i) {
     if (flat[i] < 0 || flat[i] >= max_index)
       throw InputError(f.path().string() + ": " + name + ": node index " + std::to_string(flat[i]) +
                        " out of range [0, " + std::to_string(max_index) + ")");
-    rows[i / N][i % N] = static_cast<int>(flat[i]);
+    out[i] = static_cast<int>(flat[i]);
   }
+  return out;
+}
+
+template <std::size_t N>
+std::vector<std::array<int, N>> rows_of(const File& f, const std::string& name, std::int64_t max_index,
+                                        hsize_t n_rows = any_extent) {
+  const auto flat = indices_of(f, name, max_index, n_rows, N);
+  std::vector<std::array<int, N>> rows(flat.size() / N);
+  for (std::size_t i = 0; i < flat.size(); ++i) rows[i / N][i % N] = flat[i];
   return rows;
 }
 
@@ -80,9 +103,9 @@ void check_structure(const mesh::Mesh& m, const std::vector<std::int64_t>& is_fi
         m.nodes[v].y() > m.block_height() + tol)
       throw InputError(where + "/mesh/nodes: node " + std::to_string(v) + " lies outside the block of cells");
   for (std::size_t t = 0; t < m.triangles.size(); ++t) {
-    const auto& tri = m.triangles[t];
+    const auto tri = m.triangles[t];
     const int s = m.triangle_subdomain[t];
-    if (owner[tri[0]] != s || owner[tri[1]] != s || owner[tri[2]] != s ||
+    if (std::any_of(tri.begin(), tri.end(), [&](int v) { return owner[v] != s; }) ||
         static_cast<int>(t) < m.subdomains[s].triangle_begin || static_cast<int>(t) >= m.subdomains[s].triangle_end)
       throw InputError(where + "/mesh/triangles: triangle " + std::to_string(t) + " is not inside its subdomain " +
                        std::to_string(s));
@@ -110,9 +133,10 @@ void check_structure(const mesh::Mesh& m, const std::vector<std::int64_t>& is_fi
     // left, right, bottom, top: the coordinate (x or y) and its value on that side
     const int axis = side / 2;
     const double at = side == 1 ? m.block_width() : side == 3 ? m.block_height() : 0.0;
-    for (const auto& [u, v] : m.boundary_edges[side])
+    for (const auto& [u, v, mid] : m.boundary_edges[side])
       if (is_fibre[owner[u]] || owner[u] != owner[v] || u == v || std::abs(m.nodes[u][axis] - at) > tol ||
-          std::abs(m.nodes[v][axis] - at) > tol)
+          std::abs(m.nodes[v][axis] - at) > tol ||
+          (mid >= 0 && (owner[mid] != owner[u] || (m.nodes[mid] - (m.nodes[u] + m.nodes[v]) / 2).norm() > tol)))
         throw InputError(where + "/mesh/boundary/" + mesh::side_names[side] +
                          ": an edge that is not a matrix edge on that side of the block");
   }
@@ -131,7 +155,8 @@ void write_mesh(const mesh::Mesh& mesh, const Scene& scene, const std::filesyste
     const hsize_t N = mesh.nodes.size(), T = mesh.triangles.size(), S = mesh.subdomains.size();
     f.create_group("/mesh");
     f.write("/mesh/nodes", flatten(mesh.nodes), {N, 2});
-    f.write("/mesh/triangles", flatten(mesh.triangles), {T, 3});
+    const hsize_t W = mesh.triangles.width(), E = W == 6 ? 3 : 2;  // nodes per triangle and per edge
+    f.write("/mesh/triangles", flatten(mesh.triangles), {T, W});
     std::vector<std::int64_t> tri_sub(mesh.triangle_subdomain.begin(), mesh.triangle_subdomain.end());
     std::vector<std::int64_t> tri_fibre(T);
     for (std::size_t t = 0; t < T; ++t) tri_fibre[t] = mesh.subdomains[mesh.triangle_subdomain[t]].is_fibre;
@@ -154,14 +179,15 @@ void write_mesh(const mesh::Mesh& mesh, const Scene& scene, const std::filesyste
             {mesh.interface_cell.size()});
     f.write("/mesh/glue_pairs", flatten(mesh.glue_pairs), {mesh.glue_pairs.size(), 2});
     for (int side = 0; side < 4; ++side)
-      f.write(std::string("/mesh/boundary/") + mesh::side_names[side], flatten(mesh.boundary_edges[side]),
-              {mesh.boundary_edges[side].size(), 2});
+      f.write(std::string("/mesh/boundary/") + mesh::side_names[side], flatten(mesh.boundary_edges[side], E),
+              {mesh.boundary_edges[side].size(), E});
     const Geometry& g = mesh.geometry;
     f.write_attribute("/mesh", "cells", std::vector<std::int64_t>{g.cells[0], g.cells[1]});
     f.write_attribute("/mesh", "cell_size", g.cell_size);
     f.write_attribute("/mesh", "fibre_radius", g.fibre_radius);
     f.write_attribute("/mesh", "fibre_offset", std::vector<double>{g.fibre_offset[0], g.fibre_offset[1]});
     f.write_attribute("/mesh", "degree", std::int64_t{g.degree});
+    f.write_attribute("/mesh", "element", std::string(to_string(g.element)));
     Provenance provenance;
     provenance.scene_text = scene.text;
     provenance.scene_file = scene.file.string();
@@ -173,6 +199,7 @@ void write_mesh(const mesh::Mesh& mesh, const Scene& scene, const std::filesyste
   grid.n_nodes = mesh.nodes.size();
   grid.triangles_dataset = "/mesh/triangles";
   grid.n_triangles = mesh.triangles.size();
+  grid.nodes_per_triangle = mesh.triangles.width();
   grid.fields.push_back({"subdomain", "/mesh/triangle_subdomain", true, {grid.n_triangles}, true});
   grid.fields.push_back({"is_fibre", "/mesh/triangle_is_fibre", true, {grid.n_triangles}, true});
   write_xdmf(xdmf_tmp, h5.filename().string(), {grid});
@@ -192,6 +219,11 @@ MeshFile read_mesh(const std::filesystem::path& h5) {
   m.geometry.fibre_radius = f.read_double_attribute_value("/mesh", "fibre_radius");
   m.geometry.fibre_offset = {offset[0], offset[1]};
   m.geometry.degree = static_cast<int>(f.read_int_attribute_value("/mesh", "degree"));
+  const std::string element = f.read_string_attribute("/mesh", "element");
+  if (element != "p1" && element != "p2")
+    throw InputError(where + "/mesh attribute element = \"" + clipped(element) + "\": allowed \"p1\" or \"p2\"");
+  m.geometry.element = element == "p1" ? Element::p1 : Element::p2;
+  const int W = m.geometry.element == Element::p1 ? 3 : 6, E = W == 6 ? 3 : 2;  // nodes per triangle, per edge
   out.scene_text = f.read_string_attribute("/", "scene");
 
   const auto nodes = f.read_doubles("/mesh/nodes", {any_extent, 2});
@@ -200,7 +232,12 @@ MeshFile read_mesh(const std::filesystem::path& h5) {
     if (!std::isfinite(x)) throw InputError(where + "/mesh/nodes: non-finite coordinate");
   m.nodes.resize(N);
   for (std::int64_t i = 0; i < N; ++i) m.nodes[i] = {nodes[2 * i], nodes[2 * i + 1]};
-  m.triangles = rows_of<3>(f, "/mesh/triangles", N);
+  m.triangles = mesh::Triangles(W);
+  {
+    const auto flat = indices_of(f, "/mesh/triangles", N, any_extent, W);
+    for (std::size_t t = 0; t < flat.size() / W; ++t)
+      m.triangles.push_back(std::span<const int>(flat.data() + t * W, W));
+  }
   const std::size_t T = m.triangles.size();
   const auto tri_sub = f.read_ints("/mesh/triangle_subdomain", {T}, " like /mesh/triangles");
   const auto is_fibre = f.read_ints("/mesh/subdomain_is_fibre", {any_extent});
@@ -236,8 +273,11 @@ MeshFile read_mesh(const std::filesystem::path& h5) {
     m.interface_cell.push_back(static_cast<int>(c));
   }
   m.glue_pairs = rows_of<2>(f, "/mesh/glue_pairs", N);
-  for (int side = 0; side < 4; ++side)
-    m.boundary_edges[side] = rows_of<2>(f, std::string("/mesh/boundary/") + mesh::side_names[side], N);
+  for (int side = 0; side < 4; ++side) {
+    const auto flat = indices_of(f, std::string("/mesh/boundary/") + mesh::side_names[side], N, any_extent, E);
+    for (std::size_t e = 0; e < flat.size() / E; ++e)
+      m.boundary_edges[side].push_back({flat[e * E], flat[e * E + 1], E == 3 ? flat[e * E + 2] : -1});
+  }
   if (static_cast<int>(m.fibre_centres.size()) != m.n_cells() || S != 2 * m.fibre_centres.size())
     throw InputError(where + "cell count does not match /mesh attribute cells");
   check_structure(m, is_fibre, where);
@@ -253,6 +293,8 @@ std::string geometry_mismatch(const mesh::Mesh& mesh, const Scene& scene) {
       << b.cells[1] << "]";
   else if (a.degree != b.degree)
     s << "[geometry] degree: mesh " << a.degree << ", scene " << b.degree;
+  else if (a.element != b.element)
+    s << "[geometry] element: mesh " << to_string(a.element) << ", scene " << to_string(b.element);
   else if (a.cell_size != b.cell_size)
     s << "[geometry] cell_size: mesh " << shortest(a.cell_size) << ", scene " << shortest(b.cell_size);
   else if (a.fibre_radius != b.fibre_radius)

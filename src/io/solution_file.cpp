@@ -37,21 +37,26 @@ void write_solution(const std::filesystem::path& h5, const mesh::Mesh& mesh, con
         deformed.push_back(mesh.nodes[v][c] + scale * s.u(2 * v + c));
       }
     for (hsize_t v = 0; v < N; ++v) displacement.insert(displacement.end(), {s.u(2 * v), s.u(2 * v + 1), 0.0});
-    std::vector<std::int64_t> triangles, subdomain;
-    for (const auto& t : mesh.triangles) triangles.insert(triangles.end(), t.begin(), t.end());
+    const hsize_t W = mesh.triangles.width();
+    std::vector<std::int64_t> triangles(mesh.triangles.flat().begin(), mesh.triangles.flat().end()), subdomain;
     for (int sd : mesh.triangle_subdomain) subdomain.push_back(sd);
     f.write("/mesh/nodes", nodes, {N, 2});
-    f.write("/mesh/triangles", triangles, {T, 3});
+    f.write("/mesh/triangles", triangles, {T, W});
     f.write("/mesh/triangle_subdomain", subdomain, {T});
     f.write("/solution/u", to_vector(s.u.head(mesh.dim_u())), {N, 2});
     f.write("/solution/displacement", displacement, {N, 3});
     f.write("/solution/deformed_nodes", deformed, {N, 2});
     f.write_attribute("/solution/deformed_nodes", "exaggeration", scale);
-    const Eigen::MatrixXd stress = fem::element_stresses(mesh, scene.fibre, scene.matrix, s.u);
-    std::vector<double> stress_rows;
-    for (int t = 0; t < stress.rows(); ++t)
-      for (int c = 0; c < 3; ++c) stress_rows.push_back(stress(t, c));
-    f.write("/solution/element_stress", stress_rows, {T, 3});
+    // Per triangle: the stress at the centroid and its volume average (equal for p1).
+    const fem::ElementStresses stress = fem::element_stresses(mesh, scene.fibre, scene.matrix, s.u);
+    const auto rows = [](const Eigen::MatrixXd& m) {
+      std::vector<double> out;
+      for (Eigen::Index t = 0; t < m.rows(); ++t)
+        for (int c = 0; c < 3; ++c) out.push_back(m(t, c));
+      return out;
+    };
+    f.write("/solution/element_stress", rows(stress.centroid), {T, 3});
+    f.write("/solution/element_stress_average", rows(stress.average), {T, 3});
 
     std::vector<double> lambda, gap;
     std::vector<std::int64_t> bonded;
@@ -98,8 +103,10 @@ void write_solution(const std::filesystem::path& h5, const mesh::Mesh& mesh, con
   deformed.n_nodes = N;
   deformed.triangles_dataset = "/mesh/triangles";
   deformed.n_triangles = T;
+  deformed.nodes_per_triangle = mesh.triangles.width();
   deformed.fields = {{"subdomain", "/mesh/triangle_subdomain", true, {T}, true},
                      {"stress", "/solution/element_stress", true, {T, 3}, false},
+                     {"stress_average", "/solution/element_stress_average", true, {T, 3}, false},
                      {"displacement", "/solution/displacement", false, {N, 3}, false}};
   write_xdmf(xdmf_tmp, name, {deformed});
   outputs.commit();

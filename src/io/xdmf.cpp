@@ -25,8 +25,10 @@ void write_xdmf(const std::filesystem::path& xdmf, const std::string& h5_name, c
   out << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n  <Domain>\n";
   for (const XdmfGrid& g : grids) {
     out << "    <Grid Name=\"" << g.name << "\" GridType=\"Uniform\">\n"
-        << "      <Topology TopologyType=\"Triangle\" NumberOfElements=\"" << g.n_triangles << "\">\n"
-        << "        <DataItem Dimensions=\"" << g.n_triangles << " 3\" NumberType=\"Int\" Precision=\"8\" "
+        << "      <Topology TopologyType=\"" << (g.nodes_per_triangle == 6 ? "Triangle_6" : "Triangle")
+        << "\" NumberOfElements=\"" << g.n_triangles << "\">\n"
+        << "        <DataItem Dimensions=\"" << g.n_triangles << " " << g.nodes_per_triangle
+        << "\" NumberType=\"Int\" Precision=\"8\" "
         << "Format=\"HDF\">" << h5_name << ":" << g.triangles_dataset << "</DataItem>\n"
         << "      </Topology>\n"
         << "      <Geometry GeometryType=\"" << (g.geometry_dim == 2 ? "XY" : "XYZ") << "\">\n"

@@ -22,8 +22,9 @@ struct XdmfGrid {
   std::string nodes_dataset;  // N×2 (GeometryType XY) or N×3 (XYZ)
   std::uint64_t n_nodes = 0;
   int geometry_dim = 2;
-  std::string triangles_dataset;  // T×3, 0-based
+  std::string triangles_dataset;  // T×3 (Triangle) or T×6 (Triangle_6), 0-based
   std::uint64_t n_triangles = 0;
+  int nodes_per_triangle = 3;
   std::vector<XdmfField> fields;
 };
 

@@ -27,40 +27,69 @@ double ring_angle(int di, int dj, int l) { return std::numbers::pi / 4 * perimet
 // g(0) = 0, g(1) = 1, g'(1) = 0.8 so the outermost ring of elements is a little thinner.
 double fibre_ring_radius(double x) { return x * (1.2 - 0.2 * x); }
 
-// Appends the two triangles of grid quad (a, b, c, d) (counter-clockwise), split along the
-// shorter diagonal.
-void split_quad(const std::vector<Eigen::Vector2d>& nodes, int a, int b, int c, int d,
-                std::vector<std::array<int, 3>>& triangles) {
-  const double ac = (nodes[a] - nodes[c]).squaredNorm();
-  const double bd = (nodes[b] - nodes[d]).squaredNorm();
+// Appends the two triangles of the quad with corners q[0..3] (counter-clockwise), split along the
+// shorter diagonal. For p2, mid[0..3] are the mid-side nodes of the quad edges (q0,q1), (q1,q2),
+// (q2,q3), (q3,q0) and centre the node in the middle of the quad (on both diagonals).
+void split_quad(const std::vector<Eigen::Vector2d>& nodes, const int q[4], const int* mid, int centre,
+                Triangles& triangles) {
+  const double ac = (nodes[q[0]] - nodes[q[2]]).squaredNorm();
+  const double bd = (nodes[q[1]] - nodes[q[3]]).squaredNorm();
   if (ac <= bd) {
-    triangles.push_back({a, b, c});
-    triangles.push_back({a, c, d});
+    if (mid) {
+      triangles.push_back({q[0], q[1], q[2], mid[0], mid[1], centre});
+      triangles.push_back({q[0], q[2], q[3], centre, mid[2], mid[3]});
+    } else {
+      triangles.push_back({q[0], q[1], q[2]});
+      triangles.push_back({q[0], q[2], q[3]});
+    }
   } else {
-    triangles.push_back({a, b, d});
-    triangles.push_back({b, c, d});
+    if (mid) {
+      triangles.push_back({q[0], q[1], q[3], mid[0], centre, mid[3]});
+      triangles.push_back({q[1], q[2], q[3], mid[1], mid[2], centre});
+    } else {
+      triangles.push_back({q[0], q[1], q[3]});
+      triangles.push_back({q[1], q[2], q[3]});
+    }
   }
 }
 
-struct CellFrame {
-  int cx, cy;
-  Eigen::Vector2d centre;  // fibre centre
-};
+// Appends the triangles of the coarse quad whose lower-left fine grid index is (i, j), on a fine
+// grid of row length `stride` with `o` fine steps per coarse step (1: p1, 2: p2).
+void add_quad(const std::vector<Eigen::Vector2d>& nodes, const std::vector<int>& grid, int stride, int o, int i, int j,
+              Triangles& triangles) {
+  const auto at = [&](int di, int dj) { return grid[(i + di) + stride * (j + dj)]; };
+  const int q[4] = {at(0, 0), at(o, 0), at(o, o), at(0, o)};
+  if (o == 1) {
+    split_quad(nodes, q, nullptr, -1, triangles);
+  } else {
+    const int mid[4] = {at(1, 0), at(2, 1), at(1, 2), at(0, 1)};
+    split_quad(nodes, q, mid, at(1, 1), triangles);
+  }
+}
 
 }  // namespace
 
-int matrix_nodes_per_cell(int k) { return (4 * k + 1) * (4 * k + 1) - (2 * k - 1) * (2 * k - 1); }
-int fibre_nodes_per_cell(int k) { return (2 * k + 1) * (2 * k + 1); }
+int matrix_nodes_per_cell(int degree, Element element) {
+  const int k = degree * element_order(element);
+  return (4 * k + 1) * (4 * k + 1) - (2 * k - 1) * (2 * k - 1);
+}
+int fibre_nodes_per_cell(int degree, Element element) {
+  const int k = degree * element_order(element);
+  return (2 * k + 1) * (2 * k + 1);
+}
 
 Mesh build_mesh(const Geometry& geometry) {
   Mesh mesh;
   mesh.geometry = geometry;
-  const int k = geometry.degree;
-  const int n = 4 * k;  // grid intervals per cell edge
+  const int o = element_order(geometry.element);  // fine grid steps per element edge
+  mesh.triangles = Triangles(o == 1 ? 3 : 6);
+  const int k = geometry.degree * o;  // degree of the fine grid that holds every node
+  const int n = 4 * k;                // fine grid intervals per cell edge
   const int ex = geometry.cells[0], ey = geometry.cells[1];
   const double a = geometry.cell_size, r = geometry.fibre_radius;
   const int n_cells = ex * ey;
   mesh.nodes.reserve(static_cast<std::size_t>(n_cells) * (matrix_nodes_per_cell(k) + fibre_nodes_per_cell(k)));
+  const auto triangle_count = [&] { return static_cast<int>(mesh.triangles.size()); };
 
   // grid index -> global node of each cell's matrix, for glue pairs
   std::vector<std::vector<int>> matrix_grid(n_cells);
@@ -73,7 +102,7 @@ Mesh build_mesh(const Geometry& geometry) {
       mesh.fibre_centres.push_back(c);
 
       // Matrix subdomain.
-      Subdomain matrix{false, cell, mesh.n_nodes(), 0, static_cast<int>(mesh.triangles.size()), 0};
+      Subdomain matrix{false, cell, mesh.n_nodes(), 0, triangle_count(), 0};
       std::vector<int>& grid = matrix_grid[cell];
       grid.assign((n + 1) * (n + 1), -1);
       for (int j = 0; j <= n; ++j) {
@@ -98,24 +127,21 @@ Mesh build_mesh(const Geometry& geometry) {
           mesh.nodes.push_back(p);
         }
       }
-      for (int j = 0; j < n; ++j) {
-        for (int i = 0; i < n; ++i) {
-          const int q[4] = {grid[i + (n + 1) * j], grid[i + 1 + (n + 1) * j], grid[i + 1 + (n + 1) * (j + 1)],
-                            grid[i + (n + 1) * (j + 1)]};
+      for (int j = 0; j < n; j += o) {
+        for (int i = 0; i < n; i += o) {
           // A quad belongs to the matrix unless it lies inside the middle block.
           const bool in_hole = i >= k && i < 3 * k && j >= k && j < 3 * k;
-          if (in_hole) continue;
-          split_quad(mesh.nodes, q[0], q[1], q[2], q[3], mesh.triangles);
+          if (!in_hole) add_quad(mesh.nodes, grid, n + 1, o, i, j, mesh.triangles);
         }
       }
       matrix.node_end = mesh.n_nodes();
-      matrix.triangle_end = static_cast<int>(mesh.triangles.size());
+      matrix.triangle_end = triangle_count();
       const int matrix_index = static_cast<int>(mesh.subdomains.size());
       mesh.subdomains.push_back(matrix);
 
       // Fibre subdomain.
       const int m = 2 * k;
-      Subdomain fibre{true, cell, mesh.n_nodes(), 0, static_cast<int>(mesh.triangles.size()), 0};
+      Subdomain fibre{true, cell, mesh.n_nodes(), 0, triangle_count(), 0};
       std::vector<int> fgrid((m + 1) * (m + 1));
       for (int j = 0; j <= m; ++j) {
         for (int i = 0; i <= m; ++i) {
@@ -133,12 +159,10 @@ Mesh build_mesh(const Geometry& geometry) {
           mesh.nodes.push_back(p);
         }
       }
-      for (int j = 0; j < m; ++j)
-        for (int i = 0; i < m; ++i)
-          split_quad(mesh.nodes, fgrid[i + (m + 1) * j], fgrid[i + 1 + (m + 1) * j], fgrid[i + 1 + (m + 1) * (j + 1)],
-                     fgrid[i + (m + 1) * (j + 1)], mesh.triangles);
+      for (int j = 0; j < m; j += o)
+        for (int i = 0; i < m; i += o) add_quad(mesh.nodes, fgrid, m + 1, o, i, j, mesh.triangles);
       fibre.node_end = mesh.n_nodes();
-      fibre.triangle_end = static_cast<int>(mesh.triangles.size());
+      fibre.triangle_end = triangle_count();
       const int fibre_index = static_cast<int>(mesh.subdomains.size());
       mesh.subdomains.push_back(fibre);
       for (int t = matrix.triangle_begin; t < matrix.triangle_end; ++t) mesh.triangle_subdomain.push_back(matrix_index);
@@ -173,30 +197,57 @@ Mesh build_mesh(const Geometry& geometry) {
       for (int i = (cx > 0 ? 1 : 0); i <= n; ++i)
         mesh.glue_pairs.push_back({at(cx + ex * cy, i, n), at(cx + ex * (cy + 1), i, 0)});
 
-  // Outer boundary, counter-clockwise around the block.
+  // Outer boundary, counter-clockwise around the block; the mid-side node of a p2 edge is the
+  // fine grid node half-way.
+  const auto mid = [&](int cell, int i, int j) { return o == 1 ? -1 : at(cell, i, j); };
   for (int cy = 0; cy < ey; ++cy)
-    for (int j = 0; j < n; ++j) {
-      mesh.boundary_edges[right].push_back({at(ex - 1 + ex * cy, n, j), at(ex - 1 + ex * cy, n, j + 1)});
-      mesh.boundary_edges[left].push_back({at(ex * cy, 0, j + 1), at(ex * cy, 0, j)});
+    for (int j = 0; j < n; j += o) {
+      const int r = ex - 1 + ex * cy, l = ex * cy;
+      mesh.boundary_edges[right].push_back({at(r, n, j), at(r, n, j + o), mid(r, n, j + 1)});
+      mesh.boundary_edges[left].push_back({at(l, 0, j + o), at(l, 0, j), mid(l, 0, j + 1)});
     }
   for (int cx = 0; cx < ex; ++cx)
-    for (int i = 0; i < n; ++i) {
-      mesh.boundary_edges[bottom].push_back({at(cx, i, 0), at(cx, i + 1, 0)});
-      mesh.boundary_edges[top].push_back({at(cx + ex * (ey - 1), i + 1, n), at(cx + ex * (ey - 1), i, n)});
+    for (int i = 0; i < n; i += o) {
+      const int b = cx, t = cx + ex * (ey - 1);
+      mesh.boundary_edges[bottom].push_back({at(b, i, 0), at(b, i + o, 0), mid(b, i + 1, 0)});
+      mesh.boundary_edges[top].push_back({at(t, i + o, n), at(t, i, n), mid(t, i + 1, n)});
     }
   return mesh;
 }
 
-double triangle_area(const Mesh& mesh, int t) {
-  const auto& tri = mesh.triangles[t];
+double corner_area(const Mesh& mesh, int t) {
+  const auto tri = mesh.triangles[t];
   const Eigen::Vector2d e1 = mesh.nodes[tri[1]] - mesh.nodes[tri[0]];
   const Eigen::Vector2d e2 = mesh.nodes[tri[2]] - mesh.nodes[tri[0]];
   return 0.5 * (e1.x() * e2.y() - e1.y() * e2.x());
 }
 
+std::vector<Eigen::Vector2d> triangle_points(const Mesh& mesh, int t) {
+  std::vector<Eigen::Vector2d> x;
+  for (int v : mesh.triangles[t]) x.push_back(mesh.nodes[v]);
+  return x;
+}
+
+std::vector<Edge> interface_edges(const Mesh& mesh) {
+  const int n = static_cast<int>(mesh.interface_pairs.size());
+  const int o = element_order(mesh.element());
+  std::vector<Edge> edges;
+  // Pairs are stored cell by cell, counter-clockwise from angle 0, every rim node of the cell
+  // once: an edge starts at every o-th pair of its cell and ends o pairs further, cyclically.
+  int begin = 0;
+  while (begin < n) {
+    int end = begin;
+    while (end < n && mesh.interface_cell[end] == mesh.interface_cell[begin]) ++end;
+    const int m = end - begin;
+    for (int i = 0; i + o <= m; i += o) edges.push_back({begin + i, begin + (i + o) % m, o == 1 ? -1 : begin + i + 1});
+    begin = end;
+  }
+  return edges;
+}
+
 double minimum_angle_deg(const Mesh& mesh) {
   double smallest = 180;
-  for (const auto& tri : mesh.triangles) {
+  for (const auto tri : mesh.triangles) {
     for (int v = 0; v < 3; ++v) {
       const Eigen::Vector2d p = mesh.nodes[tri[v]];
       const Eigen::Vector2d e1 = mesh.nodes[tri[(v + 1) % 3]] - p;

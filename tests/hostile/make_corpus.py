@@ -548,6 +548,11 @@ def write_h5(bin_dir):
     h5case("mesh", "mesh-boundary-fibre-node.h5", "input", "/mesh/boundary/left",
            "a boundary edge through fibre nodes", edited(m, lambda f: f["/mesh/boundary/left"].__setitem__(
                0, [int(f["/mesh/subdomain_nodes"][1, 0]), int(f["/mesh/subdomain_nodes"][1, 0]) + 1])))
+    h5case("mesh", "mesh-element-unknown.h5", "input", "/mesh attribute element = \"p3\"",
+           "an element order that does not exist", edited(m, lambda f: f["/mesh"].attrs.__setitem__("element", "p3")))
+    h5case("mesh", "mesh-element-p2-on-p1.h5", "input", "/mesh/triangles: expected shape",
+           "a p1 mesh (T×3 triangles) that claims 6-node triangles",
+           edited(m, lambda f: f["/mesh"].attrs.__setitem__("element", "p2")))
     h5case("mesh", "mesh-subdomain-cell-high.h5", "input", "/mesh/subdomain_cell", "a subdomain of cell 7 of 1",
            edited(m, lambda f: f["/mesh/subdomain_cell"].__setitem__(0, 7)))
     h5case("mesh", "mesh-subdomain-fibre-flags.h5", "input", "/mesh/subdomain_is_fibre",

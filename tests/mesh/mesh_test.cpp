@@ -7,6 +7,9 @@
 #include <cmath>
 #include <map>
 #include <numbers>
+#include <set>
+
+#include "fem/element.hpp"
 
 namespace dualcell::mesh {
 namespace {
@@ -77,7 +80,7 @@ TEST(Mesh, AreasSumToTheBlockAndAreCounterClockwise) {
     const Mesh m = build_mesh(geometry(ex, ey, k, r, dx, -dx / 2));
     double total = 0;
     for (int t = 0; t < static_cast<int>(m.triangles.size()); ++t) {
-      const double area = triangle_area(m, t);
+      const double area = corner_area(m, t);
       ASSERT_GT(area, 0) << "triangle " << t << " is clockwise or degenerate";
       total += area;
     }
@@ -89,7 +92,7 @@ TEST(Mesh, AreasSumToTheBlockAndAreCounterClockwise) {
 // Area of the fibre subdomain of cell 0.
 double fibre_area(const Mesh& m) {
   double area = 0;
-  for (int t = m.subdomains[1].triangle_begin; t < m.subdomains[1].triangle_end; ++t) area += triangle_area(m, t);
+  for (int t = m.subdomains[1].triangle_begin; t < m.subdomains[1].triangle_end; ++t) area += corner_area(m, t);
   return area;
 }
 
@@ -114,12 +117,67 @@ TEST(Mesh, FibreAreaConvergesLikeAnInscribedPolygon) {
   }
 }
 
+Geometry quadratic(Geometry g) {
+  g.element = Element::p2;
+  return g;
+}
+
+TEST(Mesh, QuadraticMeshHasTheNodesAndPairsOfTheLinearMeshOfTwiceTheDegree) {
+  for (auto [ex, ey, k] : {std::array{1, 1, 1}, {3, 2, 2}}) {
+    const Mesh p2 = build_mesh(quadratic(geometry(ex, ey, k, 0.3, 0.05, -0.02)));
+    const Mesh p1 = build_mesh(geometry(ex, ey, 2 * k, 0.3, 0.05, -0.02));
+    EXPECT_EQ(p2.nodes, p1.nodes);  // bitwise: the same fine grid and map
+    EXPECT_EQ(p2.interface_pairs, p1.interface_pairs);
+    EXPECT_EQ(p2.glue_pairs, p1.glue_pairs);
+    EXPECT_EQ(p2.triangles.width(), 6);
+    EXPECT_EQ(4 * p2.triangles.size(), p1.triangles.size());
+    // Every mid-side node is a node of the triangle's own subdomain, distinct from its corners.
+    for (std::size_t t = 0; t < p2.triangles.size(); ++t) {
+      const auto tri = p2.triangles[t];
+      const Subdomain& sub = p2.subdomains[p2.triangle_subdomain[t]];
+      for (int v : tri) EXPECT_TRUE(v >= sub.node_begin && v < sub.node_end);
+      EXPECT_EQ(std::set<int>(tri.begin(), tri.end()).size(), 6u);
+      EXPECT_GT(corner_area(p2, static_cast<int>(t)), 0);
+    }
+    // Boundary edges: the middle node half-way between the ends.
+    for (const auto& side : p2.boundary_edges)
+      for (const auto& [a, b, mid] : side)
+        EXPECT_NEAR((p2.nodes[mid] - (p2.nodes[a] + p2.nodes[b]) / 2).norm(), 0, 1e-15);
+  }
+}
+
+TEST(Mesh, QuadraticAreasSumToTheBlockAndTheFibreConvergesLikeH4) {
+  // The fibre's p2 boundary is made of parabolas through three points of the circle each:
+  // its area error falls like 1/m⁴ with m = 8k edges (ratio 16 per doubling), against 1/m² for
+  // the inscribed polygon; fibre and hole share those parabolas, so the block's area is exact.
+  const double r = 0.4;
+  double previous_error = 0;
+  for (int k : {1, 2, 4, 8}) {
+    const Mesh m = build_mesh(quadratic(geometry(1, 1, k, r)));
+    double total = 0, fibre = 0;
+    for (int t = 0; t < static_cast<int>(m.triangles.size()); ++t) {
+      std::vector<Eigen::Vector2d> x;
+      for (int v : m.triangles[t]) x.push_back(m.nodes[v]);
+      const double area = fem::element_area(x);
+      total += area;
+      if (m.subdomains[m.triangle_subdomain[t]].is_fibre) fibre += area;
+    }
+    EXPECT_NEAR(total, 1.0, 1e-13);
+    const double error = std::abs(std::numbers::pi * r * r - fibre);
+    if (previous_error > 0) {
+      EXPECT_NEAR(previous_error / error, 16, 1) << "k = " << k;
+    }
+    previous_error = error;
+  }
+}
+
 TEST(Mesh, BoundaryEdgesCoverThePerimeterWithOutwardNormals) {
   const Mesh m = build_mesh(geometry(3, 2, 2, 0.3));
   const Eigen::Vector2d outward[4] = {{-1, 0}, {1, 0}, {0, -1}, {0, 1}};
   for (int side = 0; side < 4; ++side) {
     double length = 0;
-    for (const auto& [a, b] : m.boundary_edges[side]) {
+    for (const auto& [a, b, mid] : m.boundary_edges[side]) {
+      EXPECT_EQ(mid, -1);
       const Eigen::Vector2d e = m.nodes[b] - m.nodes[a];
       length += e.norm();
       const Eigen::Vector2d normal(e.y(), -e.x());
