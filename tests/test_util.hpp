@@ -51,11 +51,13 @@ inline CommandResult run_command(const std::string& command) {
 inline std::string bin(const std::string& stage) { return std::string(DUALCELL_BIN_DIR) + "/" + stage; }
 inline std::string source_dir() { return DUALCELL_SOURCE_DIR; }
 
-// A small valid scene with inline materials; `extra` is appended (tables or keys).
+// A small valid scene with inline materials; `extra` is appended (tables or keys); `element`
+// ("p1", "p2") is written into [geometry] when given.
 inline std::string scene_text(int ex = 1, int ey = 1, int degree = 2, double radius = 0.3,
-                              const std::string& extra = "") {
+                              const std::string& extra = "", const std::string& element = "") {
   return "[geometry]\ncells = [" + std::to_string(ex) + ", " + std::to_string(ey) +
          "]\ncell_size = 1.0\nfibre_radius = " + std::to_string(radius) + "\ndegree = " + std::to_string(degree) +
+         (element.empty() ? "" : "\nelement = \"" + element + "\"") +
          "\n\n[fibre]\nE = 100.0\nnu = 0.2\n\n[matrix]\nE = 1.0\nnu = 0.35\n" + extra;
 }
 

@@ -116,10 +116,13 @@ def deformed(solution, outbase):
     largest = abs(u).max()
     scale = 0.12 * size / largest if largest > 0 else 1.0
     x = nodes + scale * u
+    # The outline of each triangle: corners for 3-node triangles; for 6-node ones corner, mid-side
+    # node, corner, ... (rows: corners 0, 1, 2, then the middles of (0,1), (1,2), (2,0)), so that
+    # curved rim edges show as two chords.
+    outline = [0, 1, 2, 0] if tri.shape[1] == 3 else [0, 3, 1, 4, 2, 5, 0]
     lines = {0: [], 1: []}
     for t, s in zip(tri, sub):
-        a, b, c = (x[k] for k in t)
-        lines[int(s) % 2].append("{:.8g} {:.8g}\n{:.8g} {:.8g}\n{:.8g} {:.8g}\n{:.8g} {:.8g}\n\n".format(*a, *b, *c, *a))
+        lines[int(s) % 2].append("".join("{:.8g} {:.8g}\n".format(*x[t[k]]) for k in outline) + "\n")
     data = {"matrix.dat": "".join(lines[0]), "fibre.dat": "".join(lines[1])}
     script = ("set title 'Deformed mesh at σ̄ = ({:.3g}, {:.3g}, {:.3g}), displacements × {:.3g}'\n".format(*stress, scale) +
               "set size ratio -1\nunset key\nset xlabel 'x'\nset ylabel 'y'\n"

@@ -13,8 +13,9 @@
 // Quadratic (p2) meshes of degree k are built on the grid of degree 2k: every quad of the
 // degree-k grid is a 2×2 block of the fine grid, whose corner nodes are the triangle corners
 // (the same points as the p1 mesh of degree k) and whose edge midpoints and centre are the
-// mid-side nodes. The mid-side nodes come from the same map as the corners, so those on the
-// fibre rim and on the hole lie on the exact circle (isoparametric: curved interface edges).
+// mid-side nodes. Those on the fibre rim and on the hole come from the map, so they lie on the
+// exact circle (isoparametric: curved interface edges); every other mid-side node sits at the
+// midpoint of its edge (straight edges; the cell edges are straight anyway).
 //
 // Interface pairs (fibre node, matrix node) coincide exactly, and so do glue pairs
 // (matrix nodes of neighbouring cells on a shared edge; at a cross point of four cells only

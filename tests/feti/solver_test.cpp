@@ -14,9 +14,20 @@
 namespace dualcell::feti {
 namespace {
 
-Scene make_scene(int ex, int ey, int degree, Boundary boundary, double Ef, double Em, double strength,
-                 double tolerance = 1e-10) {
+// Every test here runs for both element orders (the same degree: p2 has the nodes of p1 at 2k).
+class ContactSolverOrders : public ::testing::TestWithParam<Element> {
+ protected:
+  Scene make_scene(int ex, int ey, int degree, Boundary boundary, double Ef, double Em, double strength,
+                   double tolerance = 1e-10) const;
+  int order() const { return element_order(GetParam()); }
+};
+INSTANTIATE_TEST_SUITE_P(Order, ContactSolverOrders, ::testing::Values(Element::p1, Element::p2),
+                         [](const auto& info) { return std::string(to_string(info.param)); });
+
+Scene ContactSolverOrders::make_scene(int ex, int ey, int degree, Boundary boundary, double Ef, double Em,
+                                      double strength, double tolerance) const {
   Scene s = parse_scene(testing::scene_text(ex, ey, degree, 0.3), "test.toml");
+  s.geometry.element = GetParam();
   s.fibre = {Ef, 0.2};
   s.matrix = {Em, 0.35};
   s.load.boundary = boundary;
@@ -34,7 +45,7 @@ double relative_difference(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
 // (≈ 1e2 for these meshes), leaving two orders of margin. Contrast up to 1e4 here (measured
 // 2e-11 at 1e4) and soft fibres down to 1e-3; beyond 1e4 round-off grows with the contrast
 // (3e-8 at 1e6, traction), which the stiff/extreme-case study tracks.
-TEST(ContactSolver, BondedEqualsMonolithicPrimalForEveryBoundary) {
+TEST_P(ContactSolverOrders, BondedEqualsMonolithicPrimalForEveryBoundary) {
   for (Boundary boundary : {Boundary::symmetry, Boundary::traction, Boundary::periodic}) {
     for (double Ef : {1e-3, 1.0, 50.0, 1e4}) {
       const Scene scene = make_scene(2, 2, 2, boundary, Ef, 1.0, 1e12);
@@ -73,8 +84,9 @@ TEST(ContactSolver, BondedEqualsMonolithicPrimalForEveryBoundary) {
 // past the primal check (measured: penetration 6.0e-9 > 1.7e-9). The solver tightens the dual
 // tolerance until the check holds, and the result is the one-body solve's. Strain against the
 // monolithic solve to 1e-6: the primal check bounds the jumps by 100·tolerance·‖u‖∞ = 1e-6‖u‖∞.
-TEST(ContactSolver, TightensTheDualToleranceUntilThePrimalCheckHolds) {
+TEST_P(ContactSolverOrders, TightensTheDualToleranceUntilThePrimalCheckHolds) {
   Scene scene = parse_scene(testing::scene_text(1, 1, 4, 0.45), "test.toml");
+  scene.geometry.element = GetParam();
   scene.fibre = {1e6, 0.22};
   scene.matrix = {1.0, 0.35};
   scene.load.boundary = Boundary::periodic;
@@ -100,7 +112,7 @@ TEST(ContactSolver, TightensTheDualToleranceUntilThePrimalCheckHolds) {
   EXPECT_EQ(p.qp_tolerance, scene.solver.tolerance);
 }
 
-TEST(ContactSolver, ResultsDoNotDependOnTheThreadCount) {
+TEST_P(ContactSolverOrders, ResultsDoNotDependOnTheThreadCount) {
   for (Preconditioner p : {Preconditioner::none, Preconditioner::lumped, Preconditioner::dirichlet}) {
     Scene scene = make_scene(3, 2, 2, Boundary::periodic, 20, 1, 0.05, 1e-9);
     scene.solver.preconditioner = p;
@@ -128,7 +140,7 @@ TEST(ContactSolver, ResultsDoNotDependOnTheThreadCount) {
 // at contrast 1e4 on every boundary, and contact without adhesion against the unpreconditioned
 // solve (λ to 1e-6 relative: two solves stopped at a projected gradient of 1e-10 relative, the
 // difference amplified by cond(PFP) ≈ 1e2 on the free face and by the active-set boundary).
-TEST(ContactSolver, PreconditionersGiveTheSameSolution) {
+TEST_P(ContactSolverOrders, PreconditionersGiveTheSameSolution) {
   for (Preconditioner p : {Preconditioner::lumped, Preconditioner::dirichlet}) {
     for (Boundary boundary : {Boundary::symmetry, Boundary::traction, Boundary::periodic}) {
       Scene scene = make_scene(2, 2, 2, boundary, 1e4, 1.0, 1e12);
@@ -158,7 +170,7 @@ TEST(ContactSolver, PreconditionersGiveTheSameSolution) {
 
 // The preconditioners must pay in iterations where theory says they do: a bonded (linear) block
 // at a fine degree, where unpreconditioned FETI grows with H/h. Counts, not times.
-TEST(ContactSolver, PreconditionersReduceIterationsAtFineDegree) {
+TEST_P(ContactSolverOrders, PreconditionersReduceIterationsAtFineDegree) {
   std::map<Preconditioner, long> applications;
   for (Preconditioner p : {Preconditioner::none, Preconditioner::lumped, Preconditioner::dirichlet}) {
     Scene scene = make_scene(2, 2, 6, Boundary::traction, 100, 1, 1e12, 1e-8);
@@ -174,19 +186,20 @@ TEST(ContactSolver, PreconditionersReduceIterationsAtFineDegree) {
   EXPECT_LE(applications[Preconditioner::dirichlet], 0.6 * applications[Preconditioner::none]);
 }
 
-TEST(ContactSolver, DimensionsOneCellWithoutAdhesion) {
+TEST_P(ContactSolverOrders, DimensionsOneCellWithoutAdhesion) {
   // One cell, no adhesion: no glue rows, no tangential rows: dim λ = contact pairs + boundary rows.
   const Scene scene = make_scene(1, 1, 3, Boundary::symmetry, 100, 1, 0);
   const mesh::Mesh m = mesh::build_mesh(scene.geometry);
   ContactSolver solver(m, scene);
   const Solution s = solver.solve_fixed({-1, 0, 0}, solver.intact());
-  const int boundary_rows = 2 * (4 * 3 + 1);  // u_x on the left edge, u_y on the bottom edge
-  EXPECT_EQ(s.n_rows, 24 + boundary_rows);
+  const int k = 3 * order();                  // nodes per edge 4k + 1, rim pairs 8k
+  const int boundary_rows = 2 * (4 * k + 1);  // u_x on the left edge, u_y on the bottom edge
+  EXPECT_EQ(s.n_rows, 8 * k + boundary_rows);
   EXPECT_TRUE(s.converged());
 }
 
 // Without adhesion: KKT holds, tension is softer than compression, positively homogeneous.
-TEST(ContactSolver, NoAdhesionKktBimodularAndHomogeneous) {
+TEST_P(ContactSolverOrders, NoAdhesionKktBimodularAndHomogeneous) {
   const Scene scene = make_scene(2, 2, 2, Boundary::symmetry, 100, 1, 0, 1e-9);
   const mesh::Mesh m = mesh::build_mesh(scene.geometry);
   ContactSolver solver(m, scene);
@@ -220,7 +233,7 @@ TEST(ContactSolver, NoAdhesionKktBimodularAndHomogeneous) {
 // same block with empty holes, solved as one body on the same mesh. Uniaxial tension: the hole
 // contracts across the load (Poisson) and pinches the fibre at its poles, so the modulus lies
 // between the holes' and the bonded one, and contact sits where the normal is across the load.
-TEST(ContactSolver, TensionAgainstHolesAndBonded) {
+TEST_P(ContactSolverOrders, TensionAgainstHolesAndBonded) {
   for (Boundary boundary : {Boundary::symmetry, Boundary::periodic}) {
     const Scene scene = make_scene(2, 2, 3, boundary, 100, 1, 0, 1e-10);
     const mesh::Mesh m = mesh::build_mesh(scene.geometry);
@@ -289,7 +302,7 @@ TEST(ContactSolver, TensionAgainstHolesAndBonded) {
   }
 }
 
-TEST(ContactSolver, DebondOnsetIsExact) {
+TEST_P(ContactSolverOrders, DebondOnsetIsExact) {
   Scene scene = make_scene(1, 1, 2, Boundary::traction, 10, 1, 0.05);
   const mesh::Mesh m = mesh::build_mesh(scene.geometry);
   ContactSolver solver(m, scene);
@@ -308,7 +321,7 @@ TEST(ContactSolver, DebondOnsetIsExact) {
 // onset problem instead of being glued in tension. Under equibiaxial tension the gaps open and
 // only the shear of the square cell's non-radial hole deformation loads the bonds; the onset
 // must still be exact there and under uniaxial tension.
-TEST(ContactSolver, DebondOnsetWithShearStrengthOnly) {
+TEST_P(ContactSolverOrders, DebondOnsetWithShearStrengthOnly) {
   Scene scene = make_scene(1, 1, 2, Boundary::traction, 10, 1, 0);
   scene.interface.tangential_strength = 0.05;
   const mesh::Mesh m = mesh::build_mesh(scene.geometry);
@@ -324,7 +337,7 @@ TEST(ContactSolver, DebondOnsetWithShearStrengthOnly) {
 // Strengths are per unit length and become nodal bounds through the lumped interface length:
 // the onset load converges with the degree instead of scaling with the node spacing (per-node
 // strengths would double it from k = 2 to k = 4).
-TEST(ContactSolver, DebondOnsetDoesNotDependOnTheMesh) {
+TEST_P(ContactSolverOrders, DebondOnsetDoesNotDependOnTheMesh) {
   std::vector<double> onset;
   for (int k : {2, 4, 5}) {
     Scene scene = make_scene(1, 1, k, Boundary::traction, 10, 1, 0.05);

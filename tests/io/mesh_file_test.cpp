@@ -13,9 +13,13 @@
 namespace dualcell::io {
 namespace {
 
-TEST(MeshFile, RoundTripKeepsEverything) {
+class MeshFileOrders : public ::testing::TestWithParam<Element> {};
+INSTANTIATE_TEST_SUITE_P(Order, MeshFileOrders, ::testing::Values(Element::p1, Element::p2),
+                         [](const auto& info) { return std::string(to_string(info.param)); });
+
+TEST_P(MeshFileOrders, RoundTripKeepsEverything) {
   testing::ScratchDir dir;
-  const Scene scene = parse_scene(testing::scene_text(3, 2, 2, 0.3), dir / "s.toml");
+  const Scene scene = parse_scene(testing::scene_text(3, 2, 2, 0.3, "", to_string(GetParam())), dir / "s.toml");
   const mesh::Mesh m = mesh::build_mesh(scene.geometry);
   write_mesh(m, scene, dir / "mesh.h5");
   EXPECT_TRUE(std::filesystem::exists(dir / "mesh.xdmf"));
@@ -31,32 +35,46 @@ TEST(MeshFile, RoundTripKeepsEverything) {
   Scene other = scene;
   other.geometry.degree = 3;
   EXPECT_EQ(geometry_mismatch(back.mesh, other), "[geometry] degree: mesh 2, scene 3");
+  other = scene;
+  other.geometry.element = GetParam() == Element::p1 ? Element::p2 : Element::p1;
+  EXPECT_EQ(geometry_mismatch(back.mesh, other), std::string("[geometry] element: mesh ") + to_string(GetParam()) +
+                                                     ", scene " + to_string(other.geometry.element));
   // No temporaries left behind.
   int files = 0;
   for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(dir.path())) ++files;
   EXPECT_EQ(files, 2);  // mesh.h5 and mesh.xdmf, no temporaries
 }
 
-TEST(MeshFile, XdmfOpensInMeshioWithSubdomainField) {
+// meshio reads p1 meshes as `triangle` and p2 as `triangle6` cells (XDMF Triangle_6), with the
+// node order of /mesh/triangles: the first cell's nodes come back as written.
+TEST_P(MeshFileOrders, XdmfOpensInMeshioWithSubdomainField) {
   testing::ScratchDir dir;
-  const Scene scene = parse_scene(testing::scene_text(2, 2, 1, 0.3), dir / "s.toml");
+  const Scene scene = parse_scene(testing::scene_text(2, 2, 1, 0.3, "", to_string(GetParam())), dir / "s.toml");
   const mesh::Mesh m = mesh::build_mesh(scene.geometry);
   write_mesh(m, scene, dir / "mesh.h5");
   // Debian's meshio lives in the system Python, not in any other python3 on PATH.
   const std::string script =
       "import meshio, sys\n"
       "m = meshio.read(sys.argv[1])\n"
-      "tri = m.cells_dict['triangle']\n"
+      "tri = m.cells_dict['" +
+      std::string(GetParam() == Element::p1 ? "triangle" : "triangle6") +
+      "']\n"
+      "assert tri.shape[1] == " +
+      std::to_string(m.triangles.width()) +
+      "\n"
+      "first = [int(v) for v in tri[0]]\n"
       "sub = m.cell_data['subdomain'][0]\n"
-      "print(len(m.points), len(tri), int(sub.max()) + 1, int(m.cell_data['is_fibre'][0].sum()))\n";
+      "print(len(m.points), len(tri), int(sub.max()) + 1, int(m.cell_data['is_fibre'][0].sum()), *first)\n";
   const auto py = dir.write("read.py", script);
   const auto r = testing::run_command("/usr/bin/python3 " + py.string() + " " + (dir / "mesh.xdmf").string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   int fibre_triangles = 0;
   for (const auto& s : m.subdomains)
     if (s.is_fibre) fibre_triangles += s.n_triangles();
+  std::string first;
+  for (int v : m.triangles[0]) first += " " + std::to_string(v);
   EXPECT_EQ(r.output, std::to_string(m.n_nodes()) + " " + std::to_string(m.triangles.size()) + " 8 " +
-                          std::to_string(fibre_triangles) + "\n");
+                          std::to_string(fibre_triangles) + first + "\n");
 }
 
 TEST(MeshFile, H5dumpReadsTheLayout) {

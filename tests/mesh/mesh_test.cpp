@@ -122,18 +122,34 @@ Geometry quadratic(Geometry g) {
   return g;
 }
 
-TEST(Mesh, QuadraticMeshHasTheNodesAndPairsOfTheLinearMeshOfTwiceTheDegree) {
+TEST(Mesh, QuadraticMeshHasTheNodeNumberingAndPairsOfTheLinearMeshOfTwiceTheDegree) {
   for (auto [ex, ey, k] : {std::array{1, 1, 1}, {3, 2, 2}}) {
     const Mesh p2 = build_mesh(quadratic(geometry(ex, ey, k, 0.3, 0.05, -0.02)));
     const Mesh p1 = build_mesh(geometry(ex, ey, 2 * k, 0.3, 0.05, -0.02));
-    EXPECT_EQ(p2.nodes, p1.nodes);  // bitwise: the same fine grid and map
+    ASSERT_EQ(p2.nodes.size(), p1.nodes.size());
+    // The same fine grid: corners, rim nodes and cell-edge nodes bitwise where they are; interior
+    // mid-side nodes moved to their edge's midpoint.
+    for (const auto& [f, mn] : p2.interface_pairs) {
+      EXPECT_EQ(p2.nodes[f], p1.nodes[f]);
+      EXPECT_EQ(p2.nodes[mn], p1.nodes[mn]);
+    }
+    for (const auto& [a, b] : p2.glue_pairs) EXPECT_EQ(p2.nodes[a], p2.nodes[b]);  // bitwise
     EXPECT_EQ(p2.interface_pairs, p1.interface_pairs);
     EXPECT_EQ(p2.glue_pairs, p1.glue_pairs);
     EXPECT_EQ(p2.triangles.width(), 6);
     EXPECT_EQ(4 * p2.triangles.size(), p1.triangles.size());
-    // Every mid-side node is a node of the triangle's own subdomain, distinct from its corners.
+    // Every mid-side node is a node of the triangle's own subdomain, distinct from its corners;
+    // off the rim it is its edge's midpoint, on the rim it is on the circle.
+    std::set<int> rim;
+    for (const auto& [f, mn] : p2.interface_pairs) rim.insert({f, mn});
     for (std::size_t t = 0; t < p2.triangles.size(); ++t) {
       const auto tri = p2.triangles[t];
+      for (int e = 0; e < 3; ++e) {
+        const Eigen::Vector2d middle = (p2.nodes[tri[e]] + p2.nodes[tri[(e + 1) % 3]]) / 2;
+        if (!rim.count(tri[3 + e])) {
+          EXPECT_NEAR((p2.nodes[tri[3 + e]] - middle).norm(), 0, 1e-15);
+        }
+      }
       const Subdomain& sub = p2.subdomains[p2.triangle_subdomain[t]];
       for (int v : tri) EXPECT_TRUE(v >= sub.node_begin && v < sub.node_end);
       EXPECT_EQ(std::set<int>(tri.begin(), tri.end()).size(), 6u);

@@ -13,8 +13,9 @@ namespace dualcell::sweep {
 namespace {
 
 Scene make_scene(int cells, int degree, double radius, Boundary boundary, double Ef, double Em, double strength,
-                 std::vector<double> directions, std::vector<double> magnitudes) {
+                 std::vector<double> directions, std::vector<double> magnitudes, Element element = Element::p1) {
   Scene s = parse_scene(testing::scene_text(cells, cells, degree, radius), "test.toml");
+  s.geometry.element = element;
   s.fibre = {Ef, 0.2};
   s.matrix = {Em, 0.35};
   s.load.boundary = boundary;
@@ -54,8 +55,12 @@ TEST(Sweep, PlansPathsAndRefusesDirectionsTheBoundaryCannotCarry) {
   EXPECT_EQ(plan_paths(s).size(), 6u);
 }
 
-TEST(Sweep, WithoutAdhesionLinearBimodularAndDirectional) {
-  const Scene scene = make_scene(1, 2, 0.35, Boundary::traction, 100, 1, 0, {0, 45, 90}, {-2, -1, 1, 2, 3});
+class SweepOrders : public ::testing::TestWithParam<Element> {};
+INSTANTIATE_TEST_SUITE_P(Order, SweepOrders, ::testing::Values(Element::p1, Element::p2),
+                         [](const auto& info) { return std::string(to_string(info.param)); });
+
+TEST_P(SweepOrders, WithoutAdhesionLinearBimodularAndDirectional) {
+  const Scene scene = make_scene(1, 2, 0.35, Boundary::traction, 100, 1, 0, {0, 45, 90}, {-2, -1, 1, 2, 3}, GetParam());
   const mesh::Mesh m = mesh::build_mesh(scene.geometry);
   feti::ContactSolver solver(m, scene);
   std::vector<PathResult> results;
@@ -88,8 +93,8 @@ TEST(Sweep, WithoutAdhesionLinearBimodularAndDirectional) {
 }
 
 // The thesis' tension fuse (scenes/fuse.toml) on a smaller block: stiff fibres, weak adhesion, tension along x.
-TEST(Sweep, AdhesionBondedBelowOnsetThenAFuse) {
-  const Scene scene = make_scene(2, 2, 0.4, Boundary::symmetry, 1e5, 1e3, 10, {0}, {3, 6.5});
+TEST_P(SweepOrders, AdhesionBondedBelowOnsetThenAFuse) {
+  const Scene scene = make_scene(2, 2, 0.4, Boundary::symmetry, 1e5, 1e3, 10, {0}, {3, 6.5}, GetParam());
   const mesh::Mesh m = mesh::build_mesh(scene.geometry);
   feti::ContactSolver solver(m, scene);
   const auto paths = plan_paths(scene);
