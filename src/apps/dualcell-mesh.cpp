@@ -33,11 +33,12 @@ int main(int argc, char** argv) {
     if (quiet) return;
     const Geometry& g = m.geometry;
     std::printf("dualcell-mesh: %s -> %s\n", config.c_str(), out.c_str());
-    std::printf("  cells            %d x %d (cell size %g, fibre radius %g, offset [%g, %g], degree %d)\n", g.cells[0],
-                g.cells[1], g.cell_size, g.fibre_radius, g.fibre_offset[0], g.fibre_offset[1], g.degree);
+    std::printf("  cells            %d x %d (cell size %g, fibre radius %g, offset [%g, %g], degree %d, %s)\n",
+                g.cells[0], g.cells[1], g.cell_size, g.fibre_radius, g.fibre_offset[0], g.fibre_offset[1], g.degree,
+                to_string(g.element));
     std::printf("  subdomains       %zu (%d fibre + %d matrix)\n", m.subdomains.size(), m.n_cells(), m.n_cells());
     std::printf("  nodes            %d\n", m.n_nodes());
-    std::printf("  triangles        %zu\n", m.triangles.size());
+    std::printf("  triangles        %zu (%d nodes each)\n", m.triangles.size(), m.triangles.width());
     std::printf("  interface pairs  %zu\n", m.interface_pairs.size());
     std::printf("  glue pairs       %zu\n", m.glue_pairs.size());
     std::printf("  minimum angle    %.2f deg\n", mesh::minimum_angle_deg(m));

@@ -60,16 +60,16 @@ Eigen::MatrixXd rigid_body_modes(const mesh::Mesh& mesh, int s) {
 
 void add_edge_traction(const mesh::Mesh& mesh, const mesh::Edge& edge, const Eigen::Vector2d& t_a,
                        const Eigen::Vector2d& t_b, Eigen::VectorXd& f) {
-  // ∫ N_i t ds with t linear in the edge parameter s and ds = |x'(s)| ds.
+  // ∫ φ_i t ds with t linear in the edge parameter s and ds = |x'(s)| ds.
   int v[3];
   const int n = edge_nodes(edge, v);
   for (const EdgePoint& q : edge_rule()) {
-    double N[3], dN[3];
-    edge_shape(n, q.s, N, dN);
+    double phi[3], dphi[3];
+    edge_shape(n, q.s, phi, dphi);
     Eigen::Vector2d dx = Eigen::Vector2d::Zero();
-    for (int i = 0; i < n; ++i) dx += dN[i] * mesh.nodes[v[i]];
+    for (int i = 0; i < n; ++i) dx += dphi[i] * mesh.nodes[v[i]];
     const Eigen::Vector2d t = (1 - q.s) * t_a + q.s * t_b;
-    for (int i = 0; i < n; ++i) f.segment<2>(2 * v[i]) += (q.weight * dx.norm() * N[i]) * t;
+    for (int i = 0; i < n; ++i) f.segment<2>(2 * v[i]) += (q.weight * dx.norm() * phi[i]) * t;
   }
 }
 
@@ -77,11 +77,11 @@ std::array<double, 3> edge_weights(std::span<const Eigen::Vector2d> x) {
   const int n = static_cast<int>(x.size());
   std::array<double, 3> w{0, 0, 0};
   for (const EdgePoint& q : edge_rule()) {
-    double N[3], dN[3];
-    edge_shape(n, q.s, N, dN);
+    double phi[3], dphi[3];
+    edge_shape(n, q.s, phi, dphi);
     Eigen::Vector2d dx = Eigen::Vector2d::Zero();
-    for (int i = 0; i < n; ++i) dx += dN[i] * x[i];
-    for (int i = 0; i < n; ++i) w[i] += q.weight * dx.norm() * N[i];
+    for (int i = 0; i < n; ++i) dx += dphi[i] * x[i];
+    for (int i = 0; i < n; ++i) w[i] += q.weight * dx.norm() * phi[i];
   }
   return w;
 }
@@ -93,12 +93,12 @@ Eigen::Matrix2d edge_moment(const mesh::Mesh& mesh, const mesh::Edge& edge, cons
   const int n = edge_nodes(edge, v);
   Eigen::Matrix2d H = Eigen::Matrix2d::Zero();
   for (const EdgePoint& q : edge_rule()) {
-    double N[3], dN[3];
-    edge_shape(n, q.s, N, dN);
+    double phi[3], dphi[3];
+    edge_shape(n, q.s, phi, dphi);
     Eigen::Vector2d dx = Eigen::Vector2d::Zero(), u_q = Eigen::Vector2d::Zero();
     for (int i = 0; i < n; ++i) {
-      dx += dN[i] * mesh.nodes[v[i]];
-      u_q += N[i] * u.segment<2>(2 * v[i]);
+      dx += dphi[i] * mesh.nodes[v[i]];
+      u_q += phi[i] * u.segment<2>(2 * v[i]);
     }
     H += q.weight * u_q * Eigen::Vector2d(dx.y(), -dx.x()).transpose();
   }
@@ -112,10 +112,10 @@ void add_body_force(const mesh::Mesh& mesh, int s, const Eigen::Vector2d& body_f
     const auto tri = mesh.triangles[t];
     const std::vector<Eigen::Vector2d> x = mesh::triangle_points(mesh, t);
     for (const TrianglePoint& q : triangle_rule()) {
-      double N[6], dxi[6], deta[6], det_J;
-      triangle_shape(n, q.xi, q.eta, N, dxi, deta);
-      strain_displacement_at(x, q.xi, q.eta, det_J);
-      for (int i = 0; i < n; ++i) f.segment<2>(2 * tri[i]) += (q.weight * std::abs(det_J) * N[i]) * body_force;
+      double phi[6], dL1[6], dL2[6], det_J;
+      triangle_shape(n, q.L1, q.L2, phi, dL1, dL2);
+      strain_displacement_at(x, q.L1, q.L2, det_J);
+      for (int i = 0; i < n; ++i) f.segment<2>(2 * tri[i]) += (q.weight * std::abs(det_J) * phi[i]) * body_force;
     }
   }
 }
@@ -142,7 +142,7 @@ ElementStresses element_stresses(const mesh::Mesh& mesh, const Material& fibre, 
     Eigen::Vector3d integral = Eigen::Vector3d::Zero();
     double area = 0;
     for (const TrianglePoint& q : triangle_rule()) {
-      const Eigen::MatrixXd B = strain_displacement_at(x, q.xi, q.eta, det_J);
+      const Eigen::MatrixXd B = strain_displacement_at(x, q.L1, q.L2, det_J);
       integral += (q.weight * std::abs(det_J)) * (D * (B * ue));
       area += q.weight * std::abs(det_J);
     }

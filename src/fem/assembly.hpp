@@ -22,13 +22,13 @@ Eigen::SparseMatrix<double> assemble_stiffness(const mesh::Mesh& mesh, int s, co
 // centroid as centre the three columns are orthogonal before normalisation.
 Eigen::MatrixXd rigid_body_modes(const mesh::Mesh& mesh, int s);
 
-// Consistent nodal forces ∫ N_i t ds of a traction varying linearly (in the edge parameter)
+// Consistent nodal forces ∫ φ_i t ds of a traction varying linearly (in the edge parameter)
 // from t_a at end a to t_b at end b of a boundary edge (2 or 3 nodes), added to the global
 // vector f (size dim u).
 void add_edge_traction(const mesh::Mesh& mesh, const mesh::Edge& edge, const Eigen::Vector2d& t_a,
                        const Eigen::Vector2d& t_b, Eigen::VectorXd& f);
 
-// Consistent nodal forces ∫ N_i b dA of a constant body force (per unit area) over subdomain s.
+// Consistent nodal forces ∫ φ_i b dA of a constant body force (per unit area) over subdomain s.
 void add_body_force(const mesh::Mesh& mesh, int s, const Eigen::Vector2d& body_force, Eigen::VectorXd& f);
 
 // ∫ N_p ds over the edge with nodes x (2: straight, 3: a, b, mid on a parabola), per node: the
@@ -40,7 +40,7 @@ std::array<double, 3> edge_weights(std::span<const Eigen::Vector2d> x);
 Eigen::Matrix2d edge_moment(const mesh::Mesh& mesh, const mesh::Edge& edge, const Eigen::VectorXd& u);
 
 // Stresses of every triangle (Voigt: σxx, σyy, σxy) from the global displacement u, with each
-// triangle's subdomain material: at the centroid (ξ = η = ⅓) and the volume average
+// triangle's subdomain material: at the centroid (L₁ = L₂ = ⅓) and the volume average
 // (1/A) ∫ σ dA; the two agree for p1 (constant strain). `area` is each triangle's area.
 struct ElementStresses {
   Eigen::MatrixXd centroid;  // T × 3

@@ -15,7 +15,7 @@ Eigen::Matrix3d plane_strain_D(const Material& m) {
 
 Matrix36 strain_displacement(const Eigen::Vector2d& p0, const Eigen::Vector2d& p1, const Eigen::Vector2d& p2,
                              double& area) {
-  // Shape function gradients: ∇N_i = (y_j - y_k, x_k - x_j) / (2A) for (i, j, k) cyclic.
+  // Shape function gradients: ∇φ_i = (y_j - y_k, x_k - x_j) / (2A) for (i, j, k) cyclic.
   const double two_area = (p1.x() - p0.x()) * (p2.y() - p0.y()) - (p2.x() - p0.x()) * (p1.y() - p0.y());
   area = 0.5 * two_area;
   const double b[3] = {p1.y() - p2.y(), p2.y() - p0.y(), p0.y() - p1.y()};
@@ -55,45 +55,45 @@ const std::array<TrianglePoint, 6>& triangle_rule() {
   return rule;
 }
 
-void triangle_shape(int n, double xi, double eta, double* N, double* dN_dxi, double* dN_deta) {
-  // Barycentric L0 = 1 − ξ − η, L1 = ξ, L2 = η.
-  const double L[3] = {1 - xi - eta, xi, eta};
+void triangle_shape(int n, double L1, double L2, double* phi, double* dphi_dL1, double* dphi_dL2) {
+  // Barycentric coordinates L0 = 1 − L1 − L2, L1, L2 (L1, L2 also the reference coordinates).
+  const double L[3] = {1 - L1 - L2, L1, L2};
   const double dL_dxi[3] = {-1, 1, 0}, dL_deta[3] = {-1, 0, 1};
   if (n == 3) {
     for (int i = 0; i < 3; ++i) {
-      N[i] = L[i];
-      dN_dxi[i] = dL_dxi[i];
-      dN_deta[i] = dL_deta[i];
+      phi[i] = L[i];
+      dphi_dL1[i] = dL_dxi[i];
+      dphi_dL2[i] = dL_deta[i];
     }
     return;
   }
-  // Corners N_i = L_i (2 L_i − 1); mid-side of edge (i, j): N = 4 L_i L_j.
+  // Corners φ_i = L_i (2 L_i − 1); mid-side of edge (i, j): φ = 4 L_i L_j.
   for (int i = 0; i < 3; ++i) {
-    N[i] = L[i] * (2 * L[i] - 1);
-    dN_dxi[i] = (4 * L[i] - 1) * dL_dxi[i];
-    dN_deta[i] = (4 * L[i] - 1) * dL_deta[i];
+    phi[i] = L[i] * (2 * L[i] - 1);
+    dphi_dL1[i] = (4 * L[i] - 1) * dL_dxi[i];
+    dphi_dL2[i] = (4 * L[i] - 1) * dL_deta[i];
     const int j = (i + 1) % 3;
-    N[3 + i] = 4 * L[i] * L[j];
-    dN_dxi[3 + i] = 4 * (dL_dxi[i] * L[j] + L[i] * dL_dxi[j]);
-    dN_deta[3 + i] = 4 * (dL_deta[i] * L[j] + L[i] * dL_deta[j]);
+    phi[3 + i] = 4 * L[i] * L[j];
+    dphi_dL1[3 + i] = 4 * (dL_dxi[i] * L[j] + L[i] * dL_dxi[j]);
+    dphi_dL2[3 + i] = 4 * (dL_deta[i] * L[j] + L[i] * dL_deta[j]);
   }
 }
 
-Eigen::MatrixXd strain_displacement_at(std::span<const Eigen::Vector2d> x, double xi, double eta, double& det_J) {
+Eigen::MatrixXd strain_displacement_at(std::span<const Eigen::Vector2d> x, double L1, double L2, double& det_J) {
   const int n = static_cast<int>(x.size());
-  double N[6], dxi[6], deta[6];
-  triangle_shape(n, xi, eta, N, dxi, deta);
-  // J = ∂x/∂(ξ, η): column 0 = Σ x_i dN_i/dξ, column 1 = Σ x_i dN_i/dη.
+  double phi[6], dL1[6], dL2[6];
+  triangle_shape(n, L1, L2, phi, dL1, dL2);
+  // J = ∂x/∂(L₁, L₂): column 0 = Σ x_i dφ_i/dL₁, column 1 = Σ x_i dφ_i/dL₂.
   Eigen::Matrix2d J = Eigen::Matrix2d::Zero();
   for (int i = 0; i < n; ++i) {
-    J.col(0) += x[i] * dxi[i];
-    J.col(1) += x[i] * deta[i];
+    J.col(0) += x[i] * dL1[i];
+    J.col(1) += x[i] * dL2[i];
   }
   det_J = J.determinant();
   const Eigen::Matrix2d J_inv_T = J.inverse().transpose();
   Eigen::MatrixXd B = Eigen::MatrixXd::Zero(3, 2 * n);
   for (int i = 0; i < n; ++i) {
-    const Eigen::Vector2d g = J_inv_T * Eigen::Vector2d(dxi[i], deta[i]);  // ∇N_i
+    const Eigen::Vector2d g = J_inv_T * Eigen::Vector2d(dL1[i], dL2[i]);  // ∇φ_i
     B(0, 2 * i) = g.x();
     B(1, 2 * i + 1) = g.y();
     B(2, 2 * i) = g.y();
@@ -107,7 +107,7 @@ Eigen::MatrixXd element_stiffness(std::span<const Eigen::Vector2d> x, const Eige
   Eigen::MatrixXd K = Eigen::MatrixXd::Zero(2 * x.size(), 2 * x.size());
   for (const TrianglePoint& q : triangle_rule()) {
     double det_J;
-    const Eigen::MatrixXd B = strain_displacement_at(x, q.xi, q.eta, det_J);
+    const Eigen::MatrixXd B = strain_displacement_at(x, q.L1, q.L2, det_J);
     K.noalias() += (q.weight * std::abs(det_J)) * B.transpose() * D * B;
   }
   return K;
@@ -117,20 +117,20 @@ double element_area(std::span<const Eigen::Vector2d> x) {
   double area = 0;
   for (const TrianglePoint& q : triangle_rule()) {
     double det_J;
-    strain_displacement_at(x, q.xi, q.eta, det_J);
+    strain_displacement_at(x, q.L1, q.L2, det_J);
     area += q.weight * std::abs(det_J);
   }
   return area;
 }
 
-void edge_shape(int n, double s, double* N, double* dN_ds) {
+void edge_shape(int n, double s, double* phi, double* dphi_ds) {
   if (n == 2) {
-    N[0] = 1 - s, N[1] = s;
-    dN_ds[0] = -1, dN_ds[1] = 1;
+    phi[0] = 1 - s, phi[1] = s;
+    dphi_ds[0] = -1, dphi_ds[1] = 1;
     return;
   }
-  N[0] = (1 - s) * (1 - 2 * s), N[1] = s * (2 * s - 1), N[2] = 4 * s * (1 - s);
-  dN_ds[0] = 4 * s - 3, dN_ds[1] = 4 * s - 1, dN_ds[2] = 4 - 8 * s;
+  phi[0] = (1 - s) * (1 - 2 * s), phi[1] = s * (2 * s - 1), phi[2] = 4 * s * (1 - s);
+  dphi_ds[0] = 4 * s - 3, dphi_ds[1] = 4 * s - 1, dphi_ds[2] = 4 - 8 * s;
 }
 
 const std::array<EdgePoint, 5>& edge_rule() {

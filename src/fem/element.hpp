@@ -7,7 +7,7 @@
 //   ε  = ∇ˢ u_e     (Voigt: εxx, εyy, γxy = 2εxy, engineering shear; ∇ˢ the 3 × 2n
 //                    strain-displacement matrix of the element's n nodes)
 //   K_e = ∫ ∇ˢᵀ D ∇ˢ dA  (unit thickness): exact A ∇ˢᵀ D ∇ˢ for p1; for p2 the 6-point
-//                    degree-4 rule on the reference triangle with the isoparametric map x(ξ, η)
+//                    degree-4 rule on the reference triangle with the isoparametric map x(L₁, L₂)
 //                    (exact for straight-sided elements, whose integrand is of degree 2)
 // Element DOFs are node-interleaved: (u0x, u0y, u1x, u1y, ...), nodes in the order of
 // mesh::Triangles (corners, then mid-sides of (0,1), (1,2), (2,0)).
@@ -34,20 +34,20 @@ Matrix36 strain_displacement(const Eigen::Vector2d& p0, const Eigen::Vector2d& p
 Matrix66 triangle_stiffness(const Eigen::Vector2d& p0, const Eigen::Vector2d& p1, const Eigen::Vector2d& p2,
                             const Eigen::Matrix3d& D);
 
-// A point of the 6-point degree-4 rule on the reference triangle {ξ, η ≥ 0, ξ + η ≤ 1}: weights
+// A point of the 6-point degree-4 rule on the reference triangle {L₁, L₂ ≥ 0, L₁ + L₂ ≤ 1}: weights
 // sum to the reference area ½.
 struct TrianglePoint {
-  double xi, eta, weight;
+  double L1, L2, weight;
 };
 const std::array<TrianglePoint, 6>& triangle_rule();
 
-// Shape functions of the p1 (n = 3) or p2 (n = 6) triangle at (ξ, η), and their derivatives
-// dN/dξ, dN/dη; arrays of length n.
-void triangle_shape(int n, double xi, double eta, double* N, double* dN_dxi, double* dN_deta);
+// Shape functions of the p1 (n = 3) or p2 (n = 6) triangle at (L₁, L₂), and their derivatives
+// dφ/dL₁, dφ/dL₂; arrays of length n.
+void triangle_shape(int n, double L1, double L2, double* phi, double* dphi_dL1, double* dphi_dL2);
 
-// The isoparametric map at (ξ, η) of an element with nodes x (3 or 6): the strain-displacement
+// The isoparametric map at (L₁, L₂) of an element with nodes x (3 or 6): the strain-displacement
 // matrix (3 × 2n) and det J (positive for a counter-clockwise element).
-Eigen::MatrixXd strain_displacement_at(std::span<const Eigen::Vector2d> x, double xi, double eta, double& det_J);
+Eigen::MatrixXd strain_displacement_at(std::span<const Eigen::Vector2d> x, double L1, double L2, double& det_J);
 
 // Element stiffness of a p1 or p2 element (2n × 2n) with nodes x.
 Eigen::MatrixXd element_stiffness(std::span<const Eigen::Vector2d> x, const Eigen::Matrix3d& D);
@@ -57,7 +57,7 @@ double element_area(std::span<const Eigen::Vector2d> x);
 
 // Shape functions of an edge with n = 2 nodes (a, b) or n = 3 (a, b, mid) at s ∈ [0, 1] from a
 // to b, and their derivatives d/ds.
-void edge_shape(int n, double s, double* N, double* dN_ds);
+void edge_shape(int n, double s, double* phi, double* dphi_ds);
 // 5-point Gauss–Legendre rule on [0, 1] (exact to degree 9): the rule of every edge integral.
 struct EdgePoint {
   double s, weight;

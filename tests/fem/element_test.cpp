@@ -83,12 +83,12 @@ TEST(Element, QuadraticStiffnessOfACurvedElementIsSymmetricSemiDefiniteWithRigid
 }
 
 TEST(Element, QuadratureRulesAreExactToTheirDegree) {
-  // Triangle rule: ∫ ξ^i η^j over the reference triangle = i! j! / (i + j + 2)! for i + j ≤ 4.
+  // Triangle rule: ∫ L₁^i L₂^j over the reference triangle = i! j! / (i + j + 2)! for i + j ≤ 4.
   const auto factorial = [](int n) { return std::tgamma(n + 1.0); };
   for (int i = 0; i <= 4; ++i)
     for (int j = 0; i + j <= 4; ++j) {
       double sum = 0;
-      for (const TrianglePoint& q : triangle_rule()) sum += q.weight * std::pow(q.xi, i) * std::pow(q.eta, j);
+      for (const TrianglePoint& q : triangle_rule()) sum += q.weight * std::pow(q.L1, i) * std::pow(q.L2, j);
       EXPECT_NEAR(sum, factorial(i) * factorial(j) / factorial(i + j + 2), 1e-16) << i << " " << j;
     }
   // Edge rule: ∫₀¹ s^i ds = 1/(i + 1) for i ≤ 9.
@@ -129,17 +129,18 @@ std::vector<mesh::Edge> subdomain_boundary(const mesh::Mesh& m, int s) {
   return edges;
 }
 
-// ∫ N_i σ·n ds over a (possibly curved) edge, n ds = (y', −x') ds: the consistent nodal forces
+// ∫ φ_i σ·n ds over a (possibly curved) edge, n ds = (y', −x') ds: the consistent nodal forces
 // of a constant stress.
 void add_stress_traction(const mesh::Mesh& m, const mesh::Edge& edge, const Eigen::Matrix2d& sigma,
                          Eigen::VectorXd& f) {
   const int v[3] = {edge.a, edge.b, edge.mid}, n = edge.mid >= 0 ? 3 : 2;
   for (const EdgePoint& q : edge_rule()) {
-    double N[3], dN[3];
-    edge_shape(n, q.s, N, dN);
+    double phi[3], dphi[3];
+    edge_shape(n, q.s, phi, dphi);
     Eigen::Vector2d dx = Eigen::Vector2d::Zero();
-    for (int i = 0; i < n; ++i) dx += dN[i] * m.nodes[v[i]];
-    for (int i = 0; i < n; ++i) f.segment<2>(2 * v[i]) += q.weight * N[i] * (sigma * Eigen::Vector2d(dx.y(), -dx.x()));
+    for (int i = 0; i < n; ++i) dx += dphi[i] * m.nodes[v[i]];
+    for (int i = 0; i < n; ++i)
+      f.segment<2>(2 * v[i]) += q.weight * phi[i] * (sigma * Eigen::Vector2d(dx.y(), -dx.x()));
   }
 }
 
@@ -231,8 +232,8 @@ TEST_P(Assembly, ConsistentLoadsIntegrateExactly) {
   const double L = (m.nodes[b] - m.nodes[a]).norm();
   const double f_mid = mid >= 0 ? g(2 * mid) : 0;
   EXPECT_NEAR(g(2 * a) + g(2 * b) + f_mid, 2 * L, 1e-15);
-  // ∫ N_a t ds with t = 1 + 2s: L·5/6 for the linear N_a = 1 − s; for the quadratic
-  // N_a = (1 − s)(1 − 2s) it is L/6, and ∫ 4s(1 − s)(1 + 2s) ds = 4/3 gives 4L/3 at the middle.
+  // ∫ φ_a t ds with t = 1 + 2s: L·5/6 for the linear φ_a = 1 − s; for the quadratic
+  // φ_a = (1 − s)(1 − 2s) it is L/6, and ∫ 4s(1 − s)(1 + 2s) ds = 4/3 gives 4L/3 at the middle.
   if (mid < 0) {
     EXPECT_NEAR(g(2 * a), L * 5 / 6, 1e-15);
   } else {
