@@ -27,7 +27,8 @@ int main(int argc, char** argv) {
     options.progress = ::isatty(2);
     const auto report = dualcell::study::run_stability(options);
     failed = report.failed;
-    std::printf("dualcell-stability: %d cases, %d failed -> %s\n", report.cases, report.failed, options.csv.c_str());
+    std::printf("dualcell-stability: %d cases, %d failed, %d stopped with a diagnostic -> %s\n", report.cases,
+                report.failed, report.stopped, options.csv.c_str());
   });
   return status != 0 ? status : (failed > 0 ? 1 : 0);
 }

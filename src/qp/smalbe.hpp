@@ -32,7 +32,13 @@ struct SmalbeOptions {
   // feasibility_reduction (r_Q), up to rho_max_factor·‖A‖. rho_growth = 1 gives plain SMALBE-M.
   double rho_growth = 10;
   double feasibility_reduction = 0.1;
-  double rho_max_factor = 100;
+  // ρ_max = 1e4·‖A‖: when most components are pinned by boxes of width w, x can move Q x by no
+  // more than about w per outer iteration, so m ← m + ρQx needs about ‖m*‖/(ρ w) iterations to
+  // reach its solution value m*. Measured on the stability matrix (bonds of strength 1e-6 under
+  // unit loads, boxes 2e-6·L wide): at ρ_max = 100‖A‖, 100 of 9 960 cases stopped at 200 outer
+  // iterations; at 1e4‖A‖ none, the worst needing 75, and the F applications over the cases that
+  // converged before fell by 2 % (ρ grows only where feasibility is slow, so no other case moved).
+  double rho_max_factor = 1e4;
   // ρ grows only after this many consecutive outer iterations of too little feasibility gain
   // (1: at the first). One slow iteration is no evidence of slow contraction: in the FETI
   // contact problems the first outer iterations change the active set, and growing ρ there

@@ -1,11 +1,10 @@
 #pragma once
 // The stability matrix (README, "Numerical stability on stiff and extreme cases"): the solver run
-// over stiffness contrasts E_f/E_m ∈ {1e-3, 1, 1e3, 1e6}, matrix Poisson ratios ν_m ∈ {0, 0.3,
-// 0.45, 0.499}, fibre sizes r/a ∈ {0.05, 0.3, 0.45} and an off-centre fibre next to the cell
-// edge, adhesion none / tiny / huge, load magnitudes from 1e-12 to 1e6 (units of E_m),
-// directions 0°, 30°, 45°, 90° and the three boundary conditions. Every case must either
-// converge with its KKT residuals below tolerance and its primal check passed, or stop with a
-// diagnostic; a NaN or Inf in a result that claims convergence is a failure.
+// for both element orders over stiffness contrasts E_f/E_m ∈ {1e-6, 1e-3, 1, 1e3, 1e6}, matrix Poisson ratios ν_m ∈ {0,
+// 0.3, 0.45, 0.499}, fibre sizes r/a ∈ {0.05, 0.3, 0.45} and an off-centre fibre next to the cell edge, adhesion none /
+// tiny / huge, load magnitudes from 1e-12 to 1e6 (units of E_m), directions 0°, 30°, 45°, 90° and the three boundary
+// conditions. Every case must either converge with its KKT residuals below tolerance and its primal check passed, or
+// stop with a diagnostic; a NaN or Inf in a result that claims convergence is a failure.
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -24,6 +23,7 @@ struct StabilityCase {
   std::string adhesion = "none";  // none, tiny (strength 1e-6), huge (1e6)
   double load = 1;                // signed magnitude s, σ̄ = s n⊗n
   int degree = 2;
+  Element element = Element::p1;
 };
 
 struct StabilityRow {
@@ -55,6 +55,7 @@ struct StabilityOptions {
 };
 struct StabilityReport {
   int cases = 0, failed = 0;  // failed: a silent NaN/Inf, or a stop without a diagnostic
+  int stopped = 0;            // stopped with a diagnostic instead of converging
 };
 StabilityReport run_stability(const StabilityOptions& options);
 

@@ -469,10 +469,9 @@ TEST(SmalbePreconditioning, EmptyPreconditionerLeavesTheMethodUnchanged) {
 // included: the same checks as without a preconditioner (known solution through the error bound,
 // Q x ≈ 0, m ∈ Im Q, every inner iterate feasible), and one application of the caller's
 // preconditioner per inner CG or expansion step. The outer budget is raised: one instance (lower
-// bounds, trial 2: n = 7, 3 rows, 4 components at a bound) needs 176 outer iterations with or
-// without the preconditioner (measured), since ρ reaches ρ_max = 100‖A‖ and the multiplier
-// iteration still contracts by only 0.91 per step: a limit of SMALBE-M, not of preconditioning.
-// The others need at most 16.
+// bounds, trial 2: n = 7, 3 rows, 4 components at a bound) needed 176 outer iterations with or
+// without the preconditioner when ρ stopped at 100‖A‖ (the multiplier iteration contracting by
+// only 0.91 per step); ρ_max is now 1e4‖A‖.
 TEST(SmalbePreconditioning, ProjectedJacobiReachesKnownSolutions) {
   std::mt19937 rng(4202);
   for (BoundKind kind : all_kinds) {
