@@ -1,7 +1,7 @@
 // dualcell-bench: the performance tables and summary.json (study/bench.hpp): numerical
 // scalability, preconditioners, the linear-solve floor, threads, sweep steps, memory.
 //
-//   dualcell-bench --out-dir pipelines/out/bench [--quick] [--threads N]
+//   dualcell-bench --out-dir pipelines/out/bench [--quick] [--floor-only] [--threads N]
 #include <CLI/CLI.hpp>
 #include <cstdio>
 
@@ -15,9 +15,14 @@ int main(int argc, char** argv) {
   dualcell::study::BenchOptions options;
   app.add_option("--out-dir", options.out_dir, "folder for bench.md and summary.json")->required();
   app.add_flag("--quick", options.quick, "small sizes only (a smoke test, not a measurement)");
+  bool floor_only = false;
+  app.add_flag("--floor-only", floor_only,
+               "only the floor (contact solve against one CHOLMOD solve, p1 and p2): floor.md, floor.json");
   app.add_option("--threads", options.threads, "threads for the multi-threaded rows; 0 = OMP_NUM_THREADS or all cores")
       ->check(CLI::Range(0, 4096));
   CLI11_PARSE(app, argc, argv);
-  return dualcell::run_stage("dualcell-bench",
-                             [&] { std::fputs(dualcell::study::run_bench(options).c_str(), stdout); });
+  return dualcell::run_stage("dualcell-bench", [&] {
+    std::fputs((floor_only ? dualcell::study::run_floor_only(options) : dualcell::study::run_bench(options)).c_str(),
+               stdout);
+  });
 }

@@ -19,6 +19,7 @@
 #include <omp.h>
 #include <sys/resource.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -37,8 +38,10 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
-Scene block(int cells, int degree, Preconditioner preconditioner = Preconditioner::none, double strength = 0) {
+Scene block(int cells, int degree, Preconditioner preconditioner = Preconditioner::none, double strength = 0,
+            Element element = Element::p1) {
   Scene s;
+  s.geometry.element = element;
   s.geometry.cells = {cells, cells};
   s.geometry.cell_size = 1;
   s.geometry.fibre_radius = 0.3;
@@ -67,6 +70,7 @@ std::string format(const char* pattern, auto... values) {
 
 struct Run {
   int cells, degree, dofs;
+  Element element;
   long rows;
   int threads;
   Preconditioner preconditioner;
@@ -77,8 +81,9 @@ struct Run {
   Eigen::VectorXd lambda, u, f;
 };
 
-Run contact(int cells, int degree, int threads, Preconditioner preconditioner = Preconditioner::none) {
-  const Scene s = block(cells, degree, preconditioner);
+Run contact(int cells, int degree, int threads, Preconditioner preconditioner = Preconditioner::none,
+            Element element = Element::p1) {
+  const Scene s = block(cells, degree, preconditioner, 0, element);
   const mesh::Mesh m = mesh::build_mesh(s.geometry);
   const auto t0 = Clock::now();  // the mesh is an input of both solvers, timed in neither
   feti::ContactSolver solver(m, s, threads);
@@ -90,6 +95,7 @@ Run contact(int cells, int degree, int threads, Preconditioner preconditioner = 
   return {cells,
           degree,
           m.dim_u(),
+          element,
           r.n_rows,
           used_threads,
           preconditioner,
@@ -154,7 +160,106 @@ const char* const phase_header =
     "| case | threads | assembly | factorisation | dual setup (B, G, GGᵀ) | QP: F | QP: Q (coarse) | QP: M⁻¹ | QP: "
     "other (vectors, d, λ₀) | recovery |\n|---|---|---|---|---|---|---|---|---|---|\n";
 
+// The BLAS this process runs on: the file behind libblas.so.3 (or an OpenBLAS library) among
+// the loaded objects, as /proc/self/maps lists them.
+std::string loaded_blas() {
+  std::ifstream maps("/proc/self/maps");
+  std::string line;
+  while (std::getline(maps, line)) {
+    const auto slash = line.find('/');
+    if (slash == std::string::npos) continue;
+    const std::string path = line.substr(slash);
+    if (path.find("libblas") != std::string::npos || path.find("openblas") != std::string::npos) {
+      std::error_code ec;
+      const auto real = std::filesystem::canonical(path, ec);
+      return ec ? path : real.string();
+    }
+  }
+  return "none loaded";
+}
+
+struct Floor {
+  std::string md;
+  std::vector<std::string> json;
+  std::vector<Run> runs;
+  double bytes_per_dof = 0;
+};
+
+// The floor: one contact solve (setup + solve, `threads` threads) against CHOLMOD's analyse,
+// factorise and solve of the bonded problem as one body on the same mesh, for both element
+// orders at ~1e5 and ~1e6 DOF.
+Floor run_floor(int threads, bool quick) {
+  struct Case {
+    int cells, degree;
+    Element element;
+  };
+  // p2 at degree k has the DOFs of p1 at 2k: 12×12 k=2 and 40×40 k=2 match the p1 rows' sizes.
+  const std::vector<Case> cases =
+      quick ? std::vector<Case>{{4, 2, Element::p1}, {4, 1, Element::p2}}
+            : std::vector<Case>{{16, 3, Element::p1}, {12, 2, Element::p2}, {32, 5, Element::p1}, {40, 2, Element::p2}};
+  const std::string blas = loaded_blas();
+  Floor out;
+  int largest_dofs = 0;
+  std::ostringstream md;
+  md << "## The floor: contact solve against one monolithic CHOLMOD solve\n\nThe contact solve (assembly, "
+        "factorisations, dual setup, QP, recovery) on up to "
+     << threads
+     << " thread(s), no preconditioner; against CHOLMOD's analyse, factorise and solve of the assembled bonded "
+        "problem as one body (supernodal, automatic ordering) on the BLAS this process loaded: "
+     << blas
+     << ". The mesh is timed in neither.\n\n| case | DOF | contact setup s | contact solve s | contact total s | "
+        "CHOLMOD "
+        "factorise+solve s | ratio | peak RSS bytes/DOF |\n|---|---|---|---|---|---|---|---|\n";
+  for (std::size_t i = 0; i < cases.size(); ++i) {
+    const auto [n, k, element] = cases[i];
+    Run r = contact(n, k, threads, Preconditioner::none, element);
+    const long rss = peak_rss_bytes();
+    const Scene bonded = block(n, k, Preconditioner::none, 1e12, element);
+    const mesh::Mesh m = mesh::build_mesh(bonded.geometry);
+    double cholesky = 0;  // same mesh and load (the load does not depend on the bonds)
+    study::monolithic_solve(m, bonded, r.f, false, false, &cholesky);
+    const double total = r.setup_seconds + r.solve_seconds;
+    // The peak resident set is the process's: it says something about a row only when that row
+    // is the largest problem so far.
+    const bool largest = r.dofs >= largest_dofs;
+    largest_dofs = std::max(largest_dofs, r.dofs);
+    if (largest) out.bytes_per_dof = static_cast<double>(rss) / r.dofs;
+    const std::string memory =
+        largest ? format("%.0f", static_cast<double>(rss) / r.dofs) : std::string("(earlier rows)");
+    md << format("| %d×%d, k=%d %s | %d | %.2f | %.2f | %.2f | %.2f | %.2f | %s |\n", n, n, k, to_string(element),
+                 r.dofs, r.setup_seconds, r.solve_seconds, total, cholesky, total / cholesky, memory.c_str());
+    out.json.push_back(JsonObject()
+                           .add_text("element", to_string(element))
+                           .add("dofs", std::to_string(r.dofs))
+                           .add("contact_seconds", json_number(total))
+                           .add("cholesky_seconds", json_number(cholesky))
+                           .add("contact_threads", std::to_string(r.threads))
+                           .add_text("blas", blas)
+                           .str(6));
+    out.runs.push_back(std::move(r));
+  }
+  md << "\nTargets: ratio ≤ 3 at ~1e5 DOF and ≤ 2 at ~1e6 DOF. Peak RSS is the whole process's (it includes "
+        "earlier rows); bytes/DOF at the largest case: "
+     << out.bytes_per_dof << " (target ≤ 2048).\n";
+  out.md = md.str();
+  return out;
+}
+
 }  // namespace
+
+std::string run_floor_only(const BenchOptions& options) {
+  const int all = options.threads > 0 ? options.threads : omp_get_max_threads();
+  std::filesystem::create_directories(options.out_dir);
+  io::AtomicOutputs outputs;
+  const auto md_tmp = outputs.add(options.out_dir / "floor.md");
+  const auto json_tmp = outputs.add(options.out_dir / "floor.json");
+  const Floor floor = run_floor(all, options.quick);
+  std::ofstream(md_tmp) << floor.md;
+  std::ofstream(json_tmp) << JsonObject().add_text("blas", loaded_blas()).add("floor", json_list(floor.json)).str()
+                          << "\n";
+  outputs.commit();
+  return floor.md;
+}
 
 std::string run_bench(const BenchOptions& options) {
   const bool quick = options.quick;
@@ -165,7 +270,7 @@ std::string run_bench(const BenchOptions& options) {
   const auto json_tmp = outputs.add(options.out_dir / "summary.json");
   std::ostringstream md;
   JsonObject json;
-  std::vector<std::string> scalability_json, preconditioners_json, floor_json;
+  std::vector<std::string> scalability_json, preconditioners_json;
   md << "# dualcell benchmark\n\nCompression along x, no adhesion, symmetry boundary, E_f/E_m = 100, r = 0.3, "
         "tolerance 1e-8. Seconds are wall time on this machine in this run. Iteration counts do not depend on "
         "the thread count; the scalability rows run on one thread.\n\n";
@@ -220,46 +325,12 @@ std::string run_bench(const BenchOptions& options) {
 
   // Floor and memory, on all threads.
   progress("floor");
-  md << "## The floor: contact solve against one monolithic CHOLMOD solve\n\nThe contact solve (assembly, "
-        "factorisations, dual setup, QP, recovery) on up to "
-     << all
-     << " thread(s), no preconditioner; against CHOLMOD's analyse, factorise and solve of the assembled bonded "
-        "problem as one body (supernodal, automatic ordering, one thread, the system's BLAS: libblas.so.3). The mesh "
-        "is timed in neither.\n\n| case | DOF | contact setup s | contact solve s | contact total s | CHOLMOD "
-        "factorise+solve s "
-        "| ratio | peak RSS bytes/DOF |\n|---|---|---|---|---|---|---|---|\n";
-  const std::vector<std::pair<int, int>> floors =
-      quick ? std::vector<std::pair<int, int>>{{4, 2}} : std::vector<std::pair<int, int>>{{16, 3}, {32, 5}};
-  double bytes_per_dof = 0;
-  std::vector<Run> floor_runs;
-  for (std::size_t i = 0; i < floors.size(); ++i) {
-    const auto [n, k] = floors[i];
-    Run r = contact(n, k, all);
-    const long rss = peak_rss_bytes();
-    const Scene bonded = block(n, k, Preconditioner::none, 1e12);
-    const mesh::Mesh m = mesh::build_mesh(bonded.geometry);
-    double cholesky = 0;  // same mesh and load (the load does not depend on the bonds)
-    const Eigen::VectorXd u = study::monolithic_solve(m, bonded, r.f, false, false, &cholesky);
-    bytes_per_dof = static_cast<double>(rss) / r.dofs;
-    const double total = r.setup_seconds + r.solve_seconds;
-    // The peak resident set is the process's: it says something about a row only when that row
-    // is the largest problem so far (the last one).
-    const std::string memory = i + 1 == floors.size() ? format("%.0f", bytes_per_dof) : std::string("(earlier rows)");
-    md << format("| %d×%d, k=%d | %d | %.2f | %.2f | %.2f | %.2f | %.2f | %s |\n", n, n, k, r.dofs, r.setup_seconds,
-                 r.solve_seconds, total, cholesky, total / cholesky, memory.c_str());
-    floor_json.push_back(JsonObject()
-                             .add("dofs", std::to_string(r.dofs))
-                             .add("contact_seconds", json_number(total))
-                             .add("cholesky_seconds", json_number(cholesky))
-                             .add("contact_threads", std::to_string(r.threads))
-                             .str(6));
-    floor_runs.push_back(std::move(r));
-  }
-  md << "\nTargets: ratio ≤ 3 at ~1e5 DOF and ≤ 2 at ~1e6 DOF. Peak RSS is the whole process's (it includes "
-        "earlier rows); bytes/DOF at the largest case: "
-     << bytes_per_dof << " (target ≤ 2048).\n\n## Where the time goes (seconds per phase)\n\n"
-     << phase_header;
-  for (const Run& r : floor_runs) md << phase_row(format("%d×%d, k=%d", r.cells, r.cells, r.degree).c_str(), r);
+  const Floor floor = run_floor(all, quick);
+  const double bytes_per_dof = floor.bytes_per_dof;
+  md << floor.md << "\n## Where the time goes (seconds per phase)\n\n" << phase_header;
+  for (const Run& r : floor.runs)
+    md << phase_row(format("%d×%d, k=%d %s", r.cells, r.cells, r.degree, to_string(r.element)).c_str(), r);
+  const std::vector<std::string>& floor_json = floor.json;
 
   // Threads: the ~1e5 case on one thread against all.
   progress("threads");

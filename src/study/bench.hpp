@@ -13,5 +13,8 @@ struct BenchOptions {
 
 // Runs the study, writes bench.md and summary.json, and returns the Markdown report.
 std::string run_bench(const BenchOptions& options);
+// Only the floor (contact solve against one CHOLMOD solve, p1 and p2): floor.md and floor.json,
+// naming the BLAS the process loaded, so that runs on different BLAS libraries can be compared.
+std::string run_floor_only(const BenchOptions& options);
 
 }  // namespace dualcell::study
