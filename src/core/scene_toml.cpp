@@ -356,7 +356,7 @@ Scene parse_scene(std::string_view text, const std::filesystem::path& file) {
   const auto off = g.reals("fibre_offset", {0, 0}, 2, 2);
   geo.fibre_offset = {off[0], off[1]};
   geo.degree = g.integer<int>("degree", 1);
-  geo.element = g.string("element", "p1", {"p1", "p2"}) == "p1" ? Element::p1 : Element::p2;
+  geo.element = g.string("element", "p2", {"p1", "p2"}) == "p1" ? Element::p1 : Element::p2;
   g.finish();
 
   // Materials: inline [fibre]/[matrix] tables, or `material = "file"` holding them.

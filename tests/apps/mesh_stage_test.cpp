@@ -15,7 +15,8 @@ TEST(MeshStage, HelpAndSummary) {
   EXPECT_EQ(r.exit_code, 0);
   EXPECT_NE(r.output.find("--config"), std::string::npos);
   testing::ScratchDir dir;
-  const auto scene = dir.write("s.toml", testing::scene_text(3, 3, 1, 0.3));
+  // The thesis' counts: 3×3 cells of linear triangles at degree 1.
+  const auto scene = dir.write("s.toml", testing::scene_text(3, 3, 1, 0.3, "", "p1"));
   r = run_command(bin("dualcell-mesh") + " --config " + scene.string() + " --out " + (dir / "m.h5").string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   for (const char* line : {"cells            3 x 3", "subdomains       18", "nodes            297",

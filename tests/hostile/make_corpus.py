@@ -33,7 +33,7 @@ H5 = os.path.join(OUT, "h5")
 # ---------------------------------------------------------------------------------------------
 # Scene files
 
-GEOMETRY = {"cells": "[1, 1]", "fibre_radius": "0.3", "degree": "1"}
+GEOMETRY = {"cells": "[1, 1]", "fibre_radius": "0.3", "degree": "1", "element": "\"p1\""}
 FIBRE = {"E": "10.0", "nu": "0.2"}
 MATRIX = {"E": "1.0", "nu": "0.3"}
 
@@ -356,11 +356,12 @@ def write_scenes():
 # ---------------------------------------------------------------------------------------------
 # HDF5 files
 
-TINY = """# The scene of every file in data/hostile/h5 (a 1x1 cell at degree 1, periodic boundary).
+TINY = """# The scene of every file in data/hostile/h5 (a 1x1 cell at degree 1 of linear triangles, periodic boundary).
 [geometry]
 cells = [1, 1]
 fibre_radius = 0.3
 degree = 1
+element = "p1"
 
 [fibre]
 E = 10.0
@@ -547,7 +548,7 @@ def write_h5(bin_dir):
            edited(m, lambda f: replace(f, "/mesh/glue_pairs", np.array([[1, 1]], dtype="i8"))))
     h5case("mesh", "mesh-boundary-fibre-node.h5", "input", "/mesh/boundary/left",
            "a boundary edge through fibre nodes", edited(m, lambda f: f["/mesh/boundary/left"].__setitem__(
-               0, [int(f["/mesh/subdomain_nodes"][1, 0]), int(f["/mesh/subdomain_nodes"][1, 0]) + 1])))
+               0, [int(f["/mesh/subdomain_nodes"][1, 0]) + i for i in range(f["/mesh/boundary/left"].shape[1])])))
     h5case("mesh", "mesh-element-unknown.h5", "input", "/mesh attribute element = \"p3\"",
            "an element order that does not exist", edited(m, lambda f: f["/mesh"].attrs.__setitem__("element", "p3")))
     h5case("mesh", "mesh-element-p2-on-p1.h5", "input", "/mesh/triangles: expected shape",

@@ -21,6 +21,7 @@ Geometry geometry(int ex, int ey, int k, double r, double dx = 0, double dy = 0)
   g.fibre_radius = r;
   g.fibre_offset = {dx, dy};
   g.degree = k;
+  g.element = Element::p1;  // the tests below are about the linear mesh; quadratic() switches
   return g;
 }
 
