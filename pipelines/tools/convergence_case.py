@@ -1,9 +1,10 @@
 #!/usr/bin/python3
 """Writes one case scene of the convergence study from its template.
 
-usage: convergence_case.py TEMPLATE.toml DEGREE TOLERANCE OUT.toml
+usage: convergence_case.py TEMPLATE.toml DEGREE TOLERANCE OUT.toml [ELEMENT]
 
-Reads the template (TOML, Python's tomllib), sets [geometry] degree and [solver] tolerance,
+Reads the template (TOML, Python's tomllib), sets [geometry] degree (and element, p1 or p2, when
+given) and [solver] tolerance,
 makes a relative `material` path absolute (so that it resolves from the case folder), and
 writes OUT.toml atomically (temporary + rename). Errors: one line on stderr, exit 1.
 """
@@ -43,10 +44,12 @@ def toml_text(scene):
     return "\n".join(lines) + "\n"
 
 
-def case_scene(template_path, degree, tolerance):
+def case_scene(template_path, degree, tolerance, element=None):
     with open(template_path, "rb") as f:
         scene = tomllib.load(f)
     scene.setdefault("geometry", {})["degree"] = degree
+    if element is not None:
+        scene["geometry"]["element"] = element
     scene.setdefault("solver", {})["tolerance"] = tolerance
     if "material" in scene and not os.path.isabs(scene["material"]):
         scene["material"] = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(template_path)),
@@ -55,15 +58,18 @@ def case_scene(template_path, degree, tolerance):
 
 
 def main(argv):
-    if len(argv) != 5:
-        raise ValueError("usage: convergence_case.py TEMPLATE.toml DEGREE TOLERANCE OUT.toml")
-    template, degree_text, tolerance_text, out = argv[1:]
+    if len(argv) not in (5, 6):
+        raise ValueError("usage: convergence_case.py TEMPLATE.toml DEGREE TOLERANCE OUT.toml [ELEMENT]")
+    template, degree_text, tolerance_text, out = argv[1:5]
+    element = argv[5] if len(argv) == 6 else None
+    if element not in (None, "p1", "p2"):
+        raise ValueError(f"element {element!r}: expected p1 or p2")
     try:
         degree = int(degree_text)
         tolerance = float(tolerance_text)
     except ValueError:
         raise ValueError(f"degree {degree_text!r} and tolerance {tolerance_text!r}: expected an integer and a number")
-    text = case_scene(template, degree, tolerance)
+    text = case_scene(template, degree, tolerance, element)
     tmp = f"{out}.tmp.{os.getpid()}"
     with open(tmp, "w") as f:
         f.write(text)

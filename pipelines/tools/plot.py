@@ -6,6 +6,8 @@ usage:
   plot.py polar LAW.h5 OUTBASE               E_tension(θ), E_compression(θ), debond onset(θ)
   plot.py deformed SOLUTION.h5 OUTBASE       the deformed mesh with its gaps (exaggerated)
   plot.py work-precision TABLE.csv OUTBASE   error of E_t, E_c against seconds, log-log
+  plot.py accuracy TABLE.csv OUTBASE         the accuracy study: error against seconds per code,
+                                             element and sign, log-log (accuracy_table.py's CSV)
   plot.py last-stress SWEEP.h5               prints "sxx,syy,sxy" of the last step of path 000
 
 Writes OUTBASE.png and OUTBASE.svg, each to a temporary name first and renamed when complete.
@@ -159,6 +161,32 @@ def last_stress(sweep):
     print("{:.17g},{:.17g},{:.17g}".format(*s))
 
 
+def accuracy(table, outbase):
+    rows = [line.strip().split(",") for line in open(table) if line.strip() and not line.startswith("#")]
+    header, rows = rows[0], rows[1:]
+    col = {name: i for i, name in enumerate(header)}
+    series = {}
+    for r in rows:
+        which = "tension" if float(r[col["load"]]) > 0 else "compression"
+        series.setdefault((r[col["code"]], r[col["element"]], which), []).append(r)
+    data, plots = {}, []
+    colours = {}
+    for (code, element, which), rs in sorted(series.items()):
+        rs.sort(key=lambda r: float(r[col["seconds"]]))
+        name = f"{code}_{element}_{which}.dat"
+        data[name] = "".join(f"{r[col['seconds']]} {r[col['relative_error']]}\n" for r in rs
+                             if float(r[col["relative_error"]]) > 0)
+        colour = colours.setdefault((code, element), len(colours) + 1)
+        style = "pt 7 dt 1" if which == "tension" else "pt 5 dt 2"
+        plots.append(f"'{name}' using 1:2 with linespoints {style} lc {colour} lw 1.5 title '{code} {element}, {which}'")
+    script = ("set title 'Apparent modulus of one cell: relative error against run time'\n"
+              "set logscale xy\nset xlabel 'seconds (whole commands, best of repeats)'\nset ylabel 'relative error'\n"
+              "set grid\nset key outside right\nset format y '10^{%L}'\n"
+              "set arrow from graph 0, first 1e-4 to graph 1, first 1e-4 nohead dt 3 lc rgb '#808080'\nplot "
+              + ", \\\n  ".join(plots) + "\n")
+    gnuplot(script, outbase, data)
+
+
 def main():
     if len(sys.argv) < 3:
         sys.exit(__doc__)
@@ -167,8 +195,8 @@ def main():
         return last_stress(sys.argv[2])
     if len(sys.argv) != 4:
         sys.exit(__doc__)
-    {"stress-strain": stress_strain, "polar": polar, "deformed": deformed, "work-precision": work_precision}[kind](
-        sys.argv[2], sys.argv[3])
+    {"stress-strain": stress_strain, "polar": polar, "deformed": deformed, "work-precision": work_precision,
+     "accuracy": accuracy}[kind](sys.argv[2], sys.argv[3])
 
 
 if __name__ == "__main__":
