@@ -13,6 +13,7 @@
 // under uniaxial compression).
 #include <Eigen/Core>
 #include <string>
+#include <vector>
 
 namespace dualcell::law {
 
@@ -27,6 +28,16 @@ struct ConeState {
   Eigen::Matrix3d tangent;  // consistent tangent: C_c, plus β c cᵀ where c·ε > 0
   double energy = 0;        // W(ε)
   bool plus_side = false;   // c·ε > 0 (the stiffer side)
+};
+
+// A cone-wise law fitted to stress–strain points (fit/cone_fit.hpp), with its quality.
+struct ConeFit {
+  ConeLaw law;
+  double relative_residual = 0;            // sqrt(mean over points of |σ(ε_i) − σ_i|²/|σ_i|²)
+  std::vector<double> direction_residual;  // the same per load direction (NaN: no point there)
+  int n_points = 0;
+  bool ok = false;      // enough points (≥ 3) and a finite, admissible fit
+  std::string message;  // why not, when not ok
 };
 
 // Stress, consistent tangent, energy and side of the law at strain ε (engineering shear).

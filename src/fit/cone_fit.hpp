@@ -1,0 +1,30 @@
+#pragma once
+// The cone-wise linear law fitted to stress–strain points (law/cone.hpp, docs/method.md §14):
+// nonlinear least squares (GSL gsl_multifit_nlinear, trust region, finite-difference Jacobian)
+// of the residuals r_i = (σ(ε_i) − σ_i)/|σ_i| (every point weighs alike), over parameters that
+// make every fitted law admissible by construction:
+//   C_c = L Lᵀ, L lower triangular with diagonal exp(p₀), exp(p₂), exp(p₅)   (SPD),
+//   c   = (sin p₆ cos p₇, sin p₆ sin p₇, cos p₆)                              (unit),
+//   β   = p₈²                                                                  (≥ 0).
+// The least-squares problem is not convex (c enters through the kink of ⟨c·ε⟩₊), so it starts
+// from the linear fit C₀ of all points with c along each of 13 directions (±axes, ±face
+// diagonals of the (εxx, εyy) plane, the given guess) and keeps the smallest residual.
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "law/cone.hpp"
+
+namespace dualcell::fit {
+
+struct ConePoint {
+  Eigen::Vector3d strain;  // (εxx, εyy, γxy), engineering shear
+  Eigen::Vector3d stress;  // (σxx, σyy, σxy)
+  int direction = 0;       // index of the load direction it belongs to (for per-direction residuals)
+};
+
+// Fits the law to `points`; `guess` (any vector, normalised here; zero for none) adds a start for c.
+law::ConeFit fit_cone(const std::vector<ConePoint>& points, int n_directions,
+                      const Eigen::Vector3d& guess = Eigen::Vector3d::Zero());
+
+}  // namespace dualcell::fit
