@@ -15,6 +15,7 @@
 
 #include "core/error.hpp"
 #include "core/version.hpp"
+#include "fit/cone_fit.hpp"
 
 namespace dualcell::fit {
 
@@ -261,6 +262,25 @@ law::Law fit_law(const std::vector<sweep::PathResult>& paths, const io::SweepHea
     law.cone_beta = eig.eigenvalues()(first);
     law.cone_wise_linear = law.cone_rank_one_ratio < 0.05;
   }
+
+  // The cone-wise law over every point before any break, and over the points past each path's
+  // largest jump (law/cone.hpp): engineering shear, per-direction residuals by the direction's
+  // index (general stress paths, direction NaN, count in the overall residual only).
+  std::vector<ConePoint> bonded, debonded;
+  for (const auto& p : paths) {
+    const auto at = std::find(directions.begin(), directions.end(), p.spec.direction_deg);
+    const int index = at == directions.end() ? -1 : static_cast<int>(at - directions.begin());
+    for (const auto& s : p.steps) {
+      if (!s.converged || s.load == 0) continue;
+      const ConePoint point{{s.strain(0), s.strain(1), 2 * s.strain(2)}, s.stress, index};
+      if (usable(s)) bonded.push_back(point);
+      if (p.fuse && s.load >= p.fuse->load_after) debonded.push_back(point);
+    }
+  }
+  const int n_directions = static_cast<int>(directions.size());
+  const Eigen::Vector3d guess = law.cone_normal.allFinite() ? law.cone_normal : Eigen::Vector3d::Zero();
+  law.cone = fit_cone(bonded, n_directions, guess);
+  law.cone_after_fuse = fit_cone(debonded, n_directions, guess);
 
   law.constituents = header.constituents;
   law.provenance = header.provenance;

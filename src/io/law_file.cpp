@@ -48,6 +48,22 @@ void write_compliance(File& f, const std::string& prefix, const ComplianceFit& f
   write_count(f, prefix + "_n_points", fit.n_points);
 }
 
+// /law/<name>/: C_c (3×3), c (3), beta, relative_residual, direction_residual (one per
+// direction), n_points, ok (1: a fitted law; 0: none, attribute message says why).
+void write_cone(File& f, const std::string& name, const law::ConeFit& fit, std::size_t n_directions) {
+  f.create_group(object(name));
+  f.write(object(name + "/C_c"), row_major(fit.law.C_c), {3, 3});
+  f.write(object(name + "/c"), std::vector<double>{fit.law.c(0), fit.law.c(1), fit.law.c(2)}, {3});
+  write_scalar(f, name + "/beta", fit.law.beta);
+  write_scalar(f, name + "/relative_residual", fit.relative_residual);
+  std::vector<double> residual = fit.direction_residual;
+  residual.resize(n_directions, std::numeric_limits<double>::quiet_NaN());
+  f.write(object(name + "/direction_residual"), residual, {n_directions});
+  write_count(f, name + "/n_points", fit.n_points);
+  write_count(f, name + "/ok", fit.ok ? 1 : 0);
+  f.write_attribute(object(name), "message", fit.message);
+}
+
 // Reads /law/<name> with the shape-checked reads of File; refusals name the file and the object.
 class Reader {
  public:
@@ -98,6 +114,25 @@ ComplianceFit read_compliance(const Reader& r, const std::string& prefix, hsize_
   return fit;
 }
 
+law::ConeFit read_cone(const File& f, const Reader& r, const std::string& name, hsize_t n_directions) {
+  law::ConeFit fit;
+  fit.law.C_c = r.matrix(name + "/C_c");
+  const auto c = r.doubles(name + "/c", {3});
+  fit.law.c = {c[0], c[1], c[2]};
+  fit.law.beta = r.scalar(name + "/beta");
+  fit.relative_residual = r.scalar(name + "/relative_residual");
+  fit.direction_residual = r.doubles(name + "/direction_residual", {n_directions}, " like /law/direction_deg");
+  fit.n_points = r.count(name + "/n_points", 0, std::numeric_limits<int>::max());
+  fit.ok = r.count(name + "/ok", 0, 1) == 1;
+  fit.message = f.read_string_attribute(object(name), "message");
+  // A law a structure code will evaluate: refuse one that is not admissible.
+  if (fit.ok) {
+    const std::string problem = law::admissibility_problem(fit.law);
+    if (!problem.empty()) r.fail(object(name), "the cone-wise law is not admissible: " + problem);
+  }
+  return fit;
+}
+
 }  // namespace
 
 void write_law(const std::filesystem::path& file, const Law& law) {
@@ -130,6 +165,7 @@ void write_law(const std::filesystem::path& file, const Law& law) {
     f.write(object("cone_normal"), std::vector<double>{law.cone_normal(0), law.cone_normal(1), law.cone_normal(2)},
             {3});
     write_scalar(f, "cone_beta", law.cone_beta);
+    for (const auto& m : law::cone_members) write_cone(f, m.name, law.*m.fit, n);
     f.write_attribute(group, "units", law.units);
     f.write_attribute(group, "stress_state", law.stress_state);
     f.write_attribute(group, "shear_convention", std::string(law::shear_convention));
@@ -171,6 +207,7 @@ Law read_law(const std::filesystem::path& file) {
   const auto normal = r.doubles("cone_normal", {3});
   law.cone_normal = {normal[0], normal[1], normal[2]};
   law.cone_beta = r.scalar("cone_beta");
+  for (const auto& m : law::cone_members) law.*m.fit = read_cone(f, r, m.name, n);
 
   law.units = f.read_string_attribute(group, "units");
   law.stress_state = f.read_string_attribute(group, "stress_state");

@@ -15,7 +15,7 @@ inline constexpr const char* solution_format = "dualcell solution 2";
 inline constexpr const char* sweep_format = "dualcell sweep 1";
 
 // Refuses a file whose root attribute `format` is not `format`, with one line:
-// "<file>: not a dualcell law file (root attribute format is 'dualcell sweep 1', expected 'dualcell law 1')".
+// "<file>: not a dualcell law file (root attribute format is 'dualcell sweep 1', expected 'dualcell law 2')".
 void check_format(const File& file, const char* format);
 
 // Writes `format` and every non-empty provenance text as root attributes.

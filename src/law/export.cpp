@@ -240,6 +240,19 @@ std::string law_json(const Law& law) {
   o.add("cone_wise_linear", law.cone_wise_linear ? "1" : "0");
   o.add("cone_normal", json_array(std::vector<double>{law.cone_normal(0), law.cone_normal(1), law.cone_normal(2)}));
   o.add("cone_beta", json_number(law.cone_beta));
+  for (const auto& m : law::cone_members) {
+    const law::ConeFit& fit = law.*m.fit;
+    o.add(m.name, JsonObject()
+                      .add("C_c", json_array(fit.law.C_c))
+                      .add("c", json_array(std::vector<double>{fit.law.c(0), fit.law.c(1), fit.law.c(2)}))
+                      .add("beta", json_number(fit.law.beta))
+                      .add("relative_residual", json_number(fit.relative_residual))
+                      .add("direction_residual", json_array(fit.direction_residual))
+                      .add("n_points", std::to_string(fit.n_points))
+                      .add("ok", fit.ok ? "1" : "0")
+                      .add_text("message", fit.message)
+                      .str(4));
+  }
   return o.str() + "\n";
 }
 

@@ -47,8 +47,19 @@ inline constexpr ComplianceMember compliance_members[] = {
     {"S_compression", &Law::compression},
 };
 
+// The two cone-wise fits, with their group in /law.
+struct ConeMember {
+  const char* name;
+  ConeFit Law::*fit;
+};
+
+inline constexpr ConeMember cone_members[] = {
+    {"cone", &Law::cone},
+    {"cone_after_fuse", &Law::cone_after_fuse},
+};
+
 // The root attribute `format` of law.h5, and the JSON export's "format".
-inline constexpr const char* format_name = "dualcell law 1";
+inline constexpr const char* format_name = "dualcell law 2";
 
 // Stated in every law.h5 and export, so that a reader never has to guess the shear factor.
 inline constexpr const char* shear_convention =

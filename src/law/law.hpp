@@ -14,6 +14,7 @@
 
 #include "core/provenance.hpp"
 #include "core/scene.hpp"
+#include "law/cone.hpp"
 
 namespace dualcell::law {
 
@@ -54,6 +55,10 @@ struct Law {
   bool cone_wise_linear = false;                          // ratio below 0.05 and both fits SPD
   Eigen::Vector3d cone_normal = Eigen::Vector3d::Zero();  // c (unit), in engineering-shear strain space
   double cone_beta = 0;                                   // β
+  // The cone-wise law fitted to every point before any break (an admissible law for every
+  // strain, law/cone.hpp), and to the points past the largest jump of each path that has one
+  // (the debonded cell a structure switches to, irreversibly).
+  ConeFit cone, cone_after_fuse;
   // Constituents, for the out-of-plane constants of the exports (rule of mixtures).
   Constituents constituents;
   std::string units = "stress and moduli in the units of the input scene; strains dimensionless";

@@ -73,6 +73,18 @@ void expect_same_law(const Law& a, const Law& b) {
   EXPECT_TRUE(same(a.cone_rank_one_ratio, b.cone_rank_one_ratio));
   EXPECT_EQ(a.cone_wise_linear, b.cone_wise_linear);
   for (int i = 0; i < 3; ++i) EXPECT_TRUE(same(a.cone_normal(i), b.cone_normal(i)));
+  for (const auto& [x, y] : {std::pair{&a.cone, &b.cone}, {&a.cone_after_fuse, &b.cone_after_fuse}}) {
+    EXPECT_EQ(x->law.C_c, y->law.C_c);
+    EXPECT_EQ(x->law.c, y->law.c);
+    EXPECT_EQ(x->law.beta, y->law.beta);
+    EXPECT_TRUE(same(x->relative_residual, y->relative_residual));
+    ASSERT_EQ(x->direction_residual.size(), y->direction_residual.size());
+    for (std::size_t i = 0; i < x->direction_residual.size(); ++i)
+      EXPECT_TRUE(same(x->direction_residual[i], y->direction_residual[i]));
+    EXPECT_EQ(x->n_points, y->n_points);
+    EXPECT_EQ(x->ok, y->ok);
+    EXPECT_EQ(x->message, y->message);
+  }
   EXPECT_TRUE(same(a.cone_beta, b.cone_beta));
   EXPECT_TRUE(same(a.constituents.fibre_E, b.constituents.fibre_E));
   EXPECT_TRUE(same(a.constituents.fibre_nu, b.constituents.fibre_nu));
@@ -130,8 +142,17 @@ TEST(LawFile, HoldsTheDocumentedObjects) {
   for (const char* name : {"S_tension", "S_compression", "S_tension_se", "S_compression_se"})
     EXPECT_EQ(f.shape(std::string("/law/") + name), (std::vector<hsize_t>{3, 3})) << name;
   EXPECT_EQ(f.shape("/law/S_tension_rank"), (std::vector<hsize_t>{1}));
+  for (const char* group : {"/law/cone", "/law/cone_after_fuse"}) {
+    const std::string g = group;
+    EXPECT_EQ(f.shape(g + "/C_c"), (std::vector<hsize_t>{3, 3})) << g;
+    EXPECT_EQ(f.shape(g + "/c"), (std::vector<hsize_t>{3})) << g;
+    for (const char* name : {"beta", "relative_residual", "n_points", "ok"})
+      EXPECT_EQ(f.shape(g + "/" + name), (std::vector<hsize_t>{1})) << g << "/" << name;
+    EXPECT_EQ(f.shape(g + "/direction_residual"), (std::vector<hsize_t>{4})) << g;
+    EXPECT_TRUE(f.has_attribute(g, "message")) << g;
+  }
   EXPECT_EQ(f.read_doubles("/law/S_tension", {3, 3})[1], testing::synthetic_law().tension.S(0, 1));
-  EXPECT_EQ(f.read_string_attribute("/", "format"), "dualcell law 1");
+  EXPECT_EQ(f.read_string_attribute("/", "format"), "dualcell law 2");
   EXPECT_EQ(f.read_string_attribute("/law", "stress_state"), "plane strain");
   EXPECT_NE(f.read_string_attribute("/law", "shear_convention").find("engineering shear"), std::string::npos);
   for (const char* name : {"scene", "sweep_file", "sweep_hash", "solver_options", "code_version"})
@@ -169,7 +190,7 @@ TEST(LawFile, ForeignTruncatedAndMissingFilesAreRefused) {
   EXPECT_NE(refusal(dir / "absent.h5").find("file not found"), std::string::npos);
   // An HDF5 file of another stage.
   { io::File::create(dir / "other.h5").write_attribute("/", "format", std::string("dualcell sweep 1")); }
-  EXPECT_NE(refusal(dir / "other.h5").find("attribute format is 'dualcell sweep 1', expected 'dualcell law 1'"),
+  EXPECT_NE(refusal(dir / "other.h5").find("attribute format is 'dualcell sweep 1', expected 'dualcell law 2'"),
             std::string::npos);
   { io::File::create(dir / "empty.h5"); }
   EXPECT_NE(refusal(dir / "empty.h5").find("not a dualcell law file"), std::string::npos);

@@ -278,7 +278,10 @@ TEST(Export, JsonIsReadByPythonWithEveryObject) {
       "import json, math, sys\n"
       "def strict(c): raise ValueError('non-standard constant ' + c)\n"
       "d = json.load(open(sys.argv[1]), parse_constant=strict)\n"
-      "assert d['format'] == 'dualcell law 1'\n"
+      "assert d['format'] == 'dualcell law 2'\n"
+      "assert d['cone']['c'] == [0.6, 0.8, 0.0] and d['cone']['beta'] == 2.5 and d['cone']['ok'] == 1\n"
+      "assert d['cone']['C_c'][0][1] == 2.9 and d['cone']['direction_residual'][2] is None\n"
+      "assert d['cone_after_fuse']['ok'] == 0 and d['cone_after_fuse']['message'] == 'fewer than 3 points'\n"
       "assert d['direction_deg'] == [0, 30, 60, 90]\n"
       "assert d['E_tension'][1] == 7.0 and d['n_tension'] == [5, 6, 7, 8]\n"
       "assert d['fuse_stress'][2] is None and d['fuse_stress'][0] == 0.0586\n"
@@ -292,9 +295,9 @@ TEST(Export, JsonIsReadByPythonWithEveryObject) {
   const auto check =
       run_command("/usr/bin/python3 " + dir.write("check.py", script).string() + " " + (dir / "law.json").string());
   ASSERT_EQ(check.exit_code, 0) << check.output;
-  // 20 per-direction columns, 7 objects per fit, 4 cone objects, 5 constituents, format and 5
-  // provenance texts, 3 /law texts.
-  EXPECT_EQ(check.output, "52\n");
+  // 20 per-direction columns, 7 objects per fit, 4 cone objects, 2 cone-wise fits, 5
+  // constituents, format and 5 provenance texts, 3 /law texts.
+  EXPECT_EQ(check.output, "54\n");
 }
 
 TEST(Export, CsvHasAHeaderAndOneRowPerDirection) {
