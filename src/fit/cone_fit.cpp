@@ -9,6 +9,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <numbers>
 
 namespace dualcell::fit {
 
@@ -98,11 +99,14 @@ law::ConeFit fit_cone(const std::vector<ConePoint>& points, int n_directions, co
     return out;
   }
 
+  // Starting normals: 64 Fibonacci points on the unit sphere, and the caller's guess.
   std::vector<Eigen::Vector3d> starts;
-  for (int k = 0; k < 3; ++k) starts.push_back(Eigen::Vector3d::Unit(k)), starts.push_back(-Eigen::Vector3d::Unit(k));
-  for (const Eigen::Vector3d& d : {Eigen::Vector3d(1, 1, 0), Eigen::Vector3d(1, -1, 0), Eigen::Vector3d(-1, -1, 0),
-                                   Eigen::Vector3d(-1, 1, 0), Eigen::Vector3d(1, 1, 1), Eigen::Vector3d(-1, -1, 1)})
-    starts.push_back(d.normalized());
+  constexpr int n_starts = 64;
+  for (int k = 0; k < n_starts; ++k) {
+    const double z = 1 - (2 * k + 1.0) / n_starts, r = std::sqrt(1 - z * z);
+    const double phi = k * std::numbers::pi * (3 - std::sqrt(5.0));
+    starts.emplace_back(r * std::cos(phi), r * std::sin(phi), z);
+  }
   if (guess.norm() > 0 && guess.allFinite()) starts.push_back(guess.normalized());
 
   gsl_set_error_handler_off();  // statuses are checked; GSL must not abort the process

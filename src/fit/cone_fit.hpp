@@ -7,8 +7,8 @@
 //   c   = (sin p₆ cos p₇, sin p₆ sin p₇, cos p₆)                              (unit),
 //   β   = p₈²                                                                  (≥ 0).
 // The least-squares problem is not convex (c enters through the kink of ⟨c·ε⟩₊), so it starts
-// from the linear fit C₀ of all points with c along each of 13 directions (±axes, ±face
-// diagonals of the (εxx, εyy) plane, the given guess) and keeps the smallest residual.
+// from the linear fit C₀ of all points with c at each of 64 points spread over the unit sphere
+// (and the given guess) and keeps the smallest residual.
 #include <Eigen/Core>
 #include <string>
 #include <vector>
