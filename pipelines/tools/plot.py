@@ -69,12 +69,30 @@ def stress_strain(sweep, outbase):
     gnuplot(script, outbase, data)
 
 
+def cone_modulus(C_c, c, beta, theta_deg, sign):
+    """E(θ) of the cone-wise law under uniaxial stress sign·n⊗n: the strain is C⁻¹σ on the side
+    it lands on (C_c where c·ε ≤ 0, C_c + β c cᵀ where c·ε > 0; exactly one side is consistent
+    because the law is monotone), E = s/ε_nn with engineering shear ε = (εxx, εyy, γxy)."""
+    import numpy as np
+    t = math.radians(theta_deg)
+    n = (math.cos(t), math.sin(t))
+    sigma = sign * np.array([n[0] * n[0], n[1] * n[1], n[0] * n[1]])
+    strain = np.linalg.solve(C_c, sigma)
+    if float(c @ strain) > 0:
+        strain = np.linalg.solve(C_c + beta * np.outer(c, c), sigma)
+    e_nn = n[0] * n[0] * strain[0] + n[1] * n[1] * strain[1] + n[0] * n[1] * strain[2]
+    return sign / e_nn
+
+
 def polar(law, outbase):
     with h5py.File(law, "r") as f:
         g = f["law"]
         theta = list(g["direction_deg"][:])
         Et, Ec, onset = list(g["E_tension"][:]), list(g["E_compression"][:]), list(g["onset_stress"][:])
         after = list(g["E_after_fuse"][:])
+        cone = None
+        if "cone" in g and int(g["cone/ok"][0]) == 1:
+            cone = (g["cone/C_c"][:], g["cone/c"][:], float(g["cone/beta"][0]))
     # E(θ + 180°) = E(θ) exactly (n⊗n is the same tensor): the measured directions are drawn
     # again half a turn on, as a separate block, so that no line crosses unmeasured directions.
     def curve(values, shift):
@@ -90,15 +108,24 @@ def polar(law, outbase):
         data["after.dat"] = both(after)
         after_fuse = (", \\\n  'after.dat' using 1:2 with linespoints lw 2 pt 9 lc rgb '#d02020' "
                       "title 'E tension past the fuse'")
+    # The fitted cone-wise law's E(θ) over the whole circle, as thin lines beside the points.
+    cone_curves = ""
+    if cone is not None:
+        for name, sign in (("cone_c.dat", -1.0), ("cone_t.dat", 1.0)):
+            data[name] = "".join("{:.10g} {:.10g}\n".format(t, cone_modulus(*cone, t, sign)) for t in range(0, 361, 2))
+        cone_curves = (", \\\n  'cone_c.dat' using 1:2 with lines lw 1 dt 2 lc rgb '#8000c0' "
+                       "title 'cone-wise law, compression', \\\n  'cone_t.dat' using 1:2 with lines lw 1 dt 2 "
+                       "lc rgb '#009060' title 'cone-wise law, tension'")
     polar_plot = ("set title 'Moduli by load direction θ'\nset polar\nset angles degrees\n"
                   "set grid polar 30\nset size square\nunset border\nunset xtics\nunset ytics\nset rtics\n"
-                  "set key bottom outside\n"
+                  "set key below vertical maxrows 3 font ',9'\n"
                   "plot 'Ec.dat' using 1:2 with linespoints lw 2 pt 7 lc rgb '#8000c0' title 'E compression', \\\n"
-                  "  'Et.dat' using 1:2 with linespoints lw 2 pt 5 lc rgb '#009060' title 'E tension'" + after_fuse + "\n")
+                  "  'Et.dat' using 1:2 with linespoints lw 2 pt 5 lc rgb '#009060' title 'E tension'" + after_fuse
+                  + cone_curves + "\n")
     if any(not math.isnan(v) for v in onset):
         data["onset.dat"] = curve(onset, 0)
         script = ("set multiplot layout 1,2\n" + polar_plot +
-                  "unset polar\nset size nosquare\nset border\nset xtics\nset ytics\nset grid\n"
+                  "unset polar\nset size nosquare\nset border\nset xtics\nset ytics\nset grid\nset key default\n"
                   "set title 'Debond onset s* by direction'\nset xlabel 'θ (deg)'\nset ylabel 's*'\n"
                   "plot 'onset.dat' using 1:2 with linespoints lw 2 pt 9 title 'onset'\nunset multiplot\n")
     else:
