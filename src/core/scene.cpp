@@ -152,6 +152,11 @@ void validate(const Scene& scene) {
     if (!(std::isfinite(t[0]) && std::isfinite(t[1]) && std::isfinite(t[2])) || (t[0] == 0 && t[1] == 0 && t[2] == 0))
       c.fail("sweep", "stress_directions", shortest(std::vector<double>(t.begin(), t.end())),
              "must be an array of [sxx, syy, sxy] stress tensors, each finite and not all zero");
+  c.integer("sweep", "sphere", sw.sphere, 0, 100000);
+  if (sw.sphere > 0 && scene.load.boundary == Boundary::symmetry)
+    c.fail("sweep", "sphere", std::to_string(sw.sphere),
+           "the symmetry boundary carries no shear stress; a sphere of stress directions needs boundary = "
+           "\"traction\" or \"periodic\"");
   c.real(
       "sweep", "fuse_tolerance", sw.fuse_tolerance, [](double v) { return v > 0 && v < 1; }, "0 < fuse_tolerance < 1");
 

@@ -58,6 +58,11 @@ struct SweepSettings {
   // General load paths besides the uniaxial ones: stress tensors (σxx, σyy, σxy), normalised
   // to unit Frobenius norm, each swept with the same signed magnitudes.
   std::vector<std::array<double, 3>> stress_directions;
+  // N > 0: N more paths along directions spread evenly over the unit sphere of
+  // (σxx, σyy, √2σxy) (a Fibonacci point set), each loaded along +N only (the set covers both
+  // signs). Without adhesion one magnitude per direction (the largest |magnitude|): the response
+  // is positively homogeneous, ε(sσ̄) = s ε(σ̄); with adhesion every |magnitude|.
+  int sphere = 0;
   double fuse_tolerance = 1e-3;  // relative load bracket of the debond jump
 };
 

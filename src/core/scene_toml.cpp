@@ -424,6 +424,7 @@ Scene parse_scene(std::string_view text, const std::filesystem::path& file) {
   scene.sweep.directions_deg = st.reals("directions_deg", scene.sweep.directions_deg, 1, 3600);
   scene.sweep.magnitudes = st.reals("magnitudes", scene.sweep.magnitudes, 1, 100000);
   scene.sweep.stress_directions = st.triples("stress_directions");
+  scene.sweep.sphere = st.integer<int>("sphere", 0);
   scene.sweep.fuse_tolerance = st.real("fuse_tolerance", scene.sweep.fuse_tolerance);
   st.finish();
 

@@ -102,7 +102,8 @@ law::ComplianceFit fit_compliance(const std::vector<sweep::PathResult>& paths, i
   };
   std::vector<Point> points;
   for (const auto& p : paths) {
-    if (p.spec.sign != sign) continue;
+    // The sphere's paths have no tension or compression: they enter the cone-wise fit only.
+    if (p.spec.sign != sign || p.spec.sphere) continue;
     for (const auto& s : p.steps) {
       if (!usable(s)) continue;
       const Eigen::Vector3d e_eng(s.strain(0), s.strain(1), 2 * s.strain(2));

@@ -12,7 +12,7 @@ namespace dualcell::io {
 // The formats the stages write (layouts in README.md); law.h5's is law::format_name.
 inline constexpr const char* mesh_format = "dualcell mesh 2";
 inline constexpr const char* solution_format = "dualcell solution 2";
-inline constexpr const char* sweep_format = "dualcell sweep 1";
+inline constexpr const char* sweep_format = "dualcell sweep 2";
 
 // Refuses a file whose root attribute `format` is not `format`, with one line:
 // "<file>: not a dualcell law file (root attribute format is 'dualcell sweep 1', expected 'dualcell law 2')".

@@ -25,6 +25,7 @@ void write_path(File& f, const sweep::PathResult& p) {
   f.create_group(g);
   f.write_attribute(g, "direction_deg", p.spec.direction_deg);
   f.write_attribute(g, "sign", std::int64_t{p.spec.sign});
+  f.write_attribute(g, "sphere", std::int64_t{p.spec.sphere ? 1 : 0});
   f.write_attribute(g, "unit_stress",
                     std::vector<double>{p.spec.unit_stress(0), p.spec.unit_stress(1), p.spec.unit_stress(2)});
   f.write_attribute(g, "schedule", p.spec.loads);
@@ -63,6 +64,10 @@ sweep::PathResult read_path(const File& f, int index) {
   p.spec.index = index;
   p.spec.direction_deg = f.read_double_attribute_value(g, "direction_deg");
   p.spec.sign = static_cast<int>(f.read_int_attribute_value(g, "sign"));
+  const std::int64_t sphere = f.read_int_attribute_value(g, "sphere");
+  if (sphere != 0 && sphere != 1)
+    throw InputError(where + ": attribute sphere = " + std::to_string(sphere) + ", not 0 or 1");
+  p.spec.sphere = sphere == 1;
   const auto unit = f.read_double_attribute(g, "unit_stress", 3);
   p.spec.unit_stress = {unit[0], unit[1], unit[2]};
   p.spec.loads = f.read_double_attribute(g, "schedule");

@@ -53,8 +53,11 @@ SweepSummary run_sweep(const SweepOptions& options) {
       const double finished = done_steps + p.loads.size() * std::abs(s.load / p.loads.back());
       const double eta = finished > 0 ? elapsed * (total_steps - finished) / finished : 0;
       std::fprintf(stderr, "\rdualcell-sweep: path %d/%zu (%s %g deg) step %d load %.4g broken %ld  ETA %.0f s   ",
-                   p.index + 1, specs.size(), p.sign > 0 ? "tension" : "compression", p.direction_deg, step + 1, s.load,
-                   s.broken_bonds, eta);
+                   p.index + 1, specs.size(),
+                   p.sphere     ? "sphere"
+                   : p.sign > 0 ? "tension"
+                                : "compression",
+                   p.direction_deg, step + 1, s.load, s.broken_bonds, eta);
     };
     results.push_back(sweep::run_path(solver, spec, scene.sweep.fuse_tolerance, progress));
     io::write_part(options.out, results.back(), header);

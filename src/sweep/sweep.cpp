@@ -92,7 +92,34 @@ std::vector<PathSpec> plan_paths(const Scene& scene) {
     unit /= std::sqrt(unit(0) * unit(0) + unit(1) * unit(1) + 2 * unit(2) * unit(2));
     add(std::numeric_limits<double>::quiet_NaN(), unit);
   }
+  // The sphere: loads along +N only; without adhesion one load, the largest magnitude.
+  std::vector<double> sphere_loads;
+  for (double m : scene.sweep.magnitudes) sphere_loads.push_back(std::abs(m));
+  std::sort(sphere_loads.begin(), sphere_loads.end());
+  sphere_loads.erase(std::unique(sphere_loads.begin(), sphere_loads.end()), sphere_loads.end());
+  if (!scene.interface.has_adhesion() && !sphere_loads.empty()) sphere_loads = {sphere_loads.back()};
+  for (const Eigen::Vector3d& unit : sphere_directions(scene.sweep.sphere)) {
+    PathSpec spec;
+    spec.index = static_cast<int>(paths.size());
+    spec.direction_deg = std::numeric_limits<double>::quiet_NaN();
+    spec.sign = 1;
+    spec.unit_stress = unit;
+    spec.loads = sphere_loads;
+    spec.sphere = true;
+    paths.push_back(spec);
+  }
   return paths;
+}
+
+std::vector<Eigen::Vector3d> sphere_directions(int n) {
+  std::vector<Eigen::Vector3d> out;
+  const double golden = std::numbers::pi * (3 - std::sqrt(5.0));  // the golden angle
+  for (int k = 0; k < n; ++k) {
+    const double z = 1 - (2 * k + 1.0) / n, r = std::sqrt(1 - z * z);
+    // (x, y, z) = (σxx, σyy, √2σxy) on the unit sphere is a tensor of unit Frobenius norm.
+    out.emplace_back(r * std::cos(k * golden), r * std::sin(k * golden), z / std::sqrt(2.0));
+  }
+  return out;
 }
 
 PathResult run_path(feti::ContactSolver& solver, const PathSpec& spec, double fuse_tolerance,

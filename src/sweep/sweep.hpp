@@ -25,7 +25,12 @@ struct PathSpec {
   int sign = 1;                 // +1 tension, −1 compression
   Eigen::Vector3d unit_stress;  // N: (σxx, σyy, σxy), unit Frobenius norm
   std::vector<double> loads;    // signed loads s, |s| increasing; σ̄ = s·N
+  bool sphere = false;          // one of [sweep] sphere's directions (sign +1, direction_deg NaN)
 };
+
+// The N directions of [sweep] sphere: a Fibonacci point set on the unit sphere of
+// (σxx, σyy, √2σxy), returned as stress tensors (σxx, σyy, σxy) of unit Frobenius norm.
+std::vector<Eigen::Vector3d> sphere_directions(int n);
 
 struct Step {
   double load = 0;

@@ -92,6 +92,55 @@ TEST_P(SweepOrders, WithoutAdhesionLinearBimodularAndDirectional) {
   EXPECT_GT(std::abs(E[2] / E[0] - 1), 0.01);
 }
 
+// [sweep] sphere: N directions spread over the unit sphere of (σxx, σyy, √2σxy), loaded along +N;
+// one load each without adhesion, every |magnitude| with it; refused on the symmetry boundary.
+TEST(Sweep, SphereDirectionsCoverTheStressSphere) {
+  Scene s = make_scene(1, 1, 0.3, Boundary::traction, 10, 1, 0, {0}, {-2, 1, -1, 3});
+  s.sweep.sphere = 40;
+  const auto paths = plan_paths(s);
+  ASSERT_EQ(paths.size(), 2u + 40u);
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (std::size_t i = 2; i < paths.size(); ++i) {
+    const PathSpec& p = paths[i];
+    EXPECT_TRUE(p.sphere);
+    EXPECT_EQ(p.sign, 1);
+    EXPECT_TRUE(std::isnan(p.direction_deg));
+    const Eigen::Vector3d& N = p.unit_stress;
+    EXPECT_NEAR(N(0) * N(0) + N(1) * N(1) + 2 * N(2) * N(2), 1.0, 1e-15);  // unit Frobenius norm
+    EXPECT_EQ(p.loads, std::vector<double>{3.0});                          // no adhesion: the largest |magnitude| only
+    mean += Eigen::Vector3d(N(0), N(1), std::sqrt(2.0) * N(2)) / 40;
+  }
+  // Evenly spread: the centroid of the points is near the centre (z exactly, x and y to O(1/N)).
+  EXPECT_NEAR(mean(2), 0, 1e-15);
+  EXPECT_LT(mean.norm(), 0.05);
+  s.interface = {0.1, 0.1};
+  EXPECT_EQ(plan_paths(s).back().loads, (std::vector<double>{1, 2, 3}));
+  s.load.boundary = Boundary::symmetry;
+  try {
+    validate(s);
+    ADD_FAILURE() << "a sphere on the symmetry boundary was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("[sweep] sphere = 40"), std::string::npos) << e.what();
+  }
+}
+
+// Why one magnitude per sphere direction suffices without adhesion: the response is positively
+// homogeneous. Solved at 1e-12 (the QP's relative tolerance), the strain at 3σ̄ is 3 times the
+// strain at σ̄ to 1e-9 relative in every direction (round-off of the two solves, amplified by
+// the conditioning of F, ~1e2, and the active-set agreement, which is exact here).
+TEST(Sweep, WithoutAdhesionTheSphereIsPositivelyHomogeneous) {
+  Scene s = make_scene(1, 1, 0.3, Boundary::periodic, 20, 1, 0, {0}, {1});
+  s.solver.tolerance = 1e-12;
+  const mesh::Mesh m = mesh::build_mesh(s.geometry);
+  feti::ContactSolver solver(m, s);
+  for (const Eigen::Vector3d& N : sphere_directions(8)) {
+    const feti::Solution one = solver.solve(0.01 * N, solver.intact());
+    const feti::Solution three = solver.solve(0.03 * N, solver.intact());
+    ASSERT_TRUE(one.converged() && three.converged()) << one.qp.message << three.qp.message;
+    EXPECT_LE((three.strain - 3 * one.strain).norm(), 1e-9 * three.strain.norm()) << N.transpose();
+  }
+}
+
 // The thesis' tension fuse (scenes/fuse.toml) on a smaller block: stiff fibres, weak adhesion, tension along x.
 TEST_P(SweepOrders, AdhesionBondedBelowOnsetThenAFuse) {
   const Scene scene = make_scene(2, 2, 0.4, Boundary::symmetry, 1e5, 1e3, 10, {0}, {3, 6.5}, GetParam());
