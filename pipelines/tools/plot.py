@@ -93,6 +93,11 @@ def polar(law, outbase):
         cone = None
         if "cone" in g and int(g["cone/ok"][0]) == 1:
             cone = (g["cone/C_c"][:], g["cone/c"][:], float(g["cone/beta"][0]))
+        facets, swept = None, []
+        if "onset" in g and int(g["onset"].attrs["linear"]) == 1:
+            facets = g["onset/facets"][:]
+            if "onset/path_stress" in g:
+                swept = list(zip(g["onset/path_stress"][:], g["onset/sweep_onset"][:]))
     # E(θ + 180°) = E(θ) exactly (n⊗n is the same tensor): the measured directions are drawn
     # again half a turn on, as a separate block, so that no line crosses unmeasured directions.
     def curve(values, shift):
@@ -123,11 +128,41 @@ def polar(law, outbase):
                   "  'Et.dat' using 1:2 with linespoints lw 2 pt 5 lc rgb '#009060' title 'E tension'" + after_fuse
                   + cone_curves + "\n")
     if any(not math.isnan(v) for v in onset):
-        data["onset.dat"] = curve(onset, 0)
+        # The onset of uniaxial tension and compression along θ, from the onset surface over
+        # every θ (s* = 1/max_k g_k·N, N = ±n⊗n) and as the sweep's paths solved it.
+        plots = []
+        if facets is not None:
+            for name, sign in (("surface_t.dat", 1.0), ("surface_c.dat", -1.0)):
+                rows = []
+                for t in range(0, 181):
+                    c, s_ = math.cos(math.radians(t)), math.sin(math.radians(t))
+                    reach = max(sign * (g[0] * c * c + g[1] * s_ * s_ + g[2] * c * s_) for g in facets)
+                    rows.append("{} {:.10g}\n".format(t, 1 / reach if reach > 0 else float("nan")))
+                data[name] = "".join(rows)
+            plots += ["'surface_t.dat' using 1:2 with lines lw 1 dt 2 lc rgb '#009060' title 'onset surface, tension'",
+                      "'surface_c.dat' using 1:2 with lines lw 1 dt 2 lc rgb '#8000c0' "
+                      "title 'onset surface, compression'"]
+        points = {1: [], -1: []}
+        for N, s_star in swept:
+            # Uniaxial paths only: N = ±n⊗n has a zero determinant.
+            if math.isnan(s_star) or abs(N[0] * N[1] - N[2] * N[2]) > 1e-12:
+                continue
+            sign = 1 if N[0] + N[1] > 0 else -1
+            theta_deg = math.degrees(0.5 * math.atan2(2 * sign * N[2], sign * (N[0] - N[1]))) % 180
+            points[sign].append("{:.10g} {:.10g}\n".format(theta_deg, s_star))
+        for name, sign, colour, title in (("swept_t.dat", 1, "#009060", "tension"),
+                                          ("swept_c.dat", -1, "#8000c0", "compression")):
+            if points[sign]:
+                data[name] = "".join(sorted(points[sign], key=lambda r: float(r.split()[0])))
+                plots.append(f"'{name}' using 1:2 with points pt 7 ps 1.2 lc rgb '{colour}' title 'swept, {title}'")
+        if not plots:
+            data["onset.dat"] = curve(onset, 0)
+            plots = ["'onset.dat' using 1:2 with linespoints lw 2 pt 9 title 'onset'"]
         script = ("set multiplot layout 1,2\n" + polar_plot +
-                  "unset polar\nset size nosquare\nset border\nset xtics\nset ytics\nset grid\nset key default\n"
-                  "set title 'Debond onset s* by direction'\nset xlabel 'θ (deg)'\nset ylabel 's*'\n"
-                  "plot 'onset.dat' using 1:2 with linespoints lw 2 pt 9 title 'onset'\nunset multiplot\n")
+                  "unset polar\nset size nosquare\nset border\nset xtics\nset ytics\nset grid\n"
+                  "set key below vertical maxrows 2 font ',9'\nset xrange [0:180]\n"
+                  "set title 'Debond onset |s*| under uniaxial stress along θ'\nset xlabel 'θ (deg)'\n"
+                  "set ylabel '|s*|'\nplot " + ", \\\n  ".join(plots) + "\nunset multiplot\n")
     else:
         script = polar_plot
     gnuplot(script, outbase, data)

@@ -4,10 +4,12 @@
 // through the origin on the points before any break) with standard errors and R², Poisson's
 // ratios, and where adhesion breaks the fuse stress, strain jump and the modulus past it; over
 // all directions the in-plane compliances S_tension, S_compression with their residuals and
-// definiteness, and the cone-wise linear check. Writes law.h5 (layout: README.md, "law.h5").
+// definiteness, the cone-wise linear check, the cone-wise law before and after the fuse, and
+// the exact onset surface checked against the sweep. Writes law.h5 (layout: README.md, "law.h5").
 //
 //   dualcell-fit --sweep sweep.h5 --out law.h5
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -46,5 +48,28 @@ int main(int argc, char** argv) {
     if (!std::isnan(law.cone_rank_one_ratio))
       std::printf("  cone-wise linear (Curnier-He-Zysset): rank-one ratio %.3f -> %s\n", law.cone_rank_one_ratio,
                   law.cone_wise_linear ? "yes" : "no (the stiffness jump is not rank-one)");
+    for (const auto* cone : {&law.cone, &law.cone_after_fuse}) {
+      const char* name = cone == &law.cone ? "cone-wise law" : "cone-wise law after the fuse";
+      if (cone->ok)
+        std::printf("  %s: relative residual %.3g over %d points, c = (%.4f, %.4f, %.4f), beta = %.5g\n", name,
+                    cone->relative_residual, cone->n_points, cone->law.c(0), cone->law.c(1), cone->law.c(2),
+                    cone->law.beta);
+      else
+        std::printf("  %s: none (%s)\n", name, cone->message.c_str());
+    }
+    const law::OnsetSurface& onset = law.onset;
+    if (onset.linear) {
+      double worst = 0;
+      int checked = 0;
+      for (std::size_t k = 0; k < onset.path_onset.size(); ++k) {
+        if (std::isnan(onset.path_sweep_onset[k])) continue;
+        worst = std::max(worst, std::abs(onset.path_onset[k] / onset.path_sweep_onset[k] - 1));
+        ++checked;
+      }
+      std::printf("  onset surface: %ld facets; predicts the onset of %d swept paths to %.2e relative\n",
+                  static_cast<long>(onset.facets.rows()), checked, worst);
+    } else {
+      std::printf("  onset surface: none (%s)\n", onset.message.c_str());
+    }
   });
 }

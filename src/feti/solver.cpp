@@ -1,6 +1,7 @@
 #include "feti/solver.hpp"
 
 #include <Eigen/SVD>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -59,6 +60,13 @@ constexpr double at_strength_tolerance = 1e-7;
 // The tightest dual tolerance the primal check may ask for: a relative projected gradient of
 // 1e-14 is a few hundred ulps of its terms, below which SMALBE stagnates instead of converging.
 constexpr double min_qp_tolerance = 1e-14;
+
+// The dual tolerance of the onset problems (bonds lifted: linear, or a cone of contact rows).
+// The onset is the threshold a sweep steps to and a structure switches a cell at, so it is
+// solved tighter than the scene's tolerance: at 1e-10 two solves of the same onset agree to
+// only 4e-8 (cond(PFP) amplifies the projected gradient), at 1e-13 to 2e-10 (the onset tests); the problem has
+// no active set to find, so the extra decades cost a few dozen CG steps.
+constexpr double onset_qp_tolerance = 1e-13;
 
 }  // namespace
 
@@ -470,32 +478,109 @@ Solution ContactSolver::solve(const Eigen::Vector3d& sigma, const BondState& bon
   return total;
 }
 
-double ContactSolver::debond_onset(const Eigen::Vector3d& sigma) {
-  if (!setup_.scene().interface.has_adhesion()) return std::numeric_limits<double>::infinity();
-  Constraints con = build_constraints(setup_.mesh(), setup_.scene(), intact());
-  const Eigen::VectorXd lower = con.lower, upper = con.upper;
-  // Lift only the bounds that come from a strength: a normal row without normal strength keeps
-  // λ ≥ 0 (contact), which leaves a cone and keeps the response homogeneous.
+namespace {
+
+// The bonded problem with the bounds that come from a strength lifted: a normal row without
+// normal strength keeps λ ≥ 0 (contact), which leaves a cone and keeps the response
+// homogeneous. Returns the lifted constraints; `lower`, `upper` get the original bounds.
+Constraints lifted_bonded(const mesh::Mesh& mesh, const Scene& scene, const BondState& intact, Eigen::VectorXd& lower,
+                          Eigen::VectorXd& upper, bool& linear) {
+  Constraints con = build_constraints(mesh, scene, intact);
+  lower = con.lower, upper = con.upper;
+  linear = true;
   for (int r = 0; r < con.n_rows(); ++r) {
     if (con.kind[r] == RowKind::tangential) {
       con.lower(r) = -std::numeric_limits<double>::infinity();
       con.upper(r) = std::numeric_limits<double>::infinity();
     }
-    if (con.kind[r] == RowKind::normal && con.lower(r) < 0) con.lower(r) = -std::numeric_limits<double>::infinity();
+    if (con.kind[r] == RowKind::normal) {
+      if (con.lower(r) < 0)
+        con.lower(r) = -std::numeric_limits<double>::infinity();
+      else
+        linear = false;
+    }
   }
-  const DualProblem linear(setup_, std::move(con));
+  return con;
+}
+
+}  // namespace
+
+double ContactSolver::debond_onset(const Eigen::Vector3d& sigma, std::vector<int>* critical) {
+  if (critical) critical->clear();
+  if (!setup_.scene().interface.has_adhesion()) return std::numeric_limits<double>::infinity();
+  Eigen::VectorXd lower, upper;
+  bool linear;
+  Constraints con = lifted_bonded(setup_.mesh(), setup_.scene(), intact(), lower, upper, linear);
+  const DualProblem lifted(setup_, std::move(con));
   double norm = 0;
-  const Solution s = solve_problem(linear, norm, sigma, nullptr);
+  const Solution s = solve_problem(lifted, norm, sigma, nullptr, nullptr,
+                                   std::min(onset_qp_tolerance, setup_.scene().solver.tolerance));
   if (!s.converged()) return std::numeric_limits<double>::quiet_NaN();
-  double onset = std::numeric_limits<double>::infinity();
-  const Constraints& c = linear.constraints();
-  for (int r = 0; r < c.n_rows(); ++r) {
-    if (c.kind[r] != RowKind::normal && c.kind[r] != RowKind::tangential) continue;
+  // The load factor at which row r reaches its bound (+inf where it never does along σ̄).
+  const Constraints& c = lifted.constraints();
+  const auto reach = [&](int r) {
     const double lambda = s.lambda(r) / c.weight(r);
-    if (lambda < 0 && std::isfinite(lower(r)) && lower(r) < 0) onset = std::min(onset, lower(r) / lambda);
-    if (lambda > 0 && std::isfinite(upper(r)) && upper(r) > 0) onset = std::min(onset, upper(r) / lambda);
+    if (lambda < 0 && std::isfinite(lower(r)) && lower(r) < 0) return lower(r) / lambda;
+    if (lambda > 0 && std::isfinite(upper(r)) && upper(r) > 0) return upper(r) / lambda;
+    return std::numeric_limits<double>::infinity();
+  };
+  const auto bonded = [&](int r) { return c.kind[r] == RowKind::normal || c.kind[r] == RowKind::tangential; };
+  double onset = std::numeric_limits<double>::infinity();
+  for (int r = 0; r < c.n_rows(); ++r)
+    if (bonded(r)) onset = std::min(onset, reach(r));
+  if (critical && std::isfinite(onset)) {
+    for (int r = 0; r < c.n_rows(); ++r)
+      if (bonded(r) && reach(r) <= onset * (1 + at_strength_tolerance)) critical->push_back(c.pair[r]);
+    std::sort(critical->begin(), critical->end());
+    critical->erase(std::unique(critical->begin(), critical->end()), critical->end());
   }
   return onset;
+}
+
+law::OnsetSurface ContactSolver::onset_surface() {
+  law::OnsetSurface out;
+  if (!setup_.scene().interface.has_adhesion()) {
+    out.message = "no adhesion: nothing to break";
+    return out;
+  }
+  Eigen::VectorXd lower, upper;
+  bool linear;
+  Constraints con = lifted_bonded(setup_.mesh(), setup_.scene(), intact(), lower, upper, linear);
+  if (!linear) {
+    out.message =
+        "normal rows without normal strength stay contact rows: the bonded response is not linear, "
+        "so the onset set is no polytope (use the onset per direction)";
+    return out;
+  }
+  const DualProblem lifted(setup_, std::move(con));
+  const Constraints& c = lifted.constraints();
+  // Row forces per unit stress: column j = λ(e_j) in force units.
+  const int n_unit = setup_.scene().load.boundary == Boundary::symmetry ? 2 : 3;
+  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(c.n_rows(), 3);
+  double norm = 0;
+  for (int j = 0; j < n_unit; ++j) {
+    const Solution s = solve_problem(lifted, norm, Eigen::Vector3d::Unit(j), nullptr, nullptr,
+                                     std::min(onset_qp_tolerance, setup_.scene().solver.tolerance));
+    if (!s.converged()) {
+      out.message = "the unit solve " + std::to_string(j) + " did not converge: " + s.qp.message;
+      return out;
+    }
+    a.col(j) = s.lambda.cwiseQuotient(c.weight);
+  }
+  std::vector<Eigen::Vector3d> rows;
+  for (int r = 0; r < c.n_rows(); ++r) {
+    if (c.kind[r] != RowKind::normal && c.kind[r] != RowKind::tangential) continue;
+    for (const double bound : {lower(r), upper(r)}) {
+      if (!std::isfinite(bound) || bound == 0) continue;
+      rows.push_back(a.row(r).transpose() / bound);  // a·σ̄ ≥ ℓ (ℓ < 0) and a·σ̄ ≤ υ (υ > 0) alike: g·σ̄ ≤ 1
+      out.pair.push_back(c.pair[r]);
+      out.tangential.push_back(c.kind[r] == RowKind::tangential ? 1 : 0);
+    }
+  }
+  out.facets.resize(static_cast<Eigen::Index>(rows.size()), 3);
+  for (std::size_t k = 0; k < rows.size(); ++k) out.facets.row(static_cast<Eigen::Index>(k)) = rows[k].transpose();
+  out.linear = true;
+  return out;
 }
 
 }  // namespace dualcell::feti

@@ -14,10 +14,12 @@
 #include <Eigen/Core>
 #include <memory>
 #include <optional>
+#include <vector>
 
 #include "feti/constraints.hpp"
 #include "feti/dual.hpp"
 #include "feti/setup.hpp"
+#include "law/onset.hpp"
 #include "qp/result.hpp"
 
 namespace dualcell::feti {
@@ -99,7 +101,16 @@ class ContactSolver {
   // problem with the strength bounds lifted (what remains, λ_n ≥ 0 where s_n = 0, is a cone,
   // so the response is positively homogeneous in t). +inf without adhesion; NaN when that
   // solve did not converge. Scenes with adhesion have no body force (checked on reading).
-  double debond_onset(const Eigen::Vector3d& sigma);
+  // `critical`, when given, receives the pairs whose bond reaches its strength at s* (within
+  // the relative at-strength tolerance): a solve at exactly s*·σ̄ cannot tell them from the
+  // QP's multipliers at the scene's tolerance, so a caller stepping onto the onset breaks them.
+  double debond_onset(const Eigen::Vector3d& sigma, std::vector<int>* critical = nullptr);
+
+  // The exact onset surface (law/onset.hpp): the bonded rows' forces per unit stress from
+  // three unit solves (two on the symmetry boundary, which carries no shear), one facet per
+  // strength bound. Not linear (no facets, `message` says why) without adhesion or when some
+  // normal row has no normal strength and stays a contact row.
+  law::OnsetSurface onset_surface();
 
   // Drops the cached dual problem (and its norm estimate), so that what follows does not
   // depend on what was solved before: a resumed sweep then repeats an uninterrupted one.

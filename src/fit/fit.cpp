@@ -283,6 +283,18 @@ law::Law fit_law(const std::vector<sweep::PathResult>& paths, const io::SweepHea
   law.cone = fit_cone(bonded, n_directions, guess);
   law.cone_after_fuse = fit_cone(debonded, n_directions, guess);
 
+  // The onset surface, checked against the onset each path solved for itself (a separate
+  // solve along that path's stress).
+  law.onset = header.onset;
+  if (law.onset.linear) {
+    for (const auto& p : paths) {
+      const Eigen::Vector3d N = p.spec.sign * p.spec.unit_stress;
+      law.onset.path_stress.push_back(N);
+      law.onset.path_onset.push_back(law::onset_along(law.onset, N));
+      law.onset.path_sweep_onset.push_back(p.fuse ? std::abs(p.fuse->onset_load) : nan);
+    }
+  }
+
   law.constituents = header.constituents;
   law.provenance = header.provenance;
   law.provenance.code_version = code_version;  // the fit's

@@ -7,6 +7,7 @@
 #include "core/error.hpp"
 #include "io/atomic_output.hpp"
 #include "io/hdf5.hpp"
+#include "io/onset_group.hpp"
 #include "io/provenance.hpp"
 #include "law/fields.hpp"
 
@@ -166,6 +167,7 @@ void write_law(const std::filesystem::path& file, const Law& law) {
             {3});
     write_scalar(f, "cone_beta", law.cone_beta);
     for (const auto& m : law::cone_members) write_cone(f, m.name, law.*m.fit, n);
+    write_onset(f, object("onset"), law.onset);
     f.write_attribute(group, "units", law.units);
     f.write_attribute(group, "stress_state", law.stress_state);
     f.write_attribute(group, "shear_convention", std::string(law::shear_convention));
@@ -208,6 +210,7 @@ Law read_law(const std::filesystem::path& file) {
   law.cone_normal = {normal[0], normal[1], normal[2]};
   law.cone_beta = r.scalar("cone_beta");
   for (const auto& m : law::cone_members) law.*m.fit = read_cone(f, r, m.name, n);
+  law.onset = read_onset(f, object("onset"));
 
   law.units = f.read_string_attribute(group, "units");
   law.stress_state = f.read_string_attribute(group, "stress_state");

@@ -12,10 +12,10 @@ namespace dualcell::io {
 // The formats the stages write (layouts in README.md); law.h5's is law::format_name.
 inline constexpr const char* mesh_format = "dualcell mesh 2";
 inline constexpr const char* solution_format = "dualcell solution 2";
-inline constexpr const char* sweep_format = "dualcell sweep 2";
+inline constexpr const char* sweep_format = "dualcell sweep 3";
 
 // Refuses a file whose root attribute `format` is not `format`, with one line:
-// "<file>: not a dualcell law file (root attribute format is 'dualcell sweep 1', expected 'dualcell law 2')".
+// "<file>: not a dualcell law file (root attribute format is 'dualcell sweep 1', expected 'dualcell law 3')".
 void check_format(const File& file, const char* format);
 
 // Writes `format` and every non-empty provenance text as root attributes.

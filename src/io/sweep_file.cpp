@@ -7,6 +7,7 @@
 #include "io/atomic_output.hpp"
 #include "io/hash.hpp"
 #include "io/hdf5.hpp"
+#include "io/onset_group.hpp"
 #include "io/provenance.hpp"
 
 namespace dualcell::io {
@@ -124,6 +125,7 @@ void write_header(File& f, const SweepHeader& header, std::size_t n_paths) {
   f.write_attribute("/", "inputs_key", header.key());
   f.write_attribute("/", "n_paths", static_cast<std::int64_t>(n_paths));
   write_constituents(f, "/", header.constituents);
+  write_onset(f, "/onset", header.onset);
 }
 
 }  // namespace
@@ -189,7 +191,7 @@ SweepHeader read_sweep_header(const std::filesystem::path& file) {
   const File f = File::open_read(file);
   check_format(f, sweep_format);
   return {read_provenance(f, {"code_version", "scene", "scene_file", "mesh_file", "mesh_hash", "solver_options"}),
-          read_constituents(f, "/")};
+          read_constituents(f, "/"), read_onset(f, "/onset")};
 }
 
 std::vector<sweep::PathResult> read_sweep(const std::filesystem::path& file) {

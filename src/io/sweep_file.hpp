@@ -10,6 +10,7 @@
 
 #include "core/provenance.hpp"
 #include "core/scene.hpp"
+#include "law/onset.hpp"
 #include "sweep/sweep.hpp"
 
 namespace dualcell::io {
@@ -19,6 +20,7 @@ namespace dualcell::io {
 struct SweepHeader {
   Provenance provenance;      // scene, material, mesh, solver options, code version
   Constituents constituents;  // root attributes fibre_E, ..., fibre_volume_fraction
+  law::OnsetSurface onset;    // /onset: the cell's exact debond onset surface
   // Identifies the inputs of a run: journal parts with another key are stale and recomputed.
   std::string key() const;
 };

@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 #include "core/error.hpp"
 #include "core/json.hpp"
@@ -253,19 +254,61 @@ std::string law_json(const Law& law) {
                       .add_text("message", fit.message)
                       .str(4));
   }
+  const OnsetSurface& onset = law.onset;
+  const auto rows = [](const auto& row, std::size_t n) {
+    std::vector<std::string> items;
+    for (std::size_t k = 0; k < n; ++k) items.push_back(json_array(row(k)));
+    return json_list(items);
+  };
+  const auto ints = [](const std::vector<int>& v) {
+    std::vector<std::string> items;
+    for (int x : v) items.push_back(std::to_string(x));
+    return json_list(items);
+  };
+  JsonObject surface;
+  surface.add("linear", onset.linear ? "1" : "0").add_text("message", onset.message);
+  if (onset.linear)
+    surface
+        .add("facets", rows(
+                           [&](std::size_t k) {
+                             const auto g = onset.facets.row(static_cast<Eigen::Index>(k));
+                             return std::vector<double>{g(0), g(1), g(2)};
+                           },
+                           onset.pair.size()))
+        .add("pair", ints(onset.pair))
+        .add("tangential", ints(onset.tangential));
+  if (!onset.path_stress.empty())
+    surface
+        .add("path_stress", rows(
+                                [&](std::size_t k) {
+                                  const Eigen::Vector3d& N = onset.path_stress[k];
+                                  return std::vector<double>{N(0), N(1), N(2)};
+                                },
+                                onset.path_stress.size()))
+        .add("onset", json_array(onset.path_onset))
+        .add("sweep_onset", json_array(onset.path_sweep_onset));
+  o.add("onset", surface.str(4));
   return o.str() + "\n";
 }
 
 std::string law_csv(const Law& law) {
   std::string out;
   for (const auto& c : direction_columns) out += std::string(c.name) + ",";
-  out += "S_tension_direction_residual,S_compression_direction_residual\n";
+  out += "S_tension_direction_residual,S_compression_direction_residual";
+  for (const auto& m : law::cone_members) out += std::string(",") + m.name + "_direction_residual";
+  out += "\n";
   for (std::size_t i = 0; i < law.directions.size(); ++i) {
     const auto& d = law.directions[i];
     for (const auto& c : direction_columns) out += (c.real ? csv_number(d.*c.real) : std::to_string(d.*c.count)) + ",";
     // The residual vectors hold one entry per direction (write_law and read_law check it).
-    out += csv_number(law.tension.direction_residual.at(i)) + "," +
-           csv_number(law.compression.direction_residual.at(i)) + "\n";
+    out +=
+        csv_number(law.tension.direction_residual.at(i)) + "," + csv_number(law.compression.direction_residual.at(i));
+    for (const auto& m : law::cone_members) {
+      const auto& residual = (law.*m.fit).direction_residual;
+      out += ',';
+      out += csv_number(i < residual.size() ? residual[i] : std::numeric_limits<double>::quiet_NaN());
+    }
+    out += "\n";
   }
   return out;
 }

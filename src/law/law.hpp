@@ -15,6 +15,7 @@
 #include "core/provenance.hpp"
 #include "core/scene.hpp"
 #include "law/cone.hpp"
+#include "law/onset.hpp"
 
 namespace dualcell::law {
 
@@ -59,6 +60,9 @@ struct Law {
   // strain, law/cone.hpp), and to the points past the largest jump of each path that has one
   // (the debonded cell a structure switches to, irreversibly).
   ConeFit cone, cone_after_fuse;
+  // Where the bonded law ends: the exact debond onset surface of the cell (with adhesion), and
+  // its prediction checked against every sweep path.
+  OnsetSurface onset;
   // Constituents, for the out-of-plane constants of the exports (rule of mixtures).
   Constituents constituents;
   std::string units = "stress and moduli in the units of the input scene; strains dimensionless";

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <utility>
 
 #include "core/error.hpp"
 
@@ -134,8 +135,9 @@ PathResult run_path(feti::ContactSolver& solver, const PathSpec& spec, double fu
   // The schedule, with the exact onset inserted where it falls inside it.
   std::vector<double> loads = spec.loads;
   double onset = std::numeric_limits<double>::infinity();
+  std::vector<int> critical;  // the bonds at their strength at the onset
   if (adhesion) {
-    onset = spec.sign * solver.debond_onset(spec.unit_stress);
+    onset = spec.sign * solver.debond_onset(spec.sign * spec.unit_stress, &critical);
     if (std::isfinite(onset) && std::abs(onset) <= std::abs(loads.back()) &&
         std::find(loads.begin(), loads.end(), onset) == loads.end()) {
       loads.push_back(onset);
@@ -172,7 +174,15 @@ PathResult run_path(feti::ContactSolver& solver, const PathSpec& spec, double fu
   for (double load : loads) {
     for (int event = 0;; ++event) {
       const auto t0 = Clock::now();
-      feti::Solution s = solve_at(load, bonds, &lambda, previous_load);
+      // Onto the onset from the intact state: the critical bonds are at their strength, which
+      // the onset solve knows exactly and the QP's multipliers only to its tolerance. They
+      // break here, as the rule says, and the solve goes on from there (the cascade).
+      feti::BondState from = bonds;
+      long broken_at_onset = 0;
+      if (load == onset && count_broken(intact, bonds) == 0)
+        for (int p : critical) broken_at_onset += std::exchange(from[p], std::uint8_t{0}) ? 1 : 0;
+      feti::Solution s = solve_at(load, from, &lambda, previous_load);
+      s.newly_broken += broken_at_onset;
       if (!(adhesion && s.newly_broken > 0) || event >= max_events_per_step) {
         record(load, s, std::chrono::duration<double>(Clock::now() - t0).count());
         bonds = s.bonds;

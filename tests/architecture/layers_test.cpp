@@ -21,7 +21,7 @@ const std::map<std::string, std::set<std::string>> allowed = {
     {"qp", {}},
     {"mesh", {"core"}},
     {"fem", {"core", "mesh"}},
-    {"feti", {"core", "mesh", "fem", "linalg", "qp"}},
+    {"feti", {"core", "mesh", "fem", "linalg", "qp", "law"}},
     {"sweep", {"core", "feti"}},
     {"law", {"core"}},
     {"io", {"core", "mesh", "fem", "feti", "sweep", "law"}},

@@ -317,6 +317,39 @@ TEST_P(ContactSolverOrders, DebondOnsetIsExact) {
   EXPECT_GE(above.newly_broken, 1);
 }
 
+// The onset polytope from three unit solves predicts the onset of every direction, shear and
+// general tensors included, as the per-direction solve does (1e-9 relative: both from solves
+// of the same linear problem at the onset tolerance 1e-13, amplified by cond(PFP); measured
+// 2e-10), and a solve just below / above it breaks nothing / something.
+TEST_P(ContactSolverOrders, OnsetPolytopePredictsTheOnsetOfEveryDirection) {
+  for (Boundary boundary : {Boundary::traction, Boundary::periodic}) {
+    Scene scene = make_scene(1, 1, 2, boundary, 10, 1, 0.05);
+    scene.interface.tangential_strength = 0.03;
+    const mesh::Mesh m = mesh::build_mesh(scene.geometry);
+    ContactSolver solver(m, scene);
+    const law::OnsetSurface polytope = solver.onset_surface();
+    ASSERT_TRUE(polytope.linear) << polytope.message;
+    EXPECT_EQ(polytope.facets.rows(), static_cast<Eigen::Index>(polytope.pair.size()));
+    for (Eigen::Vector3d N : {Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(-1, -1, 0),
+                              Eigen::Vector3d(0.3, -0.8, 0.5), Eigen::Vector3d(-0.2, 0.9, -0.4)}) {
+      N /= std::sqrt(N(0) * N(0) + N(1) * N(1) + 2 * N(2) * N(2));
+      const double predicted = law::onset_along(polytope, N), solved = solver.debond_onset(N);
+      ASSERT_TRUE(std::isfinite(predicted)) << N.transpose();
+      EXPECT_NEAR(predicted / solved, 1.0, 1e-9) << to_string(boundary) << " " << N.transpose();
+      EXPECT_EQ(solver.solve(0.999 * predicted * N, solver.intact()).newly_broken, 0) << N.transpose();
+      EXPECT_GE(solver.solve(1.001 * predicted * N, solver.intact()).newly_broken, 1) << N.transpose();
+    }
+  }
+  // Shear strength only: the normal rows stay contact rows, the onset set is no polytope.
+  Scene shear_only = make_scene(1, 1, 2, Boundary::traction, 10, 1, 0);
+  shear_only.interface.tangential_strength = 0.05;
+  const mesh::Mesh m = mesh::build_mesh(shear_only.geometry);
+  ContactSolver solver(m, shear_only);
+  const law::OnsetSurface none = solver.onset_surface();
+  EXPECT_FALSE(none.linear);
+  EXPECT_NE(none.message.find("no polytope"), std::string::npos);
+}
+
 // Shear strength only (normal_strength = 0): the normal rows stay contact rows (λ ≥ 0) in the
 // onset problem instead of being glued in tension. Under equibiaxial tension the gaps open and
 // only the shear of the square cell's non-radial hole deformation loads the bonds; the onset

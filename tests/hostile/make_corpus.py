@@ -501,7 +501,7 @@ def write_h5(bin_dir):
                f"16 bytes flipped in the middle of the object header of {READ[kind]} (its checksum fails)",
                flipped(s, range(header + length // 2 - 8, header + length // 2 + 8)))
         h5case(kind, f"{kind}-wrong-kind.h5", "input", f"not a dualcell {kind} file"
-               if kind != "law" else "expected 'dualcell law 2'",
+               if kind != "law" else "expected 'dualcell law 3'",
                f"a valid {others[kind]}.h5 in its place", copied(src[others[kind]]))
         h5case(kind, f"{kind}-no-format.h5", "input", "format", "the root attribute format deleted",
                edited(s, lambda f: f.attrs.__delitem__("format")))
@@ -651,6 +651,9 @@ def write_h5(bin_dir):
     h5case("sweep", "sweep-fibre-E-missing.h5", "input", "missing attribute fibre_E",
            "no constituent fibre_E", edited(w, lambda f: f.attrs.__delitem__("fibre_E")))
 
+    h5case("sweep", "sweep-onset-missing.h5", "input", "/onset: missing group", "no /onset group",
+           edited(w, lambda f: f.__delitem__("/onset")))
+
     # law.h5, read by dualcell-export
     l = src["law"]
     h5case("law-calculix", "law-S-nan.h5", "input", "S_tension", "a NaN compliance (calculix refuses; json/csv write null)",
@@ -679,6 +682,14 @@ def write_h5(bin_dir):
            edited(l, lambda f: f["/law"].attrs.__setitem__("matrix_nu", 0.7)))
     h5case("law", "law-group-missing.h5", "input", "/law: missing group", "no /law group",
            edited(l, lambda f: f.__delitem__("/law")))
+    h5case("law", "law-onset-facet-nan.h5", "input", "/law/onset/facets: row 2 is not finite",
+           "a NaN in an onset facet", edited(l, lambda f: f["/law/onset/facets"].__setitem__((2, 1), np.nan)))
+    h5case("law", "law-onset-linear-two.h5", "input", "/law/onset: attribute linear = 2",
+           "the onset surface's attribute linear = 2", edited(l, lambda f: f["/law/onset"].attrs.__setitem__(
+               "linear", np.int64(2))))
+    h5case("law", "law-onset-pair-short.h5", "input", "/law/onset/pair: expected shape",
+           "one facet's pair missing", edited(l, lambda f: replace(f, "/law/onset/pair",
+                                                                   np.asarray(f["/law/onset/pair"])[:-1])))
 
     with open(os.path.join(H5, "expected.tsv"), "w", encoding="utf-8") as manifest:
         manifest.write("# file\tkind\toutcome\tsubstring of the one-line message\twhat\n")

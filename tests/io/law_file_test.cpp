@@ -86,6 +86,17 @@ void expect_same_law(const Law& a, const Law& b) {
     EXPECT_EQ(x->message, y->message);
   }
   EXPECT_TRUE(same(a.cone_beta, b.cone_beta));
+  EXPECT_EQ(a.onset.linear, b.onset.linear);
+  EXPECT_EQ(a.onset.message, b.onset.message);
+  EXPECT_EQ(a.onset.facets, b.onset.facets);
+  EXPECT_EQ(a.onset.pair, b.onset.pair);
+  EXPECT_EQ(a.onset.tangential, b.onset.tangential);
+  EXPECT_EQ(a.onset.path_stress, b.onset.path_stress);
+  ASSERT_EQ(a.onset.path_onset.size(), b.onset.path_onset.size());
+  for (std::size_t k = 0; k < a.onset.path_onset.size(); ++k) {
+    EXPECT_TRUE(same(a.onset.path_onset[k], b.onset.path_onset[k]));
+    EXPECT_TRUE(same(a.onset.path_sweep_onset[k], b.onset.path_sweep_onset[k]));
+  }
   EXPECT_TRUE(same(a.constituents.fibre_E, b.constituents.fibre_E));
   EXPECT_TRUE(same(a.constituents.fibre_nu, b.constituents.fibre_nu));
   EXPECT_TRUE(same(a.constituents.matrix_E, b.constituents.matrix_E));
@@ -151,8 +162,16 @@ TEST(LawFile, HoldsTheDocumentedObjects) {
     EXPECT_EQ(f.shape(g + "/direction_residual"), (std::vector<hsize_t>{4})) << g;
     EXPECT_TRUE(f.has_attribute(g, "message")) << g;
   }
+  EXPECT_EQ(f.shape("/law/onset/facets"), (std::vector<hsize_t>{3, 3}));
+  for (const char* name : {"pair", "tangential"})
+    EXPECT_EQ(f.shape(std::string("/law/onset/") + name), (std::vector<hsize_t>{3})) << name;
+  EXPECT_EQ(f.shape("/law/onset/path_stress"), (std::vector<hsize_t>{2, 3}));
+  for (const char* name : {"onset", "sweep_onset"})
+    EXPECT_EQ(f.shape(std::string("/law/onset/") + name), (std::vector<hsize_t>{2})) << name;
+  EXPECT_EQ(f.read_int_attribute_value("/law/onset", "linear"), 1);
+  EXPECT_TRUE(f.has_attribute("/law/onset", "message"));
   EXPECT_EQ(f.read_doubles("/law/S_tension", {3, 3})[1], testing::synthetic_law().tension.S(0, 1));
-  EXPECT_EQ(f.read_string_attribute("/", "format"), "dualcell law 2");
+  EXPECT_EQ(f.read_string_attribute("/", "format"), "dualcell law 3");
   EXPECT_EQ(f.read_string_attribute("/law", "stress_state"), "plane strain");
   EXPECT_NE(f.read_string_attribute("/law", "shear_convention").find("engineering shear"), std::string::npos);
   for (const char* name : {"scene", "sweep_file", "sweep_hash", "solver_options", "code_version"})
@@ -190,7 +209,7 @@ TEST(LawFile, ForeignTruncatedAndMissingFilesAreRefused) {
   EXPECT_NE(refusal(dir / "absent.h5").find("file not found"), std::string::npos);
   // An HDF5 file of another stage.
   { io::File::create(dir / "other.h5").write_attribute("/", "format", std::string("dualcell sweep 1")); }
-  EXPECT_NE(refusal(dir / "other.h5").find("attribute format is 'dualcell sweep 1', expected 'dualcell law 2'"),
+  EXPECT_NE(refusal(dir / "other.h5").find("attribute format is 'dualcell sweep 1', expected 'dualcell law 3'"),
             std::string::npos);
   { io::File::create(dir / "empty.h5"); }
   EXPECT_NE(refusal(dir / "empty.h5").find("not a dualcell law file"), std::string::npos);

@@ -278,10 +278,14 @@ TEST(Export, JsonIsReadByPythonWithEveryObject) {
       "import json, math, sys\n"
       "def strict(c): raise ValueError('non-standard constant ' + c)\n"
       "d = json.load(open(sys.argv[1]), parse_constant=strict)\n"
-      "assert d['format'] == 'dualcell law 2'\n"
+      "assert d['format'] == 'dualcell law 3'\n"
       "assert d['cone']['c'] == [0.6, 0.8, 0.0] and d['cone']['beta'] == 2.5 and d['cone']['ok'] == 1\n"
       "assert d['cone']['C_c'][0][1] == 2.9 and d['cone']['direction_residual'][2] is None\n"
       "assert d['cone_after_fuse']['ok'] == 0 and d['cone_after_fuse']['message'] == 'fewer than 3 points'\n"
+      "o = d['onset']\n"
+      "assert o['linear'] == 1 and o['facets'][1] == [-2.0, 4.0, 0.5] and o['pair'] == [4, 7, 7]\n"
+      "assert o['tangential'] == [0, 0, 1] and o['path_stress'][1] == [-1.0, 0.0, 0.0]\n"
+      "assert o['onset'] == [0.05, 0.5] and o['sweep_onset'] == [0.05, None]\n"
       "assert d['direction_deg'] == [0, 30, 60, 90]\n"
       "assert d['E_tension'][1] == 7.0 and d['n_tension'] == [5, 6, 7, 8]\n"
       "assert d['fuse_stress'][2] is None and d['fuse_stress'][0] == 0.0586\n"
@@ -295,9 +299,9 @@ TEST(Export, JsonIsReadByPythonWithEveryObject) {
   const auto check =
       run_command("/usr/bin/python3 " + dir.write("check.py", script).string() + " " + (dir / "law.json").string());
   ASSERT_EQ(check.exit_code, 0) << check.output;
-  // 20 per-direction columns, 7 objects per fit, 4 cone objects, 2 cone-wise fits, 5
-  // constituents, format and 5 provenance texts, 3 /law texts.
-  EXPECT_EQ(check.output, "54\n");
+  // 20 per-direction columns, 7 objects per fit, 4 cone objects, 2 cone-wise fits, the onset
+  // surface, 5 constituents, format and 5 provenance texts, 3 /law texts.
+  EXPECT_EQ(check.output, "55\n");
 }
 
 TEST(Export, CsvHasAHeaderAndOneRowPerDirection) {
@@ -310,15 +314,17 @@ TEST(Export, CsvHasAHeaderAndOneRowPerDirection) {
   for (std::string line; std::getline(in, line);) lines.push_back(line);
   ASSERT_EQ(lines.size(), 4u + 1u);
   EXPECT_EQ(lines[0].rfind("direction_deg,E_tension,E_tension_se,", 0), 0u) << lines[0];
-  for (const auto& line : lines) EXPECT_EQ(std::count(line.begin(), line.end(), ','), 21) << line;
+  // 20 per-direction columns, the residuals of S_tension, S_compression and the two cone fits.
+  for (const auto& line : lines) EXPECT_EQ(std::count(line.begin(), line.end(), ','), 23) << line;
   EXPECT_EQ(lines[1].rfind("0,6,0.01,", 0), 0u) << lines[1];
   EXPECT_NE(lines[4].find(",nan,"), std::string::npos) << lines[4];
   // The same file through Python's csv reader.
   const auto check = run_command(
       "/usr/bin/python3 -c 'import csv,sys; r = list(csv.DictReader(open(sys.argv[1]))); "
-      "print(len(r), r[3][\"fuse_stress\"], float(r[1][\"E_compression\"]))' " +
+      "print(len(r), r[3][\"fuse_stress\"], float(r[1][\"E_compression\"]), r[1][\"cone_direction_residual\"], "
+      "r[0][\"cone_after_fuse_direction_residual\"])' " +
       (dir / "law.csv").string());
-  EXPECT_EQ(check.output, "4 nan 9.5\n");
+  EXPECT_EQ(check.output, "4 nan 9.5 0.025000000000000001 nan\n");
 }
 
 // One line on stderr, exit code 1 and no output file (nor temporary) for every bad input.

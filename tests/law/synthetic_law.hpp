@@ -80,6 +80,15 @@ inline law::Law synthetic_law() {
   law.cone_after_fuse.direction_residual = {nan, nan, nan, nan};
   law.cone_after_fuse.n_points = 2;
   law.cone_after_fuse.message = "fewer than 3 points";
+  // An onset surface of three facets (two normal, one tangential), checked on two paths.
+  law.onset.linear = true;
+  law.onset.facets.resize(3, 3);
+  law.onset.facets << 20.0, -1.5, 0.0, -2.0, 4.0, 0.5, 0.0, 0.0, 33.0;
+  law.onset.pair = {4, 7, 7};
+  law.onset.tangential = {0, 0, 1};
+  law.onset.path_stress = {Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(-1, 0, 0)};
+  law.onset.path_onset = {0.05, 0.5};
+  law.onset.path_sweep_onset = {0.05, nan};
   // Glass/epoxy (materials/glass-epoxy.toml), fibre radius 0.3 in a unit cell: Vf = π 0.3².
   law.constituents.fibre_E = 72;
   law.constituents.fibre_nu = 0.22;
