@@ -70,16 +70,35 @@ def stress_strain(sweep, outbase):
 
 
 def cone_modulus(C_c, c, beta, theta_deg, sign):
-    """E(θ) of the cone-wise law under uniaxial stress sign·n⊗n: the strain is C⁻¹σ on the side
-    it lands on (C_c where c·ε ≤ 0, C_c + β c cᵀ where c·ε > 0; exactly one side is consistent
-    because the law is monotone), E = s/ε_nn with engineering shear ε = (εxx, εyy, γxy)."""
+    """E(θ) of the cone-wise law (planes c_k, rows of c; jumps β_k) under uniaxial stress
+    sign·n⊗n: the strain minimises the convex W(ε) − σ̄·ε (Newton with the one-sided tangent and
+    backtracking on that energy, as law::strain_for), E = s/ε_nn with engineering shear
+    ε = (εxx, εyy, γxy)."""
     import numpy as np
     t = math.radians(theta_deg)
     n = (math.cos(t), math.sin(t))
     sigma = sign * np.array([n[0] * n[0], n[1] * n[1], n[0] * n[1]])
+    c = np.atleast_2d(c)
+    beta = np.atleast_1d(beta)
+
+    def state(e):
+        opening = np.maximum(c @ e, 0.0)
+        stress = C_c @ e + c.T @ (beta * opening)
+        tangent = C_c + (c.T * (beta * (c @ e > 0))) @ c
+        energy = 0.5 * e @ (C_c @ e) + 0.5 * float(beta @ opening ** 2) - sigma @ e
+        return stress, tangent, energy
+
     strain = np.linalg.solve(C_c, sigma)
-    if float(c @ strain) > 0:
-        strain = np.linalg.solve(C_c + beta * np.outer(c, c), sigma)
+    for _ in range(100):
+        stress, tangent, energy = state(strain)
+        r = stress - sigma
+        if np.linalg.norm(r) <= 1e-14 * np.linalg.norm(sigma):
+            break
+        step = -np.linalg.solve(tangent, r)
+        a = 1.0
+        while a > 1e-12 and state(strain + a * step)[2] > energy + 1e-4 * a * (r @ step):
+            a /= 2
+        strain = strain + a * step
     e_nn = n[0] * n[0] * strain[0] + n[1] * n[1] * strain[1] + n[0] * n[1] * strain[2]
     return sign / e_nn
 
@@ -92,7 +111,7 @@ def polar(law, outbase):
         after = list(g["E_after_fuse"][:])
         cone = None
         if "cone" in g and int(g["cone/ok"][0]) == 1:
-            cone = (g["cone/C_c"][:], g["cone/c"][:], float(g["cone/beta"][0]))
+            cone = (g["cone/C_c"][:], g["cone/c"][:], g["cone/beta"][:])
         facets, swept = None, []
         if "onset" in g and int(g["onset"].attrs["linear"]) == 1:
             facets = g["onset/facets"][:]

@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 
 #include "stage/law.hpp"
 #include "stage/stage.hpp"
@@ -48,14 +49,25 @@ int main(int argc, char** argv) {
     if (!std::isnan(law.cone_rank_one_ratio))
       std::printf("  cone-wise linear (Curnier-He-Zysset): rank-one ratio %.3f -> %s\n", law.cone_rank_one_ratio,
                   law.cone_wise_linear ? "yes" : "no (the stiffness jump is not rank-one)");
+    // The fitted laws' apparent moduli E = s/ε_nn under uniaxial stress ±n⊗n, beside the measured ones.
+    const auto law_modulus = [](const law::ConeLaw& cone, double theta_deg, double sign) {
+      const double t = theta_deg * std::numbers::pi / 180, c = std::cos(t), s = std::sin(t);
+      const Eigen::Vector3d e = law::strain_for(cone, sign * Eigen::Vector3d(c * c, s * s, c * s));
+      return sign / (c * c * e(0) + s * s * e(1) + c * s * e(2));
+    };
     for (const auto* cone : {&law.cone, &law.cone_after_fuse}) {
       const char* name = cone == &law.cone ? "cone-wise law" : "cone-wise law after the fuse";
-      if (cone->ok)
-        std::printf("  %s: relative residual %.3g over %d points, c = (%.4f, %.4f, %.4f), beta = %.5g\n", name,
-                    cone->relative_residual, cone->n_points, cone->law.c(0), cone->law.c(1), cone->law.c(2),
-                    cone->law.beta);
-      else
+      if (!cone->ok) {
         std::printf("  %s: none (%s)\n", name, cone->message.c_str());
+        continue;
+      }
+      std::printf("  %s: %s, %zu planes, relative residual %.3g over %d points (one plane %.3g, struts %.3g)\n", name,
+                  cone->form.c_str(), cone->law.c.size(), cone->relative_residual, cone->n_points,
+                  cone->one_plane_residual, cone->struts_residual);
+      std::printf("    %8s %12s %12s\n", "theta", "E_tension", "E_compress");
+      for (const auto& d : law.directions)
+        std::printf("    %8.2f %12.5g %12.5g\n", d.direction_deg, law_modulus(cone->law, d.direction_deg, 1),
+                    law_modulus(cone->law, d.direction_deg, -1));
     }
     const law::OnsetSurface& onset = law.onset;
     if (onset.linear) {

@@ -27,8 +27,8 @@ law::ConeLaw law_of(const double* p) {
   L(2, 2) = std::exp(p[5]);
   law::ConeLaw law;
   law.C_c = L * L.transpose();
-  law.c = {std::sin(p[6]) * std::cos(p[7]), std::sin(p[6]) * std::sin(p[7]), std::cos(p[6])};
-  law.beta = p[8] * p[8];
+  law.c = {{std::sin(p[6]) * std::cos(p[7]), std::sin(p[6]) * std::sin(p[7]), std::cos(p[6])}};
+  law.beta = {p[8] * p[8]};
   return law;
 }
 
@@ -70,18 +70,9 @@ double cost(const std::vector<ConePoint>& points, const law::ConeLaw& law) {
   return sum;
 }
 
-}  // namespace
-
-law::ConeFit fit_cone(const std::vector<ConePoint>& points, int n_directions, const Eigen::Vector3d& guess) {
-  law::ConeFit out;
-  out.n_points = static_cast<int>(points.size());
-  out.direction_residual.assign(n_directions, std::numeric_limits<double>::quiet_NaN());
-  if (points.size() < 3) {
-    out.message = "fewer than 3 points";
-    return out;
-  }
-  // C₀: the linear law σ = C ε of all points by least squares (rows weighted by 1/|σ_i|),
-  // symmetrised, its eigenvalues floored at 1e-6 of the largest so that it has a Cholesky factor.
+// The linear least-squares fit of all points, σ = C₀ε (rows weighted by 1/|σ_i|), symmetrised,
+// its eigenvalues floored at 1e-6 of the largest so that it has a Cholesky factor.
+Eigen::Matrix3d linear_fit(const std::vector<ConePoint>& points) {
   Eigen::MatrixXd A(points.size(), 3);
   Eigen::MatrixXd B(points.size(), 3);
   for (std::size_t i = 0; i < points.size(); ++i) {
@@ -93,12 +84,14 @@ law::ConeFit fit_cone(const std::vector<ConePoint>& points, int n_directions, co
   C0 = 0.5 * (C0 + C0.transpose());
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(C0);
   const double top = std::max(eig.eigenvalues().cwiseAbs().maxCoeff(), 1e-300);
-  C0 = eig.eigenvectors() * eig.eigenvalues().cwiseMax(1e-6 * top).asDiagonal() * eig.eigenvectors().transpose();
-  if (!C0.allFinite()) {
-    out.message = "the linear fit of the points is not finite";
-    return out;
-  }
+  return eig.eigenvectors() * eig.eigenvalues().cwiseMax(1e-6 * top).asDiagonal() * eig.eigenvectors().transpose();
+}
 
+// One free plane: GSL nlinear from 64 starting normals (and the guess); the smallest admissible
+// cost, or +inf.
+double fit_one_plane(const std::vector<ConePoint>& points, const Eigen::Vector3d& guess, law::ConeLaw& best_law) {
+  const Eigen::Matrix3d C0 = linear_fit(points);
+  if (!C0.allFinite()) return std::numeric_limits<double>::infinity();
   // Starting normals: 64 Fibonacci points on the unit sphere, and the caller's guess.
   std::vector<Eigen::Vector3d> starts;
   constexpr int n_starts = 64;
@@ -133,14 +126,137 @@ law::ConeFit fit_cone(const std::vector<ConePoint>& points, int n_directions, co
     const double c_value = cost(points, candidate);
     if (std::isfinite(c_value) && c_value < best && law::admissibility_problem(candidate).empty()) {
       best = c_value;
-      out.law = candidate;
+      best_law = candidate;
     }
   }
-  if (!std::isfinite(best)) {
+  return best;
+}
+
+// min ‖Ax − b‖ subject to x ≥ 0 (Lawson & Hanson's active-set method, 1974): columns enter the
+// passive set by the largest gradient and leave when an interpolation step would make them
+// negative. Finite; each subproblem a small dense least-squares solve.
+Eigen::VectorXd nonnegative_least_squares(const Eigen::MatrixXd& A, const Eigen::VectorXd& b) {
+  const Eigen::Index n = A.cols();
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(n);
+  std::vector<bool> passive(n, false);
+  const double tolerance = 1e-12 * std::max(A.norm() * b.norm(), 1e-300);
+  const auto solve_passive = [&] {
+    std::vector<Eigen::Index> columns;
+    for (Eigen::Index j = 0; j < n; ++j)
+      if (passive[j]) columns.push_back(j);
+    Eigen::MatrixXd Ap(A.rows(), static_cast<Eigen::Index>(columns.size()));
+    for (std::size_t k = 0; k < columns.size(); ++k) Ap.col(static_cast<Eigen::Index>(k)) = A.col(columns[k]);
+    const Eigen::VectorXd zp = Ap.colPivHouseholderQr().solve(b);
+    Eigen::VectorXd z = Eigen::VectorXd::Zero(n);
+    for (std::size_t k = 0; k < columns.size(); ++k) z(columns[k]) = zp(static_cast<Eigen::Index>(k));
+    return z;
+  };
+  for (Eigen::Index outer = 0; outer < 3 * n; ++outer) {
+    const Eigen::VectorXd gradient = A.transpose() * (b - A * x);
+    Eigen::Index entering = -1;
+    for (Eigen::Index j = 0; j < n; ++j)
+      if (!passive[j] && gradient(j) > tolerance && (entering < 0 || gradient(j) > gradient(entering))) entering = j;
+    if (entering < 0) break;
+    passive[entering] = true;
+    for (Eigen::Index inner = 0; inner < 3 * n; ++inner) {
+      const Eigen::VectorXd z = solve_passive();
+      double alpha = 1;
+      for (Eigen::Index j = 0; j < n; ++j)
+        if (passive[j] && z(j) <= 0) alpha = std::min(alpha, x(j) / (x(j) - z(j)));
+      x += alpha * (z - x);
+      if (alpha == 1) break;
+      for (Eigen::Index j = 0; j < n; ++j)
+        if (passive[j] && x(j) <= 0) passive[j] = false, x(j) = 0;
+    }
+  }
+  return x;
+}
+
+// The compression struts: planes c_k = −n_k⊗n_k/|n_k⊗n_k| (engineering shear: (cos², sin²,
+// cos·sin)) at θ_k = kπ/12. With the normals fixed, σ(ε) is linear in the unknowns (the six
+// entries of a symmetric C_c and β_k), so the fit is a least-squares problem with β ≥ 0: C_c
+// eliminated by its QR projection, β by nonnegative least squares, then C_c from β. A law whose
+// C_c is not positive definite is refused (+inf).
+double fit_struts(const std::vector<ConePoint>& points, law::ConeLaw& out) {
+  constexpr int n_struts = 12;
+  // Identifiable only with more equations than unknowns (6 + 12) from distinct strain
+  // directions: points along one direction (a path without adhesion is positively
+  // homogeneous) repeat the same three equations.
+  std::vector<Eigen::Vector3d> distinct;
+  for (const auto& p : points) {
+    const Eigen::Vector3d u = p.strain.normalized();
+    if (std::none_of(distinct.begin(), distinct.end(), [&](const Eigen::Vector3d& v) { return (u - v).norm() < 1e-6; }))
+      distinct.push_back(u);
+  }
+  if (3 * distinct.size() <= 6 + n_struts) return std::numeric_limits<double>::infinity();
+  std::vector<Eigen::Vector3d> normals;
+  for (int k = 0; k < n_struts; ++k) {
+    const double t = k * std::numbers::pi / n_struts, c = std::cos(t), s = std::sin(t);
+    normals.push_back(-Eigen::Vector3d(c * c, s * s, c * s).normalized());
+  }
+  // Unknowns: C_c entries (0,0), (0,1), (0,2), (1,1), (1,2), (2,2), then β_k.
+  constexpr int entries[6][2] = {{0, 0}, {0, 1}, {0, 2}, {1, 1}, {1, 2}, {2, 2}};
+  const Eigen::Index rows = 3 * static_cast<Eigen::Index>(points.size());
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(rows, 6 + n_struts);
+  Eigen::VectorXd b(rows);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const double w = 1 / points[i].stress.norm();
+    const Eigen::Vector3d& e = points[i].strain;
+    const Eigen::Index r = 3 * static_cast<Eigen::Index>(i);
+    for (int j = 0; j < 6; ++j) {
+      const int a = entries[j][0], c = entries[j][1];
+      A(r + a, j) += w * e(c);
+      if (a != c) A(r + c, j) += w * e(a);
+    }
+    for (int k = 0; k < n_struts; ++k) A.block<3, 1>(r, 6 + k) = w * std::max(normals[k].dot(e), 0.0) * normals[k];
+    b.segment<3>(r) = w * points[i].stress;
+  }
+  const Eigen::MatrixXd A_C = A.leftCols(6), A_beta = A.rightCols(n_struts);
+  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(A_C);
+  const Eigen::MatrixXd Q = qr.householderQ() * Eigen::MatrixXd::Identity(rows, 6);
+  const Eigen::VectorXd beta =
+      nonnegative_least_squares(A_beta - Q * (Q.transpose() * A_beta), b - Q * (Q.transpose() * b));
+  const Eigen::VectorXd entry = A_C.colPivHouseholderQr().solve(b - A_beta * beta);
+  law::ConeLaw law;
+  for (int j = 0; j < 6; ++j) law.C_c(entries[j][0], entries[j][1]) = law.C_c(entries[j][1], entries[j][0]) = entry(j);
+  law.c.clear();
+  law.beta.clear();
+  for (int k = 0; k < n_struts; ++k)
+    if (beta(k) > 0) law.c.push_back(normals[k]), law.beta.push_back(beta(k));
+  if (law.c.empty()) law.c = {normals[0]}, law.beta = {0.0};
+  if (!law::admissibility_problem(law).empty()) return std::numeric_limits<double>::infinity();
+  out = law;
+  return cost(points, law);
+}
+
+}  // namespace
+
+law::ConeFit fit_cone(const std::vector<ConePoint>& points, int n_directions, const Eigen::Vector3d& guess) {
+  law::ConeFit out;
+  out.n_points = static_cast<int>(points.size());
+  out.direction_residual.assign(n_directions, std::numeric_limits<double>::quiet_NaN());
+  out.one_plane_residual = out.struts_residual = std::numeric_limits<double>::quiet_NaN();
+  if (points.size() < 3) {
+    out.message = "fewer than 3 points";
+    return out;
+  }
+  law::ConeLaw one_plane, struts;
+  const double one_plane_cost = fit_one_plane(points, guess, one_plane);
+  const double struts_cost = fit_struts(points, struts);
+  const auto residual_of = [&](double c) {
+    return std::isfinite(c) ? std::sqrt(c / points.size()) : std::numeric_limits<double>::quiet_NaN();
+  };
+  out.one_plane_residual = residual_of(one_plane_cost);
+  out.struts_residual = residual_of(struts_cost);
+  if (!std::isfinite(one_plane_cost) && !std::isfinite(struts_cost)) {
     out.message = "no start gave a finite, admissible fit";
     return out;
   }
-  out.relative_residual = std::sqrt(best / points.size());
+  // The better form; the one plane where they tie (fewer parameters).
+  const bool take_struts = struts_cost < one_plane_cost * (1 - 1e-9);
+  out.law = take_struts ? struts : one_plane;
+  out.form = take_struts ? "compression struts" : "one plane";
+  out.relative_residual = residual_of(take_struts ? struts_cost : one_plane_cost);
   std::vector<double> sum(n_directions, 0.0);
   std::vector<int> count(n_directions, 0);
   for (const auto& p : points) {

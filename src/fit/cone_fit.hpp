@@ -1,14 +1,16 @@
 #pragma once
-// The cone-wise linear law fitted to stress–strain points (law/cone.hpp, docs/method.md §14):
-// nonlinear least squares (GSL gsl_multifit_nlinear, trust region, finite-difference Jacobian)
-// of the residuals r_i = (σ(ε_i) − σ_i)/|σ_i| (every point weighs alike), over parameters that
-// make every fitted law admissible by construction:
-//   C_c = L Lᵀ, L lower triangular with diagonal exp(p₀), exp(p₂), exp(p₅)   (SPD),
-//   c   = (sin p₆ cos p₇, sin p₆ sin p₇, cos p₆)                              (unit),
-//   β   = p₈²                                                                  (≥ 0).
-// The least-squares problem is not convex (c enters through the kink of ⟨c·ε⟩₊), so it starts
-// from the linear fit C₀ of all points with c at each of 64 points spread over the unit sphere
-// (and the given guess) and keeps the smallest residual.
+// The cone-wise linear law fitted to stress–strain points (law/cone.hpp, docs/method.md §14),
+// minimising the residuals r_i = (σ(ε_i) − σ_i)/|σ_i| (every point weighs alike) in two forms,
+// each admissible by construction, keeping the one with the smaller residual:
+//   one plane: GSL gsl_multifit_nlinear (trust region, finite-difference Jacobian) over
+//     C_c = L Lᵀ, L lower triangular with diagonal exp(p₀), exp(p₂), exp(p₅)   (SPD),
+//     c   = (sin p₆ cos p₇, sin p₆ sin p₇, cos p₆)                              (unit),
+//     β   = p₈²                                                                  (≥ 0);
+//     not convex in c (the kink of ⟨c·ε⟩₊ moves with it), so it starts from the linear fit C₀
+//     of all points with c at each of 64 points spread over the unit sphere (and the guess);
+//   compression struts: fixed planes c_k = −n_k⊗n_k/|n_k⊗n_k| at θ_k = k·15°; σ is linear in
+//     (C_c, β), so a least-squares problem with β ≥ 0 (Lawson–Hanson), tried with at least 7
+//     distinct strain directions and kept only where C_c is positive definite.
 #include <Eigen/Core>
 #include <string>
 #include <vector>

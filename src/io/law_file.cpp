@@ -49,20 +49,26 @@ void write_compliance(File& f, const std::string& prefix, const ComplianceFit& f
   write_count(f, prefix + "_n_points", fit.n_points);
 }
 
-// /law/<name>/: C_c (3×3), c (3), beta, relative_residual, direction_residual (one per
-// direction), n_points, ok (1: a fitted law; 0: none, attribute message says why).
+// /law/<name>/: C_c (3×3), c (K×3), beta (K), relative_residual, one_plane_residual,
+// struts_residual, direction_residual (one per direction), n_points, ok (1: a fitted law; 0:
+// none, attribute message says why); attribute form.
 void write_cone(File& f, const std::string& name, const law::ConeFit& fit, std::size_t n_directions) {
   f.create_group(object(name));
   f.write(object(name + "/C_c"), row_major(fit.law.C_c), {3, 3});
-  f.write(object(name + "/c"), std::vector<double>{fit.law.c(0), fit.law.c(1), fit.law.c(2)}, {3});
-  write_scalar(f, name + "/beta", fit.law.beta);
+  std::vector<double> c;
+  for (const auto& normal : fit.law.c) c.insert(c.end(), normal.data(), normal.data() + 3);
+  f.write(object(name + "/c"), c, {fit.law.c.size(), 3});
+  f.write(object(name + "/beta"), fit.law.beta, {fit.law.beta.size()});
   write_scalar(f, name + "/relative_residual", fit.relative_residual);
+  write_scalar(f, name + "/one_plane_residual", fit.one_plane_residual);
+  write_scalar(f, name + "/struts_residual", fit.struts_residual);
   std::vector<double> residual = fit.direction_residual;
   residual.resize(n_directions, std::numeric_limits<double>::quiet_NaN());
   f.write(object(name + "/direction_residual"), residual, {n_directions});
   write_count(f, name + "/n_points", fit.n_points);
   write_count(f, name + "/ok", fit.ok ? 1 : 0);
   f.write_attribute(object(name), "message", fit.message);
+  f.write_attribute(object(name), "form", fit.form);
 }
 
 // Reads /law/<name> with the shape-checked reads of File; refusals name the file and the object.
@@ -118,14 +124,22 @@ ComplianceFit read_compliance(const Reader& r, const std::string& prefix, hsize_
 law::ConeFit read_cone(const File& f, const Reader& r, const std::string& name, hsize_t n_directions) {
   law::ConeFit fit;
   fit.law.C_c = r.matrix(name + "/C_c");
-  const auto c = r.doubles(name + "/c", {3});
-  fit.law.c = {c[0], c[1], c[2]};
-  fit.law.beta = r.scalar(name + "/beta");
+  Shape found;
+  const auto c = f.read_doubles(object(name + "/c"), {any_extent, 3}, "", &found);
+  const hsize_t K = found[0];
+  if (K < 1 || K > static_cast<hsize_t>(law::max_planes))
+    r.fail(object(name + "/c"), std::to_string(K) + " planes, expected 1 to " + std::to_string(law::max_planes));
+  fit.law.c.clear();
+  for (hsize_t k = 0; k < K; ++k) fit.law.c.emplace_back(c[3 * k], c[3 * k + 1], c[3 * k + 2]);
+  fit.law.beta = r.doubles(name + "/beta", {K}, (" like " + object(name + "/c")).c_str());
   fit.relative_residual = r.scalar(name + "/relative_residual");
+  fit.one_plane_residual = r.scalar(name + "/one_plane_residual");
+  fit.struts_residual = r.scalar(name + "/struts_residual");
   fit.direction_residual = r.doubles(name + "/direction_residual", {n_directions}, " like /law/direction_deg");
   fit.n_points = r.count(name + "/n_points", 0, std::numeric_limits<int>::max());
   fit.ok = r.count(name + "/ok", 0, 1) == 1;
   fit.message = f.read_string_attribute(object(name), "message");
+  fit.form = f.read_string_attribute(object(name), "form");
   // A law a structure code will evaluate: refuse one that is not admissible.
   if (fit.ok) {
     const std::string problem = law::admissibility_problem(fit.law);

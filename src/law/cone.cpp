@@ -1,29 +1,60 @@
 #include "law/cone.hpp"
 
 #include <Eigen/Cholesky>
+#include <algorithm>
 #include <cmath>
 
 namespace dualcell::law {
 
 ConeState evaluate(const ConeLaw& law, const Eigen::Vector3d& strain) {
   ConeState s;
-  const double opening = law.c.dot(strain);  // c·ε
-  const double plus = std::max(opening, 0.0);
-  s.plus_side = opening > 0;
-  s.stress = law.C_c * strain + law.beta * plus * law.c;
+  s.stress = law.C_c * strain;
   s.tangent = law.C_c;
-  if (s.plus_side) s.tangent += law.beta * law.c * law.c.transpose();
-  s.energy = 0.5 * strain.dot(law.C_c * strain) + 0.5 * law.beta * plus * plus;
+  s.energy = 0.5 * strain.dot(s.stress);
+  for (std::size_t k = 0; k < law.c.size(); ++k) {
+    const double opening = law.c[k].dot(strain);  // c_k·ε
+    if (opening <= 0) continue;
+    s.open |= std::uint32_t{1} << k;
+    s.stress += law.beta[k] * opening * law.c[k];
+    s.tangent += law.beta[k] * law.c[k] * law.c[k].transpose();
+    s.energy += 0.5 * law.beta[k] * opening * opening;
+  }
   return s;
 }
 
 std::string admissibility_problem(const ConeLaw& law) {
-  if (!law.C_c.allFinite() || !law.c.allFinite() || !std::isfinite(law.beta)) return "non-finite entries";
+  if (law.c.empty() || law.c.size() > static_cast<std::size_t>(max_planes))
+    return "the number of planes is " + std::to_string(law.c.size()) + ", not 1 to " + std::to_string(max_planes);
+  if (law.beta.size() != law.c.size()) return "there are not as many beta as planes";
+  if (!law.C_c.allFinite()) return "non-finite entries";
+  for (std::size_t k = 0; k < law.c.size(); ++k)
+    if (!law.c[k].allFinite() || !std::isfinite(law.beta[k])) return "non-finite entries";
   if ((law.C_c - law.C_c.transpose()).norm() > 1e-12 * law.C_c.norm()) return "C_c is not symmetric";
   if (law.C_c.llt().info() != Eigen::Success) return "C_c is not positive definite";
-  if (std::abs(law.c.norm() - 1) > 1e-12) return "c is not a unit vector";
-  if (law.beta < 0) return "beta is negative";
+  for (std::size_t k = 0; k < law.c.size(); ++k) {
+    if (std::abs(law.c[k].norm() - 1) > 1e-12) return "c is not a unit vector";
+    if (law.beta[k] < 0) return "beta is negative";
+  }
   return "";
+}
+
+Eigen::Vector3d strain_for(const ConeLaw& law, const Eigen::Vector3d& stress) {
+  // Π(ε) = W(ε) − σ̄·ε is convex and piecewise quadratic; its gradient is σ(ε) − σ̄.
+  const auto Pi = [&](const Eigen::Vector3d& e) { return evaluate(law, e).energy - stress.dot(e); };
+  Eigen::Vector3d e = law.C_c.llt().solve(stress);
+  const double target = 1e-14 * stress.norm();
+  for (int iteration = 0; iteration < 100; ++iteration) {
+    const ConeState s = evaluate(law, e);
+    const Eigen::Vector3d r = s.stress - stress;
+    if (r.norm() <= target) break;
+    const Eigen::Vector3d step = -s.tangent.llt().solve(r);
+    // Backtracking (Armijo) on Π: the full step is exact once the open set is right.
+    const double slope = r.dot(step), now = Pi(e);
+    double t = 1;
+    while (t > 1e-12 && Pi(e + t * step) > now + 1e-4 * t * slope) t /= 2;
+    e += t * step;
+  }
+  return e;
 }
 
 }  // namespace dualcell::law

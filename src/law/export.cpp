@@ -241,13 +241,21 @@ std::string law_json(const Law& law) {
   o.add("cone_wise_linear", law.cone_wise_linear ? "1" : "0");
   o.add("cone_normal", json_array(std::vector<double>{law.cone_normal(0), law.cone_normal(1), law.cone_normal(2)}));
   o.add("cone_beta", json_number(law.cone_beta));
+  const auto normals = [](const std::vector<Eigen::Vector3d>& c) {
+    std::vector<std::string> rows;
+    for (const auto& v : c) rows.push_back(json_array(std::vector<double>{v(0), v(1), v(2)}));
+    return json_list(rows);
+  };
   for (const auto& m : law::cone_members) {
     const law::ConeFit& fit = law.*m.fit;
     o.add(m.name, JsonObject()
                       .add("C_c", json_array(fit.law.C_c))
-                      .add("c", json_array(std::vector<double>{fit.law.c(0), fit.law.c(1), fit.law.c(2)}))
-                      .add("beta", json_number(fit.law.beta))
+                      .add("c", normals(fit.law.c))
+                      .add("beta", json_array(fit.law.beta))
+                      .add_text("form", fit.form)
                       .add("relative_residual", json_number(fit.relative_residual))
+                      .add("one_plane_residual", json_number(fit.one_plane_residual))
+                      .add("struts_residual", json_number(fit.struts_residual))
                       .add("direction_residual", json_array(fit.direction_residual))
                       .add("n_points", std::to_string(fit.n_points))
                       .add("ok", fit.ok ? "1" : "0")

@@ -77,7 +77,10 @@ void expect_same_law(const Law& a, const Law& b) {
     EXPECT_EQ(x->law.C_c, y->law.C_c);
     EXPECT_EQ(x->law.c, y->law.c);
     EXPECT_EQ(x->law.beta, y->law.beta);
+    EXPECT_EQ(x->form, y->form);
     EXPECT_TRUE(same(x->relative_residual, y->relative_residual));
+    EXPECT_TRUE(same(x->one_plane_residual, y->one_plane_residual));
+    EXPECT_TRUE(same(x->struts_residual, y->struts_residual));
     ASSERT_EQ(x->direction_residual.size(), y->direction_residual.size());
     for (std::size_t i = 0; i < x->direction_residual.size(); ++i)
       EXPECT_TRUE(same(x->direction_residual[i], y->direction_residual[i]));
@@ -156,11 +159,14 @@ TEST(LawFile, HoldsTheDocumentedObjects) {
   for (const char* group : {"/law/cone", "/law/cone_after_fuse"}) {
     const std::string g = group;
     EXPECT_EQ(f.shape(g + "/C_c"), (std::vector<hsize_t>{3, 3})) << g;
-    EXPECT_EQ(f.shape(g + "/c"), (std::vector<hsize_t>{3})) << g;
-    for (const char* name : {"beta", "relative_residual", "n_points", "ok"})
+    const hsize_t K = g == "/law/cone" ? 2 : 1;  // the synthetic law's planes
+    EXPECT_EQ(f.shape(g + "/c"), (std::vector<hsize_t>{K, 3})) << g;
+    EXPECT_EQ(f.shape(g + "/beta"), (std::vector<hsize_t>{K})) << g;
+    for (const char* name : {"relative_residual", "one_plane_residual", "struts_residual", "n_points", "ok"})
       EXPECT_EQ(f.shape(g + "/" + name), (std::vector<hsize_t>{1})) << g << "/" << name;
     EXPECT_EQ(f.shape(g + "/direction_residual"), (std::vector<hsize_t>{4})) << g;
     EXPECT_TRUE(f.has_attribute(g, "message")) << g;
+    EXPECT_TRUE(f.has_attribute(g, "form")) << g;
   }
   EXPECT_EQ(f.shape("/law/onset/facets"), (std::vector<hsize_t>{3, 3}));
   for (const char* name : {"pair", "tangential"})

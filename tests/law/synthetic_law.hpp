@@ -71,15 +71,19 @@ inline law::Law synthetic_law() {
   law.cone_beta = 2.75;
   // The cone-wise fits: an admissible law before the fuse; none after it (too few points).
   law.cone.law.C_c << 8.5, 2.9, 0.1, 2.9, 9.7, -0.2, 0.1, -0.2, 3.1;
-  law.cone.law.c = Eigen::Vector3d(0.6, 0.8, 0.0);
-  law.cone.law.beta = 2.5;
+  law.cone.law.c = {Eigen::Vector3d(0.6, 0.8, 0.0), Eigen::Vector3d(0.0, 0.0, 1.0)};
+  law.cone.law.beta = {2.5, 0.75};
+  law.cone.form = "compression struts";
   law.cone.relative_residual = 0.021;
+  law.cone.one_plane_residual = 0.05;
+  law.cone.struts_residual = 0.021;
   law.cone.direction_residual = {0.011, 0.025, nan, 0.019};
   law.cone.n_points = 44;
   law.cone.ok = true;
   law.cone_after_fuse.direction_residual = {nan, nan, nan, nan};
   law.cone_after_fuse.n_points = 2;
   law.cone_after_fuse.message = "fewer than 3 points";
+  law.cone_after_fuse.one_plane_residual = law.cone_after_fuse.struts_residual = nan;
   // An onset surface of three facets (two normal, one tangential), checked on two paths.
   law.onset.linear = true;
   law.onset.facets.resize(3, 3);
