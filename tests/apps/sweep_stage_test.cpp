@@ -51,6 +51,37 @@ TEST(SweepStage, WritesTheDocumentedLayoutWithAFuse) {
   EXPECT_FALSE(std::filesystem::exists(dir / "sweep.h5.parts"));
 }
 
+// The uniaxial paths of a sweep with [sweep] sphere are those of the same sweep without it:
+// the same schedule, bond history and numbers, bit for bit (each path starts from the intact,
+// unloaded state with the cached dual problem dropped), with and without adhesion; the sphere
+// paths follow them.
+TEST(SweepStage, UniaxialPathsAreTheSameWithTheSphere) {
+  for (const std::string interface : {"", "[interface]\nnormal_strength = 0.05\ntangential_strength = 0.05\n"}) {
+    testing::ScratchDir dir;
+    const std::string sweep = "[sweep]\ndirections_deg = [0, 45]\nmagnitudes = [-0.2, -0.05, 0.05, 0.2]\n";
+    const auto plain =
+        make_mesh(dir, testing::scene_text(1, 1, 1, 0.4, interface + "[load]\nboundary = \"periodic\"\n" + sweep));
+    const auto sphere = dir.write(
+        "sphere.toml",
+        testing::scene_text(1, 1, 1, 0.4, interface + "[load]\nboundary = \"periodic\"\n" + sweep + "sphere = 6\n"));
+    ASSERT_EQ(run_command(sweep_command(plain, dir, "plain.h5")).exit_code, 0);
+    const auto r = run_command(sweep_command(sphere, dir, "sphere.h5"));
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const auto a = io::read_sweep(dir / "plain.h5"), b = io::read_sweep(dir / "sphere.h5");
+    ASSERT_EQ(b.size(), a.size() + 6);
+    for (std::size_t k = 0; k < a.size(); ++k) {
+      ASSERT_EQ(a[k].steps.size(), b[k].steps.size()) << "path " << k;
+      for (std::size_t i = 0; i < a[k].steps.size(); ++i) {
+        EXPECT_EQ(a[k].steps[i].load, b[k].steps[i].load) << "path " << k << " step " << i;
+        EXPECT_EQ(a[k].steps[i].strain, b[k].steps[i].strain) << "path " << k << " step " << i;
+        EXPECT_EQ(a[k].steps[i].broken_bonds, b[k].steps[i].broken_bonds) << "path " << k << " step " << i;
+      }
+      EXPECT_EQ(a[k].fuse.has_value(), b[k].fuse.has_value()) << "path " << k;
+    }
+    for (std::size_t k = a.size(); k < b.size(); ++k) EXPECT_TRUE(b[k].spec.sphere) << "path " << k;
+  }
+}
+
 TEST(SweepStage, ResumesAfterAHardStopWithIdenticalData) {
   testing::ScratchDir dir;
   const auto scene = make_mesh(dir, paths_scene);
