@@ -16,6 +16,8 @@ struct Provenance {
   std::string mesh_hash;
   std::string sweep_file;  // the sweep a law was fitted to, and its content hash
   std::string sweep_hash;
+  std::string law_file;  // the law a structure was computed with, and its content hash
+  std::string law_hash;
   std::string solver_options;                         // "key=value; ..." of [solver] and the fuse tolerance
   std::string code_version = dualcell::code_version;  // of the program that wrote the file
 };
@@ -30,7 +32,8 @@ inline constexpr ProvenanceField provenance_fields[] = {
     {"scene", &Provenance::scene_text},          {"scene_file", &Provenance::scene_file},
     {"material", &Provenance::material_text},    {"mesh_file", &Provenance::mesh_file},
     {"mesh_hash", &Provenance::mesh_hash},       {"sweep_file", &Provenance::sweep_file},
-    {"sweep_hash", &Provenance::sweep_hash},     {"solver_options", &Provenance::solver_options},
+    {"sweep_hash", &Provenance::sweep_hash},     {"law_file", &Provenance::law_file},
+    {"law_hash", &Provenance::law_hash},         {"solver_options", &Provenance::solver_options},
     {"code_version", &Provenance::code_version},
 };
 

@@ -205,7 +205,7 @@ std::vector<std::string> scene_warnings(const Scene& scene) {
 
 Constituents constituents(const Scene& scene) {
   const double r = scene.geometry.fibre_radius, a = scene.geometry.cell_size;
-  return {scene.fibre.E, scene.fibre.nu, scene.matrix.E, scene.matrix.nu, std::numbers::pi * r * r / (a * a)};
+  return {scene.fibre.E, scene.fibre.nu, scene.matrix.E, scene.matrix.nu, std::numbers::pi * r * r / (a * a), a};
 }
 
 std::string solver_options_text(const Scene& scene) {

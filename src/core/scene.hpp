@@ -110,11 +110,13 @@ struct Scene {
   int n_cells() const { return geometry.cells[0] * geometry.cells[1]; }
 };
 
-// What the fit and the exports need of a scene's materials: the constituents and the fibre
-// volume fraction V_f = π r² / a² (out-of-plane constants by the rule of mixtures).
+// What the fit, the exports and structures need of a scene: the constituents and the fibre
+// volume fraction V_f = π r² / a² (out-of-plane constants by the rule of mixtures), and the
+// cell size a (a structure's cells are this size).
 struct Constituents {
   double fibre_E = 0, fibre_nu = 0, matrix_E = 0, matrix_nu = 0;
   double fibre_volume_fraction = 0;
+  double cell_size = 1;
 };
 Constituents constituents(const Scene& scene);
 
@@ -133,6 +135,7 @@ inline constexpr ConstituentField constituent_fields[] = {
     {"matrix_E", &Constituents::matrix_E},
     {"matrix_nu", &Constituents::matrix_nu},
     {"fibre_volume_fraction", &Constituents::fibre_volume_fraction},
+    {"cell_size", &Constituents::cell_size},
 };
 
 // Largest mesh a scene may ask for (nodes of all subdomains, dim u = 2 × nodes): 3×3 cells at

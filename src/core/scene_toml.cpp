@@ -12,6 +12,7 @@
 
 #include "core/error.hpp"
 #include "core/scene.hpp"
+#include "core/structure_scene.hpp"
 #include "core/text.hpp"
 
 namespace dualcell {
@@ -459,6 +460,170 @@ Scene load_scene(const std::filesystem::path& file) {
                                           : ": scene file not found"));
   if (std::filesystem::is_directory(status)) throw InputError(file.string() + ": is a directory, not a scene file");
   return parse_scene(read_text(file, "scene"), file);
+}
+
+// ---------------------------------------------------------------------------------------------
+// structure.toml
+
+namespace {
+
+// A point [x, y] that must be finite.
+Eigen::Vector2d point(TableReader& t, std::string_view key, bool required, const std::string& what) {
+  if (required && !t.has(key)) t.fail(nullptr, key, "", "missing; required, " + what);
+  const auto v = t.reals(key, {0, 0}, 2, 2);
+  if (!std::isfinite(v[0]) || !std::isfinite(v[1])) t.fail(t.node(key), key, "", "must be finite");
+  return {v[0], v[1]};
+}
+
+// The tables of an array of tables `name` ([[name]]), each read by `read`.
+template <typename Read>
+void each_table(const toml::table& root, std::string_view name, const std::string& file,
+                const std::vector<std::string>& lines, Read read) {
+  const toml::node* n = root.get(name);
+  if (!n) return;
+  const toml::array* a = n->as_array();
+  if (!a || !a->is_array_of_tables())
+    throw InputError(file + ":" + std::to_string(n->source().begin.line) + ": [[" + std::string(name) +
+                     "]] must be an array of tables");
+  for (std::size_t k = 0; k < a->size(); ++k) {
+    TableReader t(a->get(k)->as_table(), std::string(name) + " " + std::to_string(k + 1), file, lines);
+    read(t);
+    t.finish();
+  }
+}
+
+}  // namespace
+
+StructureScene parse_structure_scene(std::string_view text, const std::filesystem::path& file) {
+  const std::string fname = file.string();
+  StructureScene scene;
+  scene.text = std::string(text);
+  const toml::table root = parse_toml(text, fname);
+  const std::vector<std::string> lines = split_lines(text);
+  TableReader top(&root, "top level", fname, lines);
+  for (const auto& [key, value] : root) {
+    const std::string k(key.str());
+    if (k != "structure" && k != "edges" && k != "support" && k != "point_load" && k != "steps" && k != "output" &&
+        k != "solver")
+      top.fail(&value, key_text(key, lines), "",
+               "unknown table or key; allowed: [structure], [edges.left|right|bottom|top], [[support]], "
+               "[[point_load]], [steps], [output], [solver]");
+  }
+  const auto count = [](TableReader& t, std::string_view key, int fallback, int lo, int hi) {
+    const int v = t.integer<int>(key, fallback);
+    if (v < lo || v > hi)
+      t.fail(t.node(key), key, std::to_string(v),
+             "must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    return v;
+  };
+
+  TableReader st(sub_table(root, "structure", fname), "structure", fname, lines);
+  if (!st.present()) throw InputError(fname + ": missing table [structure]");
+  {
+    if (!st.has("cells")) st.fail(nullptr, "cells", "", "missing; required, [nx, ny], integers >= 1");
+    const auto cells = st.reals("cells", {1, 1}, 2, 2);
+    for (double c : cells)
+      if (!(c >= 1 && c <= 100000 && c == std::floor(c)))
+        st.fail(st.node("cells"), "cells", "", "must be two integers in [1, 100000]");
+    scene.nx = static_cast<int>(cells[0]);
+    scene.ny = static_cast<int>(cells[1]);
+    scene.elements_per_cell = count(st, "elements_per_cell", 2, 1, 64);
+    scene.element = st.string("element", "p2", {"p1", "p2"}) == "p1" ? Element::p1 : Element::p2;
+    st.finish();
+  }
+
+  const toml::table* edges = sub_table(root, "edges", fname);
+  if (edges)
+    for (const auto& [key, value] : *edges) {
+      const std::string k(key.str());
+      if (std::find(edge_names.begin(), edge_names.end(), k) == edge_names.end() || !value.is_table())
+        throw InputError(fname + ":" + std::to_string(value.source().begin.line) + ": [edges] " + key_text(key, lines) +
+                         ": unknown edge; allowed: [edges.left], [edges.right], [edges.bottom], [edges.top]");
+    }
+  for (std::size_t e = 0; e < edge_names.size(); ++e) {
+    const std::string name = std::string("edges.") + edge_names[e];
+    TableReader t(edges ? sub_table(*edges, edge_names[e], fname) : nullptr, name, fname, lines);
+    if (!t.present()) continue;
+    EdgeCondition& c = scene.edges[e];
+    const std::string type = t.string("type", "free", {"free", "fixed", "roller", "displacement", "traction"});
+    c.kind = type == "fixed"          ? EdgeKind::fixed
+             : type == "roller"       ? EdgeKind::roller
+             : type == "displacement" ? EdgeKind::displacement
+             : type == "traction"     ? EdgeKind::traction
+                                      : EdgeKind::free;
+    if (c.kind == EdgeKind::displacement) {
+      if (!t.has("ux") && !t.has("uy"))
+        t.fail(nullptr, "ux", "", "missing; type = \"displacement\" needs ux, uy or both (finite)");
+      for (int k = 0; k < 2; ++k) {
+        const char* key = k == 0 ? "ux" : "uy";
+        if (!t.has(key)) continue;
+        c.displacement(k) = t.real(key, 0);
+        if (!std::isfinite(c.displacement(k))) t.fail(t.node(key), key, "", "must be finite");
+      }
+    }
+    if (c.kind == EdgeKind::traction) {
+      c.traction_start = point(t, "traction", true, "[tx, ty] at the edge's start (bottom or left end)");
+      c.traction_end = t.has("traction_end") ? point(t, "traction_end", false, "") : c.traction_start;
+    }
+    t.finish();
+  }
+  each_table(root, "support", fname, lines, [&](TableReader& t) {
+    Support s;
+    s.at = point(t, "at", true, "[x, y] of a node");
+    const std::string fix = t.string("fix", "xy", {"x", "y", "xy"});
+    s.fix_x = fix.find('x') != std::string::npos;
+    s.fix_y = fix.find('y') != std::string::npos;
+    scene.supports.push_back(s);
+  });
+  each_table(root, "point_load", fname, lines, [&](TableReader& t) {
+    PointLoad p;
+    p.at = point(t, "at", true, "[x, y] of a node");
+    p.force = point(t, "force", true, "[fx, fy]");
+    scene.point_loads.push_back(p);
+  });
+  TableReader steps(sub_table(root, "steps", fname), "steps", fname, lines);
+  if (steps.present()) {
+    scene.factors = steps.reals("factors", {1.0}, 1, 100000);
+    for (double f : scene.factors)
+      if (!std::isfinite(f)) steps.fail(steps.node("factors"), "factors", "", "must be finite numbers");
+    steps.finish();
+  }
+  TableReader output(sub_table(root, "output", fname), "output", fname, lines);
+  if (output.present()) {
+    scene.watch = point(output, "watch", false, "");
+    output.finish();
+  }
+  TableReader solver(sub_table(root, "solver", fname), "solver", fname, lines);
+  if (solver.present()) {
+    scene.tolerance = solver.real("tolerance", 1e-10);
+    if (!(scene.tolerance >= 1e-15 && scene.tolerance <= 1e-2))
+      solver.fail(solver.node("tolerance"), "tolerance", "", "must be in [1e-15, 1e-2]");
+    scene.max_newton_steps = count(solver, "max_newton_steps", 100, 1, 100000);
+    scene.max_fuse_rounds = count(solver, "max_fuse_rounds", 1000, 0, 1000000);
+    solver.finish();
+  }
+  // Something must hold the structure and something must load it.
+  bool held = !scene.supports.empty(), loaded = !scene.point_loads.empty();
+  for (const auto& c : scene.edges) {
+    held = held || c.kind == EdgeKind::fixed || c.kind == EdgeKind::roller || c.kind == EdgeKind::displacement;
+    loaded = loaded || c.kind == EdgeKind::traction || c.kind == EdgeKind::displacement;
+  }
+  if (!held)
+    throw InputError(fname +
+                     ": nothing holds the structure: give an edge fixed, roller or displacement, or a [[support]]");
+  if (!loaded)
+    throw InputError(fname +
+                     ": nothing loads the structure: give an edge traction or displacement, or a [[point_load]]");
+  return scene;
+}
+
+StructureScene load_structure_scene(const std::filesystem::path& file) {
+  std::error_code ec;
+  const std::filesystem::file_status status = std::filesystem::status(file, ec);
+  if (!std::filesystem::exists(status)) throw InputError(file.string() + ": structure scene file not found");
+  if (std::filesystem::is_directory(status))
+    throw InputError(file.string() + ": is a directory, not a structure scene file");
+  return parse_structure_scene(read_text(file, "structure scene"), file);
 }
 
 }  // namespace dualcell

@@ -13,6 +13,7 @@ namespace dualcell::io {
 inline constexpr const char* mesh_format = "dualcell mesh 2";
 inline constexpr const char* solution_format = "dualcell solution 2";
 inline constexpr const char* sweep_format = "dualcell sweep 3";
+inline constexpr const char* structure_format = "dualcell structure 1";
 
 // Refuses a file whose root attribute `format` is not `format`, with one line:
 // "<file>: not a dualcell law file (root attribute format is 'dualcell sweep 1', expected 'dualcell law 3')".

@@ -24,9 +24,10 @@ const std::map<std::string, std::set<std::string>> allowed = {
     {"feti", {"core", "mesh", "fem", "linalg", "qp", "law"}},
     {"sweep", {"core", "feti"}},
     {"law", {"core"}},
-    {"io", {"core", "mesh", "fem", "feti", "sweep", "law"}},
+    {"structure", {"core", "fem", "linalg", "law"}},
+    {"io", {"core", "mesh", "fem", "feti", "sweep", "law", "structure"}},
     {"fit", {"core", "sweep", "law", "io"}},
-    {"stage", {"core", "mesh", "feti", "sweep", "law", "io", "fit"}},
+    {"stage", {"core", "mesh", "feti", "sweep", "law", "io", "fit", "structure"}},
     {"study", {"core", "mesh", "fem", "linalg", "feti", "io"}},
 };
 

@@ -1,0 +1,99 @@
+#include "io/structure_file.hpp"
+
+#include <cstdio>
+
+#include "io/atomic_output.hpp"
+#include "io/hdf5.hpp"
+#include "io/provenance.hpp"
+#include "io/xdmf.hpp"
+
+namespace dualcell::io {
+
+namespace {
+
+std::string step_group(std::size_t k) {
+  char name[32];
+  std::snprintf(name, sizeof name, "/steps/%03zu", k);
+  return name;
+}
+
+}  // namespace
+
+void write_structure(const std::filesystem::path& out, const structure::StructureMesh& mesh,
+                     const std::vector<structure::StepResult>& steps, const Provenance& provenance) {
+  const hsize_t N = static_cast<hsize_t>(mesh.nodes.rows()), T = static_cast<hsize_t>(mesh.triangles.rows());
+  const hsize_t per = static_cast<hsize_t>(mesh.triangles.cols()), S = steps.size();
+  AtomicOutputs outputs;
+  const auto tmp = outputs.add(out);
+  std::filesystem::path xdmf = out;
+  xdmf.replace_extension(".xdmf");
+  const auto tmp_xdmf = outputs.add(xdmf);
+  {
+    File f = File::create(tmp);
+    write_provenance(f, structure_format, provenance);
+    f.create_group("/mesh");
+    std::vector<double> nodes;
+    for (hsize_t i = 0; i < N; ++i) nodes.push_back(mesh.nodes(i, 0)), nodes.push_back(mesh.nodes(i, 1));
+    f.write("/mesh/nodes", nodes, {N, 2});
+    std::vector<std::int64_t> triangles;
+    for (hsize_t t = 0; t < T; ++t)
+      for (hsize_t k = 0; k < per; ++k) triangles.push_back(mesh.triangles(t, k));
+    f.write("/mesh/triangles", triangles, {T, per});
+    f.write("/mesh/cell", std::vector<std::int64_t>(mesh.cell.begin(), mesh.cell.end()), {T});
+    f.write_attribute("/mesh", "element", std::string(per == 3 ? "p1" : "p2"));
+
+    // Per step: the report as columns, the fields in /steps/NNN.
+    f.create_group("/steps");
+    std::vector<double> factor, energy, decrease, residual, watch, reactions;
+    std::vector<std::int64_t> newton, rounds, fused, converged;
+    for (const auto& s : steps) {
+      factor.push_back(s.factor), energy.push_back(s.energy), decrease.push_back(s.energy_decrease);
+      residual.push_back(s.residual);
+      watch.push_back(s.watch_displacement(0)), watch.push_back(s.watch_displacement(1));
+      for (const auto& R : s.reactions) reactions.push_back(R(0)), reactions.push_back(R(1));
+      newton.push_back(s.newton_steps), rounds.push_back(s.fuse_rounds), fused.push_back(s.newly_fused_cells);
+      converged.push_back(s.converged ? 1 : 0);
+    }
+    f.write("/steps/factor", factor, {S});
+    f.write("/steps/energy", energy, {S});
+    f.write("/steps/energy_decrease", decrease, {S});
+    f.write("/steps/residual", residual, {S});
+    f.write("/steps/watch_displacement", watch, {S, 2});
+    f.write("/steps/reactions", reactions, {S, 10});
+    f.write("/steps/newton_steps", newton, {S});
+    f.write("/steps/fuse_rounds", rounds, {S});
+    f.write("/steps/newly_fused_cells", fused, {S});
+    f.write("/steps/converged", converged, {S});
+    std::vector<XdmfGrid> grids;
+    for (std::size_t k = 0; k < steps.size(); ++k) {
+      const auto& s = steps[k];
+      const std::string g = step_group(k);
+      f.create_group(g);
+      f.write_attribute(g, "factor", s.factor);
+      f.write(g + "/displacement", std::vector<double>(s.u.data(), s.u.data() + s.u.size()), {N, 2});
+      std::vector<double> stress;
+      for (hsize_t t = 0; t < T; ++t)
+        for (int c = 0; c < 3; ++c) stress.push_back(s.stress(t, c));
+      f.write(g + "/stress", stress, {T, 3});
+      f.write(g + "/open", std::vector<std::int64_t>(s.open.begin(), s.open.end()), {T});
+      f.write(g + "/fused", std::vector<std::int64_t>(s.fused.begin(), s.fused.end()), {T});
+      XdmfGrid grid;
+      grid.name = "step " + std::to_string(k) + " (factor " + std::to_string(s.factor) + ")";
+      grid.nodes_dataset = "/mesh/nodes";
+      grid.n_nodes = N;
+      grid.triangles_dataset = "/mesh/triangles";
+      grid.n_triangles = T;
+      grid.nodes_per_triangle = static_cast<int>(per);
+      grid.fields = {{"displacement", g + "/displacement", false, {N, 2}},
+                     {"stress", g + "/stress", true, {T, 3}},
+                     {"open", g + "/open", true, {T}, true},
+                     {"fused", g + "/fused", true, {T}, true},
+                     {"cell", "/mesh/cell", true, {T}, true}};
+      grids.push_back(grid);
+    }
+    write_xdmf(tmp_xdmf, out.filename().string(), grids);
+  }
+  outputs.commit();
+}
+
+}  // namespace dualcell::io

@@ -1,0 +1,74 @@
+#include "stage/structure.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+#include "core/error.hpp"
+#include "core/structure_scene.hpp"
+#include "io/atomic_output.hpp"
+#include "io/hash.hpp"
+#include "io/law_file.hpp"
+#include "io/structure_file.hpp"
+
+namespace dualcell::stage {
+
+structure::CellLaw cell_law(const std::filesystem::path& law_file, double& cell_size, std::string& note) {
+  const law::Law law = io::read_law(law_file);
+  if (!law.cone.ok)
+    throw InputError(law_file.string() + ": /law/cone: no fitted cone-wise law (" + law.cone.message +
+                     "): nothing a structure can use");
+  cell_size = law.constituents.cell_size;
+  if (!(cell_size > 0) || !std::isfinite(cell_size))
+    throw InputError(law_file.string() + ": /law attribute cell_size = " + std::to_string(cell_size) +
+                     ": a structure needs a positive cell size");
+  structure::CellLaw cell;
+  cell.bonded = cell.debonded = law.cone.law;
+  if (!law.onset.linear) {
+    note = "cells do not fuse: the law has no onset surface (" + law.onset.message + ")";
+  } else if (!law.cone_after_fuse.ok) {
+    note = "cells do not fuse: the law has no cone-wise law past the fuse (" + law.cone_after_fuse.message + ")";
+  } else {
+    cell.debonded = law.cone_after_fuse.law;
+    cell.onset = law.onset;
+  }
+  return cell;
+}
+
+StructureSummary run_structure(const StructureOptions& options) {
+  using Clock = std::chrono::steady_clock;
+  const auto t0 = Clock::now();
+  StructureScene scene = load_structure_scene(options.scene_file);
+  StructureSummary summary;
+  const structure::CellLaw law = cell_law(options.law_file, scene.cell_size, summary.fuse_note);
+  summary.cell_size = scene.cell_size;
+  {
+    // Fail on an unwritable output before any work.
+    io::AtomicOutputs probe;
+    probe.add(options.out);
+  }
+  structure::HomogenisedStructure structure(scene, law);
+  const auto& mesh = structure.mesh();
+  summary.n_nodes = static_cast<int>(mesh.nodes.rows());
+  summary.n_triangles = static_cast<int>(mesh.triangles.rows());
+  summary.n_cells = scene.nx * scene.ny;
+  for (std::size_t k = 0; k < scene.factors.size(); ++k) {
+    summary.steps.push_back(structure.solve_step(scene.factors[k]));
+    const auto& s = summary.steps.back();
+    if (options.progress)
+      std::fprintf(stderr, "dualcell-structure: step %zu/%zu factor %g: %d Newton steps, %d newly fused cells, %s\n",
+                   k + 1, scene.factors.size(), s.factor, s.newton_steps, s.newly_fused_cells,
+                   s.converged ? "converged" : "NOT converged");
+  }
+  for (std::uint8_t f : structure.fused_cells()) summary.fused_cells += f;
+  Provenance provenance;
+  provenance.scene_text = scene.text;
+  provenance.scene_file = options.scene_file.string();
+  provenance.law_file = options.law_file.string();
+  provenance.law_hash = io::file_hash(options.law_file);
+  io::write_structure(options.out, mesh, summary.steps, provenance);
+  summary.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  return summary;
+}
+
+}  // namespace dualcell::stage

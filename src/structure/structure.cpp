@@ -1,0 +1,366 @@
+#include "structure/structure.hpp"
+
+#include <Eigen/SparseCore>
+#include <algorithm>
+#include <cmath>
+
+#include "core/error.hpp"
+#include "fem/element.hpp"
+#include "linalg/sparse_cholesky.hpp"
+
+namespace dualcell::structure {
+
+int StructureMesh::node_at(const Eigen::Vector2d& x) const {
+  const double reach = 1e-9 * std::max((nodes.colwise().maxCoeff() - nodes.colwise().minCoeff()).maxCoeff(), 1e-300);
+  for (Eigen::Index i = 0; i < nodes.rows(); ++i)
+    if ((nodes.row(i).transpose() - x).norm() <= reach) return static_cast<int>(i);
+  return -1;
+}
+
+StructureMesh build_structure_mesh(const StructureScene& scene) {
+  const int q = element_order(scene.element), m = scene.elements_per_cell;
+  const int squares_x = scene.nx * m, squares_y = scene.ny * m;
+  const int Nx = q * squares_x + 1, Ny = q * squares_y + 1;
+  const double h = scene.cell_size / (m * q);
+  StructureMesh mesh;
+  mesh.nodes.resize(static_cast<Eigen::Index>(Nx) * Ny, 2);
+  for (int j = 0; j < Ny; ++j)
+    for (int i = 0; i < Nx; ++i) mesh.nodes.row(i + Nx * j) << i * h, j * h;
+  const auto id = [&](int i, int j) { return i + Nx * j; };
+  const int per = q == 1 ? 3 : 6;
+  mesh.triangles.resize(2 * squares_x * squares_y, per);
+  int t = 0;
+  for (int sy = 0; sy < squares_y; ++sy)
+    for (int sx = 0; sx < squares_x; ++sx) {
+      const int i0 = q * sx, j0 = q * sy;
+      // Two counter-clockwise triangles split by the diagonal (0,0)–(1,1), in grid steps of q.
+      const std::array<std::array<int, 2>, 3> corners[2] = {{{{0, 0}, {1, 0}, {1, 1}}}, {{{0, 0}, {1, 1}, {0, 1}}}};
+      for (const auto& c : corners) {
+        for (int k = 0; k < 3; ++k) mesh.triangles(t, k) = id(i0 + q * c[k][0], j0 + q * c[k][1]);
+        if (q == 2)
+          for (int k = 0; k < 3; ++k) {
+            const auto& a = c[k];
+            const auto& b = c[(k + 1) % 3];
+            mesh.triangles(t, 3 + k) = id(i0 + a[0] + b[0], j0 + a[1] + b[1]);
+          }
+        mesh.cell.push_back(sx / m + scene.nx * (sy / m));
+        ++t;
+      }
+    }
+  for (int j = 0; j < Ny; ++j) mesh.edge_nodes[0].push_back(id(0, j)), mesh.edge_nodes[1].push_back(id(Nx - 1, j));
+  for (int i = 0; i < Nx; ++i) mesh.edge_nodes[2].push_back(id(i, 0)), mesh.edge_nodes[3].push_back(id(i, Ny - 1));
+  return mesh;
+}
+
+namespace {
+
+// One quadrature point of an element: its strain-displacement matrix and weight (w·det J).
+struct Point {
+  Eigen::MatrixXd B;
+  double weight;
+};
+
+}  // namespace
+
+struct HomogenisedStructure::Impl {
+  StructureScene scene;
+  CellLaw law;
+  StructureMesh mesh;
+  int n_dofs = 0, per = 3;
+  std::vector<std::vector<Point>> points;  // per triangle
+  std::vector<Eigen::MatrixXd> B_centroid;
+  std::vector<double> area;
+  std::vector<int> free_index;      // per DOF: its index among the free DOFs, or −1
+  std::vector<int> constrained_by;  // per DOF: 0..3 an edge, 4 a support, −1 free
+  Eigen::VectorXd prescribed;       // per DOF: the value at factor 1 (0 where free)
+  Eigen::VectorXd f;                // external load at factor 1, all DOFs
+  std::vector<std::uint8_t> cell_fused;
+  Eigen::VectorXd u;
+  // The tangent's fixed pattern (lower triangle over the free DOFs) and, per triangle, the slot
+  // in its value array of each lower entry (a ≥ b) of the element matrix (−1: a constrained DOF).
+  Eigen::SparseMatrix<double, Eigen::ColMajor, int> K;
+  std::vector<std::vector<int>> slot;
+  linalg::SparseCholesky cholesky;
+  Eigen::VectorXd r_full, f_int, step, trial;
+
+  int dof(int triangle, int a) const { return 2 * mesh.triangles(triangle, a / 2) + a % 2; }
+  const law::ConeLaw& law_of(int triangle) const { return cell_fused[mesh.cell[triangle]] ? law.debonded : law.bonded; }
+
+  void setup();
+  // Π(u), and with `with_tangent` also r_full = f_int − factor·f and K.
+  double energy(const Eigen::VectorXd& x, double factor, bool with_gradient, bool with_tangent);
+  void newton(double factor, StepResult& out);
+};
+
+HomogenisedStructure::HomogenisedStructure(const StructureScene& scene, const CellLaw& law)
+    : impl_(std::make_unique<Impl>()) {
+  impl_->scene = scene;
+  impl_->law = law;
+  impl_->setup();
+}
+
+HomogenisedStructure::~HomogenisedStructure() = default;
+
+const StructureMesh& HomogenisedStructure::mesh() const { return impl_->mesh; }
+const std::vector<std::uint8_t>& HomogenisedStructure::fused_cells() const { return impl_->cell_fused; }
+
+void HomogenisedStructure::Impl::setup() {
+  for (const auto* l : {&law.bonded, &law.debonded}) {
+    const std::string problem = law::admissibility_problem(*l);
+    if (!problem.empty()) throw InputError("the cell law is not admissible: " + problem);
+  }
+  mesh = build_structure_mesh(scene);
+  per = static_cast<int>(mesh.triangles.cols());
+  const Eigen::Index n_nodes = mesh.nodes.rows();
+  n_dofs = 2 * static_cast<int>(n_nodes);
+  const Eigen::Index T = mesh.triangles.rows();
+  cell_fused.assign(static_cast<std::size_t>(scene.nx) * scene.ny, 0);
+
+  // Quadrature: p1 constant strain, one point; p2 the 6-point degree-4 rule.
+  points.resize(T);
+  B_centroid.resize(T);
+  area.resize(T);
+  std::vector<Eigen::Vector2d> x(per);
+  for (Eigen::Index t = 0; t < T; ++t) {
+    for (int k = 0; k < per; ++k) x[k] = mesh.nodes.row(mesh.triangles(t, k)).transpose();
+    double det_J = 0;
+    B_centroid[t] = fem::strain_displacement_at(x, 1.0 / 3, 1.0 / 3, det_J);
+    if (per == 3) {
+      points[t].push_back({B_centroid[t], 0.5 * det_J});
+    } else {
+      for (const auto& p : fem::triangle_rule()) {
+        Eigen::MatrixXd B = fem::strain_displacement_at(x, p.L1, p.L2, det_J);
+        points[t].push_back({std::move(B), p.weight * det_J});
+      }
+    }
+    area[t] = fem::element_area(x);
+  }
+
+  // Constraints: edges (fixed, roller, displacement), then point supports.
+  constrained_by.assign(n_dofs, -1);
+  prescribed = Eigen::VectorXd::Zero(n_dofs);
+  const auto hold = [&](int node, int component, double value, int by) {
+    const int d = 2 * node + component;
+    if (constrained_by[d] >= 0) return;
+    constrained_by[d] = by;
+    prescribed(d) = value;
+  };
+  for (int e = 0; e < 4; ++e) {
+    const EdgeCondition& c = scene.edges[e];
+    const int normal = e < 2 ? 0 : 1;
+    for (int node : mesh.edge_nodes[e]) {
+      if (c.kind == EdgeKind::fixed) hold(node, 0, 0, e), hold(node, 1, 0, e);
+      if (c.kind == EdgeKind::roller) hold(node, normal, 0, e);
+      if (c.kind == EdgeKind::displacement)
+        for (int k = 0; k < 2; ++k)
+          if (!std::isnan(c.displacement(k))) hold(node, k, c.displacement(k), e);
+    }
+  }
+  for (const Support& s : scene.supports) {
+    const int node = mesh.node_at(s.at);
+    if (node < 0)
+      throw InputError("support at (" + std::to_string(s.at(0)) + ", " + std::to_string(s.at(1)) +
+                       "): no node there (nodes lie on a grid of step cell_size/(elements_per_cell·order))");
+    if (s.fix_x) hold(node, 0, 0, 4);
+    if (s.fix_y) hold(node, 1, 0, 4);
+  }
+  free_index.assign(n_dofs, -1);
+  int n_free = 0;
+  for (int d = 0; d < n_dofs; ++d)
+    if (constrained_by[d] < 0) free_index[d] = n_free++;
+
+  // Loads at factor 1: edge tractions (linear from start to end, exact Gauss rule), point loads.
+  f = Eigen::VectorXd::Zero(n_dofs);
+  const int q = per == 3 ? 1 : 2;
+  for (int e = 0; e < 4; ++e) {
+    const EdgeCondition& c = scene.edges[e];
+    if (c.kind != EdgeKind::traction) continue;
+    const auto& nodes = mesh.edge_nodes[e];
+    const double length = (mesh.nodes.row(nodes.back()) - mesh.nodes.row(nodes.front())).norm();
+    for (std::size_t k = 0; k + q < nodes.size(); k += q) {
+      const int a = nodes[k], b = nodes[k + q];
+      const Eigen::Vector2d xa = mesh.nodes.row(a).transpose(), xb = mesh.nodes.row(b).transpose();
+      const int ids[3] = {a, b, q == 2 ? nodes[k + 1] : -1};
+      const double segment = (xb - xa).norm();
+      for (const auto& g : fem::edge_rule()) {
+        double phi[3], dphi[3];
+        fem::edge_shape(q + 1, g.s, phi, dphi);
+        const double position = ((xa + g.s * (xb - xa)) - mesh.nodes.row(nodes.front()).transpose()).norm() / length;
+        const Eigen::Vector2d traction = c.traction_start + position * (c.traction_end - c.traction_start);
+        for (int i = 0; i < q + 1; ++i) f.segment<2>(2 * ids[i]) += g.weight * segment * phi[i] * traction;
+      }
+    }
+  }
+  for (const PointLoad& p : scene.point_loads) {
+    const int node = mesh.node_at(p.at);
+    if (node < 0)
+      throw InputError("point load at (" + std::to_string(p.at(0)) + ", " + std::to_string(p.at(1)) +
+                       "): no node there (nodes lie on a grid of step cell_size/(elements_per_cell·order))");
+    f.segment<2>(2 * node) += p.force;
+  }
+
+  // The tangent's pattern, once.
+  std::vector<Eigen::Triplet<double, int>> entries;
+  for (Eigen::Index t = 0; t < T; ++t)
+    for (int a = 0; a < 2 * per; ++a)
+      for (int b = 0; b <= a; ++b) {
+        int i = free_index[dof(static_cast<int>(t), a)], j = free_index[dof(static_cast<int>(t), b)];
+        if (i < 0 || j < 0) continue;
+        if (i < j) std::swap(i, j);
+        entries.emplace_back(i, j, 0.0);
+      }
+  K.resize(n_free, n_free);
+  K.setFromTriplets(entries.begin(), entries.end());
+  K.makeCompressed();
+  slot.resize(T);
+  for (Eigen::Index t = 0; t < T; ++t) {
+    slot[t].assign(2 * per * 2 * per, -1);
+    for (int a = 0; a < 2 * per; ++a)
+      for (int b = 0; b <= a; ++b) {
+        int i = free_index[dof(static_cast<int>(t), a)], j = free_index[dof(static_cast<int>(t), b)];
+        if (i < 0 || j < 0) continue;
+        if (i < j) std::swap(i, j);
+        const int* begin = K.innerIndexPtr() + K.outerIndexPtr()[j];
+        const int* end = K.innerIndexPtr() + K.outerIndexPtr()[j + 1];
+        slot[t][a * 2 * per + b] = static_cast<int>(std::lower_bound(begin, end, i) - K.innerIndexPtr());
+      }
+  }
+  if (mesh.node_at(scene.watch) < 0)
+    throw InputError("watch point (" + std::to_string(scene.watch(0)) + ", " + std::to_string(scene.watch(1)) +
+                     "): no node there");
+  if (n_free > 0) cholesky.analyze(K);
+  u = Eigen::VectorXd::Zero(n_dofs);
+  r_full.resize(n_dofs);
+  f_int.resize(n_dofs);
+}
+
+double HomogenisedStructure::Impl::energy(const Eigen::VectorXd& x, double factor, bool with_gradient,
+                                          bool with_tangent) {
+  double Pi = -factor * f.dot(x);
+  if (with_gradient) f_int.setZero();
+  if (with_tangent) std::fill(K.valuePtr(), K.valuePtr() + K.nonZeros(), 0.0);
+  const int n = 2 * per;
+  Eigen::VectorXd ue(n);
+  Eigen::MatrixXd Ke(n, n);
+  for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t) {
+    for (int a = 0; a < n; ++a) ue(a) = x(dof(static_cast<int>(t), a));
+    const law::ConeLaw& l = law_of(static_cast<int>(t));
+    if (with_tangent) Ke.setZero();
+    for (const Point& p : points[t]) {
+      const law::ConeState s = law::evaluate(l, p.B * ue);
+      Pi += p.weight * s.energy;
+      if (with_gradient) {
+        const Eigen::VectorXd fe = p.weight * (p.B.transpose() * s.stress);
+        for (int a = 0; a < n; ++a) f_int(dof(static_cast<int>(t), a)) += fe(a);
+      }
+      if (with_tangent) Ke.noalias() += p.weight * (p.B.transpose() * s.tangent * p.B);
+    }
+    if (with_tangent)
+      for (int a = 0; a < n; ++a)
+        for (int b = 0; b <= a; ++b) {
+          const int k = slot[t][a * n + b];
+          if (k >= 0) K.valuePtr()[k] += Ke(a, b);
+        }
+  }
+  if (with_gradient) r_full = f_int - factor * f;
+  return Pi;
+}
+
+void HomogenisedStructure::Impl::newton(double factor, StepResult& out) {
+  const int n_free = static_cast<int>(K.rows());
+  Eigen::VectorXd r(n_free), delta(n_free);
+  for (int d = 0; d < n_dofs; ++d)
+    if (constrained_by[d] >= 0) u(d) = factor * prescribed(d);
+  out.converged = false;
+  for (int iteration = 0; iteration <= scene.max_newton_steps; ++iteration) {
+    const double Pi = energy(u, factor, true, true);
+    for (int d = 0; d < n_dofs; ++d)
+      if (free_index[d] >= 0) r(free_index[d]) = r_full(d);
+    // Scale: the larger of the internal and the external forces (their sum is what equilibrium balances).
+    const double scale = std::max({f_int.norm(), factor * f.norm(), 1e-300});
+    out.residual = r.norm() / scale;
+    out.energy = Pi;
+    if (out.residual <= scene.tolerance || n_free == 0) {
+      out.converged = true;
+      return;
+    }
+    if (iteration == scene.max_newton_steps) break;
+    if (cholesky.factorize(K) != linalg::CholeskyStatus::ok)
+      throw InputError(
+          "the structure's tangent is not positive definite: the edges and supports do not hold it "
+          "against every rigid-body motion (give a [[support]] or a fixed, roller or displacement edge)");
+    cholesky.solve(-r, delta);
+    // Backtracking (Armijo) on Π: the full step is exact once every element's open planes are right.
+    const double slope = r.dot(delta);
+    double t = 1;
+    trial = u;
+    for (;;) {
+      for (int d = 0; d < n_dofs; ++d)
+        if (free_index[d] >= 0) trial(d) = u(d) + t * delta(free_index[d]);
+      if (energy(trial, factor, false, false) <= Pi + 1e-4 * t * slope || t < 1e-12) break;
+      t /= 2;
+    }
+    u = trial;
+    ++out.newton_steps;
+  }
+}
+
+StepResult HomogenisedStructure::solve_step(double factor) {
+  Impl& s = *impl_;
+  StepResult out;
+  out.factor = factor;
+  const double before = s.energy(s.u, factor, false, false);
+  for (;;) {
+    s.newton(factor, out);
+    if (!out.converged) break;
+    // The fuse: cells whose average stress leaves the onset surface switch, irreversibly.
+    if (!s.law.onset.linear) break;
+    std::vector<Eigen::Vector3d> cell_stress(s.cell_fused.size(), Eigen::Vector3d::Zero());
+    Eigen::VectorXd ue(2 * s.per);
+    for (Eigen::Index t = 0; t < s.mesh.triangles.rows(); ++t) {
+      for (int a = 0; a < 2 * s.per; ++a) ue(a) = s.u(s.dof(static_cast<int>(t), a));
+      for (const Point& p : s.points[t])
+        cell_stress[s.mesh.cell[t]] += p.weight * law::evaluate(s.law_of(static_cast<int>(t)), p.B * ue).stress;
+    }
+    const double cell_area = s.scene.cell_size * s.scene.cell_size;
+    int fused_now = 0;
+    for (std::size_t c = 0; c < s.cell_fused.size(); ++c)
+      if (!s.cell_fused[c] && law::onset_measure(s.law.onset, cell_stress[c] / cell_area) >= 1) {
+        s.cell_fused[c] = 1;
+        ++fused_now;
+      }
+    if (fused_now == 0) break;
+    out.newly_fused_cells += fused_now;
+    if (++out.fuse_rounds > s.scene.max_fuse_rounds) {
+      out.converged = false;
+      break;
+    }
+  }
+  out.energy_decrease = before - out.energy;
+
+  // The state: displacements, element stresses and open planes, fuses, reactions.
+  out.u = s.u;
+  const Eigen::Index T = s.mesh.triangles.rows();
+  out.stress.resize(T, 3);
+  out.open.resize(T);
+  out.fused.resize(T);
+  Eigen::VectorXd ue(2 * s.per);
+  for (Eigen::Index t = 0; t < T; ++t) {
+    for (int a = 0; a < 2 * s.per; ++a) ue(a) = s.u(s.dof(static_cast<int>(t), a));
+    const law::ConeLaw& l = s.law_of(static_cast<int>(t));
+    Eigen::Vector3d integral = Eigen::Vector3d::Zero();
+    for (const Point& p : s.points[t]) integral += p.weight * law::evaluate(l, p.B * ue).stress;
+    out.stress.row(t) = integral.transpose() / s.area[t];
+    out.open[t] = law::evaluate(l, s.B_centroid[t] * ue).open;
+    out.fused[t] = s.cell_fused[s.mesh.cell[t]];
+  }
+  s.energy(s.u, factor, true, false);
+  for (auto& r : out.reactions) r.setZero();
+  for (int d = 0; d < s.n_dofs; ++d)
+    if (s.constrained_by[d] >= 0) out.reactions[s.constrained_by[d]](d % 2) += s.r_full(d);
+  const int watch = s.mesh.node_at(s.scene.watch);
+  if (watch >= 0) out.watch_displacement = s.u.segment<2>(2 * watch);
+  return out;
+}
+
+}  // namespace dualcell::structure

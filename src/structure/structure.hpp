@@ -1,0 +1,90 @@
+#pragma once
+// A structure of homogeneous cells (docs/method.md §15): a rectangle of nx × ny cells of the
+// fitted cell, each meshed with m × m squares of two triangles (p1 or p2), every element with
+// the cone-wise law of its cell (law/cone.hpp) and the fuse: a cell whose average stress leaves
+// the onset surface (law/onset.hpp) switches to the law past the fuse, irreversibly.
+//
+// The energy Π(u) = Σ_e ∫ W(ε(u)) dA − fᵀu is convex and piecewise quadratic in the free
+// displacements, so Newton's method with the one-sided tangent K_T = Σ ∫ ∇ˢᵀ C(ε) ∇ˢ dA and a
+// backtracking line search on Π terminates in finitely many steps. K_T has a fixed pattern:
+// CHOLMOD analyses it once and factorises it per Newton step.
+//
+//   symbol | variable            | meaning
+//   -------+---------------------+------------------------------------------------------
+//   u      | StepResult::u       | nodal displacements (ux, uy per node)
+//   f      | (load vector)       | edge tractions and point loads times the step's factor
+//   r      | (residual)          | ∂Π/∂u = internal forces − f over the free DOFs
+//   K_T    | (tangent)           | ∂r/∂u over the free DOFs
+//   φ      | onset measure       | max_k g_k·σ̄_cell; the cell fuses where φ ≥ 1
+#include <Eigen/Core>
+#include <array>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/structure_scene.hpp"
+#include "law/cone.hpp"
+#include "law/onset.hpp"
+
+namespace dualcell::structure {
+
+using dualcell::edge_names;
+using dualcell::EdgeCondition;
+using dualcell::EdgeKind;
+using dualcell::PointLoad;
+using dualcell::StructureScene;
+using dualcell::Support;
+
+// The mesh: nodes on a grid, triangles (3 or 6 nodes: corners counter-clockwise, then the
+// mid-sides of (0,1), (1,2), (2,0)), the cell of each triangle.
+struct StructureMesh {
+  Eigen::Matrix<double, Eigen::Dynamic, 2> nodes;
+  Eigen::Matrix<int, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> triangles;
+  std::vector<int> cell;                        // per triangle, i + nx·j
+  std::array<std::vector<int>, 4> edge_nodes;   // per edge, its nodes from start to end
+  int node_at(const Eigen::Vector2d& x) const;  // −1 when no node is there (1e-9 of a cell)
+};
+StructureMesh build_structure_mesh(const StructureScene& scene);
+
+// The cell law: the cone-wise law while bonded, the law past the fuse, and the onset surface
+// that switches one to the other (not linear: cells never fuse).
+struct CellLaw {
+  law::ConeLaw bonded, debonded;
+  law::OnsetSurface onset;
+};
+
+struct StepResult {
+  double factor = 0;
+  Eigen::VectorXd u;                                // 2 per node
+  Eigen::Matrix<double, Eigen::Dynamic, 3> stress;  // per triangle, area average (σxx, σyy, σxy)
+  std::vector<std::uint32_t> open;                  // per triangle: the law's open planes at its centroid
+  std::vector<std::uint8_t> fused;                  // per triangle: its cell has fused
+  // The force the constraints exert on the structure, per edge (edge_names) and for the point
+  // supports last; a DOF held by two edges (a corner) counts for the first in that order.
+  std::array<Eigen::Vector2d, 5> reactions;
+  Eigen::Vector2d watch_displacement = Eigen::Vector2d::Zero();
+  int newton_steps = 0;  // all fuse rounds of the step
+  int fuse_rounds = 0;   // re-solves after new fuses
+  int newly_fused_cells = 0;
+  double energy = 0;           // Π at the solution
+  double energy_decrease = 0;  // Π at the start of the step minus Π at its end
+  double residual = 0;         // ‖r‖ / scale at the end
+  bool converged = false;
+};
+
+class HomogenisedStructure {
+ public:
+  HomogenisedStructure(const StructureScene& scene, const CellLaw& law);
+  ~HomogenisedStructure();
+  // Solves the load step `factor` from the state reached, fuses included (irreversible).
+  StepResult solve_step(double factor);
+  const StructureMesh& mesh() const;
+  const std::vector<std::uint8_t>& fused_cells() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace dualcell::structure
