@@ -7,6 +7,7 @@
 // of each phase.
 //
 //   dualcell-solve --config scene.toml --mesh mesh.h5 --stress 0.01,0,0 --out solution.h5
+//   dualcell-solve --config beam.toml --mesh mesh.h5 --out solution.h5   ([load] boundary = "edges")
 #include <CLI/CLI.hpp>
 #include <cstdio>
 
@@ -21,7 +22,9 @@ int main(int argc, char** argv) {
   bool quiet = false;
   app.add_option("--config", options.scene_file, "scene file (TOML)")->required();
   app.add_option("--mesh", options.mesh_file, "mesh.h5 made by dualcell-mesh from the same scene")->required();
-  app.add_option("--stress", options.stress_text, "macroscopic stress sxx,syy,sxy (tensor shear)")->required();
+  app.add_option("--stress", options.stress_text,
+                 "macroscopic stress sxx,syy,sxy (tensor shear); required but with boundary = \"edges\", whose "
+                 "loads and steps are in the scene");
   app.add_option("--out", options.out, "output HDF5 file; the XDMF file is written beside it")->required();
   app.add_option("--bonds", options.bonds_file,
                  "solution.h5 whose /interface/bonded is the bond state before this load (default: intact)");

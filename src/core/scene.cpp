@@ -31,6 +31,8 @@ const char* to_string(Boundary b) {
       return "traction";
     case Boundary::periodic:
       return "periodic";
+    case Boundary::edges:
+      return "edges";
   }
   return "?";
 }

@@ -11,6 +11,8 @@
 #include <string_view>
 #include <vector>
 
+#include "core/edge_loads.hpp"
+
 namespace dualcell {
 
 // Linear isotropic material, plane strain (docs/method.md §1).
@@ -44,12 +46,16 @@ struct Interface {
   bool has_adhesion() const { return normal_strength > 0 || tangential_strength > 0; }
 };
 
-enum class Boundary { symmetry, traction, periodic };
+// The boundary of the block (docs/method.md §12): a macro stress σ̄ through symmetry planes, as
+// tractions on all four sides, or through periodicity; or `edges`: a structure of resolved cells
+// with conditions per edge (core/edge_loads.hpp), loaded in steps by a load factor.
+enum class Boundary { symmetry, traction, periodic, edges };
 const char* to_string(Boundary b);
 
 struct Load {
   Boundary boundary = Boundary::symmetry;
   std::array<double, 2> body_force{0, 0};  // force per unit area, both materials
+  EdgeLoads edge_loads;                    // Boundary::edges only
 };
 
 struct SweepSettings {

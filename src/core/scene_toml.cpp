@@ -309,6 +309,116 @@ const toml::table* sub_table(const toml::table& root, std::string_view name, con
   return n->as_table();
 }
 
+// A point [x, y] that must be finite.
+Eigen::Vector2d point(TableReader& t, std::string_view key, bool required, const std::string& what) {
+  if (required && !t.has(key)) t.fail(nullptr, key, "", "missing; required, " + what);
+  const auto v = t.reals(key, {0, 0}, 2, 2);
+  if (!std::isfinite(v[0]) || !std::isfinite(v[1])) t.fail(t.node(key), key, "", "must be finite");
+  return {v[0], v[1]};
+}
+
+// The tables of an array of tables `name` ([[name]]), each read by `read`.
+template <typename Read>
+void each_table(const toml::table& root, std::string_view name, const std::string& file,
+                const std::vector<std::string>& lines, Read read) {
+  const toml::node* n = root.get(name);
+  if (!n) return;
+  const toml::array* a = n->as_array();
+  if (!a || !a->is_array_of_tables())
+    throw InputError(file + ":" + std::to_string(n->source().begin.line) + ": [[" + std::string(name) +
+                     "]] must be an array of tables");
+  for (std::size_t k = 0; k < a->size(); ++k) {
+    TableReader t(a->get(k)->as_table(), std::string(name) + " " + std::to_string(k + 1), file, lines);
+    read(t);
+    t.finish();
+  }
+}
+
+// The edge conditions, supports, point loads, steps and output tables (core/edge_loads.hpp),
+// shared by structure.toml and scene.toml with boundary = "edges".
+const std::vector<std::string> edge_load_tables{"edges", "support", "point_load", "steps", "output"};
+
+EdgeLoads read_edge_loads(const toml::table& root, const std::string& fname, const std::vector<std::string>& lines) {
+  EdgeLoads loads;
+  const toml::table* edges = sub_table(root, "edges", fname);
+  if (edges)
+    for (const auto& [key, value] : *edges) {
+      const std::string k(key.str());
+      if (std::find(edge_names.begin(), edge_names.end(), k) == edge_names.end() || !value.is_table())
+        throw InputError(fname + ":" + std::to_string(value.source().begin.line) + ": [edges] " + key_text(key, lines) +
+                         ": unknown edge; allowed: [edges.left], [edges.right], [edges.bottom], [edges.top]");
+    }
+  for (std::size_t e = 0; e < edge_names.size(); ++e) {
+    const std::string name = std::string("edges.") + edge_names[e];
+    TableReader t(edges ? sub_table(*edges, edge_names[e], fname) : nullptr, name, fname, lines);
+    if (!t.present()) continue;
+    EdgeCondition& c = loads.edges[e];
+    const std::string type = t.string("type", "free", {"free", "fixed", "roller", "displacement", "traction"});
+    c.kind = type == "fixed"          ? EdgeKind::fixed
+             : type == "roller"       ? EdgeKind::roller
+             : type == "displacement" ? EdgeKind::displacement
+             : type == "traction"     ? EdgeKind::traction
+                                      : EdgeKind::free;
+    if (c.kind == EdgeKind::displacement) {
+      if (!t.has("ux") && !t.has("uy"))
+        t.fail(nullptr, "ux", "", "missing; type = \"displacement\" needs ux, uy or both (finite)");
+      for (int k = 0; k < 2; ++k) {
+        const char* key = k == 0 ? "ux" : "uy";
+        if (!t.has(key)) continue;
+        c.displacement(k) = t.real(key, 0);
+        if (!std::isfinite(c.displacement(k))) t.fail(t.node(key), key, "", "must be finite");
+      }
+    }
+    if (c.kind == EdgeKind::traction) {
+      c.traction_start = point(t, "traction", true, "[tx, ty] at the edge's start (bottom or left end)");
+      c.traction_end = t.has("traction_end") ? point(t, "traction_end", false, "") : c.traction_start;
+    }
+    t.finish();
+  }
+  each_table(root, "support", fname, lines, [&](TableReader& t) {
+    Support s;
+    s.at = point(t, "at", true, "[x, y] of a node");
+    const std::string fix = t.string("fix", "xy", {"x", "y", "xy"});
+    s.fix_x = fix.find('x') != std::string::npos;
+    s.fix_y = fix.find('y') != std::string::npos;
+    loads.supports.push_back(s);
+  });
+  each_table(root, "point_load", fname, lines, [&](TableReader& t) {
+    PointLoad p;
+    p.at = point(t, "at", true, "[x, y] of a node");
+    p.force = point(t, "force", true, "[fx, fy]");
+    loads.point_loads.push_back(p);
+  });
+  TableReader steps(sub_table(root, "steps", fname), "steps", fname, lines);
+  if (steps.present()) {
+    loads.factors = steps.reals("factors", {1.0}, 1, 100000);
+    for (double f : loads.factors)
+      if (!std::isfinite(f)) steps.fail(steps.node("factors"), "factors", "", "must be finite numbers");
+    steps.finish();
+  }
+  TableReader output(sub_table(root, "output", fname), "output", fname, lines);
+  if (output.present()) {
+    loads.watch = point(output, "watch", false, "");
+    output.finish();
+  }
+  return loads;
+}
+
+// Something must hold the structure and something must load it.
+void check_held_and_loaded(const EdgeLoads& loads, const std::string& fname, const std::string& what) {
+  bool held = !loads.supports.empty(), loaded = !loads.point_loads.empty();
+  for (const auto& c : loads.edges) {
+    held = held || c.kind == EdgeKind::fixed || c.kind == EdgeKind::roller || c.kind == EdgeKind::displacement;
+    loaded = loaded || c.kind == EdgeKind::traction || c.kind == EdgeKind::displacement;
+  }
+  if (!held)
+    throw InputError(fname + ": nothing holds " + what +
+                     ": give an edge fixed, roller or displacement, or a [[support]]");
+  if (!loaded)
+    throw InputError(fname + ": nothing loads " + what +
+                     ": give an edge traction or displacement, or a [[point_load]]");
+}
+
 }  // namespace
 
 Scene parse_scene(std::string_view text, const std::filesystem::path& file) {
@@ -337,10 +447,12 @@ Scene parse_scene(std::string_view text, const std::filesystem::path& file) {
   for (const auto& [key, value] : root) {
     const std::string k(key.str());
     if (k == "material") continue;
+    if (std::find(edge_load_tables.begin(), edge_load_tables.end(), k) != edge_load_tables.end()) continue;
     if (std::find(tables.begin(), tables.end(), k) == tables.end())
       top.fail(&value, key_text(key, lines), "",
                "unknown table or key; allowed: material, [geometry], [fibre], "
-               "[matrix], [interface], [load], [sweep], [solver]");
+               "[matrix], [interface], [load], [sweep], [solver], and with [load] boundary = \"edges\" "
+               "[edges.left|right|bottom|top], [[support]], [[point_load]], [steps], [output]");
   }
 
   // [geometry]
@@ -412,10 +524,19 @@ Scene parse_scene(std::string_view text, const std::filesystem::path& file) {
 
   // [load]
   TableReader lt(sub_table(root, "load", fname), "load", fname, lines, &scene.written);
-  const std::string boundary = lt.string("boundary", "symmetry", {"symmetry", "traction", "periodic"});
+  const std::string boundary = lt.string("boundary", "symmetry", {"symmetry", "traction", "periodic", "edges"});
   scene.load.boundary = boundary == "symmetry"   ? Boundary::symmetry
                         : boundary == "traction" ? Boundary::traction
-                                                 : Boundary::periodic;
+                        : boundary == "periodic" ? Boundary::periodic
+                                                 : Boundary::edges;
+  if (scene.load.boundary == Boundary::edges) {
+    scene.load.edge_loads = read_edge_loads(root, fname, lines);
+    check_held_and_loaded(scene.load.edge_loads, fname, "the block");
+  } else {
+    for (const std::string& t : edge_load_tables)
+      if (const toml::node* n = root.get(t))
+        top.fail(n, t, "", "only with [load] boundary = \"edges\" (the boundary here is \"" + boundary + "\")");
+  }
   const auto bf = lt.reals("body_force", {0, 0}, 2, 2);
   scene.load.body_force = {bf[0], bf[1]};
   lt.finish();
@@ -465,34 +586,7 @@ Scene load_scene(const std::filesystem::path& file) {
 // ---------------------------------------------------------------------------------------------
 // structure.toml
 
-namespace {
-
-// A point [x, y] that must be finite.
-Eigen::Vector2d point(TableReader& t, std::string_view key, bool required, const std::string& what) {
-  if (required && !t.has(key)) t.fail(nullptr, key, "", "missing; required, " + what);
-  const auto v = t.reals(key, {0, 0}, 2, 2);
-  if (!std::isfinite(v[0]) || !std::isfinite(v[1])) t.fail(t.node(key), key, "", "must be finite");
-  return {v[0], v[1]};
-}
-
-// The tables of an array of tables `name` ([[name]]), each read by `read`.
-template <typename Read>
-void each_table(const toml::table& root, std::string_view name, const std::string& file,
-                const std::vector<std::string>& lines, Read read) {
-  const toml::node* n = root.get(name);
-  if (!n) return;
-  const toml::array* a = n->as_array();
-  if (!a || !a->is_array_of_tables())
-    throw InputError(file + ":" + std::to_string(n->source().begin.line) + ": [[" + std::string(name) +
-                     "]] must be an array of tables");
-  for (std::size_t k = 0; k < a->size(); ++k) {
-    TableReader t(a->get(k)->as_table(), std::string(name) + " " + std::to_string(k + 1), file, lines);
-    read(t);
-    t.finish();
-  }
-}
-
-}  // namespace
+namespace {}  // namespace
 
 StructureScene parse_structure_scene(std::string_view text, const std::filesystem::path& file) {
   const std::string fname = file.string();
@@ -532,67 +626,7 @@ StructureScene parse_structure_scene(std::string_view text, const std::filesyste
     st.finish();
   }
 
-  const toml::table* edges = sub_table(root, "edges", fname);
-  if (edges)
-    for (const auto& [key, value] : *edges) {
-      const std::string k(key.str());
-      if (std::find(edge_names.begin(), edge_names.end(), k) == edge_names.end() || !value.is_table())
-        throw InputError(fname + ":" + std::to_string(value.source().begin.line) + ": [edges] " + key_text(key, lines) +
-                         ": unknown edge; allowed: [edges.left], [edges.right], [edges.bottom], [edges.top]");
-    }
-  for (std::size_t e = 0; e < edge_names.size(); ++e) {
-    const std::string name = std::string("edges.") + edge_names[e];
-    TableReader t(edges ? sub_table(*edges, edge_names[e], fname) : nullptr, name, fname, lines);
-    if (!t.present()) continue;
-    EdgeCondition& c = scene.edges[e];
-    const std::string type = t.string("type", "free", {"free", "fixed", "roller", "displacement", "traction"});
-    c.kind = type == "fixed"          ? EdgeKind::fixed
-             : type == "roller"       ? EdgeKind::roller
-             : type == "displacement" ? EdgeKind::displacement
-             : type == "traction"     ? EdgeKind::traction
-                                      : EdgeKind::free;
-    if (c.kind == EdgeKind::displacement) {
-      if (!t.has("ux") && !t.has("uy"))
-        t.fail(nullptr, "ux", "", "missing; type = \"displacement\" needs ux, uy or both (finite)");
-      for (int k = 0; k < 2; ++k) {
-        const char* key = k == 0 ? "ux" : "uy";
-        if (!t.has(key)) continue;
-        c.displacement(k) = t.real(key, 0);
-        if (!std::isfinite(c.displacement(k))) t.fail(t.node(key), key, "", "must be finite");
-      }
-    }
-    if (c.kind == EdgeKind::traction) {
-      c.traction_start = point(t, "traction", true, "[tx, ty] at the edge's start (bottom or left end)");
-      c.traction_end = t.has("traction_end") ? point(t, "traction_end", false, "") : c.traction_start;
-    }
-    t.finish();
-  }
-  each_table(root, "support", fname, lines, [&](TableReader& t) {
-    Support s;
-    s.at = point(t, "at", true, "[x, y] of a node");
-    const std::string fix = t.string("fix", "xy", {"x", "y", "xy"});
-    s.fix_x = fix.find('x') != std::string::npos;
-    s.fix_y = fix.find('y') != std::string::npos;
-    scene.supports.push_back(s);
-  });
-  each_table(root, "point_load", fname, lines, [&](TableReader& t) {
-    PointLoad p;
-    p.at = point(t, "at", true, "[x, y] of a node");
-    p.force = point(t, "force", true, "[fx, fy]");
-    scene.point_loads.push_back(p);
-  });
-  TableReader steps(sub_table(root, "steps", fname), "steps", fname, lines);
-  if (steps.present()) {
-    scene.factors = steps.reals("factors", {1.0}, 1, 100000);
-    for (double f : scene.factors)
-      if (!std::isfinite(f)) steps.fail(steps.node("factors"), "factors", "", "must be finite numbers");
-    steps.finish();
-  }
-  TableReader output(sub_table(root, "output", fname), "output", fname, lines);
-  if (output.present()) {
-    scene.watch = point(output, "watch", false, "");
-    output.finish();
-  }
+  static_cast<EdgeLoads&>(scene) = read_edge_loads(root, fname, lines);
   TableReader solver(sub_table(root, "solver", fname), "solver", fname, lines);
   if (solver.present()) {
     scene.tolerance = solver.real("tolerance", 1e-10);
@@ -602,18 +636,7 @@ StructureScene parse_structure_scene(std::string_view text, const std::filesyste
     scene.max_fuse_rounds = count(solver, "max_fuse_rounds", 1000, 0, 1000000);
     solver.finish();
   }
-  // Something must hold the structure and something must load it.
-  bool held = !scene.supports.empty(), loaded = !scene.point_loads.empty();
-  for (const auto& c : scene.edges) {
-    held = held || c.kind == EdgeKind::fixed || c.kind == EdgeKind::roller || c.kind == EdgeKind::displacement;
-    loaded = loaded || c.kind == EdgeKind::traction || c.kind == EdgeKind::displacement;
-  }
-  if (!held)
-    throw InputError(fname +
-                     ": nothing holds the structure: give an edge fixed, roller or displacement, or a [[support]]");
-  if (!loaded)
-    throw InputError(fname +
-                     ": nothing loads the structure: give an edge traction or displacement, or a [[point_load]]");
+  check_held_and_loaded(scene, fname, "the structure");
   return scene;
 }
 

@@ -5,7 +5,11 @@
 #include <limits>
 #include <map>
 #include <numeric>
+#include <set>
+#include <string>
 
+#include "core/error.hpp"
+#include "core/text.hpp"
 #include "fem/assembly.hpp"
 
 namespace dualcell::feti {
@@ -84,12 +88,25 @@ std::vector<int> side_points(const mesh::Mesh& mesh, int side, NodeClasses& clas
   return points;
 }
 
+}  // namespace
+
+const std::array<int, 4> edge_sides = {mesh::left, mesh::right, mesh::bottom, mesh::top};
+
+int node_at(const mesh::Mesh& mesh, const Eigen::Vector2d& x, const std::string& what) {
+  const double reach = 1e-9 * std::max(mesh.block_width(), mesh.block_height());
+  for (int v = 0; v < mesh.n_nodes(); ++v)
+    if ((mesh.nodes[v] - x).norm() <= reach) return v;
+  throw InputError(what + " at (" + shortest(x(0)) + ", " + shortest(x(1)) + "): no node of the mesh there");
+}
+
+namespace {
+
 class RowBuilder {
  public:
   RowBuilder(Constraints& out, std::vector<Eigen::Triplet<double>>& triplets) : out_(out), triplets_(triplets) {}
   // Adds a row with entries (dof, value), unscaled bounds and weight w.
   void add(RowKind kind, int pair, std::initializer_list<std::pair<int, double>> entries, double lower, double upper,
-           double w) {
+           double w, double c = 0) {
     const int r = static_cast<int>(out_.kind.size());
     for (const auto& [dof, value] : entries)
       if (value != 0) triplets_.emplace_back(r, dof, w * value);
@@ -98,12 +115,13 @@ class RowBuilder {
     lower_.push_back(lower / w);
     upper_.push_back(upper / w);
     weight_.push_back(w);
+    c_.push_back(w * c);
   }
   void finish(int n_dofs) {
     const int n = static_cast<int>(out_.kind.size());
     out_.B.resize(n, n_dofs);
     out_.B.setFromTriplets(triplets_.begin(), triplets_.end());
-    out_.c = Eigen::VectorXd::Zero(n);
+    out_.c = Eigen::Map<Eigen::VectorXd>(c_.data(), n);
     out_.lower = Eigen::Map<Eigen::VectorXd>(lower_.data(), n);
     out_.upper = Eigen::Map<Eigen::VectorXd>(upper_.data(), n);
     out_.weight = Eigen::Map<Eigen::VectorXd>(weight_.data(), n);
@@ -112,7 +130,7 @@ class RowBuilder {
  private:
   Constraints& out_;
   std::vector<Eigen::Triplet<double>>& triplets_;
-  std::vector<double> lower_, upper_, weight_;
+  std::vector<double> lower_, upper_, weight_, c_;
 };
 
 }  // namespace
@@ -182,6 +200,34 @@ Constraints build_constraints(const mesh::Mesh& mesh, const Scene& scene, const 
       const int a = bottom_points.front();
       rows.add(RowKind::dirichlet, -1, {{2 * a, 1.0}}, -inf, inf, w_single);
       rows.add(RowKind::dirichlet, -1, {{2 * a + 1, 1.0}}, -inf, inf, w_single);
+      break;
+    }
+    case Boundary::edges: {
+      // Per edge (core/edge_loads.hpp), once per physical point and component: a point held by
+      // two edges (a corner) or a support as well keeps the first row only, so that B has full
+      // row rank. c holds the prescribed displacements at load factor 1.
+      const EdgeLoads& loads = scene.load.edge_loads;
+      std::set<int> held;  // 2·point + component
+      const auto hold = [&](int v, int component, double value) {
+        if (held.insert(2 * v + component).second)
+          rows.add(RowKind::dirichlet, -1, {{2 * v + component, 1.0}}, -inf, inf, w_single, value);
+      };
+      for (int e = 0; e < 4; ++e) {
+        const EdgeCondition& condition = loads.edges[e];
+        const int normal = e < 2 ? 0 : 1;
+        for (int v : side_points(mesh, edge_sides[e], classes)) {
+          if (condition.kind == EdgeKind::fixed) hold(v, 0, 0), hold(v, 1, 0);
+          if (condition.kind == EdgeKind::roller) hold(v, normal, 0);
+          if (condition.kind == EdgeKind::displacement)
+            for (int k = 0; k < 2; ++k)
+              if (!std::isnan(condition.displacement(k))) hold(v, k, condition.displacement(k));
+        }
+      }
+      for (const Support& support : loads.supports) {
+        const int v = classes.find(node_at(mesh, support.at, "support"));
+        if (support.fix_x) hold(v, 0, 0);
+        if (support.fix_y) hold(v, 1, 0);
+      }
       break;
     }
   }

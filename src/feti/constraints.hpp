@@ -5,7 +5,7 @@
 //   row kind     | B row                               | multiplier bounds  (ℓ ≤ λ ≤ υ)
 //   -------------+-------------------------------------+---------------------------------------
 //   glue         | u_a,c − u_b,c            = 0        | free
-//   dirichlet    | u_a,c                    = 0        | free
+//   dirichlet    | u_a,c                    = t·ū_a,c  | free (ū prescribed, t the load factor; 0 but for edges)
 //   periodic     | u_r,c − u_l,c − (H Δx)_c = 0        | free (H: macro strain DOFs)
 //   normal       | n·u_f − n·u_m            ≤ 0        | λ ≥ 0, bonded: λ ≥ −s_n·L_p
 //   tangential   | t·u_f − t·u_m            = 0        | bonded only: −s_t·L_p ≤ λ ≤ s_t·L_p
@@ -20,7 +20,9 @@
 // stiffness contrast; the stored B, c and
 // bounds are the scaled ones (λ_scaled = λ / w, force = w·λ_scaled).
 #include <Eigen/SparseCore>
+#include <array>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "core/scene.hpp"
@@ -40,7 +42,7 @@ struct Constraints {
   // B over the global DOFs (2·n_nodes, plus 3 macro-strain DOFs εxx, εyy, γxy at the end for
   // the periodic boundary), scaled rows.
   Eigen::SparseMatrix<double, Eigen::RowMajor> B;
-  Eigen::VectorXd c;       // right-hand side (scaled)
+  Eigen::VectorXd c;       // right-hand side (scaled) at load factor 1: B u = t·c (docs/method.md §15)
   Eigen::VectorXd lower;   // ℓ (scaled), −inf where free
   Eigen::VectorXd upper;   // υ (scaled), +inf where free
   Eigen::VectorXd weight;  // w_r
@@ -55,6 +57,12 @@ Eigen::Vector2d interface_normal(const mesh::Mesh& mesh, int p);
 // Interface length of each pair: L_p = ∫ φ_p ds over the rim (φ_p the shape function of the
 // pair's node along the rim edges); for p1 half of its two neighbouring chords.
 std::vector<double> interface_lengths(const mesh::Mesh& mesh);
+
+// The mesh sides of the edges left, right, bottom, top (the order of edge_names).
+extern const std::array<int, 4> edge_sides;
+// A node of the mesh at x (within 1e-9 of the block's size), for supports, point loads and the
+// watch point of Boundary::edges; an InputError naming `what` and x when there is none.
+int node_at(const mesh::Mesh& mesh, const Eigen::Vector2d& x, const std::string& what);
 
 Constraints build_constraints(const mesh::Mesh& mesh, const Scene& scene, const BondState& bonds);
 

@@ -185,7 +185,7 @@ void DualProblem::apply_Q(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
   y.noalias() = G_.transpose() * G_solution_;
 }
 
-Eigen::VectorXd DualProblem::d(const Eigen::VectorXd& f) const {
+Eigen::VectorXd DualProblem::d(const Eigen::VectorXd& f, double t) const {
   const auto& subs = setup_.subdomains();
   setup_.for_each_subdomain([&](int s) {
     const Local& local = locals_[s];
@@ -193,7 +193,7 @@ Eigen::VectorXd DualProblem::d(const Eigen::VectorXd& f) const {
     subs[s].apply_K_plus(local.y, local.x, local.K_plus_scratch);
     local.z.noalias() = local.B * local.x;
   });
-  Eigen::VectorXd d = -constraints_.c;
+  Eigen::VectorXd d = -t * constraints_.c;
   for (const Local& local : locals_)
     for (std::size_t k = 0; k < local.rows.size(); ++k) d(local.rows[k]) += local.z(k);
   return d;

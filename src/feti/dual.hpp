@@ -73,8 +73,8 @@ class DualProblem {
     double F = 0, Q = 0, preconditioner = 0;
   };
   const Profile& profile() const { return profile_; }
-  // d = B K⁺ f − c.
-  Eigen::VectorXd d(const Eigen::VectorXd& f) const;
+  // d = B K⁺ f − t·c (t the load factor of the prescribed displacements, FetiSetup::load_factor).
+  Eigen::VectorXd d(const Eigen::VectorXd& f, double t) const;
   // e = R̂ᵀ f, stacked per subdomain.
   Eigen::VectorXd e(const Eigen::VectorXd& f) const;
   // λ₀ = Gᵀ(GGᵀ)⁻¹ e: the least-norm solution of Gλ = e.

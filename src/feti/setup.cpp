@@ -130,6 +130,25 @@ Eigen::VectorXd FetiSetup::load(const Eigen::Vector3d& sigma) const {
     case Boundary::periodic:
       f.tail<3>() = volume() * sigma;
       break;
+    case Boundary::edges: {
+      // Tractions linear along each edge from its start (bottom or left end) to its end, and
+      // point loads, at load factor t = sigma(0).
+      const EdgeLoads& loads = scene_.load.edge_loads;
+      const double t = sigma(0);
+      for (int e = 0; e < 4; ++e) {
+        const EdgeCondition& c = loads.edges[e];
+        if (c.kind != EdgeKind::traction) continue;
+        const int along = e < 2 ? 1 : 0;
+        const double length = along == 1 ? mesh_.block_height() : mesh_.block_width();
+        const auto at = [&](int v) {
+          return (t * (c.traction_start + mesh_.nodes[v](along) / length * (c.traction_end - c.traction_start))).eval();
+        };
+        for (const mesh::Edge& edge : mesh_.boundary_edges[edge_sides[e]])
+          fem::add_edge_traction(mesh_, edge, at(edge.a), at(edge.b), f);
+      }
+      for (const PointLoad& p : loads.point_loads) f.segment<2>(2 * node_at(mesh_, p.at, "point load")) += t * p.force;
+      break;
+    }
   }
   for (int side : sides)
     for (const mesh::Edge& edge : mesh_.boundary_edges[side]) {

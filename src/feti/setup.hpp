@@ -7,7 +7,7 @@
 //   K_i    | FloatingSubdomain::K       | stiffness of subdomain i (floating: ker K_i = span R_i)
 //   R_i    | FloatingSubdomain::R       | orthonormal rigid-body modes (dim_i × 3)
 //   K_i⁺   | FloatingSubdomain::K_plus  | fixing-node generalised inverse (linalg::FixingNodeInverse)
-//   f      | FetiSetup::load(σ̄)         | tractions σ̄·n on the loaded edges + body force
+//   f      | FetiSetup::load(σ̄)         | tractions σ̄·n on the loaded edges + body force (edges: t·f₁)
 //
 // Each subdomain owns its data (no global state), so subdomains are spread over threads
 // (for_each_subdomain) and could be spread over MPI ranks the same way. With the periodic boundary a "macro" subdomain
@@ -63,7 +63,12 @@ class FetiSetup {
   // f for the macroscopic stress σ̄ = (σxx, σyy, σxy): σ̄·n on the loaded edges of the block
   // (symmetry: right and top; traction: all four; periodic: none, |Ω|σ̄ on the macro DOFs),
   // plus the scene's body force.
+  // With Boundary::edges the load is one pattern, the edge tractions and point loads, scaled by
+  // the load factor t = p(0) of the load coordinates p = (t, 0, 0) that take σ̄'s place; the
+  // prescribed displacements scale with it (B u = t·c).
   Eigen::VectorXd load(const Eigen::Vector3d& sigma) const;
+  // t of B u = t·c: p(0) with Boundary::edges; 1 otherwise (c = 0 there).
+  double load_factor(const Eigen::Vector3d& p) const { return scene_.load.boundary == Boundary::edges ? p(0) : 1.0; }
   double volume() const { return mesh_.block_width() * mesh_.block_height(); }
   int threads() const { return threads_; }
   // Whether for_each_subdomain really spreads: only from min_dofs_per_thread DOFs per thread

@@ -86,6 +86,8 @@ Solution ContactSolver::solve_fixed(const Eigen::Vector3d& sigma, const BondStat
                                     const Eigen::VectorXd* warm_lambda, const Eigen::VectorXd* warm_multiplier) {
   if (setup_.scene().load.boundary == Boundary::symmetry && sigma(2) != 0)
     throw InputError("the symmetry boundary carries only sxx and syy (sxy must be 0)");
+  if (setup_.scene().load.boundary == Boundary::edges && (sigma(1) != 0 || sigma(2) != 0))
+    throw InputError("the edges boundary has one load coordinate, the load factor (t, 0, 0)");
   if (bonds.size() != setup_.mesh().interface_pairs.size())
     throw InputError("bond state has " + std::to_string(bonds.size()) + " entries, the mesh " +
                      std::to_string(setup_.mesh().interface_pairs.size()) + " interface pairs");
@@ -137,7 +139,7 @@ Solution ContactSolver::solve_problem(const DualProblem& dual, double& norm_PFP,
   const Eigen::VectorXd f = setup_.load(sigma);
   const Eigen::VectorXd e = dual.e(f);
   const Eigen::VectorXd lambda0 = dual.lambda_0(e);
-  const Eigen::VectorXd d = dual.d(f);
+  const Eigen::VectorXd d = dual.d(f, setup_.load_factor(sigma));
   Eigen::VectorXd b(m), tmp(m);
   dual.apply_F(lambda0, tmp);
   b = d - tmp;
@@ -282,7 +284,8 @@ void ContactSolver::recover(const DualProblem& dual, const Eigen::VectorXd& f, c
     // round-off level (a spin seen by normal rows) limits nothing: dividing a gap of ~0 by it
     // would pick an arbitrary step.
     Eigen::VectorXd gap(local.rows.size());
-    for (std::size_t k = 0; k < local.rows.size(); ++k) gap(k) = Bu(local.rows[k]) - con.c(local.rows[k]);
+    for (std::size_t k = 0; k < local.rows.size(); ++k)
+      gap(k) = Bu(local.rows[k]) - setup_.load_factor(out.sigma) * con.c(local.rows[k]);
     for (int j = 0; j < undetermined.cols(); ++j) {
       const Eigen::Vector3d direction = undetermined.col(j);
       const double amount = direction.dot(shift_target);
@@ -330,7 +333,8 @@ void ContactSolver::report(const DualProblem& dual, const Eigen::VectorXd& f, co
   out.tangential_force.assign(mesh.interface_pairs.size(), 0.0);
   for (int r = 0; r < con.n_rows(); ++r) {
     const double w = con.weight(r);
-    const double gap = (Bu(r) - con.c(r)) / w;  // length units: rows of B have unit coefficients
+    const double gap =
+        (Bu(r) - setup_.load_factor(out.sigma) * con.c(r)) / w;  // length units: rows of B have unit coefficients
     const double lambda = out.lambda(r), lower = con.lower(r) * w, upper = con.upper(r) * w;
     kkt.bound_violation = std::max({kkt.bound_violation, lower - lambda, lambda - upper});
     switch (con.kind[r]) {
@@ -546,6 +550,10 @@ law::OnsetSurface ContactSolver::onset_surface() {
   Eigen::VectorXd lower, upper;
   bool linear;
   Constraints con = lifted_bonded(setup_.mesh(), setup_.scene(), intact(), lower, upper, linear);
+  if (setup_.scene().load.boundary == Boundary::edges) {
+    out.message = "the edges boundary has one load pattern, not a macro stress: its onset is debond_onset";
+    return out;
+  }
   if (!linear) {
     out.message =
         "normal rows without normal strength stay contact rows: the bonded response is not linear, "

@@ -16,7 +16,7 @@ std::vector<double> to_vector(const Eigen::VectorXd& v) { return {v.data(), v.da
 }  // namespace
 
 void write_solution(const std::filesystem::path& h5, const mesh::Mesh& mesh, const Scene& scene,
-                    const feti::Solution& s, const Provenance& provenance) {
+                    const feti::Solution& s, const Provenance& provenance, const LoadSteps* steps) {
   std::filesystem::path xdmf = h5;
   xdmf.replace_extension(".xdmf");
   AtomicOutputs outputs;
@@ -91,6 +91,17 @@ void write_solution(const std::filesystem::path& h5, const mesh::Mesh& mesh, con
     f.write_attribute("/solver", "qp_tolerance", s.qp_tolerance);
     f.create_group("/kkt");
     for (const auto& field : kkt_fields) f.write_attribute("/kkt", field.attribute, s.kkt.*field.value);
+
+    if (steps) {
+      const hsize_t S = steps->factor.size();
+      f.write("/steps/factor", steps->factor, {S});
+      f.write("/steps/watch_displacement", steps->watch_displacement, {S, 2});
+      f.write("/steps/newly_broken", steps->newly_broken, {S});
+      f.write("/steps/broken", steps->broken, {S});
+      f.write("/steps/converged", steps->converged, {S});
+      f.write("/steps/operator_applications", steps->operator_applications, {S});
+      f.write_attribute("/steps", "first_break_factor", steps->first_break_factor);
+    }
 
     Provenance p = provenance;
     p.scene_text = scene.text;

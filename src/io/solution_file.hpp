@@ -1,8 +1,10 @@
 #pragma once
 // solution.h5: the output of dualcell-solve (layout in README.md, "solution.h5"), with an
 // XDMF beside it that shows the deformed shape, gaps included, in ParaView.
+#include <cstdint>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "core/provenance.hpp"
 #include "core/scene.hpp"
@@ -60,9 +62,23 @@ inline constexpr KktField kkt_fields[] = {
     {"relative_equilibrium", &feti::KktReport::relative_equilibrium},
 };
 
+// The load steps of a block with Boundary::edges (the solution written is the last step's).
+struct LoadSteps {
+  std::vector<double> factor;              // t per step
+  std::vector<double> watch_displacement;  // (ux, uy) of the scene's watch point per step
+  std::vector<std::int64_t> newly_broken;  // bonds broken in the step
+  std::vector<std::int64_t> broken;        // bonds broken in all after the step
+  std::vector<std::int64_t> converged;     // 1 when the step's solve converged and passed its check
+  std::vector<std::int64_t> operator_applications;
+  // t* at which the first bond of the intact interface reaches its strength (+inf without
+  // adhesion), from one solve (feti::ContactSolver::debond_onset).
+  double first_break_factor = 0;
+};
+
 // `provenance` names the mesh (mesh_file, mesh_hash); the scene's text is taken from `scene`.
+// `steps`, when given, is written to /steps.
 void write_solution(const std::filesystem::path& h5, const mesh::Mesh& mesh, const Scene& scene,
-                    const feti::Solution& solution, const Provenance& provenance);
+                    const feti::Solution& solution, const Provenance& provenance, const LoadSteps* steps = nullptr);
 
 // The bond state stored in a solution file (/interface/bonded), checked against the mesh: the
 // file must have been solved on the mesh whose hash is `mesh_hash`.

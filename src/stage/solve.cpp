@@ -30,9 +30,48 @@ Eigen::Vector3d parse_stress(const std::string& text) {
   return sigma;
 }
 
+namespace {
+
+// The load steps of a block with boundary = "edges", bonds carried from step to step (breaks
+// are irreversible); progress per step on stderr.
+feti::Solution solve_steps(feti::ContactSolver& solver, const Scene& scene, feti::BondState bonds,
+                           io::LoadSteps& steps) {
+  const EdgeLoads& loads = scene.load.edge_loads;
+  const int watch = feti::node_at(solver.setup().mesh(), loads.watch, "[output] watch");
+  steps.first_break_factor = solver.debond_onset(Eigen::Vector3d(1, 0, 0));
+  const feti::BondState intact = solver.intact();
+  feti::Solution s;
+  for (std::size_t k = 0; k < loads.factors.size(); ++k) {
+    const double t = loads.factors[k];
+    s = solver.solve(Eigen::Vector3d(t, 0, 0), bonds, k > 0 ? &s.lambda : nullptr);
+    bonds = s.bonds;
+    long broken = 0;
+    for (std::size_t p = 0; p < bonds.size(); ++p) broken += intact[p] != 0 && bonds[p] == 0;
+    steps.factor.push_back(t);
+    steps.watch_displacement.insert(steps.watch_displacement.end(), {s.u(2 * watch), s.u(2 * watch + 1)});
+    steps.newly_broken.push_back(s.newly_broken);
+    steps.broken.push_back(broken);
+    steps.converged.push_back(s.converged() ? 1 : 0);
+    steps.operator_applications.push_back(s.operator_applications);
+    std::fprintf(stderr, "dualcell-solve: step %zu/%zu, factor %g: %s, %ld F applications, %ld bonds broken\n", k + 1,
+                 loads.factors.size(), t, s.converged() ? "converged" : "NOT converged", s.operator_applications,
+                 broken);
+  }
+  return s;
+}
+
+}  // namespace
+
 SolveOutcome run_solve(const SolveOptions& options) {
-  const Eigen::Vector3d sigma = parse_stress(options.stress_text);
   SceneAndMesh in = load_scene_and_mesh("dualcell-solve", options.scene_file, options.mesh_file);
+  const bool edges = in.scene.load.boundary == Boundary::edges;
+  if (edges && !options.stress_text.empty())
+    throw InputError("--stress " + options.stress_text + ": " + in.scene.file.string() +
+                     " has boundary = \"edges\": its loads and steps are in the scene; leave --stress out");
+  if (!edges && options.stress_text.empty())
+    throw InputError(in.scene.file.string() + ": boundary = \"" + to_string(in.scene.load.boundary) +
+                     "\" needs --stress sxx,syy,sxy");
+  const Eigen::Vector3d sigma = edges ? Eigen::Vector3d::Zero() : parse_stress(options.stress_text);
   if (in.scene.load.boundary == Boundary::symmetry && sigma(2) != 0)
     throw InputError("--stress " + options.stress_text +
                      ": the symmetry boundary carries only sxx and syy (sxy must be 0); use boundary = \"traction\" "
@@ -41,11 +80,17 @@ SolveOutcome run_solve(const SolveOptions& options) {
   const feti::BondState bonds =
       options.bonds_file.empty() ? solver.intact() : io::read_bonds(options.bonds_file, in.mesh, in.mesh_hash);
   SolveOutcome outcome;
-  outcome.solution = solver.solve(sigma, bonds);
+  if (edges) {
+    outcome.steps.emplace();
+    outcome.solution = solve_steps(solver, in.scene, bonds, *outcome.steps);
+  } else {
+    outcome.solution = solver.solve(sigma, bonds);
+  }
   Provenance provenance;
   provenance.mesh_file = in.mesh_file;
   provenance.mesh_hash = in.mesh_hash;
-  io::write_solution(options.out, in.mesh, in.scene, outcome.solution, provenance);
+  io::write_solution(options.out, in.mesh, in.scene, outcome.solution, provenance,
+                     outcome.steps ? &*outcome.steps : nullptr);
   outcome.dim_u = in.mesh.dim_u();
   outcome.threads_used = solver.setup().parallel() ? solver.setup().threads() : 1;
   outcome.scene = std::move(in.scene);
@@ -58,8 +103,22 @@ void print_solve_summary(const SolveOptions& options, const SolveOutcome& outcom
   const Eigen::Vector3d& sigma = s.sigma;
   long broken = 0;
   for (auto b : s.bonds) broken += b == 0;
-  std::printf("dualcell-solve: %s + %s, stress (%g, %g, %g) -> %s\n", options.scene_file.c_str(),
-              options.mesh_file.c_str(), sigma(0), sigma(1), sigma(2), options.out.c_str());
+  if (outcome.steps) {
+    const io::LoadSteps& st = *outcome.steps;
+    std::printf("dualcell-solve: %s + %s, %zu load step(s) on the edges -> %s\n", options.scene_file.c_str(),
+                options.mesh_file.c_str(), st.factor.size(), options.out.c_str());
+    std::printf("  first bond break at load factor %.6g\n", st.first_break_factor);
+    std::printf("  %6s %12s %14s %14s %8s %8s %10s\n", "step", "factor", "watch ux", "watch uy", "broken", "total",
+                "F appl.");
+    for (std::size_t k = 0; k < st.factor.size(); ++k)
+      std::printf("  %6zu %12.6g %14.6e %14.6e %8lld %8lld %10lld%s\n", k + 1, st.factor[k],
+                  st.watch_displacement[2 * k], st.watch_displacement[2 * k + 1],
+                  static_cast<long long>(st.newly_broken[k]), static_cast<long long>(st.broken[k]),
+                  static_cast<long long>(st.operator_applications[k]), st.converged[k] ? "" : "  NOT converged");
+  } else {
+    std::printf("dualcell-solve: %s + %s, stress (%g, %g, %g) -> %s\n", options.scene_file.c_str(),
+                options.mesh_file.c_str(), sigma(0), sigma(1), sigma(2), options.out.c_str());
+  }
   std::printf("  boundary %s, adhesion %s, dim u %d, dim lambda %ld\n", to_string(scene.load.boundary),
               scene.interface.has_adhesion() ? "yes" : "no", outcome.dim_u, s.n_rows);
   std::printf(
@@ -72,9 +131,11 @@ void print_solve_summary(const SolveOptions& options, const SolveOutcome& outcom
   if (scene.interface.has_adhesion())
     std::printf("  bonds: %ld debond rounds, %ld broken now, %ld broken in all of %zu\n", s.debond_rounds,
                 s.newly_broken, broken, s.bonds.size());
-  std::printf("  macro strain  exx %.6e  eyy %.6e  exy %.6e\n", s.strain(0), s.strain(1), s.strain(2));
-  std::printf("  Hill-Mandel   <s> - s_applied = (%.2e, %.2e, %.2e)\n", s.average_stress(0) - sigma(0),
-              s.average_stress(1) - sigma(1), s.average_stress(2) - sigma(2));
+  if (!outcome.steps) {
+    std::printf("  macro strain  exx %.6e  eyy %.6e  exy %.6e\n", s.strain(0), s.strain(1), s.strain(2));
+    std::printf("  Hill-Mandel   <s> - s_applied = (%.2e, %.2e, %.2e)\n", s.average_stress(0) - sigma(0),
+                s.average_stress(1) - sigma(1), s.average_stress(2) - sigma(2));
+  }
   std::printf(
       "  KKT: projected gradient %.2e (rel), |G l - e| %.2e (rel), bound violation %.2e,\n"
       "       complementarity %.2e, penetration %.2e, glue jump %.2e, equilibrium %.2e (rel)\n",

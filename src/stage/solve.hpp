@@ -1,10 +1,15 @@
 #pragma once
 // The solve stage as one call (dualcell-solve): one macro stress σ̄ through the scene's boundary
-// condition, from a given bond state, written to solution.h5 (+ XDMF); and its summary.
+// condition, from a given bond state, written to solution.h5 (+ XDMF); and its summary. With
+// `[load] boundary = "edges"` the block is a structure of resolved cells: its load steps (the
+// scene's [steps] factors) are solved in order with the bond history carried from one to the
+// next, and the last step's solution is written with a /steps table.
 #include <Eigen/Core>
+#include <optional>
 #include <string>
 
 #include "feti/solver.hpp"
+#include "io/solution_file.hpp"
 
 namespace dualcell::stage {
 
@@ -14,7 +19,7 @@ inline constexpr int exit_not_converged = 4;
 
 struct SolveOptions {
   std::string scene_file, mesh_file, out;
-  std::string stress_text;  // "sxx,syy,sxy" as given on the command line
+  std::string stress_text;  // "sxx,syy,sxy" as given on the command line; empty with boundary = "edges"
   std::string bonds_file;   // a solution.h5 whose bond state is the start; empty: intact
   int threads = 0;
 };
@@ -22,7 +27,8 @@ struct SolveOptions {
 struct SolveOutcome {
   Scene scene;
   int dim_u = 0, threads_used = 1;
-  feti::Solution solution;
+  feti::Solution solution;             // the last step's with boundary = "edges"
+  std::optional<io::LoadSteps> steps;  // boundary = "edges" only
 };
 
 // "0.01,0,-2e-3" → (σxx, σyy, σxy); anything else is an InputError quoting `text`.

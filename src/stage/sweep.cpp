@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "core/error.hpp"
 #include "feti/solver.hpp"
 #include "io/atomic_output.hpp"
 #include "io/sweep_file.hpp"
@@ -17,6 +18,10 @@ namespace dualcell::stage {
 SweepSummary run_sweep(const SweepOptions& options) {
   using Clock = std::chrono::steady_clock;
   const SceneAndMesh in = load_scene_and_mesh("dualcell-sweep", options.scene_file, options.mesh_file);
+  if (in.scene.load.boundary == Boundary::edges)
+    throw InputError(in.scene.file.string() +
+                     ": boundary = \"edges\" is a structure of resolved cells, not a cell to sweep: solve its load "
+                     "steps with dualcell-solve (a sweep needs boundary = \"symmetry\", \"traction\" or \"periodic\")");
   const Scene& scene = in.scene;
   const std::vector<sweep::PathSpec> specs = sweep::plan_paths(scene);
   io::SweepHeader header;

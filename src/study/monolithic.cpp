@@ -13,7 +13,7 @@
 namespace dualcell::study {
 
 Eigen::VectorXd monolithic_solve(const mesh::Mesh& m, const Scene& scene, const Eigen::VectorXd& f, bool holes,
-                                 bool refine, double* seconds_factorise_solve) {
+                                 bool refine, double* seconds_factorise_solve, double load_factor) {
   const int N = m.n_nodes();
   std::vector<int> parent(N);
   std::iota(parent.begin(), parent.end(), 0);
@@ -69,8 +69,8 @@ Eigen::VectorXd monolithic_solve(const mesh::Mesh& m, const Scene& scene, const 
       }
     }
   }
-  // Dirichlet DOFs (per root and component).
-  std::map<std::pair<int, int>, bool> fixed;
+  // Dirichlet DOFs (per root and component) and their values.
+  std::map<std::pair<int, int>, double> fixed;
   auto corner = [&](double x, double y) {
     for (int v = 0; v < N; ++v)
       if ((m.nodes[v] - Eigen::Vector2d(x, y)).norm() < tol) return find(v);
@@ -79,16 +79,38 @@ Eigen::VectorXd monolithic_solve(const mesh::Mesh& m, const Scene& scene, const 
   switch (scene.load.boundary) {
     case Boundary::symmetry:
       for (int v = 0; v < N; ++v) {
-        if (on(v, mesh::left)) fixed[{find(v), 0}] = true;
-        if (on(v, mesh::bottom)) fixed[{find(v), 1}] = true;
+        if (on(v, mesh::left)) fixed[{find(v), 0}] = 0.0;
+        if (on(v, mesh::bottom)) fixed[{find(v), 1}] = 0.0;
       }
       break;
     case Boundary::traction:
-      fixed[{corner(0, 0), 0}] = fixed[{corner(0, 0), 1}] = fixed[{corner(W, 0), 1}] = true;
+      fixed[{corner(0, 0), 0}] = fixed[{corner(0, 0), 1}] = fixed[{corner(W, 0), 1}] = 0.0;
       break;
     case Boundary::periodic:
-      fixed[{corner(0, 0), 0}] = fixed[{corner(0, 0), 1}] = true;
+      fixed[{corner(0, 0), 0}] = fixed[{corner(0, 0), 1}] = 0.0;
       break;
+    case Boundary::edges: {
+      // First condition wins at a point held twice, as in the dual solver's rows.
+      const EdgeLoads& loads = scene.load.edge_loads;
+      const int sides[4] = {mesh::left, mesh::right, mesh::bottom, mesh::top};
+      for (int e = 0; e < 4; ++e) {
+        const EdgeCondition& c = loads.edges[e];
+        for (int v = 0; v < N; ++v) {
+          if (absent[v] || !on(v, sides[e])) continue;
+          if (c.kind == EdgeKind::fixed) fixed.insert({{find(v), 0}, 0.0}), fixed.insert({{find(v), 1}, 0.0});
+          if (c.kind == EdgeKind::roller) fixed.insert({{find(v), e < 2 ? 0 : 1}, 0.0});
+          if (c.kind == EdgeKind::displacement)
+            for (int k = 0; k < 2; ++k)
+              if (!std::isnan(c.displacement(k))) fixed.insert({{find(v), k}, load_factor * c.displacement(k)});
+        }
+      }
+      for (const Support& support : loads.supports) {
+        const int root = corner(support.at.x(), support.at.y());
+        if (support.fix_x) fixed.insert({{root, 0}, 0.0});
+        if (support.fix_y) fixed.insert({{root, 1}, 0.0});
+      }
+      break;
+    }
   }
   // Reduced numbering.
   std::map<std::pair<int, int>, int> index;
@@ -133,7 +155,12 @@ Eigen::VectorXd monolithic_solve(const mesh::Mesh& m, const Scene& scene, const 
   Eigen::SparseMatrix<double> K(dim, dim);
   K.setFromTriplets(kt.begin(), kt.end());
   const Eigen::SparseMatrix<double> K_red = Eigen::SparseMatrix<double>(T.transpose() * K * T);
-  const Eigen::VectorXd f_red = T.transpose() * f;
+  // Prescribed values on every copy of a held point: u = T z + u_D, K_red z = Tᵀ(f − K u_D).
+  Eigen::VectorXd u_D = Eigen::VectorXd::Zero(dim);
+  for (int v = 0; v < N; ++v)
+    for (int c = 0; c < 2; ++c)
+      if (const auto it = fixed.find({find(v), c}); it != fixed.end() && !absent[v]) u_D(2 * v + c) = it->second;
+  const Eigen::VectorXd f_red = T.transpose() * (f - K * u_D);
   const auto t0 = std::chrono::steady_clock::now();
   linalg::SparseCholesky cholesky;
   cholesky.compute(K_red);
@@ -154,7 +181,7 @@ Eigen::VectorXd monolithic_solve(const mesh::Mesh& m, const Scene& scene, const 
     cholesky.solve(r, dz);
     z += dz;
   }
-  return T * z;
+  return T * z + u_D;
 }
 
 }  // namespace dualcell::study

@@ -1,9 +1,9 @@
 #pragma once
 // Reference primal solver for the bonded case: the block as ONE body (coinciding nodes merged,
-// Dirichlet DOFs eliminated, periodic nodes expressed through their masters and the macro
-// strain), K_red = Tᵀ K T solved by CHOLMOD with iterative refinement in long double. Built
-// from the mesh directly, not from B, so it shares no constraint code with the dual solver:
-// the tests use it as an independent oracle, the benchmark as the linear-solve floor.
+// Dirichlet DOFs eliminated with their prescribed values lifted, periodic nodes expressed
+// through their masters and the macro strain), K_red = Tᵀ K T solved by CHOLMOD with iterative refinement in long
+// double. Built from the mesh directly, not from B, so it shares no constraint code with the dual solver: the tests use
+// it as an independent oracle, the benchmark as the linear-solve floor.
 #include <Eigen/Core>
 
 #include "core/scene.hpp"
@@ -16,7 +16,9 @@ namespace dualcell::study {
 // `refine` = false skips the long-double refinement (the benchmark times one factorise+solve).
 // `seconds_factorise_solve`, when given, receives the wall time of CHOLMOD's analyse,
 // factorise and first solve alone (not the merging of nodes or the assembly of K_red).
+// With Boundary::edges, `load_factor` scales the prescribed displacements (f is already scaled).
 Eigen::VectorXd monolithic_solve(const mesh::Mesh& m, const Scene& scene, const Eigen::VectorXd& f, bool holes = false,
-                                 bool refine = true, double* seconds_factorise_solve = nullptr);
+                                 bool refine = true, double* seconds_factorise_solve = nullptr,
+                                 double load_factor = 1.0);
 
 }  // namespace dualcell::study

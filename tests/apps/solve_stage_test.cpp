@@ -101,3 +101,49 @@ TEST(SolveStage, RefusesMismatchedMeshShearOnSymmetryAndBadStress) {
 
 }  // namespace
 }  // namespace dualcell
+
+namespace dualcell {
+namespace {
+
+// A block of resolved cells with edge conditions: load steps with the bond history, /steps in
+// the documented layout, the first break factor; --stress refused for it, and a sweep too.
+TEST(SolveStage, EdgesBoundarySolvesTheLoadStepsWithTheBondHistory) {
+  Prepared p;
+  prepare(p,
+          "[interface]\nnormal_strength = 0.02\ntangential_strength = 0.02\n[load]\nboundary = \"edges\"\n"
+          "[edges.left]\ntype = \"fixed\"\n[edges.right]\ntype = \"traction\"\ntraction = [0, -0.01]\n"
+          "[steps]\nfactors = [0.5, 2.0, 0.5]\n[output]\nwatch = [2, 0]\n");
+  const auto out = p.dir / "solution.h5";
+  const std::string cfg = " --config " + p.scene.string() + " --mesh " + p.mesh.string();
+  const auto r = run_command(bin("dualcell-solve") + cfg + " --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("first bond break at load factor"), std::string::npos) << r.output;
+  const io::File f = io::File::open_read(out);
+  const auto factor = f.read_doubles("/steps/factor", {3});
+  EXPECT_EQ(factor, (std::vector<double>{0.5, 2.0, 0.5}));
+  const auto broken = f.read_ints("/steps/broken", {3});
+  const auto watch = f.read_doubles("/steps/watch_displacement", {3, 2});
+  const double onset = f.read_double_attribute_value("/steps", "first_break_factor");
+  EXPECT_GT(onset, 0);
+  // Broken bonds never heal: the count does not fall when the load does, and the beam that has
+  // lost bonds is softer at the same load (the first and the last step are both at 0.5).
+  EXPECT_LE(broken[0], broken[1]);
+  EXPECT_EQ(broken[1], broken[2]);
+  EXPECT_LT(onset, 2.0);  // so the second step breaks bonds
+  EXPECT_GT(broken[1], 0);
+  EXPECT_LT(watch[5], 0);
+  EXPECT_LE(watch[5], watch[1] * (1 + 1e-9));
+  for (auto c : f.read_ints("/steps/converged", {3})) EXPECT_EQ(c, 1);
+  // Refusals: --stress with an edges scene, and sweeping it.
+  const auto stress =
+      run_command(bin("dualcell-solve") + cfg + " --stress 0.01,0,0 --out " + (p.dir / "x.h5").string());
+  EXPECT_EQ(stress.exit_code, 1) << stress.output;
+  EXPECT_NE(stress.output.find("leave --stress out"), std::string::npos) << stress.output;
+  const auto sweep = run_command(bin("dualcell-sweep") + cfg + " --out " + (p.dir / "sweep.h5").string());
+  EXPECT_EQ(sweep.exit_code, 1) << sweep.output;
+  EXPECT_FALSE(std::filesystem::exists(p.dir / "x.h5"));
+  EXPECT_FALSE(std::filesystem::exists(p.dir / "sweep.h5"));
+}
+
+}  // namespace
+}  // namespace dualcell

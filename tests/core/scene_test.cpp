@@ -80,6 +80,16 @@ TEST(Scene, ErrorsNameFileKeyValueAndRange) {
        "[load] body_force = [0, -1]: a body force needs boundary = \"symmetry\""},
       {scene_text(1, 1, 1, 0.3, "[interface]\nnormal_strength = 1\n[load]\nbody_force = [0, -1]\n"),
        "a body force cannot be combined with adhesion"},
+      // Edge tables belong to boundary = "edges", which needs something holding and loading it.
+      {scene_text(1, 1, 1, 0.3, "[edges.left]\ntype = \"fixed\"\n"),
+       "edges: only with [load] boundary = \"edges\" (the boundary here is \"symmetry\")"},
+      {scene_text(1, 1, 1, 0.3,
+                  "[load]\nboundary = \"edges\"\n[edges.right]\ntype = \"traction\"\ntraction = [1, 0]\n"),
+       "nothing holds the block"},
+      {scene_text(1, 1, 1, 0.3, "[load]\nboundary = \"edges\"\n[edges.left]\ntype = \"fixed\"\n"),
+       "nothing loads the block"},
+      {scene_text(1, 1, 1, 0.3, "[load]\nboundary = \"edges\"\n[edges.left]\ntype = \"glued\"\n"),
+       "[edges.left] type = \"glued\": must be one of"},
   };
   for (const auto& c : cases) {
     const std::string message = error_of(c.text);
