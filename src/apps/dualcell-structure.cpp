@@ -38,6 +38,7 @@ int main(int argc, char** argv) {
     std::printf("dualcell-structure: %s -> %s: %d cells of size %g, %d nodes, %d triangles, %.2f s\n", config.c_str(),
                 out.c_str(), s.n_cells, s.cell_size, s.n_nodes, s.n_triangles, s.seconds);
     if (!s.fuse_note.empty()) std::printf("  %s\n", s.fuse_note.c_str());
+    std::printf("  first cell fuses at load factor %.6g\n", s.first_fuse_factor);
     std::printf("  %8s %8s %8s %8s %14s %14s %14s\n", "factor", "newton", "rounds", "fused", "energy", "watch ux",
                 "watch uy");
     for (const auto& r : s.steps)

@@ -20,7 +20,8 @@ std::string step_group(std::size_t k) {
 }  // namespace
 
 void write_structure(const std::filesystem::path& out, const structure::StructureMesh& mesh,
-                     const std::vector<structure::StepResult>& steps, const Provenance& provenance) {
+                     const std::vector<structure::StepResult>& steps, double first_fuse_factor,
+                     const Provenance& provenance) {
   const hsize_t N = static_cast<hsize_t>(mesh.nodes.rows()), T = static_cast<hsize_t>(mesh.triangles.rows());
   const hsize_t per = static_cast<hsize_t>(mesh.triangles.cols()), S = steps.size();
   AtomicOutputs outputs;
@@ -55,6 +56,7 @@ void write_structure(const std::filesystem::path& out, const structure::Structur
       converged.push_back(s.converged ? 1 : 0);
     }
     f.write("/steps/factor", factor, {S});
+    f.write_attribute("/steps", "first_fuse_factor", first_fuse_factor);
     f.write("/steps/energy", energy, {S});
     f.write("/steps/energy_decrease", decrease, {S});
     f.write("/steps/residual", residual, {S});

@@ -11,6 +11,7 @@
 namespace dualcell::io {
 
 void write_structure(const std::filesystem::path& out, const structure::StructureMesh& mesh,
-                     const std::vector<structure::StepResult>& steps, const Provenance& provenance);
+                     const std::vector<structure::StepResult>& steps, double first_fuse_factor,
+                     const Provenance& provenance);
 
 }  // namespace dualcell::io

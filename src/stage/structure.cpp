@@ -52,6 +52,7 @@ StructureSummary run_structure(const StructureOptions& options) {
   summary.n_nodes = static_cast<int>(mesh.nodes.rows());
   summary.n_triangles = static_cast<int>(mesh.triangles.rows());
   summary.n_cells = scene.nx * scene.ny;
+  summary.first_fuse_factor = structure.first_fuse_factor();
   for (std::size_t k = 0; k < scene.factors.size(); ++k) {
     summary.steps.push_back(structure.solve_step(scene.factors[k]));
     const auto& s = summary.steps.back();
@@ -66,7 +67,7 @@ StructureSummary run_structure(const StructureOptions& options) {
   provenance.scene_file = options.scene_file.string();
   provenance.law_file = options.law_file.string();
   provenance.law_hash = io::file_hash(options.law_file);
-  io::write_structure(options.out, mesh, summary.steps, provenance);
+  io::write_structure(options.out, mesh, summary.steps, summary.first_fuse_factor, provenance);
   summary.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   return summary;
 }

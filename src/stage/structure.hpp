@@ -17,7 +17,8 @@ struct StructureSummary {
   std::vector<structure::StepResult> steps;
   int n_nodes = 0, n_triangles = 0, fused_cells = 0, n_cells = 0;
   double cell_size = 0, seconds = 0;
-  std::string fuse_note;  // why cells cannot fuse, when they cannot
+  double first_fuse_factor = 0;  // structure::HomogenisedStructure::first_fuse_factor
+  std::string fuse_note;         // why cells cannot fuse, when they cannot
 };
 
 // The cell law of a law.h5 for a structure: the bonded cone-wise law, the law past the fuse and

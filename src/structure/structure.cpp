@@ -90,7 +90,42 @@ struct HomogenisedStructure::Impl {
   // Π(u), and with `with_tangent` also r_full = f_int − factor·f and K.
   double energy(const Eigen::VectorXd& x, double factor, bool with_gradient, bool with_tangent);
   void newton(double factor, StepResult& out);
+  // The area average of the stress over each cell, at u.
+  std::vector<Eigen::Vector3d> cell_average_stress() const;
 };
+
+std::vector<Eigen::Vector3d> HomogenisedStructure::Impl::cell_average_stress() const {
+  std::vector<Eigen::Vector3d> cell_stress(cell_fused.size(), Eigen::Vector3d::Zero());
+  Eigen::VectorXd ue(2 * per);
+  for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t) {
+    for (int a = 0; a < 2 * per; ++a) ue(a) = u(dof(static_cast<int>(t), a));
+    for (const Point& p : points[t])
+      cell_stress[mesh.cell[t]] += p.weight * law::evaluate(law_of(static_cast<int>(t)), p.B * ue).stress;
+  }
+  for (auto& s : cell_stress) s /= scene.cell_size * scene.cell_size;
+  return cell_stress;
+}
+
+double HomogenisedStructure::first_fuse_factor() {
+  Impl& s = *impl_;
+  if (!s.law.onset.linear) return std::numeric_limits<double>::infinity();
+  // From the unloaded, unfused state: the bonded response to t·(loads, prescribed values) is t
+  // times the response at t = 1 (W is positively homogeneous of degree 2), and so is every
+  // cell's average stress, while φ is positively homogeneous of degree 1.
+  const Eigen::VectorXd u_kept = s.u;
+  const std::vector<std::uint8_t> fused_kept = s.cell_fused;
+  std::fill(s.cell_fused.begin(), s.cell_fused.end(), 0);
+  s.u.setZero();
+  StepResult probe;
+  s.newton(1.0, probe);
+  double phi = 0;
+  for (const Eigen::Vector3d& sigma : s.cell_average_stress())
+    phi = std::max(phi, law::onset_measure(s.law.onset, sigma));
+  s.u = u_kept;
+  s.cell_fused = fused_kept;
+  if (!probe.converged) return std::numeric_limits<double>::quiet_NaN();
+  return phi > 0 ? 1 / phi : std::numeric_limits<double>::infinity();
+}
 
 HomogenisedStructure::HomogenisedStructure(const StructureScene& scene, const CellLaw& law)
     : impl_(std::make_unique<Impl>()) {
@@ -315,17 +350,10 @@ StepResult HomogenisedStructure::solve_step(double factor) {
     if (!out.converged) break;
     // The fuse: cells whose average stress leaves the onset surface switch, irreversibly.
     if (!s.law.onset.linear) break;
-    std::vector<Eigen::Vector3d> cell_stress(s.cell_fused.size(), Eigen::Vector3d::Zero());
-    Eigen::VectorXd ue(2 * s.per);
-    for (Eigen::Index t = 0; t < s.mesh.triangles.rows(); ++t) {
-      for (int a = 0; a < 2 * s.per; ++a) ue(a) = s.u(s.dof(static_cast<int>(t), a));
-      for (const Point& p : s.points[t])
-        cell_stress[s.mesh.cell[t]] += p.weight * law::evaluate(s.law_of(static_cast<int>(t)), p.B * ue).stress;
-    }
-    const double cell_area = s.scene.cell_size * s.scene.cell_size;
+    const std::vector<Eigen::Vector3d> cell_stress = s.cell_average_stress();
     int fused_now = 0;
     for (std::size_t c = 0; c < s.cell_fused.size(); ++c)
-      if (!s.cell_fused[c] && law::onset_measure(s.law.onset, cell_stress[c] / cell_area) >= 1) {
+      if (!s.cell_fused[c] && law::onset_measure(s.law.onset, cell_stress[c]) >= 1) {
         s.cell_fused[c] = 1;
         ++fused_now;
       }

@@ -79,6 +79,11 @@ class HomogenisedStructure {
   ~HomogenisedStructure();
   // Solves the load step `factor` from the state reached, fuses included (irreversible).
   StepResult solve_step(double factor);
+  // t*: the load factor at which the first cell leaves the onset surface, from the unfused,
+  // unloaded state (exact: one solve at t = 1, every cell's stress then scales with t). +inf
+  // when no cell ever fuses along the load (or the law has no onset surface); NaN when that
+  // solve did not converge. The structure's state is left as it was.
+  double first_fuse_factor();
   const StructureMesh& mesh() const;
   const std::vector<std::uint8_t>& fused_cells() const;
 

@@ -144,6 +144,8 @@ TEST(Structure, FusedCellsStayFused) {
   s.supports = {{{0, 0}, false, true}};
   s.watch = {4, 0};
   HomogenisedStructure structure(s, law);
+  // Uniform σxx = 1e-3·t reaches the surface σxx = 0.8e-3 at t* = 0.8 (round-off of one solve).
+  EXPECT_NEAR(structure.first_fuse_factor(), 0.8, 1e-12);
   const StepResult low = structure.solve_step(0.5);
   EXPECT_EQ(low.newly_fused_cells, 0);
   const StepResult high = structure.solve_step(1.0);
@@ -152,6 +154,9 @@ TEST(Structure, FusedCellsStayFused) {
   const StepResult back = structure.solve_step(0.5);
   EXPECT_EQ(back.newly_fused_cells, 0);
   for (std::uint8_t f : back.fused) EXPECT_EQ(f, 1);
+  // t* is measured from the unfused state and leaves the structure's state alone.
+  EXPECT_NEAR(structure.first_fuse_factor(), 0.8, 1e-12);
+  EXPECT_EQ(structure.solve_step(0.5).watch_displacement, back.watch_displacement);
   // Four times softer: four times the displacement at the same load.
   EXPECT_NEAR(back.watch_displacement(0) / low.watch_displacement(0), 4.0, 1e-9);
 }
