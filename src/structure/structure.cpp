@@ -3,6 +3,7 @@
 #include <Eigen/SparseCore>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "core/error.hpp"
 #include "fem/element.hpp"
@@ -325,14 +326,38 @@ void HomogenisedStructure::Impl::newton(double factor, StepResult& out) {
           "the structure's tangent is not positive definite: the edges and supports do not hold it "
           "against every rigid-body motion (give a [[support]] or a fixed, roller or displacement edge)");
     cholesky.solve(-r, delta);
-    // Backtracking (Armijo) on Π: the full step is exact once every element's open planes are right.
+    // Backtracking (Armijo) on Π: the full step is exact once every element's open planes are
+    // right. Near the solution the decrease a step promises, t·|rᵀδ|, falls below the round-off
+    // of Π itself (Π is a sum of terms of size |fᵀu|, each rounded): Π can no longer tell a good
+    // step from a bad one there, and the step is judged by the residual instead (‖r‖ must fall),
+    // which Newton's method on the piecewise-linear gradient does once the open sets settle.
     const double slope = r.dot(delta);
+    const double noise = 64 * std::numeric_limits<double>::epsilon() * (std::abs(Pi) + std::abs(factor * f.dot(u)));
+    const double r_norm = r.norm();
+    const auto set_trial = [&](double t) {
+      for (int d = 0; d < n_dofs; ++d)
+        if (free_index[d] >= 0) trial(d) = u(d) + t * delta(free_index[d]);
+    };
+    const auto trial_residual = [&] {
+      energy(trial, factor, true, false);
+      double sum = 0;
+      for (int d = 0; d < n_dofs; ++d)
+        if (free_index[d] >= 0) sum += r_full(d) * r_full(d);
+      return std::sqrt(sum);
+    };
     double t = 1;
     trial = u;
     for (;;) {
-      for (int d = 0; d < n_dofs; ++d)
-        if (free_index[d] >= 0) trial(d) = u(d) + t * delta(free_index[d]);
-      if (energy(trial, factor, false, false) <= Pi + 1e-4 * t * slope || t < 1e-12) break;
+      set_trial(t);
+      if (energy(trial, factor, false, false) <= Pi + 1e-4 * t * slope) break;
+      if (-t * slope <= noise) {
+        for (t = 1; t >= 1e-12; t /= 2) {
+          set_trial(t);
+          if (trial_residual() <= (1 - 1e-4 * t) * r_norm) break;
+        }
+        break;
+      }
+      if (t < 1e-12) break;
       t /= 2;
     }
     u = trial;
