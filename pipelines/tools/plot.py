@@ -8,6 +8,10 @@ usage:
   plot.py work-precision TABLE.csv OUTBASE   error of E_t, E_c against seconds, log-log
   plot.py accuracy TABLE.csv OUTBASE         the accuracy study: error against seconds per code,
                                              element and sign, log-log (accuracy_table.py's CSV)
+  plot.py structure STRUCTURE.h5 OUTBASE     a structure of homogeneous cells at its last step: the
+                                             deformed mesh coloured by σxx, fused cells outlined
+                                             in red; beside it the load factor against the watch
+                                             node's displacement over the steps
   plot.py last-stress SWEEP.h5               prints "sxx,syy,sxy" of the last step of path 000
 
 Writes OUTBASE.png and OUTBASE.svg, each to a temporary name first and renamed when complete.
@@ -24,6 +28,7 @@ import h5py
 
 def gnuplot(script, outbase, data_files):
     """Runs the gnuplot script once per terminal; data_files maps names to text."""
+    outbase = os.path.abspath(outbase)  # gnuplot runs in the data folder
     with tempfile.TemporaryDirectory() as tmp:
         for name, text in data_files.items():
             with open(os.path.join(tmp, name), "w") as f:
@@ -268,6 +273,42 @@ def accuracy(table, outbase):
     gnuplot(script, outbase, data)
 
 
+def structure(h5, outbase):
+    with h5py.File(h5, "r") as f:
+        nodes, tri, cell = f["/mesh/nodes"][:], f["/mesh/triangles"][:], f["/mesh/cell"][:]
+        factor, watch = f["/steps/factor"][:], f["/steps/watch_displacement"][:]
+        last = sorted(k for k in f["/steps"].keys() if k.isdigit())[-1]
+        u, stress, fused = f[f"/steps/{last}/displacement"][:], f[f"/steps/{last}/stress"][:], f[f"/steps/{last}/fused"][:]
+    size = max(nodes[:, 0].max() - nodes[:, 0].min(), nodes[:, 1].max() - nodes[:, 1].min())
+    largest = abs(u).max()
+    scale = 0.1 * size / largest if largest > 0 else 1.0
+    x = nodes + scale * u
+    # Each triangle filled with its σxx (corners only: the picture, not the field, is linear),
+    # the outline of every fused cell's triangles in red.
+    faces, outlines = [], []
+    for t, s_t, fz in zip(tri, stress, fused):
+        corners = [x[t[k]] for k in (0, 1, 2)]
+        faces.append("".join(f"{p[0]:.8g} {p[1]:.8g} {s_t[0]:.8g}\n" for p in corners + corners[:1]) + "\n")
+        if fz:
+            outlines.append("".join(f"{p[0]:.8g} {p[1]:.8g}\n" for p in corners + corners[:1]) + "\n")
+    n_fused = len({int(c) for c, z in zip(cell, fused) if z})
+    data = {"faces.dat": "".join(faces), "fused.dat": "".join(outlines) or "nan nan\n",
+            "steps.dat": "0 0 0\n" + "".join(f"{w[0]:.10g} {w[1]:.10g} {t:.10g}\n" for w, t in zip(watch, factor))}
+    script = ("set multiplot layout 2,1\n"
+              f"set title 'Structure at load factor {factor[-1]:.4g}: σxx per element, displacements × {scale:.3g}; "
+              f"{n_fused} fused cells outlined'\n"
+              "set size ratio -1\nunset key\nset palette defined (-1 '#2040c0', 0 '#f0f0f0', 1 '#c02020')\n"
+              "stats 'faces.dat' using 3 nooutput\nlim = (abs(STATS_min) > abs(STATS_max) ? abs(STATS_min) : abs(STATS_max))\n"
+              "set cbrange [-lim:lim]\nset cblabel 'σxx'\n"
+              "plot 'faces.dat' using 1:2:3 with filledcurves closed fillcolor palette z, "
+              "'fused.dat' using 1:2 with lines lw 1.5 lc rgb '#e00000'\n"
+              "set size noratio\nset title 'Load factor against the watch node displacement'\n"
+              "set xlabel 'displacement'\nset ylabel 'load factor'\nset key top left\nset grid\nunset colorbox\n"
+              "plot 'steps.dat' using 2:3 with linespoints pt 7 title 'u_y', 'steps.dat' using 1:3 with linespoints "
+              "pt 5 dt 2 title 'u_x'\nunset multiplot\n")
+    gnuplot(script, outbase, data)
+
+
 def main():
     if len(sys.argv) < 3:
         sys.exit(__doc__)
@@ -277,7 +318,7 @@ def main():
     if len(sys.argv) != 4:
         sys.exit(__doc__)
     {"stress-strain": stress_strain, "polar": polar, "deformed": deformed, "work-precision": work_precision,
-     "accuracy": accuracy}[kind](sys.argv[2], sys.argv[3])
+     "accuracy": accuracy, "structure": structure}[kind](sys.argv[2], sys.argv[3])
 
 
 if __name__ == "__main__":
