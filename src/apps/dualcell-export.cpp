@@ -15,18 +15,21 @@
 
 int main(int argc, char** argv) {
   CLI::App app{
-      "dualcell-export: write a law.h5 as JSON, CSV or CalculiX/Abaqus material cards\n"
+      "dualcell-export: write a law.h5 as JSON, CSV, CalculiX/Abaqus material cards or a user-material card\n"
       "(layout and formulas: README.md, \"Stage: dualcell-export\")."};
   std::string law_file, format, out, name = "DUALCELL";
   bool quiet = false;
   app.add_option("--law", law_file, "law.h5 written by dualcell-fit")->required();
-  app.add_option("--format", format,
-                 "json: every object of law.h5 (NaN as null); csv: one row per direction; calculix: *MATERIAL "
-                 "cards for plane-strain elements (material axes x, y, z = fibre)")
+  app.add_option(
+         "--format", format,
+         "json: every object of law.h5 (NaN as null); csv: one row per direction; calculix: *MATERIAL "
+         "cards for plane-strain elements (material axes x, y, z = fibre); umat: the cone-wise law with the fuse as "
+         "*MATERIAL ABAQUS_<name>, *USER MATERIAL constants of src/umat/dualcell_umat.c")
       ->required()
-      ->check(CLI::IsMember({"json", "csv", "calculix"}));
+      ->check(CLI::IsMember({"json", "csv", "calculix", "umat"}));
   app.add_option("--out", out, "output file, written atomically")->required();
-  app.add_option("--name", name, "calculix: base of the material names <name>_TENSION and <name>_COMPRESSION")
+  app.add_option("--name", name,
+                 "calculix: base of the material names <name>_TENSION and <name>_COMPRESSION; umat: ABAQUS_<name>")
       ->capture_default_str();
   app.add_flag("--quiet", quiet, "do not print what was written");
   CLI11_PARSE(app, argc, argv);

@@ -135,7 +135,8 @@ ExportFormat parse_export_format(const std::string& text) {
   if (text == "json") return ExportFormat::json;
   if (text == "csv") return ExportFormat::csv;
   if (text == "calculix") return ExportFormat::calculix;
-  throw InputError("--format " + text + ": expected json, csv or calculix");
+  if (text == "umat") return ExportFormat::umat;
+  throw InputError("--format " + text + ": expected json, csv, calculix or umat");
 }
 
 SolidMaterial solid_material(const Eigen::Matrix3d& S_ps_in, const Law& law, const std::string& file,
@@ -321,16 +322,25 @@ std::string law_csv(const Law& law) {
   return out;
 }
 
+namespace {
+
+// The comment lines every card file starts with: what, written by which version, from which
+// law (its fit and sweep), the units.
+std::string card_header(const Law& law, const std::string& source, const std::string& what) {
+  return "** dualcell " + what + ", written by dualcell-export " + code_version + "\n** from " + one_line(source) +
+         " (" + format_name + "; fit by " + one_line(law.provenance.code_version) + "; sweep " +
+         one_line(law.provenance.sweep_file) + ", hash " + one_line(law.provenance.sweep_hash) + ")\n** units: " +
+         one_line(law.units) + "\n";
+}
+
+}  // namespace
+
 std::string law_calculix(const Law& law, const std::string& name, const std::string& source) {
   check_name(name);
   const SolidMaterial tension = solid_material(law.tension.S, law, source, "S_tension");
   const SolidMaterial compression = solid_material(law.compression.S, law, source, "S_compression");
   const OutOfPlane z = rule_of_mixtures(law);
-  std::string out;
-  out += std::string("** dualcell law for CalculiX/Abaqus, written by dualcell-export ") + code_version + "\n";
-  out += "** from " + one_line(source) + " (" + format_name + "; fit by " + one_line(law.provenance.code_version) +
-         "; sweep " + one_line(law.provenance.sweep_file) + ", hash " + one_line(law.provenance.sweep_hash) + ")\n";
-  out += "** units: " + one_line(law.units) + "\n";
+  std::string out = card_header(law, source, "law for CalculiX/Abaqus");
   out +=
       "** Material axes: 1 = x, 2 = y (the plane of the cells), 3 = z = fibre direction.\n"
       "** " +
@@ -351,6 +361,59 @@ std::string law_calculix(const Law& law, const std::string& name, const std::str
          "\n";
   out += material_cards(name + "_TENSION", "S_tension", tension, law.tension.S);
   out += material_cards(name + "_COMPRESSION", "S_compression", compression, law.compression.S);
+  return out;
+}
+
+std::vector<double> umat_constants(const Law& law, const std::string& file) {
+  if (!law.cone.ok)
+    throw InputError(file + ": /law/cone: no fitted cone-wise law (" + one_line(law.cone.message) +
+                     "): there is no law for a user material");
+  check_constituents(law, file);
+  const OutOfPlane z = rule_of_mixtures(law);
+  const bool fuse = law.cone_after_fuse.ok && law.onset.linear && law.onset.facets.rows() > 0;
+  const auto planes = [](const ConeLaw& l) { return static_cast<double>(l.c.size()); };
+  std::vector<double> k = {1.0,
+                           planes(law.cone.law),
+                           fuse ? planes(law.cone_after_fuse.law) : 0.0,
+                           fuse ? static_cast<double>(law.onset.facets.rows()) : 0.0,
+                           z.E3,
+                           z.G_longitudinal,
+                           z.G_longitudinal};
+  const auto add_law = [&](const ConeLaw& l) {
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) k.push_back(l.C_c(i, j));
+    for (std::size_t p = 0; p < l.c.size(); ++p) k.insert(k.end(), {l.c[p](0), l.c[p](1), l.c[p](2), l.beta[p]});
+  };
+  add_law(law.cone.law);
+  if (fuse) {
+    add_law(law.cone_after_fuse.law);
+    for (Eigen::Index f = 0; f < law.onset.facets.rows(); ++f)
+      k.insert(k.end(), {law.onset.facets(f, 0), law.onset.facets(f, 1), law.onset.facets(f, 2)});
+  }
+  return k;
+}
+
+std::string law_umat(const Law& law, const std::string& name, const std::string& source) {
+  check_name(name);
+  const std::vector<double> k = umat_constants(law, source);
+  const bool fuse = k[2] > 0;
+  std::string out = card_header(law, source, "cone-wise law as a user material");
+  out +=
+      "** For a code built with dualcell's umat (src/umat/dualcell_umat.c; CalculiX: make -C pipelines ccx-umat).\n"
+      "** Plane strain in the x-y plane (CPE*): sigma = C_c eps + sum_k beta_k <c_k.eps>+ c_k in (11, 22, 12),\n"
+      "** engineering shear; out of plane decoupled: E33, G13, G23 (rule of mixtures).\n";
+  out += fuse ? "** The fuse: a point whose stress leaves the onset surface (max_f g_f.sigma >= 1) switches to the\n"
+                "** law past the fuse for good (state variable 1: 0 bonded, 1 fused).\n"
+              : "** No fuse: the law has no onset surface or no law past the fuse; points stay bonded.\n";
+  out += "** Constants: version 1, K_b = " + format_double("%.0f", k[1]) +
+         " planes, K_a = " + format_double("%.0f", k[2]) + " planes past the fuse, F = " + format_double("%.0f", k[3]) +
+         " facets, E33, G13, G23;\n"
+         "** then C_c (row by row) and c1, c2, c3, beta per plane, bonded then past the fuse; then the facets.\n";
+  out += "*MATERIAL, NAME=ABAQUS_" + name + "\n";
+  out += "*USER MATERIAL, CONSTANTS=" + std::to_string(k.size()) + "\n";
+  for (std::size_t i = 0; i < k.size(); ++i)
+    out += card_number(k[i]) + (i + 1 == k.size() ? "\n" : (i % 8 == 7 ? ",\n" : ", "));
+  out += "*DEPVAR\n1\n";
   return out;
 }
 

@@ -21,14 +21,15 @@
 // exactly when S_ps is and E3 > 0: an inadmissible fit is refused, not exported.
 #include <Eigen/Core>
 #include <string>
+#include <vector>
 
 #include "law/law.hpp"
 
 namespace dualcell::law {
 
-enum class ExportFormat { json, csv, calculix };
+enum class ExportFormat { json, csv, calculix, umat };
 
-// "json", "csv" or "calculix"; anything else is an InputError.
+// "json", "csv", "calculix" or "umat"; anything else is an InputError.
 ExportFormat parse_export_format(const std::string& text);
 
 struct OrthotropicConstants {
@@ -66,5 +67,14 @@ std::string law_csv(const Law& law);
 // Two *MATERIALs, <name>_TENSION and <name>_COMPRESSION, with comment lines stating the axes,
 // units, formulas and provenance. `source` is the law file named in the comments.
 std::string law_calculix(const Law& law, const std::string& name, const std::string& source);
+
+// The constants of the user material src/umat/dualcell_umat.c (its header gives the layout):
+// the bonded cone-wise law, the law past the fuse and the onset facets when the law has both
+// (otherwise K_a = F = 0: the points never fuse), and the out-of-plane E33, G13 = G23 by the
+// rule of mixtures. Refuses a law without a fitted cone-wise law.
+std::vector<double> umat_constants(const Law& law, const std::string& file);
+// The *MATERIAL card ABAQUS_<name> (*USER MATERIAL with umat_constants, *DEPVAR 1) with comment
+// lines stating the layout, axes, units and provenance.
+std::string law_umat(const Law& law, const std::string& name, const std::string& source);
 
 }  // namespace dualcell::law

@@ -31,6 +31,8 @@ std::string describe(const law::Law& law, law::ExportFormat format, const std::s
       return "CSV, " + std::to_string(law.directions.size()) + " rows";
     case law::ExportFormat::calculix:
       return "CalculiX, materials " + name + "_TENSION and " + name + "_COMPRESSION";
+    case law::ExportFormat::umat:
+      return "user material ABAQUS_" + name + " for dualcell's umat";
   }
   return "";
 }
@@ -49,6 +51,9 @@ std::string export_law(const ExportOptions& options) {
       break;
     case law::ExportFormat::calculix:
       text = law::law_calculix(law, options.name, options.law_file.string());
+      break;
+    case law::ExportFormat::umat:
+      text = law::law_umat(law, options.name, options.law_file.string());
       break;
   }
   io::AtomicOutputs outputs;

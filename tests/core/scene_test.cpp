@@ -3,9 +3,12 @@
 
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <functional>
+#include <iterator>
 
 #include "core/error.hpp"
+#include "core/structure_scene.hpp"
 #include "test_util.hpp"
 
 namespace dualcell {
@@ -171,11 +174,21 @@ TEST(Scene, MaterialFileResolvesAgainstSceneFolder) {
   EXPECT_THROW(load_scene(dir / "absent.toml"), InputError);
 }
 
+// Cell scenes and structure scenes (those with a [structure] table) alike.
 TEST(Scene, CommittedScenesAndMaterialsParse) {
+  int structures = 0;
   for (const auto& entry : std::filesystem::directory_iterator(testing::source_dir() + "/pipelines/scenes")) {
     if (entry.path().extension() != ".toml") continue;
-    EXPECT_NO_THROW(load_scene(entry.path())) << entry.path();
+    std::ifstream in(entry.path());
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (text.find("\n[structure]") != std::string::npos) {
+      ++structures;
+      EXPECT_NO_THROW(load_structure_scene(entry.path())) << entry.path();
+    } else {
+      EXPECT_NO_THROW(load_scene(entry.path())) << entry.path();
+    }
   }
+  EXPECT_GE(structures, 1);
 }
 
 }  // namespace

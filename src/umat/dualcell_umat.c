@@ -1,0 +1,113 @@
+/* The cone-wise cell law with the fuse as an Abaqus-style user material (umat), for CalculiX
+ * (materials named ABAQUS...) and other codes with the same interface (docs/method.md §14, §15;
+ * README, "The law in CalculiX").
+ *
+ * In the plane of the cells (strain ε = (ε11, ε22, γ12), engineering shear) the stress is
+ *   σ(ε) = C_c ε + Σ_k β_k ⟨c_k·ε⟩₊ c_k,   tangent C_c + Σ_k β_k H(c_k·ε) c_k c_kᵀ,
+ * with the bonded law until the point's stress leaves the onset surface (max_f g_f·σ ≥ 1) and
+ * the law past the fuse from then on, for good (state variable 1: 0 bonded, 1 fused; the code
+ * keeps it only when the increment converges). Out of the plane the point is decoupled and
+ * linear, σ33 = E33 ε33, σ13 = G13 γ13, σ23 = G23 γ23 (rule of mixtures): plane-strain
+ * elements keep ε33 = γ13 = γ23 = 0, where the in-plane law holds exactly.
+ *
+ * Constants (*USER MATERIAL, CONSTANTS = n, written by dualcell-export --format umat):
+ *   1: layout version (1)       2: K_b, planes of the bonded law     3: K_a, planes past the fuse
+ *   4: F, onset facets (0: no fuse)   5–7: E33, G13, G23
+ *   then the bonded law: C_c row by row (9), then per plane c1, c2, c3, β (4 K_b);
+ *   then, when K_a > 0, the law past the fuse the same way (9 + 4 K_a);
+ *   then the facets g_f row by row (3 F), in stress (σ11, σ22, σ12).
+ * ntens must be 6 (CalculiX passes 6 for every element, 2D ones included).
+ */
+#include <stddef.h>
+
+enum { max_planes = 32 };
+
+typedef struct {
+  const double* C;     /* 3 × 3, row by row */
+  const double* c;     /* planes, 4 numbers each: c1, c2, c3, β */
+  int planes;
+} cone_law;
+
+/* σ = ∂W/∂ε and its tangent at e; returns W. */
+static double cone_evaluate(const cone_law* law, const double e[3], double s[3], double D[3][3]) {
+  double W = 0;
+  for (int i = 0; i < 3; ++i) {
+    s[i] = 0;
+    for (int j = 0; j < 3; ++j) {
+      s[i] += law->C[3 * i + j] * e[j];
+      D[i][j] = law->C[3 * i + j];
+    }
+    W += 0.5 * e[i] * s[i];
+  }
+  for (int k = 0; k < law->planes; ++k) {
+    const double* p = law->c + 4 * k;
+    const double opening = p[0] * e[0] + p[1] * e[1] + p[2] * e[2];
+    if (opening <= 0) continue;
+    for (int i = 0; i < 3; ++i) {
+      s[i] += p[3] * opening * p[i];
+      for (int j = 0; j < 3; ++j) D[i][j] += p[3] * p[i] * p[j];
+    }
+    W += 0.5 * p[3] * opening * opening;
+  }
+  return W;
+}
+
+/* The Abaqus umat interface, Fortran calling convention (every argument by reference, the
+ * length of cmname last). */
+void umat_(double* stress, double* statev, double* ddsdde, double* sse, double* spd, double* scd, double* rpl,
+           double* ddsddt, double* drplde, double* drpldt, const double* stran, const double* dstran,
+           const double* time, const double* dtime, const double* temp, const double* dtemp, const double* predef,
+           const double* dpred, const char* cmname, const int* ndi, const int* nshr, const int* ntens,
+           const int* nstatv, const double* props, const int* nprops, const double* coords, const double* drot,
+           double* pnewdt, const double* celent, const double* dfgrd0, const double* dfgrd1, const int* noel,
+           const int* npt, const int* layer, const int* kspt, const int* kstep, const int* kinc,
+           size_t cmname_length) {
+  (void)scd, (void)rpl, (void)ddsddt, (void)drplde, (void)drpldt, (void)time, (void)dtime, (void)temp, (void)dtemp;
+  (void)predef, (void)dpred, (void)cmname, (void)ndi, (void)nshr, (void)coords, (void)drot, (void)celent;
+  (void)dfgrd0, (void)dfgrd1, (void)noel, (void)npt, (void)layer, (void)kspt, (void)kstep, (void)kinc;
+  (void)cmname_length;
+  const int n = *ntens;
+  const int Kb = (int)props[1], Ka = (int)props[2], F = (int)props[3];
+  const int needed = 7 + 9 + 4 * Kb + (Ka > 0 ? 9 + 4 * Ka : 0) + 3 * F;
+  if (n != 6 || props[0] != 1 || Kb < 1 || Kb > max_planes || Ka < 0 || Ka > max_planes || F < 0 ||
+      *nprops < needed || *nstatv < 1) {
+    *pnewdt = 0.25; /* a wrong card: ask for a smaller increment, which fails the analysis visibly */
+    return;
+  }
+  const double E33 = props[4], G13 = props[5], G23 = props[6];
+  const cone_law bonded = {props + 7, props + 16, Kb};
+  const double* after_start = props + 16 + 4 * Kb;
+  const cone_law after = {after_start, after_start + 9, Ka};
+  const double* facets = after_start + (Ka > 0 ? 9 + 4 * Ka : 0);
+
+  double e6[6];
+  for (int i = 0; i < 6; ++i) e6[i] = stran[i] + dstran[i];
+  const double e[3] = {e6[0], e6[1], e6[3]}; /* ε11, ε22, γ12 */
+  double s[3], D[3][3];
+  int fused = statev[0] >= 0.5 && Ka > 0;
+  double W = cone_evaluate(fused ? &after : &bonded, e, s, D);
+  if (!fused && Ka > 0 && F > 0) {
+    double phi = 0;
+    for (int f = 0; f < F; ++f) {
+      const double g = facets[3 * f] * s[0] + facets[3 * f + 1] * s[1] + facets[3 * f + 2] * s[2];
+      if (g > phi) phi = g;
+    }
+    if (phi >= 1) {
+      fused = 1;
+      W = cone_evaluate(&after, e, s, D);
+    }
+  }
+  statev[0] = fused;
+
+  const int in_plane[3] = {0, 1, 3};
+  for (int i = 0; i < 36; ++i) ddsdde[i] = 0;
+  for (int i = 0; i < 6; ++i) stress[i] = 0;
+  for (int i = 0; i < 3; ++i) {
+    stress[in_plane[i]] = s[i];
+    for (int j = 0; j < 3; ++j) ddsdde[in_plane[i] + 6 * in_plane[j]] = D[i][j];
+  }
+  stress[2] = E33 * e6[2], stress[4] = G13 * e6[4], stress[5] = G23 * e6[5];
+  ddsdde[2 + 6 * 2] = E33, ddsdde[4 + 6 * 4] = G13, ddsdde[5 + 6 * 5] = G23;
+  *sse = W + 0.5 * (E33 * e6[2] * e6[2] + G13 * e6[4] * e6[4] + G23 * e6[5] * e6[5]);
+  *spd = 0;
+}
