@@ -11,7 +11,7 @@
 # is renamed into place only when complete.
 set -eu
 dir=$1
-umat=$2
+umat=$(cd "$(dirname "$2")" && pwd)/$(basename "$2")
 mkdir -p "$dir"
 dir=$(cd "$dir" && pwd)
 if [ ! -d "$dir/source" ]; then

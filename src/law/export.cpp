@@ -329,8 +329,8 @@ namespace {
 std::string card_header(const Law& law, const std::string& source, const std::string& what) {
   return "** dualcell " + what + ", written by dualcell-export " + code_version + "\n** from " + one_line(source) +
          " (" + format_name + "; fit by " + one_line(law.provenance.code_version) + "; sweep " +
-         one_line(law.provenance.sweep_file) + ", hash " + one_line(law.provenance.sweep_hash) + ")\n** units: " +
-         one_line(law.units) + "\n";
+         one_line(law.provenance.sweep_file) + ", hash " + one_line(law.provenance.sweep_hash) +
+         ")\n** units: " + one_line(law.units) + "\n";
 }
 
 }  // namespace
