@@ -39,12 +39,13 @@ int main(int argc, char** argv) {
                 out.c_str(), s.n_cells, s.cell_size, s.n_nodes, s.n_triangles, s.seconds);
     if (!s.fuse_note.empty()) std::printf("  %s\n", s.fuse_note.c_str());
     std::printf("  first cell fuses at load factor %.6g\n", s.first_fuse_factor);
-    std::printf("  %8s %8s %8s %8s %14s %14s %14s\n", "factor", "newton", "rounds", "fused", "energy", "watch ux",
-                "watch uy");
+    std::printf("  %8s %8s %8s %8s %8s %14s %14s %14s %14s\n", "factor", "newton", "rounds", "fused", "open", "energy",
+                "decrease", "watch ux", "watch uy");
     for (const auto& r : s.steps)
-      std::printf("  %8.4g %8d %8d %8d %14.6e %14.6e %14.6e%s\n", r.factor, r.newton_steps, r.fuse_rounds,
-                  r.newly_fused_cells, r.energy, r.watch_displacement(0), r.watch_displacement(1),
-                  r.converged ? "" : "  NOT converged");
+      std::printf("  %8.4g %8d %8d %8d %8d %14.6e %14.6e %14.6e %14.6e%s\n", r.factor, r.newton_steps, r.fuse_rounds,
+                  r.newly_fused_cells, r.open_triangles, r.energy, r.energy_decrease, r.watch_displacement(0),
+                  r.watch_displacement(1), r.converged ? "" : "  NOT converged");
+    std::printf("  (open: triangles with a plane of the law open at the centroid, of %d)\n", s.n_triangles);
     std::printf("  fused cells at the end: %d of %d\n", s.fused_cells, s.n_cells);
   });
 }

@@ -46,13 +46,14 @@ void write_structure(const std::filesystem::path& out, const structure::Structur
     // Per step: the report as columns, the fields in /steps/NNN.
     f.create_group("/steps");
     std::vector<double> factor, energy, decrease, residual, watch, reactions;
-    std::vector<std::int64_t> newton, rounds, fused, converged;
+    std::vector<std::int64_t> newton, rounds, fused, converged, open;
     for (const auto& s : steps) {
       factor.push_back(s.factor), energy.push_back(s.energy), decrease.push_back(s.energy_decrease);
       residual.push_back(s.residual);
       watch.push_back(s.watch_displacement(0)), watch.push_back(s.watch_displacement(1));
       for (const auto& R : s.reactions) reactions.push_back(R(0)), reactions.push_back(R(1));
       newton.push_back(s.newton_steps), rounds.push_back(s.fuse_rounds), fused.push_back(s.newly_fused_cells);
+      open.push_back(s.open_triangles);
       converged.push_back(s.converged ? 1 : 0);
     }
     f.write("/steps/factor", factor, {S});
@@ -65,6 +66,7 @@ void write_structure(const std::filesystem::path& out, const structure::Structur
     f.write("/steps/newton_steps", newton, {S});
     f.write("/steps/fuse_rounds", rounds, {S});
     f.write("/steps/newly_fused_cells", fused, {S});
+    f.write("/steps/open_triangles", open, {S});
     f.write("/steps/converged", converged, {S});
     std::vector<XdmfGrid> grids;
     for (std::size_t k = 0; k < steps.size(); ++k) {

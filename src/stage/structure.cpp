@@ -57,9 +57,11 @@ StructureSummary run_structure(const StructureOptions& options) {
     summary.steps.push_back(structure.solve_step(scene.factors[k]));
     const auto& s = summary.steps.back();
     if (options.progress)
-      std::fprintf(stderr, "dualcell-structure: step %zu/%zu factor %g: %d Newton steps, %d newly fused cells, %s\n",
-                   k + 1, scene.factors.size(), s.factor, s.newton_steps, s.newly_fused_cells,
-                   s.converged ? "converged" : "NOT converged");
+      std::fprintf(stderr,
+                   "dualcell-structure: step %zu/%zu factor %g: %d Newton steps, %d newly fused cells, %d/%d triangles "
+                   "open/closed, %s\n",
+                   k + 1, scene.factors.size(), s.factor, s.newton_steps, s.newly_fused_cells, s.open_triangles,
+                   s.closed_triangles, s.converged ? "converged" : "NOT converged");
   }
   for (std::uint8_t f : structure.fused_cells()) summary.fused_cells += f;
   Provenance provenance;

@@ -405,6 +405,7 @@ StepResult HomogenisedStructure::solve_step(double factor) {
     for (const Point& p : s.points[t]) integral += p.weight * law::evaluate(l, p.B * ue).stress;
     out.stress.row(t) = integral.transpose() / s.area[t];
     out.open[t] = law::evaluate(l, s.B_centroid[t] * ue).open;
+    (out.open[t] ? out.open_triangles : out.closed_triangles) += 1;
     out.fused[t] = s.cell_fused[s.mesh.cell[t]];
   }
   s.energy(s.u, factor, true, false);

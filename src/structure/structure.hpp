@@ -67,6 +67,9 @@ struct StepResult {
   int newton_steps = 0;  // all fuse rounds of the step
   int fuse_rounds = 0;   // re-solves after new fuses
   int newly_fused_cells = 0;
+  // Triangles on each side of the cone at their centroid: some plane open (the stiffer side of
+  // that plane), or every plane closed (C_c).
+  int open_triangles = 0, closed_triangles = 0;
   double energy = 0;           // Π at the solution
   double energy_decrease = 0;  // Π at the start of the step minus Π at its end
   double residual = 0;         // ‖r‖ / scale at the end

@@ -53,6 +53,7 @@ TEST(StructureStage, CantileverPastTheFuseWritesTheDocumentedLayout) {
   EXPECT_EQ(f.shape("/mesh/triangles"), (std::vector<hsize_t>{8 * 2 * 2 * 2 * 2, 6}));
   EXPECT_EQ(f.shape("/steps/factor"), (std::vector<hsize_t>{3}));
   EXPECT_EQ(f.shape("/steps/reactions"), (std::vector<hsize_t>{3, 10}));
+  EXPECT_EQ(f.shape("/steps/open_triangles"), (std::vector<hsize_t>{3}));
   for (const char* name : {"displacement", "stress", "open", "fused"})
     EXPECT_TRUE(f.exists(std::string("/steps/001/") + name)) << name;
   const auto converged = f.read_ints("/steps/converged", {3});

@@ -35,6 +35,7 @@ double modulus_x(const law::ConeLaw& l, double sign) {
 // loaded end, Saint-Venant), where plane sections give u_x = −κ x (y − y_n).
 struct Bending {
   double kappa, neutral_axis, linearity;
+  double open_fraction;  // of the triangles, on the open side of the law's plane
 };
 Bending bend(const CellLaw& law, int ny, int m, Element element, double sigma0) {
   StructureScene s;
@@ -64,7 +65,8 @@ Bending bend(const CellLaw& law, int ny, int m, Element element, double sigma0) 
     b(k) = ux[k];
   }
   const Eigen::Vector2d line = A.colPivHouseholderQr().solve(b);
-  return {-line(0) / x0, -line(1) / line(0), (A * line - b).norm() / b.norm()};
+  return {-line(0) / x0, -line(1) / line(0), (A * line - b).norm() / b.norm(),
+          static_cast<double>(r.open_triangles) / (r.open_triangles + r.closed_triangles)};
 }
 
 // The closed form of a bimodular beam (moduli E_t, E_c): neutral axis at h_t/h_c = √(E_c/E_t)
@@ -88,6 +90,9 @@ TEST(Structure, BimodularBeamInPureBendingMatchesTheClosedForm) {
     // Tension at the bottom for sign +1 (t_x > 0 there), at the top for −1.
     const double expected_axis = sign > 0 ? h_t : H - h_t;
     EXPECT_NEAR(b.neutral_axis / H, expected_axis / H, 1e-3) << "sign " << sign;
+    // The strut (c = −e_x) is open on the compression side, a fraction 1 − h_t/H of the depth
+    // (counted at centroids, so to within one layer of 16: 1/16).
+    EXPECT_NEAR(b.open_fraction, 1 - h_t / H, 1.0 / 16) << "sign " << sign;
   }
 }
 
