@@ -7,7 +7,8 @@ libeigen3-dev libsuitesparse-dev libgsl-dev libhdf5-dev libcli11-dev libtomlplus
 libgtest-dev libblas3 liblapack3 libopenblas0-pthread
 hdf5-tools python3 python3-numpy python3-h5py python3-meshio gnuplot-nox calculix-ccx
 clang clang-format libclang-rt-14-dev
-gfortran dpkg-dev libspooles-dev libarpack2-dev liblapack-dev"
+gfortran dpkg-dev libspooles-dev libarpack2-dev liblapack-dev
+openmpi-bin libopenmpi-dev"
 missing=""
 for p in $packages; do
   if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then

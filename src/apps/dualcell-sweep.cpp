@@ -35,7 +35,7 @@ int main(int argc, char** argv) {
   return dualcell::run_stage("dualcell-sweep", [&] {
     options.progress = !quiet && ::isatty(2);
     const auto s = dualcell::stage::run_sweep(options);
-    if (!quiet)
+    if (!quiet && s.written)
       std::printf("dualcell-sweep: %d paths -> %s (%d with a fuse, %d steps not converged, %d resumed), %.2f s\n",
                   s.paths, options.out.c_str(), s.fuses, s.unconverged_steps, s.resumed, s.seconds);
   });

@@ -8,6 +8,7 @@
 #include "core/error.hpp"
 #include "io/hash.hpp"
 #include "io/mesh_file.hpp"
+#include "par/parallel.hpp"
 
 namespace dualcell {
 
@@ -45,24 +46,40 @@ std::string one_line(const std::string& text) {
 }  // namespace
 
 int run_stage(const char* stage, const std::function<void()>& body) {
+  // Under an MPI launcher the stage runs on every rank. An error every rank has agreed on
+  // (par::agree_on_error) is printed once, by rank 0, and every rank exits normally with its
+  // code; an error of one rank alone is printed by that rank, which then stops all (no rank
+  // may wait for it for ever).
+  par::Session session;
+  const bool ranks = par::size() > 1;
+  const auto fail = [&](int code, const std::string& text) {
+    if (ranks) {
+      std::fprintf(stderr, "%s: rank %d of %d: %s\n", stage, par::rank(), par::size(), text.c_str());
+      std::fflush(stderr);
+      par::abort_all(code);
+    }
+    std::fprintf(stderr, "%s: %s\n", stage, text.c_str());
+    return code;
+  };
   try {
     body();
     return exit_ok;
-  } catch (const InputError& e) {
-    std::fprintf(stderr, "%s: error: %s\n", stage, one_line(e.what()).c_str());
+  } catch (const par::CollectiveInputError& e) {
+    if (par::rank() == 0) std::fprintf(stderr, "%s: error: %s\n", stage, one_line(e.what()).c_str());
     return exit_input_error;
+  } catch (const InputError& e) {
+    return fail(exit_input_error, "error: " + one_line(e.what()));
   } catch (const std::bad_alloc&) {
-    std::fprintf(stderr, "%s: error: out of memory\n", stage);
-    return exit_internal_error;
+    return fail(exit_internal_error, "error: out of memory");
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "%s: internal error: %s\n", stage, one_line(e.what()).c_str());
-    return exit_internal_error;
+    return fail(exit_internal_error, "internal error: " + one_line(e.what()));
   }
 }
 
 namespace stage {
 
 void print_warnings(const char* stage, const Scene& scene) {
+  if (par::rank() != 0) return;  // every rank reads the scene; one says so
   for (const auto& w : scene.warnings) std::fprintf(stderr, "%s: warning: %s\n", stage, w.c_str());
 }
 

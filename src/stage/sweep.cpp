@@ -5,23 +5,51 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <map>
+#include <optional>
+#include <stdexcept>
+#include <string>
 
 #include "core/error.hpp"
 #include "feti/solver.hpp"
 #include "io/atomic_output.hpp"
 #include "io/sweep_file.hpp"
+#include "par/parallel.hpp"
 #include "stage/stage.hpp"
 #include "sweep/sweep.hpp"
 
 namespace dualcell::stage {
 
+namespace {
+
+const char* path_kind(const sweep::PathSpec& p) { return p.sphere ? "sphere" : p.sign > 0 ? "tension" : "compression"; }
+
+}  // namespace
+
 SweepSummary run_sweep(const SweepOptions& options) {
   using Clock = std::chrono::steady_clock;
-  const SceneAndMesh in = load_scene_and_mesh("dualcell-sweep", options.scene_file, options.mesh_file);
-  if (in.scene.load.boundary == Boundary::edges)
-    throw InputError(in.scene.file.string() +
-                     ": boundary = \"edges\" is a structure of resolved cells, not a cell to sweep: solve its load "
-                     "steps with dualcell-solve (a sweep needs boundary = \"symmetry\", \"traction\" or \"periodic\")");
+  // Every rank reads the scene and the mesh and builds its own solver (nothing of a rank's
+  // data is shared). An input error is agreed on before any work, so that every rank stops
+  // with the same one message instead of some ranks waiting for the others.
+  std::optional<SceneAndMesh> loaded;
+  std::string problem;
+  try {
+    loaded.emplace(load_scene_and_mesh("dualcell-sweep", options.scene_file, options.mesh_file));
+    if (loaded->scene.load.boundary == Boundary::edges)
+      throw InputError(loaded->scene.file.string() +
+                       ": boundary = \"edges\" is a structure of resolved cells, not a cell to sweep: solve its load "
+                       "steps with dualcell-solve (a sweep needs boundary = \"symmetry\", \"traction\" or "
+                       "\"periodic\")");
+    if (par::rank() == 0) {
+      // Fail on an unwritable output before any work, not after hours of it.
+      io::AtomicOutputs probe;
+      probe.add(options.out);
+    }
+  } catch (const InputError& e) {
+    problem = e.what();
+  }
+  par::agree_on_error(problem);
+  const SceneAndMesh& in = *loaded;
   const Scene& scene = in.scene;
   const std::vector<sweep::PathSpec> specs = sweep::plan_paths(scene);
   io::SweepHeader header;
@@ -32,53 +60,76 @@ SweepSummary run_sweep(const SweepOptions& options) {
   header.provenance.mesh_hash = in.mesh_hash;
   header.provenance.solver_options = solver_options_text(scene);
   header.constituents = constituents(scene);
-  {
-    // Fail on an unwritable output before any work, not after hours of it.
-    io::AtomicOutputs probe;
-    probe.add(options.out);
-  }
   const auto t0 = Clock::now();
   feti::ContactSolver solver(in.mesh, scene, options.threads);
   // Three unit solves with every bond lifted; the sweep's own onsets are checked against it in
-  // the fit. Nothing to compute without adhesion.
+  // the fit. Nothing to compute without adhesion. Every rank has it (the journal's header).
   header.onset = solver.onset_surface();
   solver.forget_dual();
-  std::vector<sweep::PathResult> results;
+
+  // Paths are handed out one at a time to whichever rank asks next (their costs differ: a fuse
+  // bracket is bisected), each computed path journaled at once by the rank that computed it.
+  // Each path starts from a cleared solver (run_path), so its numbers do not depend on which
+  // rank solved it or what that rank solved before: any P gives the serial sweep.h5.
+  const int ranks = par::size();
   SweepSummary summary;
+  std::map<int, sweep::PathResult> computed_here;
   long computed = 0, total_steps = 0, done_steps = 0;
   for (const auto& spec : specs) total_steps += static_cast<long>(spec.loads.size());
-  for (const auto& spec : specs) {
-    if (auto part = io::read_part(options.out, spec.index, header)) {
-      results.push_back(std::move(*part));
+  {
+    par::SharedCounter next_path;
+    for (long i = next_path.next(); i < static_cast<long>(specs.size()); i = next_path.next()) {
+      const sweep::PathSpec& spec = specs[i];
+      if (io::read_part(options.out, spec.index, header)) {
+        ++summary.resumed;
+        done_steps += static_cast<long>(spec.loads.size());
+        continue;
+      }
+      const auto progress = [&](const sweep::PathSpec& p, int step, const sweep::Step& s) {
+        if (!options.progress || ranks > 1) return;
+        const double elapsed = std::chrono::duration<double>(Clock::now() - t0).count();
+        // Work done: finished paths' steps plus this path's share by load (bisection steps for
+        // the fuse are not in the schedule, so counting steps would run ahead).
+        const double finished = done_steps + p.loads.size() * std::abs(s.load / p.loads.back());
+        const double eta = finished > 0 ? elapsed * (total_steps - finished) / finished : 0;
+        std::fprintf(stderr, "\rdualcell-sweep: path %d/%zu (%s %g deg) step %d load %.4g broken %ld  ETA %.0f s   ",
+                     p.index + 1, specs.size(), path_kind(p), p.direction_deg, step + 1, s.load, s.broken_bonds, eta);
+      };
+      sweep::PathResult result = sweep::run_path(solver, spec, scene.sweep.fuse_tolerance, progress);
+      io::write_part(options.out, result, header);
+      if (options.progress && ranks > 1)
+        std::fprintf(stderr, "dualcell-sweep: rank %d/%d: path %d/%zu (%s %g deg) done, %.0f s\n", par::rank(), ranks,
+                     spec.index + 1, specs.size(), path_kind(spec), spec.direction_deg,
+                     std::chrono::duration<double>(Clock::now() - t0).count());
       done_steps += static_cast<long>(spec.loads.size());
-      ++summary.resumed;
-      continue;
+      if (par::rank() == 0) computed_here.emplace(spec.index, std::move(result));
+      // The test hook kills one rank only, the last (the only one without MPI), as kill -9 would.
+      if (options.interrupt_after > 0 && par::rank() == ranks - 1 && ++computed >= options.interrupt_after) _exit(137);
     }
-    const auto progress = [&](const sweep::PathSpec& p, int step, const sweep::Step& s) {
-      if (!options.progress) return;
-      const double elapsed = std::chrono::duration<double>(Clock::now() - t0).count();
-      // Work done: finished paths' steps plus this path's share by load (bisection steps for
-      // the fuse are not in the schedule, so counting steps would run ahead).
-      const double finished = done_steps + p.loads.size() * std::abs(s.load / p.loads.back());
-      const double eta = finished > 0 ? elapsed * (total_steps - finished) / finished : 0;
-      std::fprintf(stderr, "\rdualcell-sweep: path %d/%zu (%s %g deg) step %d load %.4g broken %ld  ETA %.0f s   ",
-                   p.index + 1, specs.size(),
-                   p.sphere     ? "sphere"
-                   : p.sign > 0 ? "tension"
-                                : "compression",
-                   p.direction_deg, step + 1, s.load, s.broken_bonds, eta);
-    };
-    results.push_back(sweep::run_path(solver, spec, scene.sweep.fuse_tolerance, progress));
-    io::write_part(options.out, results.back(), header);
-    done_steps += static_cast<long>(spec.loads.size());
-    if (options.interrupt_after > 0 && ++computed >= options.interrupt_after) _exit(137);
+  }
+  summary.resumed = static_cast<int>(par::sum(summary.resumed));
+  // Every path is journaled now; rank 0 alone writes sweep.h5, from its own paths and the
+  // journal of the others.
+  par::barrier();
+  if (par::rank() != 0) return summary;
+  std::vector<sweep::PathResult> results;
+  for (const auto& spec : specs) {
+    if (auto mine = computed_here.find(spec.index); mine != computed_here.end()) {
+      results.push_back(std::move(mine->second));
+    } else if (auto part = io::read_part(options.out, spec.index, header)) {
+      results.push_back(std::move(*part));
+    } else {
+      throw std::runtime_error("path " + std::to_string(spec.index) + " is missing from the journal of " + options.out +
+                               " after every rank finished");
+    }
   }
   io::write_sweep(options.out, results, header);
-  if (options.progress) std::fprintf(stderr, "\n");
+  if (options.progress && ranks == 1) std::fprintf(stderr, "\n");
+  summary.written = true;
   summary.paths = static_cast<int>(results.size());
   for (const auto& r : results) {
     summary.fuses += r.fuse.has_value();
-    for (const auto& s : r.steps) summary.unconverged_steps += !s.converged;
+    for (const auto& st : r.steps) summary.unconverged_steps += !st.converged;
   }
   summary.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   return summary;

@@ -2,7 +2,8 @@
 // The sweep stage as one call (dualcell-sweep): every path of the scene through one solver
 // (setup once for the whole sweep), each finished path journaled at once in <out>.parts/ so that
 // an interrupted run, even by kill -9, resumes where it stopped and ends with the same sweep.h5;
-// progress with an ETA on stderr when it is a terminal.
+// progress with an ETA on stderr when it is a terminal. Under mpirun the paths are handed out
+// to the ranks as they ask for them, and rank 0 writes sweep.h5 (docs/method.md §16).
 #include <string>
 
 namespace dualcell::stage {
@@ -11,10 +12,11 @@ struct SweepOptions {
   std::string scene_file, mesh_file, out;
   int threads = 0;           // 0 = all OpenMP offers; results do not depend on it
   bool progress = false;     // progress line on stderr
-  long interrupt_after = 0;  // tests of the resume: _exit(137) after this many computed paths
+  long interrupt_after = 0;  // tests of the resume: the last rank _exit(137)s after this many computed paths
 };
 
 struct SweepSummary {
+  bool written = false;  // this rank wrote sweep.h5 (rank 0; the only one without MPI)
   int paths = 0, resumed = 0, fuses = 0, unconverged_steps = 0;
   double seconds = 0;
 };

@@ -27,7 +27,8 @@ const std::map<std::string, std::set<std::string>> allowed = {
     {"structure", {"core", "fem", "linalg", "law"}},
     {"io", {"core", "mesh", "fem", "feti", "sweep", "law", "structure"}},
     {"fit", {"core", "sweep", "law", "io"}},
-    {"stage", {"core", "mesh", "feti", "sweep", "law", "io", "fit", "structure"}},
+    {"par", {"core"}},
+    {"stage", {"core", "mesh", "feti", "sweep", "law", "io", "fit", "structure", "par"}},
     {"study", {"core", "mesh", "fem", "linalg", "feti", "io"}},
     {"umat", {}},  // C for other FE codes: includes nothing of the project
 };

@@ -1,0 +1,174 @@
+#include "par/parallel.hpp"
+
+#include <cstdlib>
+#include <vector>
+
+#ifdef DUALCELL_HAVE_MPI
+#include <mpi.h>
+#endif
+
+namespace dualcell::par {
+
+namespace {
+
+#ifdef DUALCELL_HAVE_MPI
+// Launched by an MPI launcher: OpenMPI's mpirun sets OMPI_COMM_WORLD_SIZE, PMIx-based and
+// Hydra (MPICH) launchers PMIX_RANK or PMI_RANK. Without one, MPI is not initialised at all:
+// a singleton MPI_Init would start a runtime for nothing.
+bool launched() { return std::getenv("OMPI_COMM_WORLD_SIZE") || std::getenv("PMIX_RANK") || std::getenv("PMI_RANK"); }
+bool initialised_here = false;
+#endif
+
+}  // namespace
+
+Session::Session() {
+#ifdef DUALCELL_HAVE_MPI
+  int already = 0;
+  MPI_Initialized(&already);
+  if (!already && launched()) {
+    MPI_Init(nullptr, nullptr);
+    initialised_here = true;
+  }
+#endif
+}
+
+Session::~Session() {
+#ifdef DUALCELL_HAVE_MPI
+  if (initialised_here) {
+    MPI_Finalize();
+    initialised_here = false;
+  }
+#endif
+}
+
+bool built_with_mpi() {
+#ifdef DUALCELL_HAVE_MPI
+  return true;
+#else
+  return false;
+#endif
+}
+
+#ifdef DUALCELL_HAVE_MPI
+namespace {
+bool active() {
+  int on = 0, off = 0;
+  MPI_Initialized(&on);
+  MPI_Finalized(&off);
+  return on && !off;
+}
+}  // namespace
+#endif
+
+int rank() {
+#ifdef DUALCELL_HAVE_MPI
+  if (active()) {
+    int r = 0;
+    MPI_Comm_rank(MPI_COMM_WORLD, &r);
+    return r;
+  }
+#endif
+  return 0;
+}
+
+int size() {
+#ifdef DUALCELL_HAVE_MPI
+  if (active()) {
+    int s = 1;
+    MPI_Comm_size(MPI_COMM_WORLD, &s);
+    return s;
+  }
+#endif
+  return 1;
+}
+
+struct SharedCounter::Impl {
+#ifdef DUALCELL_HAVE_MPI
+  MPI_Win window = MPI_WIN_NULL;
+  long* value = nullptr;
+#endif
+};
+
+SharedCounter::SharedCounter() : impl_(nullptr) {
+#ifdef DUALCELL_HAVE_MPI
+  if (size() > 1) {
+    impl_ = new Impl;
+    const MPI_Aint bytes = rank() == 0 ? sizeof(long) : 0;
+    MPI_Win_allocate(bytes, sizeof(long), MPI_INFO_NULL, MPI_COMM_WORLD, &impl_->value, &impl_->window);
+    if (rank() == 0) {
+      MPI_Win_lock(MPI_LOCK_EXCLUSIVE, 0, 0, impl_->window);
+      *impl_->value = 0;
+      MPI_Win_unlock(0, impl_->window);
+    }
+    MPI_Barrier(MPI_COMM_WORLD);
+  }
+#endif
+}
+
+SharedCounter::~SharedCounter() {
+#ifdef DUALCELL_HAVE_MPI
+  if (impl_) {
+    MPI_Win_free(&impl_->window);
+    delete impl_;
+  }
+#endif
+}
+
+long SharedCounter::next() {
+#ifdef DUALCELL_HAVE_MPI
+  if (impl_) {
+    const long one = 1;
+    long previous = 0;
+    MPI_Win_lock(MPI_LOCK_SHARED, 0, 0, impl_->window);
+    MPI_Fetch_and_op(&one, &previous, MPI_LONG, 0, 0, MPI_SUM, impl_->window);
+    MPI_Win_unlock(0, impl_->window);
+    return previous;
+  }
+#endif
+  return serial_++;
+}
+
+void barrier() {
+#ifdef DUALCELL_HAVE_MPI
+  if (size() > 1) MPI_Barrier(MPI_COMM_WORLD);
+#endif
+}
+
+long sum(long mine) {
+#ifdef DUALCELL_HAVE_MPI
+  if (size() > 1) {
+    long total = 0;
+    MPI_Allreduce(&mine, &total, 1, MPI_LONG, MPI_SUM, MPI_COMM_WORLD);
+    return total;
+  }
+#endif
+  return mine;
+}
+
+void agree_on_error(const std::string& mine) {
+#ifdef DUALCELL_HAVE_MPI
+  if (size() > 1) {
+    // The lowest rank with an error, then its message to every rank.
+    const int candidate = mine.empty() ? size() : rank();
+    int first = size();
+    MPI_Allreduce(&candidate, &first, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+    if (first == size()) return;
+    int length = rank() == first ? static_cast<int>(mine.size()) : 0;
+    MPI_Bcast(&length, 1, MPI_INT, first, MPI_COMM_WORLD);
+    std::vector<char> text(mine.begin(), mine.end());
+    text.resize(length);
+    MPI_Bcast(text.data(), length, MPI_CHAR, first, MPI_COMM_WORLD);
+    throw CollectiveInputError(std::string(text.begin(), text.end()));
+  }
+#endif
+  if (!mine.empty()) throw CollectiveInputError(mine);
+}
+
+void abort_all(int code) {
+#ifdef DUALCELL_HAVE_MPI
+  if (size() > 1) MPI_Abort(MPI_COMM_WORLD, code);
+#endif
+  std::exit(code);
+}
+
+}  // namespace dualcell::par
