@@ -1,6 +1,7 @@
 #include "feti/dual.hpp"
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <chrono>
 #include <stdexcept>
 #include <string>
@@ -52,6 +53,7 @@ DualProblem::DualProblem(const FetiSetup& setup, Constraints constraints)
       for (int j = 0; j < M.cols(); ++j)
         if (M(k, j) != 0) G_triplets.emplace_back(G_rows + j, local.rows[k], M(k, j));
     G_rows += static_cast<int>(M.cols());
+    if (!setup.owns(s)) continue;  // no scratch where another rank applies K⁺
     local.lambda_local.resize(n_local);
     local.z.resize(n_local);
     local.y.resize(subs[s].n_dofs);
@@ -61,6 +63,7 @@ DualProblem::DualProblem(const FetiSetup& setup, Constraints constraints)
   }
   G_.resize(G_rows, constraints_.n_rows());
   G_.setFromTriplets(G_triplets.begin(), G_triplets.end());
+  set_exchange();
 
   if (setup.scene().solver.preconditioner != Preconditioner::none) set_preconditioner_scale();
 
@@ -70,6 +73,43 @@ DualProblem::DualProblem(const FetiSetup& setup, Constraints constraints)
   GGt_.compute(GGt);
   G_scratch_.resize(G_rows);
   G_solution_.resize(G_rows);
+}
+
+void DualProblem::set_exchange() {
+  const par::Group& group = setup_.group();
+  const int P = group.size();
+  const auto& subs = setup_.subdomains();
+  Exchange& ex = exchange_;
+  ex.counts.assign(P, 0);
+  ex.displs.assign(P, 0);
+  ex.dof_counts.assign(P, 0);
+  ex.dof_displs.assign(P, 0);
+  ex.row.clear();
+  // Ownership is contiguous in subdomain order (FetiSetup), and so are the subdomains' DOFs.
+  int s = 0;
+  const int S = static_cast<int>(subs.size());
+  for (int p = 0; p < P; ++p) {
+    const int begin = s;
+    while (s < S && setup_.owner(s) == p) ++s;
+    std::vector<int> rows;
+    for (int i = begin; i < s; ++i) rows.insert(rows.end(), locals_[i].rows.begin(), locals_[i].rows.end());
+    std::sort(rows.begin(), rows.end());
+    rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
+    ex.displs[p] = static_cast<int>(ex.row.size());
+    ex.counts[p] = static_cast<int>(rows.size());
+    ex.row.insert(ex.row.end(), rows.begin(), rows.end());
+    ex.dof_displs[p] = begin < S ? subs[begin].dof_begin : setup_.n_dofs();
+    ex.dof_counts[p] = begin < s ? subs[s - 1].dof_begin + subs[s - 1].n_dofs - subs[begin].dof_begin : 0;
+    if (p == group.rank())
+      for (int i = begin; i < s; ++i) {
+        Local& local = locals_[i];
+        local.slot.resize(local.rows.size());
+        for (std::size_t k = 0; k < local.rows.size(); ++k)
+          local.slot[k] = static_cast<int>(std::lower_bound(rows.begin(), rows.end(), local.rows[k]) - rows.begin());
+      }
+  }
+  if (s != S) throw std::logic_error("DualProblem: subdomain owners are not contiguous in rank order");
+  ex.all.resize(static_cast<Eigen::Index>(ex.row.size()));
 }
 
 namespace {
@@ -88,6 +128,27 @@ class ScopedTimer {
 };
 }  // namespace
 
+void DualProblem::add_row_sums(Eigen::VectorXd& y, bool skip_macro) const {
+  const par::Group& group = setup_.group();
+  const auto& subs = setup_.subdomains();
+  const Exchange& ex = exchange_;
+  const int me = group.rank();
+  auto mine = ex.all.segment(ex.displs[me], ex.counts[me]);
+  mine.setZero();
+  for (int s = setup_.owned_begin(); s < setup_.owned_end(); ++s) {
+    if (skip_macro && subs[s].is_macro) continue;
+    const Local& local = locals_[s];
+    for (std::size_t k = 0; k < local.rows.size(); ++k) mine(local.slot[k]) += local.z(k);
+  }
+  if (group.size() > 1) {
+    const ScopedTimer timer(profile_.communication);
+    group.gather(mine.data(), ex.all.data(), ex.counts, ex.displs);
+    ++profile_.exchanges;
+    profile_.bytes_received += static_cast<double>(sizeof(double)) * static_cast<double>(ex.all.size() - mine.size());
+  }
+  for (Eigen::Index i = 0; i < ex.all.size(); ++i) y(ex.row[i]) += ex.all(i);
+}
+
 void DualProblem::apply_F(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
   const ScopedTimer timer(profile_.F);
   const auto& subs = setup_.subdomains();
@@ -100,19 +161,20 @@ void DualProblem::apply_F(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
     local.z.noalias() = local.B * local.x;
   });
   y.setZero();
-  for (const Local& local : locals_)
-    for (std::size_t k = 0; k < local.rows.size(); ++k) y(local.rows[k]) += local.z(k);
+  add_row_sums(y, false);
 }
 
 void DualProblem::set_preconditioner_scale() {
   const auto& subs = setup_.subdomains();
   const int m = constraints_.n_rows();
-  // k_ri = Σ b² K_dd / Σ b² over the row's entries in subdomain i (the weight w cancels).
+  // k_ri = Σ b² K_dd / Σ b² over the row's entries in subdomain i (the weight w cancels), on
+  // the rank that owns i; Σ_j 1/k_rj over every rank.
   std::vector<std::vector<double>> k(locals_.size());
   Eigen::VectorXd compliance_sum = Eigen::VectorXd::Zero(m);
-  for (std::size_t s = 0; s < locals_.size(); ++s) {
+  for (int s = setup_.owned_begin(); s < setup_.owned_end(); ++s) {
     Local& local = locals_[s];
     k[s].assign(local.rows.size(), 0.0);
+    local.z.setZero();
     if (subs[s].is_macro) continue;
     const Eigen::VectorXd K_diagonal = subs[s].K.diagonal();
     if (subs[s].K_ii_inverse) {
@@ -133,11 +195,12 @@ void DualProblem::set_preconditioner_scale() {
       }
       if (bb > 0 && bKb > 0) {
         k[s][r] = bKb / bb;
-        compliance_sum(local.rows[r]) += 1 / k[s][r];
+        local.z(r) = 1 / k[s][r];
       }
     }
   }
-  for (std::size_t s = 0; s < locals_.size(); ++s) {
+  add_row_sums(compliance_sum, true);
+  for (int s = setup_.owned_begin(); s < setup_.owned_end(); ++s) {
     Local& local = locals_[s];
     local.preconditioner_scale = Eigen::VectorXd::Zero(local.rows.size());
     for (std::size_t r = 0; r < local.rows.size(); ++r) {
@@ -171,11 +234,7 @@ void DualProblem::apply_preconditioner(const Eigen::VectorXd& x, Eigen::VectorXd
     local.z.array() *= local.preconditioner_scale.array();
   });
   y.setZero();
-  for (std::size_t s = 0; s < locals_.size(); ++s) {
-    const Local& local = locals_[s];
-    if (local.rows.empty() || subs[s].is_macro) continue;
-    for (std::size_t k = 0; k < local.rows.size(); ++k) y(local.rows[k]) += local.z(k);
-  }
+  add_row_sums(y, true);
 }
 
 void DualProblem::apply_Q(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
@@ -194,8 +253,7 @@ Eigen::VectorXd DualProblem::d(const Eigen::VectorXd& f, double t) const {
     local.z.noalias() = local.B * local.x;
   });
   Eigen::VectorXd d = -t * constraints_.c;
-  for (const Local& local : locals_)
-    for (std::size_t k = 0; k < local.rows.size(); ++k) d(local.rows[k]) += local.z(k);
+  add_row_sums(d, false);
   return d;
 }
 
@@ -233,6 +291,9 @@ Eigen::VectorXd DualProblem::K_plus_residual(const Eigen::VectorXd& f, const Eig
     subs[s].apply_K_plus(local.y, local.x, local.K_plus_scratch);
     u.segment(subs[s].dof_begin, subs[s].n_dofs) = local.x;  // disjoint segments
   });
+  const Exchange& ex = exchange_;
+  const int me = setup_.group().rank();
+  setup_.group().gather(u.data() + ex.dof_displs[me], u.data(), ex.dof_counts, ex.dof_displs);
   return u;
 }
 

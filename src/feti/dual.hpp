@@ -18,6 +18,12 @@
 //   GGᵀ    | GGt_                | small sparse SPD, CHOLMOD, factorised once per problem
 //
 // No matrix of size dim u or dim λ is ever dense: F and Q are applied as operators.
+//
+// Over the ranks of setup().group() (docs/method.md §16), λ and every vector of dim λ are
+// replicated: each rank applies K⁺ and the preconditioner of the subdomains it owns, sums their
+// rows into its part of the result, and one MPI_Allgatherv per application of F or M⁻¹ brings
+// every rank every part, added in rank order. G, GGᵀ and the QP's vector work are the same on
+// every rank, done in lockstep, so the ranks never disagree on λ.
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <vector>
@@ -42,6 +48,8 @@ class DualProblem {
     int G_offset = 0;                                // first row of G for this subdomain
     // Preconditioner row factors δ_ri / w_r² (see apply_preconditioner); empty without one.
     Eigen::VectorXd preconditioner_scale;
+    // Where each of `rows` is summed in this rank's part of the exchange (owned subdomains only).
+    std::vector<int> slot;
     // scratch for operator applications (no allocation per application); each subdomain's
     // own, so that subdomains can be applied concurrently
     mutable Eigen::VectorXd lambda_local, y, x, z, K_plus_scratch, K_ii_scratch;
@@ -68,9 +76,14 @@ class DualProblem {
   // y = Q x = Gᵀ(GGᵀ)⁻¹G x.
   void apply_Q(const Eigen::VectorXd& x, Eigen::VectorXd& y) const;
   // Wall time spent in apply_F, apply_Q and apply_preconditioner since construction (a
-  // profile for the performance report; one clock read per call, nothing per subdomain).
+  // profile for the performance report; one clock read per call, nothing per subdomain), and
+  // of that the time in the exchanges between ranks, their count and the bytes this rank
+  // received (zero on one rank).
   struct Profile {
     double F = 0, Q = 0, preconditioner = 0;
+    double communication = 0;
+    long exchanges = 0;
+    double bytes_received = 0;
   };
   const Profile& profile() const { return profile_; }
   // d = B K⁺ f − t·c (t the load factor of the prescribed displacements, FetiSetup::load_factor).
@@ -86,6 +99,21 @@ class DualProblem {
 
  private:
   void set_preconditioner_scale();
+  // y += Σ_i B_i-rows of z_i over every subdomain of every rank (z_i in Local::z; the macro
+  // subdomain's left out when `skip_macro`): each rank sums its owned subdomains in subdomain
+  // order into its slots, the slots are gathered, and added in rank order. Ownership is
+  // contiguous, so that is subdomain order again, the same bits on every rank.
+  void add_row_sums(Eigen::VectorXd& y, bool skip_macro) const;
+
+  // The exchange's layout: rank p's slots are all[displs[p], displs[p] + counts[p]), one per row
+  // its subdomains touch (ascending); row[i] is slot i's row. The u of K_plus_residual is
+  // gathered the same way by owned DOF ranges (dof_counts, dof_displs).
+  struct Exchange {
+    std::vector<int> counts, displs, row;
+    std::vector<int> dof_counts, dof_displs;
+    mutable Eigen::VectorXd all;
+  };
+  void set_exchange();
 
   const FetiSetup& setup_;
   Constraints constraints_;
@@ -94,6 +122,7 @@ class DualProblem {
   mutable linalg::SparseCholesky GGt_;
   mutable Eigen::VectorXd G_scratch_, G_solution_;
   mutable Profile profile_;
+  Exchange exchange_;
 };
 
 }  // namespace dualcell::feti

@@ -2,6 +2,7 @@
 
 #include <omp.h>
 
+#include <algorithm>
 #include <chrono>
 
 #include "fem/assembly.hpp"
@@ -36,6 +37,28 @@ std::vector<Eigen::Index> fixing_dofs(const mesh::Mesh& mesh, const mesh::Subdom
 
 }  // namespace
 
+std::size_t FloatingSubdomain::bytes() const {
+  const auto sparse = [](const Eigen::SparseMatrix<double>& A) {
+    return static_cast<std::size_t>(A.nonZeros()) * (sizeof(double) + sizeof(int)) + (A.outerSize() + 1) * sizeof(int);
+  };
+  std::size_t total = sparse(K) + static_cast<std::size_t>(R.size()) * sizeof(double);
+  if (K_plus) total += K_plus->bytes();
+  if (K_ii_inverse) total += K_ii_inverse->bytes();
+  return total;
+}
+
+int FetiSetup::owned_dofs() const {
+  int n = 0;
+  for (int s = owned_begin_; s < owned_end_; ++s) n += subdomains_[s].n_dofs;
+  return n;
+}
+
+std::size_t FetiSetup::owned_bytes() const {
+  std::size_t n = 0;
+  for (int s = owned_begin_; s < owned_end_; ++s) n += subdomains_[s].bytes();
+  return n;
+}
+
 void FloatingSubdomain::apply_K_plus(const Eigen::VectorXd& y, Eigen::VectorXd& x, Eigen::VectorXd& scratch) const {
   if (is_macro) {
     x.setZero();
@@ -44,39 +67,59 @@ void FloatingSubdomain::apply_K_plus(const Eigen::VectorXd& y, Eigen::VectorXd& 
   K_plus->apply(y, x, scratch);
 }
 
-FetiSetup::FetiSetup(const mesh::Mesh& mesh, const Scene& scene, int threads, int min_dofs_per_thread)
-    : mesh_(mesh), scene_(scene), threads_(threads > 0 ? threads : omp_get_max_threads()) {
+FetiSetup::FetiSetup(const mesh::Mesh& mesh, const Scene& scene, int threads, int min_dofs_per_thread, par::Group group)
+    : mesh_(mesh), scene_(scene), group_(std::move(group)), threads_(threads > 0 ? threads : omp_get_max_threads()) {
   validate(scene_);  // scenes built in code are checked like scenes read from a file
   const auto t0 = Clock::now();
-  parallel_ = threads_ > 1 && mesh.dim_u() >= static_cast<long>(min_dofs_per_thread) * threads_;
   const int S = static_cast<int>(mesh.subdomains.size());
-  subdomains_.resize(S);
-  for_each_subdomain([&](int s) {
+  const bool periodic = scene.load.boundary == Boundary::periodic;
+  subdomains_.resize(S + (periodic ? 1 : 0));
+  n_dofs_ = mesh.dim_u() + (periodic ? 3 : 0);
+  // Owners: contiguous runs of subdomains, balanced by DOFs (the factorisation and every K⁺
+  // grow with them); a subdomain goes to the rank its middle DOF falls in. Contiguous and in
+  // rank order, so that a sum over a row's subdomains in subdomain order is a sum of the ranks'
+  // partial sums in rank order (DualProblem::RowSums). The macro subdomain goes to the last rank.
+  const int P = group_.size();
+  owner_.assign(subdomains_.size(), P - 1);
+  for (int s = 0; s < S; ++s) {
+    const double middle = 2.0 * mesh.subdomains[s].node_begin + mesh.subdomains[s].n_nodes();
+    owner_[s] = std::min(P - 1, static_cast<int>(P * middle / mesh.dim_u()));
+  }
+  owned_begin_ = static_cast<int>(std::find(owner_.begin(), owner_.end(), group_.rank()) - owner_.begin());
+  owned_end_ = static_cast<int>(
+      std::find_if(owner_.begin() + owned_begin_, owner_.end(), [&](int r) { return r != group_.rank(); }) -
+      owner_.begin());
+  parallel_ = threads_ > 1 && owned_dofs() >= static_cast<long>(min_dofs_per_thread) * threads_;
+  // Every rank knows every subdomain's place and rigid modes (G is built from them); the
+  // stiffness only where it is owned.
+  for (int s = 0; s < S; ++s) {
     const mesh::Subdomain& ms = mesh.subdomains[s];
     FloatingSubdomain& sub = subdomains_[s];
     sub.index = s;
     sub.is_fibre = ms.is_fibre;
     sub.dof_begin = 2 * ms.node_begin;
     sub.n_dofs = 2 * ms.n_nodes();
-    sub.K = fem::assemble_stiffness(mesh, s, ms.is_fibre ? scene.fibre : scene.matrix);
     sub.R = fem::rigid_body_modes(mesh, s);
+  }
+  for_each_subdomain([&](int s) {
+    if (s >= S) return;
+    const mesh::Subdomain& ms = mesh.subdomains[s];
+    FloatingSubdomain& sub = subdomains_[s];
+    sub.K = fem::assemble_stiffness(mesh, s, ms.is_fibre ? scene.fibre : scene.matrix);
     sub.fixing_dofs = fixing_dofs(mesh, ms);
   });
-  n_dofs_ = mesh.dim_u();
-  if (scene.load.boundary == Boundary::periodic) {
-    FloatingSubdomain macro;
+  if (periodic) {
+    FloatingSubdomain& macro = subdomains_[S];
     macro.index = S;
     macro.is_macro = true;
-    macro.dof_begin = n_dofs_;
+    macro.dof_begin = mesh.dim_u();
     macro.n_dofs = 3;
     macro.K.resize(3, 3);
     macro.R = Eigen::MatrixXd::Identity(3, 3);
-    subdomains_.push_back(std::move(macro));
-    n_dofs_ += 3;
   }
-  dof_owner_.assign(n_dofs_, -1);
+  subdomain_of_dof_.assign(n_dofs_, -1);
   for (const FloatingSubdomain& sub : subdomains_)
-    for (int d = 0; d < sub.n_dofs; ++d) dof_owner_[sub.dof_begin + d] = sub.index;
+    for (int d = 0; d < sub.n_dofs; ++d) subdomain_of_dof_[sub.dof_begin + d] = sub.index;
   seconds_assembly = seconds_since(t0);
 
   // K⁺ once per mesh and material: the factorisations every load case reuses. Subdomains are

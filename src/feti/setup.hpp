@@ -10,8 +10,10 @@
 //   f      | FetiSetup::load(σ̄)         | tractions σ̄·n on the loaded edges + body force (edges: t·f₁)
 //
 // Each subdomain owns its data (no global state), so subdomains are spread over threads
-// (for_each_subdomain) and could be spread over MPI ranks the same way. With the periodic boundary a "macro" subdomain
-// holds the macroscopic strain (εxx, εyy, γxy): K = 0, R = I₃, K⁺ = 0, load |Ω|·σ̄ (docs/method.md §3).
+// (for_each_subdomain) and over the ranks of a par::Group: each rank assembles and factorises
+// only the subdomains it owns, a contiguous run balanced by DOFs (docs/method.md §16). With the
+// periodic boundary a "macro" subdomain holds the macroscopic strain (εxx, εyy, γxy): K = 0,
+// R = I₃, K⁺ = 0, load |Ω|·σ̄ (docs/method.md §3).
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <exception>
@@ -21,6 +23,7 @@
 #include "core/scene.hpp"
 #include "linalg/fixing_node_inverse.hpp"
 #include "mesh/mesh.hpp"
+#include "par/parallel.hpp"
 
 namespace dualcell::feti {
 
@@ -39,6 +42,8 @@ struct FloatingSubdomain {
   // that rows of B touch (both components) and K_ii⁻¹ as the pseudo-inverse fixing exactly them.
   std::vector<Eigen::Index> boundary_dofs;
   std::unique_ptr<linalg::FixingNodeInverse> K_ii_inverse;
+  // Bytes of K, R and the factors held for this subdomain (0 where another rank owns it).
+  std::size_t bytes() const;
   // x = K⁺ y (zero for the macro subdomain); x must have size n_dofs. scratch: n_dofs − 3
   // doubles owned by the caller, so one subdomain may be applied from any thread.
   void apply_K_plus(const Eigen::VectorXd& y, Eigen::VectorXd& x, Eigen::VectorXd& scratch) const;
@@ -50,15 +55,27 @@ class FetiSetup {
   // application of K⁺); 0 = as many as OpenMP offers (OMP_NUM_THREADS or the cores). Results
   // do not depend on it: each subdomain's work is done by one thread, and the contributions
   // are summed in subdomain order afterwards.
+  //
+  // group: the ranks that share this solve (default: this process alone). Every subdomain's R
+  // and place are known on every rank; K, K⁺ and the preconditioner's factor only on its owner.
   FetiSetup(const mesh::Mesh& mesh, const Scene& scene, int threads = 1,
-            int min_dofs_per_thread = default_min_dofs_per_thread);
+            int min_dofs_per_thread = default_min_dofs_per_thread, par::Group group = {});
 
   const mesh::Mesh& mesh() const { return mesh_; }
   const Scene& scene() const { return scene_; }
   const std::vector<FloatingSubdomain>& subdomains() const { return subdomains_; }
   int n_dofs() const { return n_dofs_; }  // dim u (+3 macro DOFs with the periodic boundary)
   int dim_u() const { return mesh_.dim_u(); }
-  int subdomain_of_dof(int dof) const { return dof_owner_[dof]; }
+  int subdomain_of_dof(int dof) const { return subdomain_of_dof_[dof]; }
+  const par::Group& group() const { return group_; }
+  // The rank of group() that owns subdomain s, and this rank's subdomains [owned_begin, owned_end).
+  int owner(int s) const { return owner_[s]; }
+  bool owns(int s) const { return owner_[s] == group_.rank(); }
+  int owned_begin() const { return owned_begin_; }
+  int owned_end() const { return owned_end_; }
+  int owned_dofs() const;
+  // Bytes of the subdomain data this rank holds (K, R, the factors of its subdomains).
+  std::size_t owned_bytes() const;
 
   // f for the macroscopic stress σ̄ = (σxx, σyy, σxy): σ̄·n on the loaded edges of the block
   // (symmetry: right and top; traction: all four; periodic: none, |Ω|σ̄ on the macro DOFs),
@@ -79,17 +96,17 @@ class FetiSetup {
   static constexpr int default_min_dofs_per_thread = 10000;
   bool parallel() const { return parallel_; }
 
-  // work(s) for every subdomain s, spread over threads(); work must touch only subdomain s's
+  // work(s) for every subdomain s this rank owns, spread over threads(); work must touch only subdomain s's
   // data (its own output slots), which is what makes the result independent of the thread count.
   // An exception thrown by work is carried out of the parallel loop; the one of the lowest
   // subdomain is rethrown after all have run. Nothing is allocated unless something throws.
   template <class Work>
   void for_each_subdomain(Work&& work) const {
-    const int S = static_cast<int>(subdomains_.size());
+    const int begin = owned_begin_, end = owned_end_;
     std::exception_ptr failure;
-    int failed = S;
+    int failed = end;
 #pragma omp parallel for schedule(dynamic, 4) num_threads(threads_) if (parallel_)
-    for (int s = 0; s < S; ++s) {
+    for (int s = begin; s < end; ++s) {
       try {
         work(s);
       } catch (...) {
@@ -105,7 +122,10 @@ class FetiSetup {
   const mesh::Mesh& mesh_;
   Scene scene_;
   std::vector<FloatingSubdomain> subdomains_;
-  std::vector<int> dof_owner_;
+  std::vector<int> subdomain_of_dof_;
+  par::Group group_;
+  std::vector<int> owner_;
+  int owned_begin_ = 0, owned_end_ = 0;
   int n_dofs_ = 0;
   int threads_ = 1;
   bool parallel_ = false;

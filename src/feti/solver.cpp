@@ -70,8 +70,9 @@ constexpr double onset_qp_tolerance = 1e-13;
 
 }  // namespace
 
-ContactSolver::ContactSolver(const mesh::Mesh& mesh, const Scene& scene, int threads, int min_dofs_per_thread)
-    : setup_(mesh, scene, threads, min_dofs_per_thread) {}
+ContactSolver::ContactSolver(const mesh::Mesh& mesh, const Scene& scene, int threads, int min_dofs_per_thread,
+                             par::Group group)
+    : setup_(mesh, scene, threads, min_dofs_per_thread, std::move(group)) {}
 
 const DualProblem& ContactSolver::problem(const BondState& bonds) {
   if (!problem_ || bonds != problem_bonds_) {
@@ -103,18 +104,8 @@ Solution ContactSolver::solve_fixed(const Eigen::Vector3d& sigma, const BondStat
   while (out.qp_converged() && !out.primal_ok && out.qp_tolerance > min_qp_tolerance) {
     const double tighter = std::max(out.qp_tolerance / 10, min_qp_tolerance);
     Solution next = solve_problem(dual, norm_PFP_, sigma, &out.lambda, &out.multiplier, tighter);
-    next.tightenings = out.tightenings + 1;
-    next.operator_applications += out.operator_applications;
-    next.preconditioner_applications += out.preconditioner_applications;
-    next.outer_iterations += out.outer_iterations;
-    next.cg_steps += out.cg_steps;
-    next.expansion_steps += out.expansion_steps;
-    next.proportioning_steps += out.proportioning_steps;
-    next.seconds.qp += out.seconds.qp;
-    next.seconds.qp_F += out.seconds.qp_F;
-    next.seconds.qp_Q += out.seconds.qp_Q;
-    next.seconds.qp_preconditioner += out.seconds.qp_preconditioner;
-    next.seconds.recovery += out.seconds.recovery;
+    next.add_work(out);
+    ++next.tightenings;
     out = std::move(next);
   }
   out.bonds = bonds;
@@ -194,6 +185,9 @@ Solution ContactSolver::solve_problem(const DualProblem& dual, double& norm_PFP,
   out.seconds.qp_F = dual.profile().F - profile_before.F;
   out.seconds.qp_Q = dual.profile().Q - profile_before.Q;
   out.seconds.qp_preconditioner = dual.profile().preconditioner - profile_before.preconditioner;
+  out.seconds.qp_communication = dual.profile().communication - profile_before.communication;
+  out.seconds.exchanges = dual.profile().exchanges - profile_before.exchanges;
+  out.seconds.bytes_received = dual.profile().bytes_received - profile_before.bytes_received;
   out.operator_applications = out.qp.counters.operator_applications + extra_applications;
   out.preconditioner_applications = out.qp.counters.preconditioner_applications;
   out.outer_iterations = out.qp.counters.outer_iterations;
@@ -352,11 +346,12 @@ void ContactSolver::report(const DualProblem& dual, const Eigen::VectorXd& f, co
     }
   }
 
-  // Equilibrium of every subdomain: K_i u_i − f_i + B_iᵀλ = 0 (the macro subdomain: K = 0).
+  // Equilibrium of every subdomain: K_i u_i − f_i + B_iᵀλ = 0 (the macro subdomain: K = 0),
+  // each checked by the rank that holds its K.
   const auto& subs = setup_.subdomains();
   const double f_scale = std::max(f.lpNorm<Eigen::Infinity>(), std::numeric_limits<double>::min());
   double worst = 0;
-  for (std::size_t s = 0; s < subs.size(); ++s) {
+  for (int s = setup_.owned_begin(); s < setup_.owned_end(); ++s) {
     const auto& local = dual.locals()[s];
     Eigen::VectorXd residual = -f.segment(subs[s].dof_begin, subs[s].n_dofs);
     if (!subs[s].is_macro) residual += subs[s].K * out.u.segment(subs[s].dof_begin, subs[s].n_dofs);
@@ -365,7 +360,7 @@ void ContactSolver::report(const DualProblem& dual, const Eigen::VectorXd& f, co
     if (!local.rows.empty()) residual += local.B.transpose() * lambda_local;
     worst = std::max(worst, residual.lpNorm<Eigen::Infinity>());
   }
-  kkt.relative_equilibrium = worst / f_scale;
+  kkt.relative_equilibrium = setup_.group().max(worst) / f_scale;
 
   // Check the recovered primal solution. A wrong recovery (a wrong α, a fibre pushed through
   // its hole) errs by O(‖u‖). A right one has gaps and jumps of the dual residual amplified by
@@ -399,8 +394,7 @@ Solution ContactSolver::solve(const Eigen::Vector3d& sigma, const BondState& bon
                               const Eigen::VectorXd* warm_multiplier) {
   BondState current = bonds;
   Solution total;
-  long applications = 0, preconditioning = 0, outer = 0, cg = 0, expansion = 0, proportioning = 0, tightenings = 0;
-  Timings seconds;
+  Solution previous;  // the work of the rounds before the current one
   int newly_broken = 0;
   Eigen::VectorXd warm;
   if (warm_lambda) warm = *warm_lambda;
@@ -409,19 +403,6 @@ Solution ContactSolver::solve(const Eigen::Vector3d& sigma, const BondState& bon
   for (int round = 1;; ++round) {
     // The caller's multiplier belongs to the first problem only: after breaks the rows change.
     Solution s = solve_fixed(sigma, current, warm.size() ? &warm : nullptr, round == 1 ? warm_multiplier : nullptr);
-    applications += s.operator_applications;
-    preconditioning += s.preconditioner_applications;
-    outer += s.outer_iterations;
-    cg += s.cg_steps;
-    tightenings += s.tightenings;
-    expansion += s.expansion_steps;
-    proportioning += s.proportioning_steps;
-    seconds.dual_setup += s.seconds.dual_setup;
-    seconds.qp += s.seconds.qp;
-    seconds.qp_F += s.seconds.qp_F;
-    seconds.qp_Q += s.seconds.qp_Q;
-    seconds.qp_preconditioner += s.seconds.qp_preconditioner;
-    seconds.recovery += s.seconds.recovery;
     // Bonds at their strength break, normal and tangential together (docs/method.md §11). No loop at
     // all without adhesion.
     std::vector<int> breaking;
@@ -438,6 +419,7 @@ Solution ContactSolver::solve(const Eigen::Vector3d& sigma, const BondState& bon
       }
     }
     if (breaking.empty() || round >= max_rounds) {
+      s.add_work(previous);
       total = std::move(s);
       total.debond_rounds = round;
       if (!breaking.empty()) {
@@ -464,21 +446,9 @@ Solution ContactSolver::solve(const Eigen::Vector3d& sigma, const BondState& bon
                     ? 0.0
                     : std::clamp(it->second, next.lower(r) * next.weight(r), next.upper(r) * next.weight(r));
     }
+    previous.add_work(s);
   }
   total.newly_broken = newly_broken;
-  total.operator_applications = applications;
-  total.preconditioner_applications = preconditioning;
-  total.outer_iterations = outer;
-  total.cg_steps = cg;
-  total.tightenings = tightenings;
-  total.expansion_steps = expansion;
-  total.proportioning_steps = proportioning;
-  total.seconds.dual_setup = seconds.dual_setup;
-  total.seconds.qp = seconds.qp;
-  total.seconds.qp_F = seconds.qp_F;
-  total.seconds.qp_Q = seconds.qp_Q;
-  total.seconds.qp_preconditioner = seconds.qp_preconditioner;
-  total.seconds.recovery = seconds.recovery;
   return total;
 }
 

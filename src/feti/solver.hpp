@@ -42,6 +42,22 @@ struct Timings {
   // Inside qp: the applications of F, of the projector Q (coarse problem) and of the
   // preconditioner M⁻¹ (wall time, all threads); the rest of qp is the QP's vector work.
   double qp_F = 0, qp_Q = 0, qp_preconditioner = 0;
+  // Over the ranks of a group (docs/method.md §16), this rank's: of qp_F and qp_preconditioner
+  // the seconds in the exchanges between ranks, their number and the bytes received (0 alone).
+  double qp_communication = 0;
+  long exchanges = 0;
+  double bytes_received = 0;
+  // Adds another QP's (qp, recovery and everything inside qp) to this one's.
+  void add_qp(const Timings& other) {
+    qp += other.qp;
+    qp_F += other.qp_F;
+    qp_Q += other.qp_Q;
+    qp_preconditioner += other.qp_preconditioner;
+    qp_communication += other.qp_communication;
+    exchanges += other.exchanges;
+    bytes_received += other.bytes_received;
+    recovery += other.recovery;
+  }
 };
 
 struct Solution {
@@ -72,15 +88,29 @@ struct Solution {
   std::string primal_message;  // what failed, when !primal_ok
   Timings seconds;
   bool qp_converged() const { return qp.status == qp::Status::converged; }
+  // Adds the work (counters, seconds but the setup's) of an earlier QP of the same load.
+  void add_work(const Solution& earlier) {
+    operator_applications += earlier.operator_applications;
+    preconditioner_applications += earlier.preconditioner_applications;
+    outer_iterations += earlier.outer_iterations;
+    cg_steps += earlier.cg_steps;
+    expansion_steps += earlier.expansion_steps;
+    proportioning_steps += earlier.proportioning_steps;
+    tightenings += earlier.tightenings;
+    seconds.dual_setup += earlier.seconds.dual_setup;
+    seconds.add_qp(earlier.seconds);
+  }
   bool converged() const { return qp_converged() && primal_ok; }
 };
 
 class ContactSolver {
  public:
   // threads, min_dofs_per_thread: see FetiSetup (0 threads = all OpenMP offers); results do not
-  // depend on them.
+  // depend on them. group: the ranks that solve together, each owning some subdomains
+  // (FetiSetup); every call below is then collective over the group, and every rank gets the
+  // whole Solution.
   ContactSolver(const mesh::Mesh& mesh, const Scene& scene, int threads = 1,
-                int min_dofs_per_thread = FetiSetup::default_min_dofs_per_thread);
+                int min_dofs_per_thread = FetiSetup::default_min_dofs_per_thread, par::Group group = {});
   // The cached dual problem refers to setup_: not copyable, not movable.
   ContactSolver(const ContactSolver&) = delete;
   ContactSolver& operator=(const ContactSolver&) = delete;

@@ -16,7 +16,8 @@ std::vector<double> to_vector(const Eigen::VectorXd& v) { return {v.data(), v.da
 }  // namespace
 
 void write_solution(const std::filesystem::path& h5, const mesh::Mesh& mesh, const Scene& scene,
-                    const feti::Solution& s, const Provenance& provenance, const LoadSteps* steps) {
+                    const feti::Solution& s, const Provenance& provenance, const LoadSteps* steps,
+                    const RankTable* ranks) {
   std::filesystem::path xdmf = h5;
   xdmf.replace_extension(".xdmf");
   AtomicOutputs outputs;
@@ -91,6 +92,20 @@ void write_solution(const std::filesystem::path& h5, const mesh::Mesh& mesh, con
     f.write_attribute("/solver", "qp_tolerance", s.qp_tolerance);
     f.create_group("/kkt");
     for (const auto& field : kkt_fields) f.write_attribute("/kkt", field.attribute, s.kkt.*field.value);
+
+    if (ranks) {
+      const hsize_t R = ranks->dofs.size();
+      f.write("/ranks/first_subdomain", ranks->first_subdomain, {R});
+      f.write("/ranks/subdomains", ranks->subdomains, {R});
+      f.write("/ranks/dofs", ranks->dofs, {R});
+      f.write("/ranks/subdomain_bytes", ranks->subdomain_bytes, {R});
+      f.write("/ranks/peak_rss_bytes", ranks->peak_rss_bytes, {R});
+      f.write("/ranks/seconds_setup", ranks->seconds_setup, {R});
+      f.write("/ranks/seconds_apply", ranks->seconds_apply, {R});
+      f.write("/ranks/seconds_communication", ranks->seconds_communication, {R});
+      f.write("/ranks/exchanges", ranks->exchanges, {R});
+      f.write("/ranks/bytes_received", ranks->bytes_received, {R});
+    }
 
     if (steps) {
       const hsize_t S = steps->factor.size();

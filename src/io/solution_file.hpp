@@ -45,6 +45,7 @@ inline constexpr SolverSecondsField solver_seconds_fields[] = {
     {"seconds_qp_F", &feti::Timings::qp_F},
     {"seconds_qp_Q", &feti::Timings::qp_Q},
     {"seconds_qp_preconditioner", &feti::Timings::qp_preconditioner},
+    {"seconds_qp_communication", &feti::Timings::qp_communication},
 };
 
 // The KKT residuals, as float attributes of /kkt.
@@ -75,10 +76,23 @@ struct LoadSteps {
   double first_break_factor = 0;
 };
 
+// One entry per rank that shared the solve (one without MPI; docs/method.md §16): what it held
+// and where its time went. /ranks in solution.h5.
+struct RankTable {
+  std::vector<std::int64_t> first_subdomain, subdomains, dofs;  // its run of subdomains
+  std::vector<std::int64_t> subdomain_bytes;                    // K, R and the factors of its subdomains
+  std::vector<std::int64_t> peak_rss_bytes;                     // the process's peak resident memory
+  std::vector<double> seconds_setup;                            // assembly and factorisation of its subdomains
+  // Applying F and M⁻¹: its subdomains' share (K⁺, the preconditioner), and the exchanges.
+  std::vector<double> seconds_apply, seconds_communication;
+  std::vector<std::int64_t> exchanges, bytes_received;
+};
+
 // `provenance` names the mesh (mesh_file, mesh_hash); the scene's text is taken from `scene`.
 // `steps`, when given, is written to /steps.
 void write_solution(const std::filesystem::path& h5, const mesh::Mesh& mesh, const Scene& scene,
-                    const feti::Solution& solution, const Provenance& provenance, const LoadSteps* steps = nullptr);
+                    const feti::Solution& solution, const Provenance& provenance, const LoadSteps* steps = nullptr,
+                    const RankTable* ranks = nullptr);
 
 // The bond state stored in a solution file (/interface/bonded), checked against the mesh: the
 // file must have been solved on the mesh whose hash is `mesh_hash`.

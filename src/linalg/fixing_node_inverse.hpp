@@ -43,6 +43,12 @@ class FixingNodeInverse {
   Eigen::Index n() const noexcept { return n_; }
   // Size of the scratch apply() needs: n() minus the fixed DOFs.
   Eigen::Index scratch_size() const noexcept { return static_cast<Eigen::Index>(gather_.size()); }
+  // Bytes held: the factor L (values, row indices, column starts) and the permutation.
+  std::size_t bytes() const noexcept {
+    return static_cast<std::size_t>(L_.nonZeros()) * (sizeof(double) + sizeof(SparseMatrix::StorageIndex)) +
+           static_cast<std::size_t>(L_.outerSize() + 1) * sizeof(SparseMatrix::StorageIndex) +
+           (gather_.size() + fixed_.size()) * sizeof(Eigen::Index);
+  }
 
  private:
   Eigen::Index n_ = 0;

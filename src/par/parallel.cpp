@@ -1,5 +1,8 @@
 #include "par/parallel.hpp"
 
+#include <sys/resource.h>
+
+#include <algorithm>
 #include <cstdlib>
 #include <vector>
 
@@ -128,6 +131,113 @@ long SharedCounter::next() {
   return serial_++;
 }
 
+struct Group::Impl {
+#ifdef DUALCELL_HAVE_MPI
+  MPI_Comm comm = MPI_COMM_NULL;
+  bool owned = false;  // from MPI_Comm_split: freed with the last Group that holds it
+  ~Impl() {
+    int finalised = 0;
+    MPI_Finalized(&finalised);
+    if (owned && !finalised) MPI_Comm_free(&comm);
+  }
+#endif
+};
+
+Group::Group() = default;
+
+Group Group::world() {
+  Group g;
+#ifdef DUALCELL_HAVE_MPI
+  if (par::size() > 1) {
+    g.impl_ = std::make_shared<Impl>();
+    g.impl_->comm = MPI_COMM_WORLD;
+    g.rank_ = par::rank();
+    g.size_ = par::size();
+  }
+#endif
+  return g;
+}
+
+Group Group::split(int colour) const {
+  Group g;
+#ifdef DUALCELL_HAVE_MPI
+  if (impl_) {
+    MPI_Comm part = MPI_COMM_NULL;
+    MPI_Comm_split(impl_->comm, colour, rank_, &part);
+    int r = 0, s = 1;
+    MPI_Comm_rank(part, &r);
+    MPI_Comm_size(part, &s);
+    if (s == 1) {
+      MPI_Comm_free(&part);
+      return g;
+    }
+    g.impl_ = std::make_shared<Impl>();
+    g.impl_->comm = part;
+    g.impl_->owned = true;
+    g.rank_ = r;
+    g.size_ = s;
+  }
+#else
+  (void)colour;
+#endif
+  return g;
+}
+
+void Group::gather(const double* mine, double* all, const std::vector<int>& counts,
+                   const std::vector<int>& displs) const {
+#ifdef DUALCELL_HAVE_MPI
+  if (impl_) {
+    const bool in_place = mine == all + displs[rank_];
+    MPI_Allgatherv(in_place ? MPI_IN_PLACE : mine, counts[rank_], MPI_DOUBLE, all, counts.data(), displs.data(),
+                   MPI_DOUBLE, impl_->comm);
+    return;
+  }
+#endif
+  if (mine != all + displs[0]) std::copy(mine, mine + counts[0], all + displs[0]);
+}
+
+double Group::max(double mine) const {
+#ifdef DUALCELL_HAVE_MPI
+  if (impl_) MPI_Allreduce(MPI_IN_PLACE, &mine, 1, MPI_DOUBLE, MPI_MAX, impl_->comm);
+#endif
+  return mine;
+}
+
+long Group::max(long mine) const {
+#ifdef DUALCELL_HAVE_MPI
+  if (impl_) MPI_Allreduce(MPI_IN_PLACE, &mine, 1, MPI_LONG, MPI_MAX, impl_->comm);
+#endif
+  return mine;
+}
+
+long Group::broadcast(long value, int root) const {
+#ifdef DUALCELL_HAVE_MPI
+  if (impl_) MPI_Bcast(&value, 1, MPI_LONG, root, impl_->comm);
+#else
+  (void)root;
+#endif
+  return value;
+}
+
+std::vector<double> Group::gather(const std::vector<double>& mine) const {
+  std::vector<double> all(mine.size() * size_);
+#ifdef DUALCELL_HAVE_MPI
+  if (impl_) {
+    MPI_Allgather(mine.data(), static_cast<int>(mine.size()), MPI_DOUBLE, all.data(), static_cast<int>(mine.size()),
+                  MPI_DOUBLE, impl_->comm);
+    return all;
+  }
+#endif
+  all = mine;
+  return all;
+}
+
+void Group::barrier() const {
+#ifdef DUALCELL_HAVE_MPI
+  if (impl_) MPI_Barrier(impl_->comm);
+#endif
+}
+
 void barrier() {
 #ifdef DUALCELL_HAVE_MPI
   if (size() > 1) MPI_Barrier(MPI_COMM_WORLD);
@@ -169,6 +279,12 @@ void abort_all(int code) {
   if (size() > 1) MPI_Abort(MPI_COMM_WORLD, code);
 #endif
   std::exit(code);
+}
+
+long peak_rss_bytes() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return usage.ru_maxrss * 1024L;  // Linux: KiB
 }
 
 }  // namespace dualcell::par

@@ -7,8 +7,10 @@
 // Each rank keeps its own data (its scene, mesh, solver); what crosses ranks is said here:
 // a shared counter that hands out work items in the order ranks ask for them, a barrier, and
 // the agreement on an input error that every rank must see before any work starts.
+#include <memory>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "core/error.hpp"
 
@@ -45,6 +47,36 @@ class SharedCounter {
   long serial_ = 0;
 };
 
+// The ranks that share one piece of work, e.g. the subdomains of one solve (docs/method.md §16):
+// MPI_COMM_WORLD, a part of it (split), or this process alone. Every call here is collective
+// over the group. A default Group is this process alone and never communicates, so a solver
+// given no group is the serial one.
+class Group {
+ public:
+  Group();
+  static Group world();  // every rank of the run (this process alone without a launcher)
+  // The ranks that pass the same `colour`, ordered as in this group (MPI_Comm_split).
+  Group split(int colour) const;
+  int rank() const { return rank_; }
+  int size() const { return size_; }
+  // Every rank's `mine` (counts[p] doubles on rank p) placed at all + displs[p], on every rank
+  // (MPI_Allgatherv). Only copies: what arrives is bitwise what was sent, the same on every rank.
+  // mine may be all + displs[rank()] (in place).
+  void gather(const double* mine, double* all, const std::vector<int>& counts, const std::vector<int>& displs) const;
+  double max(double mine) const;
+  long max(long mine) const;
+  // root's value, on every rank.
+  long broadcast(long value, int root) const;
+  // Every rank's `mine` (the same count on each), concatenated in rank order, on every rank.
+  std::vector<double> gather(const std::vector<double>& mine) const;
+  void barrier() const;
+
+ private:
+  struct Impl;
+  std::shared_ptr<Impl> impl_;  // null: this process alone
+  int rank_ = 0, size_ = 1;
+};
+
 void barrier();
 // Collective: the sum of `mine` over the ranks, on every rank.
 long sum(long mine);
@@ -62,5 +94,8 @@ void agree_on_error(const std::string& mine);
 
 // Stops every rank with `code` (MPI_Abort; std::exit without MPI).
 [[noreturn]] void abort_all(int code);
+
+// This process's peak resident memory so far, bytes (getrusage: ru_maxrss).
+long peak_rss_bytes();
 
 }  // namespace dualcell::par

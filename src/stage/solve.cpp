@@ -1,11 +1,15 @@
 #include "stage/solve.hpp"
 
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
+#include <optional>
 #include <sstream>
 
 #include "core/error.hpp"
+#include "io/atomic_output.hpp"
 #include "io/solution_file.hpp"
+#include "par/parallel.hpp"
 #include "stage/stage.hpp"
 
 namespace dualcell::stage {
@@ -53,32 +57,87 @@ feti::Solution solve_steps(feti::ContactSolver& solver, const Scene& scene, feti
     steps.broken.push_back(broken);
     steps.converged.push_back(s.converged() ? 1 : 0);
     steps.operator_applications.push_back(s.operator_applications);
-    std::fprintf(stderr, "dualcell-solve: step %zu/%zu, factor %g: %s, %ld F applications, %ld bonds broken\n", k + 1,
-                 loads.factors.size(), t, s.converged() ? "converged" : "NOT converged", s.operator_applications,
-                 broken);
+    if (par::rank() == 0)
+      std::fprintf(stderr, "dualcell-solve: step %zu/%zu, factor %g: %s, %ld F applications, %ld bonds broken\n", k + 1,
+                   loads.factors.size(), t, s.converged() ? "converged" : "NOT converged", s.operator_applications,
+                   broken);
   }
   return s;
+}
+
+// This rank's entry of the rank table, as doubles for one gather.
+std::vector<double> rank_entry(const feti::ContactSolver& solver, const feti::Solution& s) {
+  const feti::FetiSetup& setup = solver.setup();
+  const feti::Timings& t = s.seconds;
+  return {static_cast<double>(setup.owned_begin()),
+          static_cast<double>(setup.owned_end() - setup.owned_begin()),
+          static_cast<double>(setup.owned_dofs()),
+          static_cast<double>(setup.owned_bytes()),
+          static_cast<double>(par::peak_rss_bytes()),
+          t.assembly + t.factorisation,
+          t.qp_F + t.qp_preconditioner - t.qp_communication,
+          t.qp_communication,
+          static_cast<double>(t.exchanges),
+          t.bytes_received};
+}
+
+io::RankTable rank_table(const std::vector<double>& entries) {
+  io::RankTable table;
+  const auto count = [](double v) { return static_cast<std::int64_t>(v); };
+  for (std::size_t i = 0; i + 10 <= entries.size(); i += 10) {
+    const double* e = &entries[i];
+    table.first_subdomain.push_back(count(e[0]));
+    table.subdomains.push_back(count(e[1]));
+    table.dofs.push_back(count(e[2]));
+    table.subdomain_bytes.push_back(count(e[3]));
+    table.peak_rss_bytes.push_back(count(e[4]));
+    table.seconds_setup.push_back(e[5]);
+    table.seconds_apply.push_back(e[6]);
+    table.seconds_communication.push_back(e[7]);
+    table.exchanges.push_back(count(e[8]));
+    table.bytes_received.push_back(count(e[9]));
+  }
+  return table;
 }
 
 }  // namespace
 
 SolveOutcome run_solve(const SolveOptions& options) {
-  SceneAndMesh in = load_scene_and_mesh("dualcell-solve", options.scene_file, options.mesh_file);
+  // Every rank reads the scene, the mesh and the bond state; an input error is agreed on before
+  // any work, so that every rank stops with the same one message.
+  std::optional<SceneAndMesh> loaded;
+  Eigen::Vector3d sigma = Eigen::Vector3d::Zero();
+  std::optional<feti::BondState> bonds_read;
+  std::string problem;
+  try {
+    loaded.emplace(load_scene_and_mesh("dualcell-solve", options.scene_file, options.mesh_file));
+    const Scene& scene = loaded->scene;
+    const bool edges = scene.load.boundary == Boundary::edges;
+    if (edges && !options.stress_text.empty())
+      throw InputError("--stress " + options.stress_text + ": " + scene.file.string() +
+                       " has boundary = \"edges\": its loads and steps are in the scene; leave --stress out");
+    if (!edges && options.stress_text.empty())
+      throw InputError(scene.file.string() + ": boundary = \"" + to_string(scene.load.boundary) +
+                       "\" needs --stress sxx,syy,sxy");
+    if (!edges) sigma = parse_stress(options.stress_text);
+    if (scene.load.boundary == Boundary::symmetry && sigma(2) != 0)
+      throw InputError("--stress " + options.stress_text +
+                       ": the symmetry boundary carries only sxx and syy (sxy must be 0); use boundary = "
+                       "\"traction\" or \"periodic\" for shear");
+    if (!options.bonds_file.empty()) bonds_read = io::read_bonds(options.bonds_file, loaded->mesh, loaded->mesh_hash);
+    if (par::rank() == 0) {
+      io::AtomicOutputs probe;  // an unwritable output fails before the work, not after it
+      probe.add(options.out);
+    }
+  } catch (const InputError& e) {
+    problem = e.what();
+  }
+  par::agree_on_error(problem);
+  SceneAndMesh& in = *loaded;
   const bool edges = in.scene.load.boundary == Boundary::edges;
-  if (edges && !options.stress_text.empty())
-    throw InputError("--stress " + options.stress_text + ": " + in.scene.file.string() +
-                     " has boundary = \"edges\": its loads and steps are in the scene; leave --stress out");
-  if (!edges && options.stress_text.empty())
-    throw InputError(in.scene.file.string() + ": boundary = \"" + to_string(in.scene.load.boundary) +
-                     "\" needs --stress sxx,syy,sxy");
-  const Eigen::Vector3d sigma = edges ? Eigen::Vector3d::Zero() : parse_stress(options.stress_text);
-  if (in.scene.load.boundary == Boundary::symmetry && sigma(2) != 0)
-    throw InputError("--stress " + options.stress_text +
-                     ": the symmetry boundary carries only sxx and syy (sxy must be 0); use boundary = \"traction\" "
-                     "or \"periodic\" for shear");
-  feti::ContactSolver solver(in.mesh, in.scene, options.threads);
-  const feti::BondState bonds =
-      options.bonds_file.empty() ? solver.intact() : io::read_bonds(options.bonds_file, in.mesh, in.mesh_hash);
+  feti::ContactSolver solver(in.mesh, in.scene, options.threads, feti::FetiSetup::default_min_dofs_per_thread,
+                             par::Group::world());
+  const feti::BondState bonds = bonds_read ? *bonds_read : solver.intact();
   SolveOutcome outcome;
   if (edges) {
     outcome.steps.emplace();
@@ -86,11 +145,15 @@ SolveOutcome run_solve(const SolveOptions& options) {
   } else {
     outcome.solution = solver.solve(sigma, bonds);
   }
-  Provenance provenance;
-  provenance.mesh_file = in.mesh_file;
-  provenance.mesh_hash = in.mesh_hash;
-  io::write_solution(options.out, in.mesh, in.scene, outcome.solution, provenance,
-                     outcome.steps ? &*outcome.steps : nullptr);
+  outcome.ranks = rank_table(solver.setup().group().gather(rank_entry(solver, outcome.solution)));
+  if (par::rank() == 0) {
+    Provenance provenance;
+    provenance.mesh_file = in.mesh_file;
+    provenance.mesh_hash = in.mesh_hash;
+    io::write_solution(options.out, in.mesh, in.scene, outcome.solution, provenance,
+                       outcome.steps ? &*outcome.steps : nullptr, &outcome.ranks);
+    outcome.written = true;
+  }
   outcome.dim_u = in.mesh.dim_u();
   outcome.threads_used = solver.setup().parallel() ? solver.setup().threads() : 1;
   outcome.scene = std::move(in.scene);
@@ -149,6 +212,20 @@ void print_solve_summary(const SolveOptions& options, const SolveOutcome& outcom
   if (scene.solver.preconditioner != Preconditioner::none)
     std::printf("  preconditioner %s: %ld applications\n", to_string(scene.solver.preconditioner),
                 s.preconditioner_applications);
+  const io::RankTable& r = outcome.ranks;
+  if (r.dofs.size() > 1) {
+    std::printf(
+        "  %zu ranks: subdomain data, peak memory, and seconds (setup; applying F and M^-1: own share, "
+        "exchanges)\n",
+        r.dofs.size());
+    std::printf("  %6s %8s %10s %10s %9s %9s %9s %9s %10s\n", "rank", "subdom.", "dofs", "data MiB", "peak MiB",
+                "setup s", "apply s", "comm. s", "recv. MiB");
+    for (std::size_t p = 0; p < r.dofs.size(); ++p)
+      std::printf("  %6zu %8lld %10lld %10.1f %9.1f %9.3f %9.3f %9.3f %10.1f\n", p,
+                  static_cast<long long>(r.subdomains[p]), static_cast<long long>(r.dofs[p]),
+                  r.subdomain_bytes[p] / 1048576.0, r.peak_rss_bytes[p] / 1048576.0, r.seconds_setup[p],
+                  r.seconds_apply[p], r.seconds_communication[p], r.bytes_received[p] / 1048576.0);
+  }
 }
 
 }  // namespace dualcell::stage

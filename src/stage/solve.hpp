@@ -29,11 +29,15 @@ struct SolveOutcome {
   int dim_u = 0, threads_used = 1;
   feti::Solution solution;             // the last step's with boundary = "edges"
   std::optional<io::LoadSteps> steps;  // boundary = "edges" only
+  io::RankTable ranks;                 // one entry per rank that shared the solve
+  bool written = false;                // this rank wrote the output (rank 0)
 };
 
 // "0.01,0,-2e-3" → (σxx, σyy, σxy); anything else is an InputError quoting `text`.
 Eigen::Vector3d parse_stress(const std::string& text);
 
+// Under mpirun every rank runs this together: the subdomains are shared out over the ranks
+// (feti::FetiSetup), every rank gets the whole solution, and rank 0 writes it.
 SolveOutcome run_solve(const SolveOptions& options);
 // The one-screen summary: status, iterations, macro strain, Hill–Mandel, KKT, seconds per phase.
 void print_solve_summary(const SolveOptions& options, const SolveOutcome& outcome);

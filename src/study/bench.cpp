@@ -17,7 +17,6 @@
 #include "study/bench.hpp"
 
 #include <omp.h>
-#include <sys/resource.h>
 
 #include <algorithm>
 #include <chrono>
@@ -29,6 +28,7 @@
 #include "core/json.hpp"
 #include "feti/solver.hpp"
 #include "io/atomic_output.hpp"
+#include "par/parallel.hpp"
 #include "study/monolithic.hpp"
 
 namespace dualcell::study {
@@ -54,12 +54,6 @@ Scene block(int cells, int degree, Preconditioner preconditioner = Preconditione
   s.solver.preconditioner = preconditioner;
   validate(s);
   return s;
-}
-
-long peak_rss_bytes() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return usage.ru_maxrss * 1024L;
 }
 
 std::string format(const char* pattern, auto... values) {
@@ -213,7 +207,7 @@ Floor run_floor(int threads, bool quick) {
   for (std::size_t i = 0; i < cases.size(); ++i) {
     const auto [n, k, element] = cases[i];
     Run r = contact(n, k, threads, Preconditioner::none, element);
-    const long rss = peak_rss_bytes();
+    const long rss = par::peak_rss_bytes();
     const Scene bonded = block(n, k, Preconditioner::none, 1e12, element);
     const mesh::Mesh m = mesh::build_mesh(bonded.geometry);
     double cholesky = 0;  // same mesh and load (the load does not depend on the bonds)

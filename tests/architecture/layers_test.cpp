@@ -21,7 +21,7 @@ const std::map<std::string, std::set<std::string>> allowed = {
     {"qp", {}},
     {"mesh", {"core"}},
     {"fem", {"core", "mesh"}},
-    {"feti", {"core", "mesh", "fem", "linalg", "qp", "law"}},
+    {"feti", {"core", "mesh", "fem", "linalg", "qp", "law", "par"}},
     {"sweep", {"core", "feti"}},
     {"law", {"core"}},
     {"structure", {"core", "fem", "linalg", "law"}},
@@ -29,7 +29,7 @@ const std::map<std::string, std::set<std::string>> allowed = {
     {"fit", {"core", "sweep", "law", "io"}},
     {"par", {"core"}},
     {"stage", {"core", "mesh", "feti", "sweep", "law", "io", "fit", "structure", "par"}},
-    {"study", {"core", "mesh", "fem", "linalg", "feti", "io"}},
+    {"study", {"core", "mesh", "fem", "linalg", "feti", "io", "par"}},
     {"umat", {}},  // C for other FE codes: includes nothing of the project
 };
 
