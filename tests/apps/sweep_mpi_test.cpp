@@ -14,18 +14,8 @@ namespace dualcell {
 namespace {
 
 using testing::bin;
+using testing::mpiexec;
 using testing::run_command;
-
-// OpenMPI refuses root unless told twice (CI runs as root); every run is bounded (no hang).
-// Under the sanitizers the ranks run without leak checking: OpenMPI's plugins, unloaded at
-// MPI_Finalize, leave allocations LeakSanitizer can neither free nor name (measured: 14 direct
-// leaks in "unknown module"s per rank); address and undefined-behaviour checks stay on, and
-// the same sweep code is leak-checked in the serial tests.
-std::string mpiexec(int ranks) {
-  return "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 ASAN_OPTIONS=detect_leaks=0 timeout 300 mpiexec "
-         "-n " +
-         std::to_string(ranks) + " --oversubscribe ";
-}
 
 class SweepMpi : public ::testing::Test {
  protected:
