@@ -12,6 +12,9 @@ usage:
                                              deformed mesh coloured by σxx, fused cells outlined
                                              in red; beside it the load factor against the watch
                                              node's displacement over the steps
+  plot.py scaling MODEL.csv OUTBASE          one solve over MPI ranks, weak scaling (bench_mpi.py's
+                                             model): seconds per solve by part and the efficiency,
+                                             replicated lambda (dualcell) and partitioned (projected)
   plot.py last-stress SWEEP.h5               prints "sxx,syy,sxy" of the last step of path 000
 
 Writes OUTBASE.png and OUTBASE.svg, each to a temporary name first and renamed when complete.
@@ -309,6 +312,31 @@ def structure(h5, outbase):
     gnuplot(script, outbase, data)
 
 
+def scaling(table, outbase):
+    rows = [line.strip().split(",") for line in open(table) if line.strip()]
+    header, rows = rows[0], rows[1:]
+    col = {name: i for i, name in enumerate(header)}
+    data, plots = {}, []
+    parts = ("setup", "compute", "vector", "coarse", "communication", "total")
+    for kind, dt in (("replicated", 1), ("partitioned", 2)):
+        rs = [r for r in rows if r[col["kind"]] == kind]
+        data[f"{kind}.dat"] = "".join(" ".join([r[col["ranks"]]] + [r[col[p]] for p in parts] + [r[col["efficiency"]]])
+                                      + "\n" for r in rs)
+        for i, part in enumerate(parts):
+            if kind == "partitioned" and part != "total":
+                continue
+            plots.append(f"'{kind}.dat' using 1:{i + 2} axes x1y1 with linespoints dt {dt} pt {i + 4} lc {i + 1} "
+                         f"title '{kind}: {part}'")
+        plots.append(f"'{kind}.dat' using 1:8 axes x1y2 with linespoints dt {dt} lw 3 pt 7 lc 8 "
+                     f"title '{kind}: efficiency (right)'")
+    script = ("set title 'One solve over MPI ranks, weak scaling (model from measured unit costs)'\n"
+              "set logscale x 2\nset logscale y\nset xlabel 'ranks (subdomains per rank fixed)'\n"
+              "set ylabel 'seconds per solve'\nset y2label 'efficiency T(1)/T(P)'\nset y2range [0:1.05]\n"
+              "set y2tics\nset ytics nomirror\nset grid\nset key outside right\nplot "
+              + ", \\\n  ".join(plots) + "\n")
+    gnuplot(script, outbase, data)
+
+
 def main():
     if len(sys.argv) < 3:
         sys.exit(__doc__)
@@ -318,7 +346,7 @@ def main():
     if len(sys.argv) != 4:
         sys.exit(__doc__)
     {"stress-strain": stress_strain, "polar": polar, "deformed": deformed, "work-precision": work_precision,
-     "accuracy": accuracy, "structure": structure}[kind](sys.argv[2], sys.argv[3])
+     "accuracy": accuracy, "structure": structure, "scaling": scaling}[kind](sys.argv[2], sys.argv[3])
 
 
 if __name__ == "__main__":

@@ -252,8 +252,9 @@ Eigen::VectorXd DualProblem::d(const Eigen::VectorXd& f, double t) const {
     subs[s].apply_K_plus(local.y, local.x, local.K_plus_scratch);
     local.z.noalias() = local.B * local.x;
   });
-  Eigen::VectorXd d = -t * constraints_.c;
+  Eigen::VectorXd d = Eigen::VectorXd::Zero(n_rows());
   add_row_sums(d, false);
+  d -= t * constraints_.c;  // after the sum, so that its order is the same on any number of ranks
   return d;
 }
 

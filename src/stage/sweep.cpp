@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -61,7 +62,12 @@ SweepSummary run_sweep(const SweepOptions& options) {
   header.provenance.solver_options = solver_options_text(scene);
   header.constituents = constituents(scene);
   const auto t0 = Clock::now();
-  feti::ContactSolver solver(in.mesh, scene, options.threads);
+  // Groups of ranks_per_path consecutive ranks share one solver; the group's first rank (its
+  // leader) takes the paths, journals them and reports, the others follow it.
+  const int ranks = par::size();
+  const par::Group group = par::Group::world().split(par::rank() / std::max(1, options.ranks_per_path));
+  const bool leader = group.rank() == 0;
+  feti::ContactSolver solver(in.mesh, scene, options.threads, feti::FetiSetup::default_min_dofs_per_thread, group);
   // Three unit solves with every bond lifted; the sweep's own onsets are checked against it in
   // the fit. Nothing to compute without adhesion. Every rank has it (the journal's header).
   header.onset = solver.onset_surface();
@@ -71,17 +77,19 @@ SweepSummary run_sweep(const SweepOptions& options) {
   // bracket is bisected), each computed path journaled at once by the rank that computed it.
   // Each path starts from a cleared solver (run_path), so its numbers do not depend on which
   // rank solved it or what that rank solved before: any P gives the serial sweep.h5.
-  const int ranks = par::size();
   SweepSummary summary;
   std::map<int, sweep::PathResult> computed_here;
   long computed = 0, total_steps = 0, done_steps = 0;
   for (const auto& spec : specs) total_steps += static_cast<long>(spec.loads.size());
   {
     par::SharedCounter next_path;
-    for (long i = next_path.next(); i < static_cast<long>(specs.size()); i = next_path.next()) {
+    const auto next = [&] { return group.broadcast(leader ? next_path.next() : 0, 0); };
+    for (long i = next(); i < static_cast<long>(specs.size()); i = next()) {
       const sweep::PathSpec& spec = specs[i];
-      if (io::read_part(options.out, spec.index, header)) {
-        ++summary.resumed;
+      // Whether the journal has the path: the leader's view for the whole group, so that no
+      // rank of it starts a solve the others skip.
+      if (group.broadcast(leader && io::read_part(options.out, spec.index, header) ? 1 : 0, 0)) {
+        if (leader) ++summary.resumed;
         done_steps += static_cast<long>(spec.loads.size());
         continue;
       }
@@ -96,6 +104,7 @@ SweepSummary run_sweep(const SweepOptions& options) {
                      p.index + 1, specs.size(), path_kind(p), p.direction_deg, step + 1, s.load, s.broken_bonds, eta);
       };
       sweep::PathResult result = sweep::run_path(solver, spec, scene.sweep.fuse_tolerance, progress);
+      if (!leader) continue;
       io::write_part(options.out, result, header);
       if (options.progress && ranks > 1)
         std::fprintf(stderr, "dualcell-sweep: rank %d/%d: path %d/%zu (%s %g deg) done, %.0f s\n", par::rank(), ranks,
@@ -103,8 +112,11 @@ SweepSummary run_sweep(const SweepOptions& options) {
                      std::chrono::duration<double>(Clock::now() - t0).count());
       done_steps += static_cast<long>(spec.loads.size());
       if (par::rank() == 0) computed_here.emplace(spec.index, std::move(result));
-      // The test hook kills one rank only, the last (the only one without MPI), as kill -9 would.
-      if (options.interrupt_after > 0 && par::rank() == ranks - 1 && ++computed >= options.interrupt_after) _exit(137);
+      // The test hook kills one rank only, the last group's leader (the only rank without MPI),
+      // as kill -9 would.
+      const int last_leader = (ranks - 1) / std::max(1, options.ranks_per_path) * std::max(1, options.ranks_per_path);
+      if (options.interrupt_after > 0 && par::rank() == last_leader && ++computed >= options.interrupt_after)
+        _exit(137);
     }
   }
   summary.resumed = static_cast<int>(par::sum(summary.resumed));

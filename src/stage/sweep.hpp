@@ -3,14 +3,18 @@
 // (setup once for the whole sweep), each finished path journaled at once in <out>.parts/ so that
 // an interrupted run, even by kill -9, resumes where it stopped and ends with the same sweep.h5;
 // progress with an ETA on stderr when it is a terminal. Under mpirun the paths are handed out
-// to the ranks as they ask for them, and rank 0 writes sweep.h5 (docs/method.md §16).
+// to the ranks (or groups of ranks_per_path ranks) as they ask for them, and rank 0 writes
+// sweep.h5 (docs/method.md §16).
 #include <string>
 
 namespace dualcell::stage {
 
 struct SweepOptions {
   std::string scene_file, mesh_file, out;
-  int threads = 0;           // 0 = all OpenMP offers; results do not depend on it
+  int threads = 0;  // 0 = all OpenMP offers; results do not depend on it
+  // Under mpirun: the ranks that solve one path together, sharing its subdomains (a path too
+  // large for one rank); the groups take paths as single ranks do. Results do not depend on it.
+  int ranks_per_path = 1;
   bool progress = false;     // progress line on stderr
   long interrupt_after = 0;  // tests of the resume: the last rank _exit(137)s after this many computed paths
 };

@@ -1,13 +1,12 @@
 // dualcell-solve under mpiexec (1, 2, 3 ranks, oversubscribed on this 2-core machine): the
 // subdomains are shared out over the ranks, λ is replicated, and rank 0 writes solution.h5.
-// Any number of ranks gives the serial solution to 1e-12 with the same iteration counts (the
-// row sums of F are added in the same order as serially, but for rows touched by several
-// subdomains of one rank, where the grouping of the additions may differ: round-off, ~1e-16
-// relative per application, amplified by at most the QP's conditioning over a few hundred
-// steps, stays far below 1e-12); a fixed number of ranks repeats itself bit for bit; a rank's
-// memory holds only its share of the subdomain data, so a problem too large for one process
-// under a memory limit solves on two; bad input stops every rank with one message.
-// Skipped in a build without MPI or without mpiexec.
+// Any number of ranks gives the serial solution to 1e-12 with the same iteration counts, the
+// contract of docs/method.md §16 (by construction the bits are the serial ones: a row of B
+// couples at most two subdomains, so the ranks' row sums added in rank order are the serial
+// sums; the tolerance leaves room for a B that couples more); a fixed number of ranks repeats
+// itself bit for bit; a rank's memory holds only its share of the subdomain data, so a problem
+// too large for one process under a memory limit solves on two; bad input stops every rank
+// with one message. Skipped in a build without MPI or without mpiexec.
 #include <gtest/gtest.h>
 
 #include <algorithm>
