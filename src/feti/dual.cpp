@@ -245,6 +245,8 @@ void DualProblem::apply_Q(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
 }
 
 Eigen::VectorXd DualProblem::d(const Eigen::VectorXd& f, double t) const {
+  // Timed with F: one application of B K⁺, whose exchange counts in `communication` like F's.
+  const ScopedTimer timer(profile_.F);
   const auto& subs = setup_.subdomains();
   setup_.for_each_subdomain([&](int s) {
     const Local& local = locals_[s];

@@ -75,7 +75,7 @@ class DualProblem {
   void apply_preconditioner(const Eigen::VectorXd& x, Eigen::VectorXd& y) const;
   // y = Q x = Gᵀ(GGᵀ)⁻¹G x.
   void apply_Q(const Eigen::VectorXd& x, Eigen::VectorXd& y) const;
-  // Wall time spent in apply_F, apply_Q and apply_preconditioner since construction (a
+  // Wall time spent in apply_F (and d), apply_Q and apply_preconditioner since construction (a
   // profile for the performance report; one clock read per call, nothing per subdomain), and
   // of that the time in the exchanges between ranks, their count and the bytes this rank
   // received (zero on one rank).
