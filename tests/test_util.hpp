@@ -6,7 +6,9 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
+#include <vector>
 
 namespace dualcell::testing {
 
@@ -62,6 +64,32 @@ inline std::string mpiexec(int ranks) {
          std::to_string(ranks) + " --oversubscribe ";
 }
 inline std::string source_dir() { return DUALCELL_SOURCE_DIR; }
+
+// How many times `what` occurs in `text` (e.g. an error line that must be printed once).
+inline std::size_t occurrences(const std::string& text, const std::string& what) {
+  std::size_t count = 0;
+  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++count;
+  return count;
+}
+
+// The differences h5diff reports between two HDF5 files, one line each, but those naming a
+// dataset or attribute that contains one of `ignored` (e.g. measured seconds); "" when the
+// files are the same apart from those. Objects h5diff cannot compare count as differences.
+inline std::string h5diff_except(const std::filesystem::path& a, const std::filesystem::path& b,
+                                 const std::vector<std::string>& ignored) {
+  const CommandResult r = run_command("h5diff " + a.string() + " " + b.string());
+  if (r.exit_code > 1 || r.exit_code < 0) return "h5diff failed: " + r.output;
+  std::istringstream lines(r.output);
+  std::string line, other;
+  while (std::getline(lines, line)) {
+    const bool difference = line.rfind("dataset:", 0) == 0 || line.rfind("attribute:", 0) == 0 ||
+                            line.find("not comparable") != std::string::npos;
+    bool wanted = difference;
+    for (const std::string& name : ignored) wanted = wanted && line.find(name) == std::string::npos;
+    if (wanted) other += line + "\n";
+  }
+  return other;
+}
 
 // A small valid scene with inline materials; `extra` is appended (tables or keys); `element`
 // ("p1", "p2") is written into [geometry] when given.

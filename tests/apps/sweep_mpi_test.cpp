@@ -6,8 +6,6 @@
 // Skipped in a build without MPI or without mpiexec.
 #include <gtest/gtest.h>
 
-#include <sstream>
-
 #include "par/parallel.hpp"
 #include "test_util.hpp"
 
@@ -41,19 +39,9 @@ class SweepMpi : public ::testing::Test {
     return launcher + bin("dualcell-sweep") + " --quiet --threads 1 --config " + scene_.string() + " --mesh " +
            mesh_.string() + " --out ";
   }
-  // h5diff's report of the two files: every difference must be a /paths/NNN/seconds dataset.
+  // Every difference from the serial file must be a /paths/NNN/seconds dataset.
   std::string differences_but_seconds(const std::string& file) const {
-    const auto r = run_command("h5diff " + (dir_ / "serial.h5").string() + " " + (dir_ / file).string());
-    std::istringstream lines(r.output);
-    std::string line, other;
-    while (std::getline(lines, line))
-      if (line.rfind("dataset:", 0) == 0 || line.rfind("attribute:", 0) == 0 ||
-          line.find("not comparable") != std::string::npos)
-        if (line.find("/seconds>") == std::string::npos) {
-          other += line;
-          other += '\n';
-        }
-    return r.exit_code > 1 ? "h5diff failed: " + r.output : other;
+    return testing::h5diff_except(dir_ / "serial.h5", dir_ / file, {"/seconds>"});
   }
   testing::ScratchDir dir_;
   std::filesystem::path scene_, mesh_;
@@ -93,11 +81,7 @@ TEST_F(SweepMpi, BadInputStopsEveryRankWithOneMessage) {
   const auto r = run_command(mpiexec(3) + bin("dualcell-sweep") + " --quiet --config " + scene_.string() + " --mesh " +
                              (dir_ / "absent.h5").string() + " --out " + (dir_ / "x.h5").string());
   EXPECT_EQ(r.exit_code, 1) << r.output;
-  std::size_t count = 0;
-  for (std::size_t at = r.output.find("dualcell-sweep: error:"); at != std::string::npos;
-       at = r.output.find("dualcell-sweep: error:", at + 1))
-    ++count;
-  EXPECT_EQ(count, 1u) << r.output;
+  EXPECT_EQ(testing::occurrences(r.output, "dualcell-sweep: error:"), 1u) << r.output;
   EXPECT_NE(r.output.find("absent.h5"), std::string::npos) << r.output;
   EXPECT_FALSE(std::filesystem::exists(dir_ / "x.h5"));
 }
