@@ -35,7 +35,7 @@ class ScratchDir {
 };
 
 struct CommandResult {
-  int exit_code = -1;
+  int exit_code = -1;  // -1: could not be run
   std::string output;  // stdout and stderr together
 };
 
@@ -46,7 +46,9 @@ inline CommandResult run_command(const std::string& command) {
   char buffer[4096];
   while (std::fgets(buffer, sizeof buffer, pipe)) result.output += buffer;
   const int status = ::pclose(pipe);
-  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  // A command killed by a signal reports 128 + its number, as the shell does (kill -9: 137),
+  // whether the shell ran it as a child or replaced itself with it.
+  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : WIFSIGNALED(status) ? 128 + WTERMSIG(status) : -1;
   return result;
 }
 

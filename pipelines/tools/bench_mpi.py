@@ -91,9 +91,13 @@ def sweep(args):
         times = timed(["mpiexec", "-n", str(p), "--oversubscribe"], out)
         rows.append((f"mpiexec -n {p}", p, times, same_but_seconds(serial_out, out)))
     base = min(rows[0][2])
+    with h5py.File(serial_out, "r") as f:
+        paths = len(f["/paths"])
+        fuses = sum(1 for name in f["/paths"] if "fuse" in f["/paths"][name])
     csv = ["run,ranks,seconds_min,seconds_median,speedup,efficiency,oversubscribed,same_as_serial"]
     md = ["# Strong scaling of a sweep over MPI ranks", "",
-          f"Scene {os.path.basename(scene)}, one thread per rank, best of {repeat} runs; the machine has {cores} cores.",
+          f"Scene {os.path.basename(scene)}: {paths} paths, {fuses} of them with a fuse; one thread per rank, best of "
+          f"{repeat} runs; the machine has {cores} cores.",
           "Speed-up and efficiency against the serial run (no launcher); oversubscribed runs share cores.", "",
           "| run | ranks | seconds (min) | seconds (median) | speed-up | efficiency | oversubscribed | sweep.h5 = serial but seconds |",
           "|---|---|---|---|---|---|---|---|"]

@@ -16,7 +16,7 @@ struct SweepOptions {
   // large for one rank); the groups take paths as single ranks do. Results do not depend on it.
   int ranks_per_path = 1;
   bool progress = false;     // progress line on stderr
-  long interrupt_after = 0;  // tests of the resume: the last rank _exit(137)s after this many computed paths
+  long interrupt_after = 0;  // tests of the resume: the last rank SIGKILLs itself after this many computed paths
 };
 
 struct SweepSummary {

@@ -68,7 +68,7 @@ TEST_F(SweepMpi, GroupsOfRanksSharingAPathWriteTheSerialSweep) {
 
 TEST_F(SweepMpi, KillingOneRankAndRunningAgainResumesToTheSameSweep) {
   const std::string out = (dir_ / "killed.h5").string();
-  // The last of three ranks dies after its first path, as under kill -9; mpiexec stops the rest.
+  // The last of three ranks gets SIGKILL (kill -9) after its first path; mpiexec stops the rest.
   const auto killed = run_command(sweep_command(mpiexec(3)) + out + " --interrupt-after-paths 1");
   EXPECT_NE(killed.exit_code, 0) << killed.output;
   EXPECT_FALSE(std::filesystem::exists(out));

@@ -86,7 +86,7 @@ TEST(SweepStage, ResumesAfterAHardStopWithIdenticalData) {
   testing::ScratchDir dir;
   const auto scene = make_mesh(dir, paths_scene);
   ASSERT_EQ(run_command(sweep_command(scene, dir, "whole.h5")).exit_code, 0);
-  // Stop dead after two finished paths, as kill -9 would: no final file, two parts.
+  // SIGKILL (kill -9) after two finished paths: no final file, two parts.
   const auto stopped = run_command(sweep_command(scene, dir, "resumed.h5") + " --interrupt-after-paths 2");
   EXPECT_EQ(stopped.exit_code, 137) << stopped.output;
   EXPECT_FALSE(std::filesystem::exists(dir / "resumed.h5"));
