@@ -60,10 +60,10 @@ inline std::string bin(const std::string& stage) { return std::string(DUALCELL_B
 // MPI_Finalize, leave allocations LeakSanitizer can neither free nor name (measured: 14 direct
 // leaks in "unknown module"s per rank); address and undefined-behaviour checks stay on, and
 // the same code is leak-checked in the serial tests.
-inline std::string mpiexec(int ranks) {
-  return "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 ASAN_OPTIONS=detect_leaks=0 timeout 300 mpiexec "
-         "-n " +
-         std::to_string(ranks) + " --oversubscribe ";
+// A run that outlives `seconds` is stopped and exits with 124 (timeout's code).
+inline std::string mpiexec(int ranks, int seconds = 300) {
+  return "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 ASAN_OPTIONS=detect_leaks=0 timeout " +
+         std::to_string(seconds) + " mpiexec -n " + std::to_string(ranks) + " --oversubscribe ";
 }
 inline std::string source_dir() { return DUALCELL_SOURCE_DIR; }
 

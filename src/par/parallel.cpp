@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <exception>
 #include <vector>
 
 #ifdef DUALCELL_HAVE_MPI
@@ -111,7 +112,10 @@ SharedCounter::SharedCounter() : impl_(nullptr) {
 SharedCounter::~SharedCounter() {
 #ifdef DUALCELL_HAVE_MPI
   if (impl_) {
-    MPI_Win_free(&impl_->window);
+    // MPI_Win_free is collective: on the way out of an error that this rank alone met, the
+    // others would never join it and the rank would wait here instead of reaching run_stage's
+    // MPI_Abort. The window goes with the job then.
+    if (std::uncaught_exceptions() == 0) MPI_Win_free(&impl_->window);
     delete impl_;
   }
 #endif
@@ -138,7 +142,8 @@ struct Group::Impl {
   ~Impl() {
     int finalised = 0;
     MPI_Finalized(&finalised);
-    if (owned && !finalised) MPI_Comm_free(&comm);
+    // Collective like MPI_Win_free (see ~SharedCounter): skipped on the way out of an error.
+    if (owned && !finalised && std::uncaught_exceptions() == 0) MPI_Comm_free(&comm);
   }
 #endif
 };

@@ -77,6 +77,21 @@ TEST_F(SweepMpi, KillingOneRankAndRunningAgainResumesToTheSameSweep) {
   EXPECT_EQ(differences_but_seconds("killed.h5"), "");
 }
 
+// An error that one rank meets alone in the middle of the sweep stops every rank with its
+// message, instead of leaving the others waiting for it for ever. Here the leader of a group
+// of two cannot journal its first path (the journal's folder is taken by a file): its partner
+// waits for it inside the path hand-out, and it must not wait in turn for the others to free
+// the hand-out's shared counter (a collective) on its way to stopping them all.
+TEST_F(SweepMpi, AnErrorOfOneRankInTheMiddleStopsEveryRank) {
+  const auto out = dir_ / "blocked.h5";
+  dir_.write("blocked.h5.parts", "a file where the journal's folder goes\n");
+  const auto r = run_command(mpiexec(3, 60) + sweep_command("") + out.string() + " --ranks-per-path 2");
+  EXPECT_NE(r.exit_code, 124) << "a rank waited for ever:\n" << r.output;
+  EXPECT_NE(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("blocked.h5.parts"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(out));
+}
+
 TEST_F(SweepMpi, BadInputStopsEveryRankWithOneMessage) {
   const auto r = run_command(mpiexec(3) + bin("dualcell-sweep") + " --quiet --config " + scene_.string() + " --mesh " +
                              (dir_ / "absent.h5").string() + " --out " + (dir_ / "x.h5").string());
