@@ -99,6 +99,12 @@ int node_at(const mesh::Mesh& mesh, const Eigen::Vector2d& x, const std::string&
   throw InputError(what + " at (" + shortest(x(0)) + ", " + shortest(x(1)) + "): no node of the mesh there");
 }
 
+void check_positions(const mesh::Mesh& mesh, const EdgeLoads& loads) {
+  for (const Support& support : loads.supports) node_at(mesh, support.at, "support");
+  for (const PointLoad& p : loads.point_loads) node_at(mesh, p.at, "point load");
+  node_at(mesh, loads.watch, "[output] watch");
+}
+
 namespace {
 
 class RowBuilder {

@@ -63,6 +63,9 @@ extern const std::array<int, 4> edge_sides;
 // A node of the mesh at x (within 1e-9 of the block's size), for supports, point loads and the
 // watch point of Boundary::edges; an InputError naming `what` and x when there is none.
 int node_at(const mesh::Mesh& mesh, const Eigen::Vector2d& x, const std::string& what);
+// node_at for every position `loads` names (supports, point loads, the watch point): a scene's
+// positions checked against its mesh while the inputs are read, before any work.
+void check_positions(const mesh::Mesh& mesh, const EdgeLoads& loads);
 
 Constraints build_constraints(const mesh::Mesh& mesh, const Scene& scene, const BondState& bonds);
 

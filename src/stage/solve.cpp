@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "feti/constraints.hpp"
 #include "io/atomic_output.hpp"
 #include "io/solution_file.hpp"
 #include "par/parallel.hpp"
@@ -119,6 +120,7 @@ SolveOutcome run_solve(const SolveOptions& options) {
     if (!edges && options.stress_text.empty())
       throw InputError(scene.file.string() + ": boundary = \"" + to_string(scene.load.boundary) +
                        "\" needs --stress sxx,syy,sxy");
+    if (edges) feti::check_positions(loaded->mesh, scene.load.edge_loads);
     if (!edges) sigma = parse_stress(options.stress_text);
     if (scene.load.boundary == Boundary::symmetry && sigma(2) != 0)
       throw InputError("--stress " + options.stress_text +

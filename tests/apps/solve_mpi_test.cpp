@@ -176,6 +176,24 @@ TEST_F(SolveMpi, AProblemTooLargeForOneProcessUnderAMemoryLimitSolvesOnTwoRanks)
   EXPECT_EQ(compare_with_serial("two.h5", {"/solution/u", "/interface/lambda"}), "");
 }
 
+// A position of a resolved structure's scene that is not a node of its mesh is an input error
+// found while the inputs are read, before any rank starts work: one message, exit 1.
+TEST_F(SolveMpi, APositionOffTheMeshStopsEveryRankWithOneMessage) {
+  scene_ = dir_.write("s.toml", testing::scene_text(2, 1, 1, 0.3,
+                                                    "[load]\nboundary = \"edges\"\n[edges.left]\ntype = \"fixed\"\n"
+                                                    "[edges.right]\ntype = \"traction\"\ntraction = [0, -0.01]\n"
+                                                    "[output]\nwatch = [1.5, 0.123]\n"));
+  mesh_ = dir_ / "mesh.h5";
+  ASSERT_EQ(
+      run_command(bin("dualcell-mesh") + " --quiet --config " + scene_.string() + " --out " + mesh_.string()).exit_code,
+      0);
+  const auto r = run_command(solve_command(mpiexec(3)) + (dir_ / "x.h5").string());
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_EQ(testing::occurrences(r.output, "dualcell-solve: error:"), 1u) << r.output;
+  EXPECT_NE(r.output.find("[output] watch at (1.5, 0.123): no node of the mesh there"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir_ / "x.h5"));
+}
+
 TEST_F(SolveMpi, BadInputStopsEveryRankWithOneMessage) {
   prepare(debonding_block, debonding_stress);
   const auto r =
