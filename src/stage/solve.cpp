@@ -38,9 +38,10 @@ Eigen::Vector3d parse_stress(const std::string& text) {
 namespace {
 
 // The load steps of a block with boundary = "edges", bonds carried from step to step (breaks
-// are irreversible); progress per step on stderr.
-feti::Solution solve_steps(feti::ContactSolver& solver, const Scene& scene, feti::BondState bonds,
-                           io::LoadSteps& steps) {
+// are irreversible); progress per step on stderr. `work` gets every step's QP seconds and
+// exchanges added (the last step's solution has only its own).
+feti::Solution solve_steps(feti::ContactSolver& solver, const Scene& scene, feti::BondState bonds, io::LoadSteps& steps,
+                           feti::Timings& work) {
   const EdgeLoads& loads = scene.load.edge_loads;
   const int watch = feti::node_at(solver.setup().mesh(), loads.watch, "[output] watch");
   steps.first_break_factor = solver.debond_onset(Eigen::Vector3d(1, 0, 0));
@@ -50,6 +51,7 @@ feti::Solution solve_steps(feti::ContactSolver& solver, const Scene& scene, feti
     const double t = loads.factors[k];
     s = solver.solve(Eigen::Vector3d(t, 0, 0), bonds, k > 0 ? &s.lambda : nullptr);
     bonds = s.bonds;
+    work.add_qp(s.seconds);
     long broken = 0;
     for (std::size_t p = 0; p < bonds.size(); ++p) broken += intact[p] != 0 && bonds[p] == 0;
     steps.factor.push_back(t);
@@ -66,16 +68,16 @@ feti::Solution solve_steps(feti::ContactSolver& solver, const Scene& scene, feti
   return s;
 }
 
-// This rank's entry of the rank table, as doubles for one gather.
-std::vector<double> rank_entry(const feti::ContactSolver& solver, const feti::Solution& s) {
+// This rank's entry of the rank table, as doubles for one gather; `t` holds the QP work of the
+// whole run (every load step's).
+std::vector<double> rank_entry(const feti::ContactSolver& solver, const feti::Timings& t) {
   const feti::FetiSetup& setup = solver.setup();
-  const feti::Timings& t = s.seconds;
   return {static_cast<double>(setup.owned_begin()),
           static_cast<double>(setup.owned_end() - setup.owned_begin()),
           static_cast<double>(setup.owned_dofs()),
           static_cast<double>(setup.owned_bytes()),
           static_cast<double>(par::peak_rss_bytes()),
-          t.assembly + t.factorisation,
+          setup.seconds_assembly + setup.seconds_factorisation,
           t.qp_F + t.qp_preconditioner - t.qp_communication,
           t.qp_communication,
           static_cast<double>(t.exchanges),
@@ -141,13 +143,15 @@ SolveOutcome run_solve(const SolveOptions& options) {
                              par::Group::world());
   const feti::BondState bonds = bonds_read ? *bonds_read : solver.intact();
   SolveOutcome outcome;
+  feti::Timings work;
   if (edges) {
     outcome.steps.emplace();
-    outcome.solution = solve_steps(solver, in.scene, bonds, *outcome.steps);
+    outcome.solution = solve_steps(solver, in.scene, bonds, *outcome.steps, work);
   } else {
     outcome.solution = solver.solve(sigma, bonds);
+    work = outcome.solution.seconds;
   }
-  outcome.ranks = rank_table(solver.setup().group().gather(rank_entry(solver, outcome.solution)));
+  outcome.ranks = rank_table(solver.setup().group().gather(rank_entry(solver, work)));
   if (par::rank() == 0) {
     Provenance provenance;
     provenance.mesh_file = in.mesh_file;

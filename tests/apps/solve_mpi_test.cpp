@@ -135,6 +135,10 @@ TEST_F(SolveMpi, AResolvedStructureOnTwoRanksGivesTheSerialSteps) {
   EXPECT_EQ(a.read_ints("/steps/operator_applications", {3}), b.read_ints("/steps/operator_applications", {3}));
   EXPECT_EQ(a.read_ints("/steps/broken", {3}), b.read_ints("/steps/broken", {3}));
   EXPECT_GT(a.read_ints("/steps/broken", {3})[1], 0) << "the second step must break bonds";
+  // The rank table counts the exchanges of every step, at least one per F application.
+  const auto applications = b.read_ints("/steps/operator_applications", {3});
+  for (auto e : b.read_ints("/ranks/exchanges", {2}))
+    EXPECT_GE(e, std::accumulate(applications.begin(), applications.end(), std::int64_t{0}));
 }
 
 // Two runs on the same number of ranks write the same file, bit for bit but for the timings and
