@@ -30,7 +30,10 @@ Session::Session() {
   int already = 0;
   MPI_Initialized(&already);
   if (!already && launched()) {
-    MPI_Init(nullptr, nullptr);
+    // OpenMP threads share the subdomain work of a rank, but only the thread that started the
+    // stage calls MPI (between parallel regions): MPI_THREAD_FUNNELED, which OpenMPI provides.
+    int provided = MPI_THREAD_SINGLE;
+    MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
     initialised_here = true;
   }
 #endif
