@@ -138,6 +138,15 @@ long SharedCounter::next() {
   return serial_++;
 }
 
+void SharedCounter::serve() const {
+#ifdef DUALCELL_HAVE_MPI
+  if (impl_) {
+    int flag = 0;  // a probe only (nothing is ever sent point to point): it runs MPI's progress
+    MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, MPI_STATUS_IGNORE);
+  }
+#endif
+}
+
 struct Group::Impl {
 #ifdef DUALCELL_HAVE_MPI
   MPI_Comm comm = MPI_COMM_NULL;

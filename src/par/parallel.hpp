@@ -40,6 +40,11 @@ class SharedCounter {
   SharedCounter(const SharedCounter&) = delete;
   SharedCounter& operator=(const SharedCounter&) = delete;
   long next();
+  // Lets MPI serve the other ranks' next() now. Over transports without hardware atomics (TCP:
+  // OpenMPI's pt2pt one-sided component) a fetch-and-add is served only while the counter's
+  // rank (0) is inside an MPI call, so rank 0 calls this now and then in its own work; else
+  // a free rank could wait for a path until rank 0 finished its own.
+  void serve() const;
 
  private:
   struct Impl;

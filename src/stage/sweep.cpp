@@ -93,6 +93,7 @@ SweepSummary run_sweep(const SweepOptions& options) {
         continue;
       }
       const auto progress = [&](const sweep::PathSpec& p, int step, const sweep::Step& s) {
+        if (par::rank() == 0) next_path.serve();  // after every step: the others' next path
         if (!options.progress || ranks > 1) return;
         const double elapsed = std::chrono::duration<double>(Clock::now() - t0).count();
         // Work done: finished paths' steps plus this path's share by load (bisection steps for
