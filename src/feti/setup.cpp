@@ -89,7 +89,6 @@ FetiSetup::FetiSetup(const mesh::Mesh& mesh, const Scene& scene, int threads, in
   owned_end_ = static_cast<int>(
       std::find_if(owner_.begin() + owned_begin_, owner_.end(), [&](int r) { return r != group_.rank(); }) -
       owner_.begin());
-  parallel_ = threads_ > 1 && owned_dofs() >= static_cast<long>(min_dofs_per_thread) * threads_;
   // Every rank knows every subdomain's place and rigid modes (G is built from them); the
   // stiffness only where it is owned.
   for (int s = 0; s < S; ++s) {
@@ -101,6 +100,9 @@ FetiSetup::FetiSetup(const mesh::Mesh& mesh, const Scene& scene, int threads, in
     sub.n_dofs = 2 * ms.n_nodes();
     sub.R = fem::rigid_body_modes(mesh, s);
   }
+  // Threads over this rank's subdomains once they have enough DOFs to share (n_dofs is known
+  // from here on).
+  parallel_ = threads_ > 1 && owned_dofs() >= static_cast<long>(min_dofs_per_thread) * threads_;
   for_each_subdomain([&](int s) {
     if (s >= S) return;
     const mesh::Subdomain& ms = mesh.subdomains[s];
