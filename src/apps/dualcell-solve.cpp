@@ -36,18 +36,21 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
 
   int exit_code = dualcell::exit_ok;
-  const int status = dualcell::run_stage("dualcell-solve", [&] {
-    using namespace dualcell;
-    const stage::SolveOutcome outcome = stage::run_solve(options);
-    const feti::Solution& s = outcome.solution;  // the same on every rank of an MPI run
-    if (!s.converged()) exit_code = stage::exit_not_converged;
-    if (!outcome.written) return;  // another rank wrote it and reports
-    if (!s.qp_converged())
-      std::fprintf(stderr, "dualcell-solve: warning: the solver stopped with status %s: %s (output written)\n",
-                   qp::to_string(s.qp.status), s.qp.message.c_str());
-    else if (!s.primal_ok)
-      std::fprintf(stderr, "dualcell-solve: warning: %s (output written)\n", s.primal_message.c_str());
-    if (!quiet) stage::print_solve_summary(options, outcome);
-  });
+  const int status = dualcell::run_stage(
+      "dualcell-solve",
+      [&] {
+        using namespace dualcell;
+        const stage::SolveOutcome outcome = stage::run_solve(options);
+        const feti::Solution& s = outcome.solution;  // the same on every rank of an MPI run
+        if (!s.converged()) exit_code = stage::exit_not_converged;
+        if (!outcome.written) return;  // another rank wrote it and reports
+        if (!s.qp_converged())
+          std::fprintf(stderr, "dualcell-solve: warning: the solver stopped with status %s: %s (output written)\n",
+                       qp::to_string(s.qp.status), s.qp.message.c_str());
+        else if (!s.primal_ok)
+          std::fprintf(stderr, "dualcell-solve: warning: %s (output written)\n", s.primal_message.c_str());
+        if (!quiet) stage::print_solve_summary(options, outcome);
+      },
+      dualcell::Ranks::share);
   return status != dualcell::exit_ok ? status : exit_code;
 }

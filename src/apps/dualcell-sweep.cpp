@@ -36,11 +36,14 @@ int main(int argc, char** argv) {
   app.add_option("--interrupt-after-paths", options.interrupt_after, "")->group("");
   CLI11_PARSE(app, argc, argv);
 
-  return dualcell::run_stage("dualcell-sweep", [&] {
-    options.progress = !quiet && ::isatty(2);
-    const auto s = dualcell::stage::run_sweep(options);
-    if (!quiet && s.written)
-      std::printf("dualcell-sweep: %d paths -> %s (%d with a fuse, %d steps not converged, %d resumed), %.2f s\n",
-                  s.paths, options.out.c_str(), s.fuses, s.unconverged_steps, s.resumed, s.seconds);
-  });
+  return dualcell::run_stage(
+      "dualcell-sweep",
+      [&] {
+        options.progress = !quiet && ::isatty(2);
+        const auto s = dualcell::stage::run_sweep(options);
+        if (!quiet && s.written)
+          std::printf("dualcell-sweep: %d paths -> %s (%d with a fuse, %d steps not converged, %d resumed), %.2f s\n",
+                      s.paths, options.out.c_str(), s.fuses, s.unconverged_steps, s.resumed, s.seconds);
+      },
+      dualcell::Ranks::share);
 }

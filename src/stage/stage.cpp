@@ -45,13 +45,15 @@ std::string one_line(const std::string& text) {
 
 }  // namespace
 
-int run_stage(const char* stage, const std::function<void()>& body) {
-  // Under an MPI launcher the stage runs on every rank. An error every rank has agreed on
-  // (par::agree_on_error) is printed once, by rank 0, and every rank exits normally with its
-  // code; an error of one rank alone is printed by that rank, which then stops all (no rank
-  // may wait for it for ever).
+int run_stage(const char* stage, const std::function<void()>& body, Ranks sharing) {
+  // Under an MPI launcher a stage that shares its work runs on every rank. An error every rank
+  // has agreed on (par::agree_on_error) is printed once, by rank 0, and every rank exits
+  // normally with its code; an error of one rank alone is printed by that rank, which then
+  // stops all (no rank may wait for it for ever). A stage that does not share its work runs
+  // on rank 0 as if alone (nothing in it is collective).
   par::Session session;
-  const bool ranks = par::size() > 1;
+  if (sharing == Ranks::rank0_only && par::rank() != 0) return exit_ok;
+  const bool ranks = sharing == Ranks::share && par::size() > 1;
   const auto fail = [&](int code, const std::string& text) {
     if (ranks) {
       std::fprintf(stderr, "%s: rank %d of %d: %s\n", stage, par::rank(), par::size(), text.c_str());

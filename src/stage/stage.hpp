@@ -17,7 +17,12 @@ inline constexpr int exit_ok = 0;
 inline constexpr int exit_input_error = 1;     // bad scene, file, value or output path
 inline constexpr int exit_internal_error = 3;  // a bug or an unexpected system failure
 
-int run_stage(const char* stage, const std::function<void()>& body);
+// Whether a stage shares its work over the ranks of an MPI launch (docs/method.md §16):
+// dualcell-solve and dualcell-sweep do; the others, started under mpirun, run once, on rank 0,
+// while the other ranks exit at once.
+enum class Ranks { share, rank0_only };
+
+int run_stage(const char* stage, const std::function<void()>& body, Ranks ranks = Ranks::rank0_only);
 
 namespace stage {
 

@@ -2,7 +2,8 @@
 // paths are handed out to the ranks, or to groups of ranks that share one path's subdomains,
 // and rank 0 writes sweep.h5, which must equal the serial one bit for bit but for the seconds
 // columns; killing one rank dead and running again resumes
-// from the journal to the same file; a bad input stops every rank with one message and exit 1.
+// from the journal to the same file; a bad input stops every rank with one message and exit 1;
+// a stage that does not share its work runs once.
 // Skipped in a build without MPI or without mpiexec.
 #include <gtest/gtest.h>
 
@@ -90,6 +91,20 @@ TEST_F(SweepMpi, AnErrorOfOneRankInTheMiddleStopsEveryRank) {
   EXPECT_NE(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("blocked.h5.parts"), std::string::npos) << r.output;
   EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+// A stage that does not share its work (here dualcell-mesh) runs once under mpiexec, on rank
+// 0: one summary, the file the serial run writes; its input errors are reported once too.
+TEST_F(SweepMpi, AStageThatDoesNotShareRunsOnceOnRankZero) {
+  const auto r = run_command(mpiexec(3) + bin("dualcell-mesh") + " --config " + scene_.string() + " --out " +
+                             (dir_ / "mesh-3.h5").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(testing::occurrences(r.output, "dualcell-mesh: "), 1u) << r.output;
+  EXPECT_EQ(testing::h5diff_except(mesh_, dir_ / "mesh-3.h5", {}), "");
+  const auto bad = run_command(mpiexec(3) + bin("dualcell-mesh") + " --config " + (dir_ / "absent.toml").string() +
+                               " --out " + (dir_ / "x.h5").string());
+  EXPECT_EQ(bad.exit_code, 1) << bad.output;
+  EXPECT_EQ(testing::occurrences(bad.output, "dualcell-mesh: error:"), 1u) << bad.output;
 }
 
 TEST_F(SweepMpi, BadInputStopsEveryRankWithOneMessage) {
