@@ -22,7 +22,7 @@ inline constexpr int exit_internal_error = 3;  // a bug or an unexpected system 
 // while the other ranks exit at once.
 enum class Ranks { share, rank0_only };
 
-int run_stage(const char* stage, const std::function<void()>& body, Ranks ranks = Ranks::rank0_only);
+int run_stage(const char* stage, const std::function<void()>& body, Ranks sharing = Ranks::rank0_only);
 
 namespace stage {
 
