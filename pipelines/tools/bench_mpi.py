@@ -8,12 +8,12 @@ usage:
 
 sweep: meshes SCENE once, then times dualcell-sweep run serially (no launcher) and under
 mpiexec with P ranks, one thread each (and once more on as many ranks as cores over TCP with
-OpenMPI's pt2pt one-sided component, a transport without hardware atomics), the best of REPEAT runs per P (the journal removed
-before each, so every run computes every path), and checks that each run's sweep.h5 equals the
-serial one but for the seconds columns (h5diff). Writes OUTDIR/sweep.md and OUTDIR/sweep.csv:
-P, seconds (min and median), speed-up and efficiency against the serial run, and whether the
-run was oversubscribed (P > CORES, the machine's cores: then the ranks share cores and the
-speed-up is capped).
+OpenMPI's pt2pt one-sided component, a transport without hardware atomics), the best of REPEAT
+runs per P (the journal removed before each, so every run computes every path), and checks that
+each run's sweep.h5 equals the serial one but for the seconds columns (h5diff). Writes
+OUTDIR/sweep.md and OUTDIR/sweep.csv: P, seconds (min and median), speed-up and efficiency
+against the serial run, and whether the run was oversubscribed (P > CORES, the machine's cores:
+then the ranks share cores and the speed-up is capped).
 
 solve: the same for one dualcell-solve of SCENE at STRESS ("sxx,syy,sxy"); each run's
 solution must equal the serial one to 1e-12 of its largest entry with the same iteration
