@@ -2,9 +2,9 @@
 // scalability, preconditioners, the linear-solve floor, threads, sweep steps, memory.
 //
 //   dualcell-bench --out-dir pipelines/out/bench [--quick] [--floor-only] [--threads N]
-#include <CLI/CLI.hpp>
 #include <cstdio>
 
+#include "apps/options.hpp"
 #include "stage/stage.hpp"
 #include "study/bench.hpp"
 
@@ -20,7 +20,7 @@ int main(int argc, char** argv) {
                "only the floor (contact solve against one CHOLMOD solve, p1 and p2): floor.md, floor.json");
   app.add_option("--threads", options.threads, "threads for the multi-threaded rows; 0 = OMP_NUM_THREADS or all cores")
       ->check(CLI::Range(0, 4096));
-  CLI11_PARSE(app, argc, argv);
+  if (const auto stop = dualcell::parse_options(app, argc, argv)) return *stop;
   return dualcell::run_stage("dualcell-bench", [&] {
     std::fputs((floor_only ? dualcell::study::run_floor_only(options) : dualcell::study::run_bench(options)).c_str(),
                stdout);

@@ -7,9 +7,9 @@
 // so a refused or failed export leaves no file.
 //
 //   dualcell-export --law law.h5 --format calculix --out law.inp --name GLASS_EPOXY
-#include <CLI/CLI.hpp>
 #include <cstdio>
 
+#include "apps/options.hpp"
 #include "stage/law.hpp"
 #include "stage/stage.hpp"
 
@@ -32,7 +32,7 @@ int main(int argc, char** argv) {
                  "calculix: base of the material names <name>_TENSION and <name>_COMPRESSION; umat: ABAQUS_<name>")
       ->capture_default_str();
   app.add_flag("--quiet", quiet, "do not print what was written");
-  CLI11_PARSE(app, argc, argv);
+  if (const auto stop = dualcell::parse_options(app, argc, argv)) return *stop;
 
   return dualcell::run_stage("dualcell-export", [&] {
     using namespace dualcell;

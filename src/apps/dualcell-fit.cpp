@@ -8,12 +8,12 @@
 // the exact onset surface checked against the sweep. Writes law.h5 (layout: README.md, "law.h5").
 //
 //   dualcell-fit --sweep sweep.h5 --out law.h5
-#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
 
+#include "apps/options.hpp"
 #include "stage/law.hpp"
 #include "stage/stage.hpp"
 
@@ -26,7 +26,7 @@ int main(int argc, char** argv) {
   app.add_option("--sweep", sweep_file, "sweep.h5 written by dualcell-sweep")->required();
   app.add_option("--out", out, "output HDF5 file")->required();
   app.add_flag("--quiet", quiet, "do not print the table");
-  CLI11_PARSE(app, argc, argv);
+  if (const auto stop = dualcell::parse_options(app, argc, argv)) return *stop;
 
   return dualcell::run_stage("dualcell-fit", [&] {
     using namespace dualcell;

@@ -5,10 +5,11 @@
 // ParaView) and prints a summary.
 //
 //   dualcell-mesh --config pipelines/scenes/default.toml --out mesh.h5
-#include <CLI/CLI.hpp>
 #include <cstdio>
 
+#include "apps/options.hpp"
 #include "core/scene.hpp"
+#include "io/atomic_output.hpp"
 #include "io/mesh_file.hpp"
 #include "mesh/mesh.hpp"
 #include "stage/stage.hpp"
@@ -22,11 +23,12 @@ int main(int argc, char** argv) {
   app.add_option("--config", config, "scene file (TOML)")->required();
   app.add_option("--out", out, "output HDF5 file; the XDMF file is written beside it")->required();
   app.add_flag("--quiet", quiet, "do not print the summary");
-  CLI11_PARSE(app, argc, argv);
+  if (const auto stop = dualcell::parse_options(app, argc, argv)) return *stop;
 
   return dualcell::run_stage("dualcell-mesh", [&] {
     using namespace dualcell;
     const Scene scene = load_scene(config);
+    io::check_outputs({out, io::xdmf_beside(out)}, {config, scene.material_file});
     stage::print_warnings("dualcell-mesh", scene);
     const mesh::Mesh m = mesh::build_mesh(scene.geometry);
     io::write_mesh(m, scene, out);

@@ -9,9 +9,9 @@
 //   dualcell-solve --config scene.toml --mesh mesh.h5 --stress 0.01,0,0 --out solution.h5
 //   dualcell-solve --config beam.toml --mesh mesh.h5 --out solution.h5   ([load] boundary = "edges")
 //   mpirun -np 4 dualcell-solve ...   (the subdomains shared out over 4 ranks; one solution.h5)
-#include <CLI/CLI.hpp>
 #include <cstdio>
 
+#include "apps/options.hpp"
 #include "stage/solve.hpp"
 #include "stage/stage.hpp"
 
@@ -29,11 +29,12 @@ int main(int argc, char** argv) {
   app.add_option("--out", options.out, "output HDF5 file; the XDMF file is written beside it")->required();
   app.add_option("--bonds", options.bonds_file,
                  "solution.h5 whose /interface/bonded is the bond state before this load (default: intact)");
-  app.add_flag("--quiet", quiet, "do not print the summary");
+  app.add_flag("--quiet", quiet, "no progress and no summary");
   app.add_option("--threads", options.threads,
                  "threads for the subdomain work; 0 = OMP_NUM_THREADS or all cores (results do not depend on it)")
       ->check(CLI::Range(0, 4096));
-  CLI11_PARSE(app, argc, argv);
+  if (const auto stop = dualcell::parse_options(app, argc, argv)) return *stop;
+  options.progress = !quiet;
 
   int exit_code = dualcell::exit_ok;
   const int status = dualcell::run_stage(
@@ -42,7 +43,7 @@ int main(int argc, char** argv) {
         using namespace dualcell;
         const stage::SolveOutcome outcome = stage::run_solve(options);
         const feti::Solution& s = outcome.solution;  // the same on every rank of an MPI run
-        if (!s.converged()) exit_code = stage::exit_not_converged;
+        if (!s.converged()) exit_code = exit_not_converged;
         if (!outcome.written) return;  // another rank wrote it and reports
         if (!s.qp_converged())
           std::fprintf(stderr, "dualcell-solve: warning: the solver stopped with status %s: %s (output written)\n",

@@ -5,9 +5,9 @@
 //   dualcell-stability --out stability.csv [--summary stability.md] [--fast]
 #include <unistd.h>
 
-#include <CLI/CLI.hpp>
 #include <cstdio>
 
+#include "apps/options.hpp"
 #include "stage/stage.hpp"
 #include "study/stability.hpp"
 
@@ -20,7 +20,7 @@ int main(int argc, char** argv) {
   app.add_option("--summary", options.summary, "Markdown summary (per boundary and factor)");
   app.add_flag("--fast", options.fast, "the subset the test suite runs");
   app.add_option("--tolerance", options.tolerance, "solver tolerance")->check(CLI::Range(1e-14, 1e-2));
-  CLI11_PARSE(app, argc, argv);
+  if (const auto stop = dualcell::parse_options(app, argc, argv)) return *stop;
 
   int failed = 0;
   const int status = dualcell::run_stage("dualcell-stability", [&] {

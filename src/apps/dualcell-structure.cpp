@@ -8,9 +8,9 @@
 // structure.xdmf (layout: README.md, "structure.h5").
 //
 //   dualcell-structure --config structure.toml --law law.h5 --out structure.h5
-#include <CLI/CLI.hpp>
 #include <cstdio>
 
+#include "apps/options.hpp"
 #include "stage/stage.hpp"
 #include "stage/structure.hpp"
 
@@ -25,15 +25,27 @@ int main(int argc, char** argv) {
   app.add_option("--law", law, "law.h5 written by dualcell-fit")->required();
   app.add_option("--out", out, "output HDF5 file (the XDMF is written beside it)")->required();
   app.add_flag("--quiet", quiet, "no progress and no summary");
-  CLI11_PARSE(app, argc, argv);
+  if (const auto stop = dualcell::parse_options(app, argc, argv)) return *stop;
 
-  return dualcell::run_stage("dualcell-structure", [&] {
+  int exit_code = dualcell::exit_ok;
+  const int status = dualcell::run_stage("dualcell-structure", [&] {
     using namespace dualcell;
     options.scene_file = config;
     options.law_file = law;
     options.out = out;
     options.progress = !quiet;
     const stage::StructureSummary s = stage::run_structure(options);
+    // A step that did not converge (or whose energy is not finite) is in structure.h5, marked
+    // in /steps/converged; the stage says so once and exits with the not-converged code.
+    int failed = 0;
+    for (const auto& r : s.steps) failed += !r.converged;
+    if (failed > 0) {
+      exit_code = exit_not_converged;
+      std::fprintf(stderr,
+                   "dualcell-structure: warning: %d of %zu load steps did not converge (residual or energy not "
+                   "finite, or Newton/fuse rounds exhausted); output written, /steps/converged marks them\n",
+                   failed, s.steps.size());
+    }
     if (quiet) return;
     std::printf("dualcell-structure: %s -> %s: %d cells of size %g, %d nodes, %d triangles, %.2f s\n", config.c_str(),
                 out.c_str(), s.n_cells, s.cell_size, s.n_nodes, s.n_triangles, s.seconds);
@@ -48,4 +60,5 @@ int main(int argc, char** argv) {
     std::printf("  (open: triangles with a plane of the law open at the centroid, of %d)\n", s.n_triangles);
     std::printf("  fused cells at the end: %d of %d\n", s.fused_cells, s.n_cells);
   });
+  return status != dualcell::exit_ok ? status : exit_code;
 }

@@ -9,9 +9,9 @@
 //   dualcell-sweep --config scene.toml --mesh mesh.h5 --out sweep.h5
 #include <unistd.h>
 
-#include <CLI/CLI.hpp>
 #include <cstdio>
 
+#include "apps/options.hpp"
 #include "stage/stage.hpp"
 #include "stage/sweep.hpp"
 
@@ -34,7 +34,7 @@ int main(int argc, char** argv) {
                  "solves whole paths; results do not depend on it)")
       ->check(CLI::Range(1, 1 << 20));
   app.add_option("--interrupt-after-paths", options.interrupt_after, "")->group("");
-  CLI11_PARSE(app, argc, argv);
+  if (const auto stop = dualcell::parse_options(app, argc, argv)) return *stop;
 
   return dualcell::run_stage(
       "dualcell-sweep",

@@ -6,7 +6,9 @@
 // displacement is reported. Keys in README.md ("Stage: dualcell-structure").
 #include <Eigen/Core>
 #include <array>
+#include <functional>
 #include <limits>
+#include <string>
 #include <vector>
 
 namespace dualcell {
@@ -23,13 +25,17 @@ struct EdgeCondition {
 };
 inline constexpr std::array<const char*, 4> edge_names = {"left", "right", "bottom", "top"};
 
+// `where` is the place it was written ("beam.toml:12: [[support]] 1"), for messages that find
+// no node there; empty for loads built in code.
 struct Support {  // the node at `at`, held in x and/or y
   Eigen::Vector2d at = Eigen::Vector2d::Zero();
   bool fix_x = false, fix_y = false;
+  std::string where;
 };
 
 struct PointLoad {  // a force at the node at `at`
   Eigen::Vector2d at = Eigen::Vector2d::Zero(), force = Eigen::Vector2d::Zero();
+  std::string where;
 };
 
 struct EdgeLoads {
@@ -38,6 +44,21 @@ struct EdgeLoads {
   std::vector<PointLoad> point_loads;
   std::vector<double> factors = {1.0};              // load steps: loads and prescribed displacements × factor
   Eigen::Vector2d watch = Eigen::Vector2d::Zero();  // the node whose displacement is reported per step
+  std::string watch_where;                          // where [output] watch was written, if it was
 };
+
+// A position for messages: "beam.toml:12: [[support]] 1 at (0, 0.5)" when it was written in a
+// scene (`where`), "support at (0, 0.5)" when it was built in code.
+std::string position_text(const std::string& where, const char* what, const Eigen::Vector2d& at);
+
+// The rigid-body motions of the rectangle [0, width] × [0, height] that its edge conditions and
+// supports leave free: empty when every translation and rotation is held, else one phrase naming
+// the motion left free and what would hold it ("a rotation about (0, 0): hold a second point
+// ..."). A rigid motion u(x) = (a − ω y, b + ω x) is held when some held component sees it; the
+// held components (edge end points, supports) form the rows of a 3-column matrix whose rank is
+// 3 exactly when nothing is free. `holds` says whether a support at a point holds the body in
+// question (a support inside a fibre of a resolved block holds that fibre only).
+std::string free_rigid_motion(const EdgeLoads& loads, double width, double height,
+                              const std::function<bool(const Eigen::Vector2d&)>& holds = {});
 
 }  // namespace dualcell

@@ -1,5 +1,6 @@
 #include "core/scene.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <sstream>
@@ -175,6 +176,24 @@ void validate(const Scene& scene) {
   c.real(
       "solver", "Gamma", so.Gamma, [](double v) { return v > 0 && v <= 1e3; }, "0 < Gamma <= 1e3");
   c.integer("solver", "max_debond_rounds", so.max_debond_rounds, 1, 1000000);
+
+  // A resolved block must be held against every rigid motion by its edges and by supports on the
+  // matrix: a support inside a fibre holds that fibre only (without adhesion the matrix would
+  // float free of it; with adhesion, once the bonds break).
+  if (scene.load.boundary == Boundary::edges) {
+    const double a = geo.cell_size, r = geo.fibre_radius;
+    const auto on_matrix = [&](const Eigen::Vector2d& p) {
+      const int i = std::clamp(static_cast<int>(std::floor(p.x() / a)), 0, geo.cells[0] - 1);
+      const int j = std::clamp(static_cast<int>(std::floor(p.y() / a)), 0, geo.cells[1] - 1);
+      const Eigen::Vector2d centre((i + 0.5) * a + geo.fibre_offset[0], (j + 0.5) * a + geo.fibre_offset[1]);
+      return (p - centre).norm() >= r * (1 - 1e-9);
+    };
+    const std::string free = free_rigid_motion(scene.load.edge_loads, geo.cells[0] * a, geo.cells[1] * a, on_matrix);
+    if (!free.empty())
+      throw InputError((scene.file.empty() ? std::string("scene") : scene.file.string()) +
+                       ": the edges and the supports on the matrix leave a rigid-body motion free, " + free +
+                       " (a support inside a fibre holds that fibre only)");
+  }
 }
 
 std::vector<std::string> scene_warnings(const Scene& scene) {

@@ -147,6 +147,10 @@ inline constexpr ConstituentField constituent_fields[] = {
 // Largest mesh a scene may ask for (nodes of all subdomains, dim u = 2 × nodes): 3×3 cells at
 // degree 256 or 100×100 at degree 6 fit, 4096×4096 at degree 256 (10^13 nodes) does not.
 inline constexpr long max_mesh_nodes = 10'000'000;
+// The range of a law's cell size (any unit) that a structure of homogeneous cells takes: its
+// positions (supports, loads, the watch point) are written in that unit, and beyond this range
+// they and the node tolerance (1e-9 of a cell) underflow or lose every digit.
+inline constexpr double min_structure_cell_size = 1e-12, max_structure_cell_size = 1e12;
 
 // Every range and combination of keys; an InputError naming the first violation. The stages,
 // the solver (feti::FetiSetup) and the studies call it on every scene they use.

@@ -137,6 +137,7 @@ class TableReader {
       : table_(table), name_(std::move(name)), file_(std::move(file)), lines_(lines), written_(written) {}
 
   bool present() const { return table_ != nullptr; }
+  const std::string& name() const { return name_; }
   bool has(std::string_view key) const { return table_ && table_->contains(key); }
 
   [[noreturn]] void fail(const toml::node* node, std::string_view key, const std::string& value,
@@ -375,9 +376,15 @@ EdgeLoads read_edge_loads(const toml::table& root, const std::string& fname, con
     }
     t.finish();
   }
+  // "<file>:<line>: [[name]] k" of the table a support or point load was written in.
+  const auto where = [&](TableReader& t, const char* name) {
+    return fname + ":" + std::to_string(t.node("at")->source().begin.line) + ": [[" + name + "]] " +
+           t.name().substr(t.name().rfind(' ') + 1);
+  };
   each_table(root, "support", fname, lines, [&](TableReader& t) {
     Support s;
     s.at = point(t, "at", true, "[x, y] of a node");
+    s.where = where(t, "support");
     const std::string fix = t.string("fix", "xy", {"x", "y", "xy"});
     s.fix_x = fix.find('x') != std::string::npos;
     s.fix_y = fix.find('y') != std::string::npos;
@@ -387,6 +394,7 @@ EdgeLoads read_edge_loads(const toml::table& root, const std::string& fname, con
     PointLoad p;
     p.at = point(t, "at", true, "[x, y] of a node");
     p.force = point(t, "force", true, "[fx, fy]");
+    p.where = where(t, "point_load");
     loads.point_loads.push_back(p);
   });
   TableReader steps(sub_table(root, "steps", fname), "steps", fname, lines);
@@ -399,6 +407,8 @@ EdgeLoads read_edge_loads(const toml::table& root, const std::string& fname, con
   TableReader output(sub_table(root, "output", fname), "output", fname, lines);
   if (output.present()) {
     loads.watch = point(output, "watch", false, "");
+    if (output.has("watch"))
+      loads.watch_where = fname + ":" + std::to_string(output.node("watch")->source().begin.line) + ": [output] watch";
     output.finish();
   }
   return loads;
@@ -603,12 +613,12 @@ StructureScene parse_structure_scene(std::string_view text, const std::filesyste
                "unknown table or key; allowed: [structure], [edges.left|right|bottom|top], [[support]], "
                "[[point_load]], [steps], [output], [solver]");
   }
-  const auto count = [](TableReader& t, std::string_view key, int fallback, int lo, int hi) {
-    const int v = t.integer<int>(key, fallback);
-    if (v < lo || v > hi)
-      t.fail(t.node(key), key, std::to_string(v),
+  const auto count = [&lines](TableReader& t, std::string_view key, int fallback, int lo, int hi) {
+    const std::int64_t v = t.integer<std::int64_t>(key, fallback);
+    if (v < lo || v > hi)  // quoted as written: a value beyond 64 bits is not clamped in the message
+      t.fail(t.node(key), key, show(*t.node(key), lines),
              "must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
-    return v;
+    return static_cast<int>(v);
   };
 
   TableReader st(sub_table(root, "structure", fname), "structure", fname, lines);
@@ -623,6 +633,15 @@ StructureScene parse_structure_scene(std::string_view text, const std::filesyste
     scene.ny = static_cast<int>(cells[1]);
     scene.elements_per_cell = count(st, "elements_per_cell", 2, 1, 64);
     scene.element = st.string("element", "p2", {"p1", "p2"}) == "p1" ? Element::p1 : Element::p2;
+    // The same bound as a cell scene's mesh: (nx·m·k + 1)(ny·m·k + 1) nodes for m elements per
+    // cell of order k, checked before anything is allocated.
+    const double k = element_order(scene.element), m = scene.elements_per_cell;
+    const double nodes = (scene.nx * m * k + 1) * (scene.ny * m * k + 1);
+    if (nodes > max_mesh_nodes)
+      st.fail(st.node("cells"), "cells", show(*st.node("cells"), lines),
+              "with elements_per_cell = " + std::to_string(scene.elements_per_cell) + " (" + to_string(scene.element) +
+                  ") the structure would have " + shortest(std::round(nodes)) + " nodes, more than the limit " +
+                  std::to_string(max_mesh_nodes) + ": fewer cells or elements per cell");
     st.finish();
   }
 
@@ -637,6 +656,9 @@ StructureScene parse_structure_scene(std::string_view text, const std::filesyste
     solver.finish();
   }
   check_held_and_loaded(scene, fname, "the structure");
+  // In units of cells: whether a rigid motion is free does not depend on the cell size.
+  if (const std::string free = free_rigid_motion(scene, scene.nx, scene.ny); !free.empty())
+    throw InputError(fname + ": the edges and supports leave a rigid-body motion free, " + free);
   return scene;
 }
 

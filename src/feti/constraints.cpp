@@ -92,17 +92,17 @@ std::vector<int> side_points(const mesh::Mesh& mesh, int side, NodeClasses& clas
 
 const std::array<int, 4> edge_sides = {mesh::left, mesh::right, mesh::bottom, mesh::top};
 
-int node_at(const mesh::Mesh& mesh, const Eigen::Vector2d& x, const std::string& what) {
+int node_at(const mesh::Mesh& mesh, const Eigen::Vector2d& x, const std::string& where, const char* what) {
   const double reach = 1e-9 * std::max(mesh.block_width(), mesh.block_height());
   for (int v = 0; v < mesh.n_nodes(); ++v)
     if ((mesh.nodes[v] - x).norm() <= reach) return v;
-  throw InputError(what + " at (" + shortest(x(0)) + ", " + shortest(x(1)) + "): no node of the mesh there");
+  throw InputError(position_text(where, what, x) + ": no node of the mesh there");
 }
 
 void check_positions(const mesh::Mesh& mesh, const EdgeLoads& loads) {
-  for (const Support& support : loads.supports) node_at(mesh, support.at, "support");
-  for (const PointLoad& p : loads.point_loads) node_at(mesh, p.at, "point load");
-  node_at(mesh, loads.watch, "[output] watch");
+  for (const Support& support : loads.supports) node_at(mesh, support.at, support.where, "support");
+  for (const PointLoad& p : loads.point_loads) node_at(mesh, p.at, p.where, "point load");
+  node_at(mesh, loads.watch, loads.watch_where, "[output] watch");
 }
 
 namespace {
@@ -230,7 +230,7 @@ Constraints build_constraints(const mesh::Mesh& mesh, const Scene& scene, const 
         }
       }
       for (const Support& support : loads.supports) {
-        const int v = classes.find(node_at(mesh, support.at, "support"));
+        const int v = classes.find(node_at(mesh, support.at, support.where, "support"));
         if (support.fix_x) hold(v, 0, 0);
         if (support.fix_y) hold(v, 1, 0);
       }

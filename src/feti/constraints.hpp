@@ -61,8 +61,9 @@ std::vector<double> interface_lengths(const mesh::Mesh& mesh);
 // The mesh sides of the edges left, right, bottom, top (the order of edge_names).
 extern const std::array<int, 4> edge_sides;
 // A node of the mesh at x (within 1e-9 of the block's size), for supports, point loads and the
-// watch point of Boundary::edges; an InputError naming `what` and x when there is none.
-int node_at(const mesh::Mesh& mesh, const Eigen::Vector2d& x, const std::string& what);
+// watch point of Boundary::edges; an InputError naming where it was written (or `what`) and x
+// when there is none.
+int node_at(const mesh::Mesh& mesh, const Eigen::Vector2d& x, const std::string& where, const char* what);
 // node_at for every position `loads` names (supports, point loads, the watch point): a scene's
 // positions checked against its mesh while the inputs are read, before any work.
 void check_positions(const mesh::Mesh& mesh, const EdgeLoads& loads);

@@ -191,7 +191,8 @@ Eigen::VectorXd FetiSetup::load(const Eigen::Vector3d& sigma) const {
         for (const mesh::Edge& edge : mesh_.boundary_edges[edge_sides[e]])
           fem::add_edge_traction(mesh_, edge, at(edge.a), at(edge.b), f);
       }
-      for (const PointLoad& p : loads.point_loads) f.segment<2>(2 * node_at(mesh_, p.at, "point load")) += t * p.force;
+      for (const PointLoad& p : loads.point_loads)
+        f.segment<2>(2 * node_at(mesh_, p.at, p.where, "point load")) += t * p.force;
       break;
     }
   }

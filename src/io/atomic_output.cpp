@@ -1,49 +1,195 @@
 #include "io/atomic_output.hpp"
 
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
+#include <climits>
 #include <cstring>
-#include <fstream>
+#include <stdexcept>
 #include <system_error>
 
 #include "core/error.hpp"
 
 namespace dualcell::io {
 
-std::filesystem::path AtomicOutputs::add(const std::filesystem::path& target) {
-  std::filesystem::path folder = target.parent_path();
-  if (folder.empty()) folder = ".";
-  std::error_code ec;  // a name too long for the file system is a message, not an exception
-  if (!std::filesystem::is_directory(folder, ec))
-    throw InputError(target.string() + ": cannot write output: folder " + folder.string() + " does not exist");
-  if (std::filesystem::is_directory(target, ec))
-    throw InputError(target.string() + ": cannot write output: it is a directory");
-  std::filesystem::path temporary = target;
-  temporary += ".tmp." + std::to_string(::getpid());
-  {
-    std::ofstream probe(temporary, std::ios::binary | std::ios::trunc);
-    if (!probe) throw InputError(target.string() + ": cannot write output: " + std::strerror(errno));
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string host_name() {
+  char name[HOST_NAME_MAX + 1] = {};
+  if (::gethostname(name, sizeof name - 1) != 0 || name[0] == '\0') return "host";
+  std::string host(name);
+  for (char& c : host)
+    if (c == '/') c = '_';
+  return host;
+}
+
+fs::path folder_of(const fs::path& target) {
+  fs::path folder = target.parent_path();
+  return folder.empty() ? fs::path(".") : folder;
+}
+
+[[noreturn]] void cannot_write(const fs::path& target, const std::string& what, int error) {
+  throw InputError(target.string() + ": " + what + ": " + std::strerror(error));
+}
+
+// A temporary "<name>.tmp.<host>.<pid>" (or, as written before hosts were named,
+// "<name>.tmp.<pid>") of a process on this host that no longer runs.
+bool orphaned(const std::string& entry, const std::string& name, const std::string& host) {
+  const std::string prefix = name + ".tmp.";
+  if (entry.rfind(prefix, 0) != 0) return false;
+  std::string rest = entry.substr(prefix.size());
+  const std::size_t dot = rest.rfind('.');
+  if (dot != std::string::npos) {
+    if (rest.substr(0, dot) != host) return false;
+    rest = rest.substr(dot + 1);
   }
-  files_.emplace_back(temporary, target);
-  return temporary;
+  if (rest.empty() || rest.size() > 9 || rest.find_first_not_of("0123456789") != std::string::npos) return false;
+  const pid_t pid = static_cast<pid_t>(std::stol(rest));
+  return pid > 0 && pid != ::getpid() && ::kill(pid, 0) != 0 && errno == ESRCH;
+}
+
+void remove_orphans(const fs::path& target) {
+  const std::string name = target.filename().string(), host = host_name();
+  std::error_code ec;
+  for (fs::directory_iterator it(folder_of(target), ec), end; !ec && it != end; it.increment(ec)) {
+    if (orphaned(it->path().filename().string(), name, host)) {
+      std::error_code ignored;
+      fs::remove(it->path(), ignored);
+    }
+  }
+}
+
+void sync_folder(const fs::path& folder) {
+  const int fd = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd < 0) return;  // the rename is done; a folder we cannot open cannot be synced either
+  const int rc = ::fsync(fd), error = errno;
+  ::close(fd);
+  // Some file systems cannot sync a folder (EINVAL); the data itself was synced before.
+  if (rc != 0 && error != EINVAL && error != EROFS) cannot_write(folder, "cannot sync folder", error);
+}
+
+}  // namespace
+
+void check_output_path(const fs::path& target, const std::vector<fs::path>& inputs) {
+  if (target.empty()) throw InputError("output path is empty: name the file to write");
+  std::error_code ec;  // a name too long for the file system is a message, not an exception
+  const fs::path folder = folder_of(target);
+  if (!fs::is_directory(folder, ec))
+    throw InputError(target.string() + ": cannot write output: folder " + folder.string() + " does not exist");
+  struct stat out {};
+  if (::stat(target.c_str(), &out) != 0) {
+    if (errno == ENOENT) return;  // a new file: it cannot be an input
+    cannot_write(target, "cannot write output", errno);
+  }
+  if (S_ISDIR(out.st_mode)) throw InputError(target.string() + ": cannot write output: it is a directory");
+  if (!S_ISREG(out.st_mode))
+    throw InputError(target.string() +
+                     ": cannot write output: it exists and is not a regular file (a device, pipe or socket); name a "
+                     "regular file");
+  for (const fs::path& input : inputs) {
+    struct stat in {};
+    if (!input.empty() && ::stat(input.c_str(), &in) == 0 && in.st_dev == out.st_dev && in.st_ino == out.st_ino)
+      throw InputError(target.string() + ": cannot write output: it is the input " + input.string() +
+                       ", which writing would destroy; name another file");
+  }
+}
+
+void check_outputs(const std::vector<fs::path>& outputs, const std::vector<fs::path>& inputs) {
+  for (const fs::path& out : outputs) check_output_path(out, inputs);
+  AtomicOutputs probe;  // creates each temporary (the real test of a writable folder), removes it
+  for (const fs::path& out : outputs) probe.add(out);
+}
+
+fs::path xdmf_beside(const fs::path& h5) {
+  fs::path xdmf = h5;
+  xdmf.replace_extension(".xdmf");
+  return xdmf;
+}
+
+void AtomicOutputs::add(const fs::path& target) {
+  check_output_path(target);
+  const auto same = [](const fs::path& a, const fs::path& b) {
+    std::error_code ec;
+    return fs::absolute(a, ec).lexically_normal() == fs::absolute(b, ec).lexically_normal();
+  };
+  for (const Entry& e : files_)
+    if (same(e.target, target))
+      throw InputError(target.string() + ": cannot write output: the same file is written twice by this stage");
+  remove_orphans(target);
+  Entry e{target, target, false};
+  e.temporary += ".tmp." + host_name() + "." + std::to_string(::getpid());
+  const int fd = ::open(e.temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+  if (fd < 0) cannot_write(target, "cannot write output", errno);
+  ::close(fd);
+  files_.push_back(std::move(e));
+}
+
+AtomicOutputs::Entry& AtomicOutputs::entry(const fs::path& target) {
+  for (Entry& e : files_)
+    if (e.target == target) return e;
+  throw std::logic_error("AtomicOutputs: " + target.string() + " was not registered");
+}
+
+void AtomicOutputs::write(const fs::path& target, std::string_view bytes) {
+  Entry& e = entry(target);
+  const int fd = ::open(e.temporary.c_str(), O_WRONLY | O_TRUNC | O_CLOEXEC);
+  if (fd < 0) cannot_write(target, "cannot write", errno);
+  const char* p = bytes.data();
+  std::size_t left = bytes.size();
+  while (left > 0) {
+    const ssize_t n = ::write(fd, p, left);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      const int error = n < 0 ? errno : EIO;
+      ::close(fd);
+      cannot_write(target, "cannot write", error);
+    }
+    p += n;
+    left -= static_cast<std::size_t>(n);
+  }
+  if (::fsync(fd) != 0 && errno != EINVAL) {
+    const int error = errno;
+    ::close(fd);
+    cannot_write(target, "cannot write", error);
+  }
+  if (::close(fd) != 0) cannot_write(target, "cannot write", errno);
+  e.written = true;
 }
 
 void AtomicOutputs::commit() {
-  for (const auto& [temporary, target] : files_) {
+  for (const Entry& e : files_)
+    if (!e.written) throw std::logic_error("AtomicOutputs: " + e.target.string() + " committed without being written");
+  std::vector<fs::path> folders;
+  for (const Entry& e : files_) {
     std::error_code ec;
-    std::filesystem::rename(temporary, target, ec);
-    if (ec) throw InputError(target.string() + ": cannot move finished output into place: " + ec.message());
+    fs::rename(e.temporary, e.target, ec);
+    if (ec) throw InputError(e.target.string() + ": cannot move finished output into place: " + ec.message());
+    const fs::path folder = folder_of(e.target);
+    if (std::find(folders.begin(), folders.end(), folder) == folders.end()) folders.push_back(folder);
   }
   committed_ = true;
+  for (const fs::path& folder : folders) sync_folder(folder);
 }
 
 AtomicOutputs::~AtomicOutputs() {
   if (committed_) return;
-  for (const auto& file : files_) {
+  for (const Entry& e : files_) {
     std::error_code ec;
-    std::filesystem::remove(file.first, ec);
+    fs::remove(e.temporary, ec);
   }
+}
+
+void write_output(const fs::path& target, std::string_view bytes) {
+  AtomicOutputs outputs;
+  outputs.add(target);
+  outputs.write(target, bytes);
+  outputs.commit();
 }
 
 }  // namespace dualcell::io

@@ -1,5 +1,10 @@
 #include "io/hdf5.hpp"
 
+#include <unistd.h>
+
+#include <atomic>
+#include <cstdlib>
+#include <cstring>
 #include <numeric>
 
 #include "core/error.hpp"
@@ -50,15 +55,99 @@ void File::fail(const std::string& object, const std::string& what) const {
   throw InputError(path_.string() + ": " + object + ": " + what);
 }
 
+// The memory of a file made by File::create. HDF5's core driver allocates and grows it through
+// these callbacks, and on closing the file hands it to image_free, which keeps it: the closed
+// file's bytes, its superblock final, without the copy H5Fget_file_image would make.
+struct File::Image {
+  void* data = nullptr;
+  std::size_t allocated = 0;
+  bool closed = false;
+};
+
+void File::ImageDeleter::operator()(Image* image) const {
+  if (image) std::free(image->data);
+  delete image;
+}
+
+namespace {
+
+void* image_malloc(std::size_t size, H5FD_file_image_op_t, void* udata) {
+  auto* image = static_cast<File::Image*>(udata);
+  void* p = std::malloc(size);
+  if (p) image->allocated = size;
+  return p;
+}
+
+void* image_memcpy(void* dest, const void* src, std::size_t size, H5FD_file_image_op_t, void*) {
+  return std::memcpy(dest, src, size);
+}
+
+void* image_realloc(void* ptr, std::size_t size, H5FD_file_image_op_t, void* udata) {
+  auto* image = static_cast<File::Image*>(udata);
+  void* p = std::realloc(ptr, size);
+  if (p) image->allocated = size;
+  return p;
+}
+
+herr_t image_free(void* ptr, H5FD_file_image_op_t op, void* udata) {
+  auto* image = static_cast<File::Image*>(udata);
+  if (op != H5FD_FILE_IMAGE_OP_FILE_CLOSE) {
+    std::free(ptr);
+    return 0;
+  }
+  std::free(image->data);  // the last close is the file's
+  image->data = ptr;
+  image->closed = true;
+  return 0;
+}
+
+// HDF5 copies the callbacks' user data with every copy of the property list; ours is one Image
+// that the File owns, shared by every copy.
+void* image_udata_copy(void* udata) { return udata; }
+herr_t image_udata_free(void*) { return 0; }
+
+}  // namespace
+
+File::File(Handle file, std::filesystem::path path, std::unique_ptr<Image, ImageDeleter> image)
+    : image_(std::move(image)), file_(std::move(file)), path_(std::move(path)) {}
+
 File File::create(const std::filesystem::path& path) {
   silence_hdf5();
   // The 1.8 file format: attributes beyond 64 KiB (a long scene's text) go to dense storage
   // instead of failing, and metadata carry checksums, so corruption is detected on reading.
+  // In memory, grown 4 MiB at a time.
+  std::unique_ptr<Image, ImageDeleter> image(new Image);
   Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
   H5Pset_libver_bounds(fapl.get(), H5F_LIBVER_V18, H5F_LIBVER_V18);
-  Handle f(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()), H5Fclose);
+  H5Pset_fapl_core(fapl.get(), std::size_t{4} << 20, 0);
+  H5FD_file_image_callbacks_t callbacks{image_malloc,     image_memcpy,     image_realloc, image_free,
+                                        image_udata_copy, image_udata_free, image.get()};
+  if (H5Pset_file_image_callbacks(fapl.get(), &callbacks) < 0)
+    throw InputError(path.string() + ": cannot create HDF5 file in memory");
+  // HDF5 first opens the name it is given without creating it (to find a file it has open
+  // already), and the core driver would read an existing file of that name into memory: the
+  // name given is one that exists nowhere, so that no file on disk is ever touched.
+  static std::atomic<long> files{0};
+  const std::string name = path.string() + ".in-memory." + std::to_string(::getpid()) + "." + std::to_string(++files);
+  Handle f(H5Fcreate(name.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()), H5Fclose);
   if (!f.valid()) throw InputError(path.string() + ": cannot create HDF5 file");
-  return File(std::move(f), path);
+  return File(std::move(f), path, std::move(image));
+}
+
+std::string_view File::close_to_image() {
+  if (!image_ || !file_.valid()) fail("/", "internal error: not an open file made in memory");
+  // Closing hands the driver's memory to image_free. Nothing of the file is open any more
+  // (every handle of a read or write is scoped), so the close is complete.
+  if (H5Fclose(file_.release()) < 0) fail("/", "internal error: cannot close the HDF5 file in memory");
+  // The file ends where its superblock says (HDF5 file format, superblock version 2: the end-of-
+  // file address at byte 28); the driver's memory beyond it is allocation slack.
+  const auto* bytes = static_cast<const unsigned char*>(image_->data);
+  if (!image_->closed || !bytes || image_->allocated < 48 || bytes[8] != 2)
+    fail("/", "internal error: HDF5 left no closed file image");
+  std::uint64_t end = 0;
+  for (int i = 7; i >= 0; --i) end = end << 8 | bytes[28 + i];
+  if (end < 48 || end > image_->allocated) fail("/", "internal error: HDF5 file image of inconsistent size");
+  return {static_cast<const char*>(image_->data), static_cast<std::size_t>(end)};
 }
 
 File File::open_read(const std::filesystem::path& path) {
@@ -300,7 +389,5 @@ std::vector<std::int64_t> File::read_int_attribute(const std::string& object, co
                      ", found " + std::to_string(value.size()));
   return value;
 }
-
-void File::flush() { H5Fflush(file_.get(), H5F_SCOPE_GLOBAL); }
 
 }  // namespace dualcell::io

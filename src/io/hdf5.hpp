@@ -8,7 +8,9 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace dualcell::io {
@@ -24,6 +26,11 @@ class Handle {
   Handle& operator=(Handle&& o) noexcept;
   ~Handle();
   hid_t get() const { return id_; }
+  hid_t release() {  // the id, no longer closed by this handle
+    const hid_t id = id_;
+    id_ = H5I_INVALID_HID;
+    return id;
+  }
   bool valid() const { return id_ >= 0; }
 
  private:
@@ -38,7 +45,11 @@ std::string shape_text(const Shape& shape);  // "(4×3)", "(n×3)" for any_exten
 
 class File {
  public:
-  static File create(const std::filesystem::path& path);  // truncates
+  // A new file, built in memory (HDF5's core driver without a backing store): HDF5 never
+  // writes to the disk, so a full disk cannot leave it with a half-closed file; close_to_image()
+  // hands the bytes to AtomicOutputs, which writes them with every write checked. `path` is
+  // where it will be written, named in messages.
+  static File create(const std::filesystem::path& path);
   static File open_read(const std::filesystem::path& path);
   static File open_write(const std::filesystem::path& path);  // existing file, read-write
 
@@ -79,12 +90,20 @@ class File {
     return read_int_attribute(object, name, 1)[0];
   }
 
-  void flush();
+  // Closes a file made by create() and returns its complete bytes (valid while this File lives),
+  // for AtomicOutputs to write. Nothing may be read or written afterwards.
+  std::string_view close_to_image();
+
+  struct Image;  // the core driver's memory, kept when HDF5 closes the file (hdf5.cpp)
+  struct ImageDeleter {
+    void operator()(Image* image) const;
+  };
 
  private:
-  File(Handle file, std::filesystem::path path) : file_(std::move(file)), path_(std::move(path)) {}
+  File(Handle file, std::filesystem::path path, std::unique_ptr<Image, ImageDeleter> image = {});
   [[noreturn]] void fail(const std::string& object, const std::string& what) const;
   Handle open_attribute(const std::string& object, const std::string& name) const;
+  std::unique_ptr<Image, ImageDeleter> image_;  // declared before file_: destroyed after it
   Handle file_;
   std::filesystem::path path_;
 };

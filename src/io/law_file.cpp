@@ -158,10 +158,8 @@ void write_law(const std::filesystem::path& file, const Law& law) {
       throw std::invalid_argument(std::string("write_law: ") + m.prefix + " direction_residual has " +
                                   std::to_string((law.*m.fit).direction_residual.size()) + " entries for " +
                                   std::to_string(n) + " directions");
-  io::AtomicOutputs outputs;
-  const auto tmp = outputs.add(file);
   {
-    io::File f = io::File::create(tmp);
+    io::File f = io::File::create(file);
     f.create_group(group);
     for (const auto& c : direction_columns) {
       if (c.real) {
@@ -187,8 +185,8 @@ void write_law(const std::filesystem::path& file, const Law& law) {
     f.write_attribute(group, "shear_convention", std::string(law::shear_convention));
     write_constituents(f, group, law.constituents);
     write_provenance(f, law::format_name, law.provenance);
+    write_output(file, f.close_to_image());
   }
-  outputs.commit();
 }
 
 Law read_law(const std::filesystem::path& file) {

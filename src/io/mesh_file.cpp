@@ -145,13 +145,12 @@ void check_structure(const mesh::Mesh& m, const std::vector<std::int64_t>& is_fi
 }  // namespace
 
 void write_mesh(const mesh::Mesh& mesh, const Scene& scene, const std::filesystem::path& h5) {
-  std::filesystem::path xdmf = h5;
-  xdmf.replace_extension(".xdmf");
+  const std::filesystem::path xdmf = xdmf_beside(h5);
   AtomicOutputs outputs;
-  const std::filesystem::path h5_tmp = outputs.add(h5);
-  const std::filesystem::path xdmf_tmp = outputs.add(xdmf);
+  outputs.add(h5);
+  outputs.add(xdmf);
   {
-    File f = File::create(h5_tmp);
+    File f = File::create(h5);
     const hsize_t N = mesh.nodes.size(), T = mesh.triangles.size(), S = mesh.subdomains.size();
     f.create_group("/mesh");
     f.write("/mesh/nodes", flatten(mesh.nodes), {N, 2});
@@ -193,6 +192,7 @@ void write_mesh(const mesh::Mesh& mesh, const Scene& scene, const std::filesyste
     provenance.scene_file = scene.file.string();
     provenance.material_text = scene.material_text;
     write_provenance(f, mesh_format, provenance);
+    outputs.write(h5, f.close_to_image());
   }
   XdmfGrid grid;
   grid.nodes_dataset = "/mesh/nodes";
@@ -202,7 +202,7 @@ void write_mesh(const mesh::Mesh& mesh, const Scene& scene, const std::filesyste
   grid.nodes_per_triangle = mesh.triangles.width();
   grid.fields.push_back({"subdomain", "/mesh/triangle_subdomain", true, {grid.n_triangles}, true});
   grid.fields.push_back({"is_fibre", "/mesh/triangle_is_fibre", true, {grid.n_triangles}, true});
-  write_xdmf(xdmf_tmp, h5.filename().string(), {grid});
+  outputs.write(xdmf, xdmf_text(h5.filename().string(), {grid}));
   outputs.commit();
 }
 

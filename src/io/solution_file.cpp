@@ -18,18 +18,17 @@ std::vector<double> to_vector(const Eigen::VectorXd& v) { return {v.data(), v.da
 void write_solution(const std::filesystem::path& h5, const mesh::Mesh& mesh, const Scene& scene,
                     const feti::Solution& s, const Provenance& provenance, const LoadSteps* steps,
                     const RankTable* ranks) {
-  std::filesystem::path xdmf = h5;
-  xdmf.replace_extension(".xdmf");
+  const std::filesystem::path xdmf = xdmf_beside(h5);
   AtomicOutputs outputs;
-  const auto h5_tmp = outputs.add(h5);
-  const auto xdmf_tmp = outputs.add(xdmf);
+  outputs.add(h5);
+  outputs.add(xdmf);
   const hsize_t N = mesh.nodes.size(), T = mesh.triangles.size(), P = mesh.interface_pairs.size();
   // Exaggeration for the deformed view: the largest displacement drawn as 5 % of the block.
   const double u_max = s.u.head(mesh.dim_u()).lpNorm<Eigen::Infinity>();
   const double block = std::max(mesh.block_width(), mesh.block_height());
   const double scale = u_max > 0 ? 0.05 * block / u_max : 1.0;
   {
-    File f = File::create(h5_tmp);
+    File f = File::create(h5);
     // Mesh copied in, so that the file (and its XDMF) stands alone.
     std::vector<double> nodes, deformed, displacement;
     for (hsize_t v = 0; v < N; ++v)
@@ -121,6 +120,7 @@ void write_solution(const std::filesystem::path& h5, const mesh::Mesh& mesh, con
     Provenance p = provenance;
     p.scene_text = scene.text;
     write_provenance(f, solution_format, p);
+    outputs.write(h5, f.close_to_image());
   }
   const std::string name = h5.filename().string();
   XdmfGrid deformed;
@@ -134,7 +134,7 @@ void write_solution(const std::filesystem::path& h5, const mesh::Mesh& mesh, con
                      {"stress", "/solution/element_stress", true, {T, 3}, false},
                      {"stress_average", "/solution/element_stress_average", true, {T, 3}, false},
                      {"displacement", "/solution/displacement", false, {N, 3}, false}};
-  write_xdmf(xdmf_tmp, name, {deformed});
+  outputs.write(xdmf, xdmf_text(name, {deformed}));
   outputs.commit();
 }
 

@@ -24,13 +24,12 @@ void write_structure(const std::filesystem::path& out, const structure::Structur
                      const Provenance& provenance) {
   const hsize_t N = static_cast<hsize_t>(mesh.nodes.rows()), T = static_cast<hsize_t>(mesh.triangles.rows());
   const hsize_t per = static_cast<hsize_t>(mesh.triangles.cols()), S = steps.size();
+  const std::filesystem::path xdmf = xdmf_beside(out);
   AtomicOutputs outputs;
-  const auto tmp = outputs.add(out);
-  std::filesystem::path xdmf = out;
-  xdmf.replace_extension(".xdmf");
-  const auto tmp_xdmf = outputs.add(xdmf);
+  outputs.add(out);
+  outputs.add(xdmf);
   {
-    File f = File::create(tmp);
+    File f = File::create(out);
     write_provenance(f, structure_format, provenance);
     f.create_group("/mesh");
     std::vector<double> nodes;
@@ -95,7 +94,8 @@ void write_structure(const std::filesystem::path& out, const structure::Structur
                      {"cell", "/mesh/cell", true, {T}, true}};
       grids.push_back(grid);
     }
-    write_xdmf(tmp_xdmf, out.filename().string(), grids);
+    outputs.write(out, f.close_to_image());
+    outputs.write(xdmf, xdmf_text(out.filename().string(), grids));
   }
   outputs.commit();
 }

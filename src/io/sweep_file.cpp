@@ -147,15 +147,11 @@ void write_part(const std::filesystem::path& out, const sweep::PathResult& path,
   std::filesystem::create_directories(folder);
   char name[32];
   std::snprintf(name, sizeof name, "path-%03d.h5", path.spec.index);
-  AtomicOutputs outputs;
-  const auto tmp = outputs.add(folder / name);
-  {
-    File f = File::create(tmp);
-    f.create_group("/paths");
-    write_path(f, path);
-    f.write_attribute("/", "inputs_key", header.key());
-  }
-  outputs.commit();
+  File f = File::create(folder / name);
+  f.create_group("/paths");
+  write_path(f, path);
+  f.write_attribute("/", "inputs_key", header.key());
+  write_output(folder / name, f.close_to_image());
 }
 
 std::optional<sweep::PathResult> read_part(const std::filesystem::path& out, int index, const SweepHeader& header) {
@@ -174,15 +170,13 @@ std::optional<sweep::PathResult> read_part(const std::filesystem::path& out, int
 
 void write_sweep(const std::filesystem::path& out, const std::vector<sweep::PathResult>& paths,
                  const SweepHeader& header) {
-  AtomicOutputs outputs;
-  const auto tmp = outputs.add(out);
   {
-    File f = File::create(tmp);
+    File f = File::create(out);
     f.create_group("/paths");
     for (const auto& p : paths) write_path(f, p);
     write_header(f, header, paths.size());
+    write_output(out, f.close_to_image());
   }
-  outputs.commit();
   std::error_code ec;
   std::filesystem::remove_all(parts_folder(out), ec);
 }

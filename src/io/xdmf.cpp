@@ -1,8 +1,6 @@
 #include "io/xdmf.hpp"
 
-#include <fstream>
-
-#include "core/error.hpp"
+#include <sstream>
 
 namespace dualcell::io {
 
@@ -19,9 +17,8 @@ std::string dims_text(const std::vector<std::uint64_t>& dims) {
 
 }  // namespace
 
-void write_xdmf(const std::filesystem::path& xdmf, const std::string& h5_name, const std::vector<XdmfGrid>& grids) {
-  std::ofstream out(xdmf);
-  if (!out) throw InputError(xdmf.string() + ": cannot write XDMF file");
+std::string xdmf_text(const std::string& h5_name, const std::vector<XdmfGrid>& grids) {
+  std::ostringstream out;
   out << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n  <Domain>\n";
   for (const XdmfGrid& g : grids) {
     out << "    <Grid Name=\"" << g.name << "\" GridType=\"Uniform\">\n"
@@ -47,7 +44,7 @@ void write_xdmf(const std::filesystem::path& xdmf, const std::string& h5_name, c
     out << "    </Grid>\n";
   }
   out << "  </Domain>\n</Xdmf>\n";
-  if (!out.flush()) throw InputError(xdmf.string() + ": cannot write XDMF file");
+  return out.str();
 }
 
 }  // namespace dualcell::io

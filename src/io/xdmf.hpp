@@ -3,7 +3,6 @@
 // triangle mesh with its fields. The XDMF references the HDF5 file by its base name, so the
 // pair can be moved together.
 #include <cstdint>
-#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -28,7 +27,8 @@ struct XdmfGrid {
   std::vector<XdmfField> fields;
 };
 
-// Writes `xdmf` describing `grids` stored in `h5_name` (base name of the HDF5 file).
-void write_xdmf(const std::filesystem::path& xdmf, const std::string& h5_name, const std::vector<XdmfGrid>& grids);
+// The text of an XDMF file describing `grids` stored in `h5_name` (base name of the HDF5 file),
+// written by the caller's AtomicOutputs beside it.
+std::string xdmf_text(const std::string& h5_name, const std::vector<XdmfGrid>& grids);
 
 }  // namespace dualcell::io

@@ -48,6 +48,12 @@ Session::~Session() {
 #endif
 }
 
+int launcher_rank() {
+  for (const char* name : {"OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK"})
+    if (const char* value = std::getenv(name)) return std::atoi(value);
+  return 0;
+}
+
 bool built_with_mpi() {
 #ifdef DUALCELL_HAVE_MPI
   return true;

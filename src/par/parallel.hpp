@@ -27,6 +27,10 @@ class Session {
 };
 
 bool built_with_mpi();
+// This process's rank as its launcher numbered it (OpenMPI's OMPI_COMM_WORLD_RANK, PMIx's
+// PMIX_RANK, Hydra's PMI_RANK), read before MPI starts and in a build without MPI too: 0 when
+// not launched. For what happens before the Session (the command line's --help and errors).
+int launcher_rank();
 int rank();  // 0 without MPI
 int size();  // 1 without MPI
 

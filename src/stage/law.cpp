@@ -1,7 +1,5 @@
 #include "stage/law.hpp"
 
-#include <fstream>
-
 #include "core/error.hpp"
 #include "fit/fit.hpp"
 #include "io/atomic_output.hpp"
@@ -12,6 +10,7 @@
 namespace dualcell::stage {
 
 law::Law run_fit(const std::filesystem::path& sweep_file, const std::filesystem::path& out) {
+  io::check_outputs({out}, {sweep_file});
   const io::SweepHeader header = io::read_sweep_header(sweep_file);
   const std::vector<sweep::PathResult> paths = io::read_sweep(sweep_file);
   law::Law law = fit::fit_law(paths, header);
@@ -40,6 +39,7 @@ std::string describe(const law::Law& law, law::ExportFormat format, const std::s
 }  // namespace
 
 std::string export_law(const ExportOptions& options) {
+  io::check_outputs({options.out}, {options.law_file});
   const law::Law law = io::read_law(options.law_file);
   std::string text;
   switch (options.format) {
@@ -56,15 +56,7 @@ std::string export_law(const ExportOptions& options) {
       text = law::law_umat(law, options.name, options.law_file.string());
       break;
   }
-  io::AtomicOutputs outputs;
-  const auto tmp = outputs.add(options.out);
-  {
-    std::ofstream file(tmp, std::ios::binary | std::ios::trunc);
-    file << text;
-    file.close();
-    if (!file) throw InputError(options.out.string() + ": cannot write output");
-  }
-  outputs.commit();
+  io::write_output(options.out, text);
   return describe(law, options.format, options.name);
 }
 

@@ -38,12 +38,12 @@ Eigen::Vector3d parse_stress(const std::string& text) {
 namespace {
 
 // The load steps of a block with boundary = "edges", bonds carried from step to step (breaks
-// are irreversible); progress per step on stderr. `work` gets every step's QP seconds and
-// exchanges added (the last step's solution has only its own).
+// are irreversible); progress per step on stderr when `progress`. `work` gets every step's QP
+// seconds and exchanges added (the last step's solution has only its own).
 feti::Solution solve_steps(feti::ContactSolver& solver, const Scene& scene, feti::BondState bonds, io::LoadSteps& steps,
-                           feti::Timings& work) {
+                           feti::Timings& work, bool progress) {
   const EdgeLoads& loads = scene.load.edge_loads;
-  const int watch = feti::node_at(solver.setup().mesh(), loads.watch, "[output] watch");
+  const int watch = feti::node_at(solver.setup().mesh(), loads.watch, loads.watch_where, "[output] watch");
   steps.first_break_factor = solver.debond_onset(Eigen::Vector3d(1, 0, 0));
   const feti::BondState intact = solver.intact();
   feti::Solution s;
@@ -60,7 +60,7 @@ feti::Solution solve_steps(feti::ContactSolver& solver, const Scene& scene, feti
     steps.broken.push_back(broken);
     steps.converged.push_back(s.converged() ? 1 : 0);
     steps.operator_applications.push_back(s.operator_applications);
-    if (par::rank() == 0)
+    if (progress && par::rank() == 0)
       std::fprintf(stderr, "dualcell-solve: step %zu/%zu, factor %g: %s, %ld F applications, %ld bonds broken\n", k + 1,
                    loads.factors.size(), t, s.converged() ? "converged" : "NOT converged", s.operator_applications,
                    broken);
@@ -113,8 +113,13 @@ SolveOutcome run_solve(const SolveOptions& options) {
   std::optional<feti::BondState> bonds_read;
   std::string problem;
   try {
+    // Every output path checked before any work (not after it), against every input it could destroy.
+    const std::vector<std::filesystem::path> outputs{options.out, io::xdmf_beside(options.out)};
+    std::vector<std::filesystem::path> inputs{options.scene_file, options.mesh_file, options.bonds_file};
+    for (const auto& out : outputs) io::check_output_path(out, inputs);
     loaded.emplace(load_scene_and_mesh("dualcell-solve", options.scene_file, options.mesh_file));
     const Scene& scene = loaded->scene;
+    inputs.push_back(scene.material_file);
     const bool edges = scene.load.boundary == Boundary::edges;
     if (edges && !options.stress_text.empty())
       throw InputError("--stress " + options.stress_text + ": " + scene.file.string() +
@@ -129,10 +134,7 @@ SolveOutcome run_solve(const SolveOptions& options) {
                        ": the symmetry boundary carries only sxx and syy (sxy must be 0); use boundary = "
                        "\"traction\" or \"periodic\" for shear");
     if (!options.bonds_file.empty()) bonds_read = io::read_bonds(options.bonds_file, loaded->mesh, loaded->mesh_hash);
-    if (par::rank() == 0) {
-      io::AtomicOutputs probe;  // an unwritable output fails before the work, not after it
-      probe.add(options.out);
-    }
+    if (par::rank() == 0) io::check_outputs(outputs, inputs);
   } catch (const InputError& e) {
     problem = e.what();
   }
@@ -146,7 +148,7 @@ SolveOutcome run_solve(const SolveOptions& options) {
   feti::Timings work;
   if (edges) {
     outcome.steps.emplace();
-    outcome.solution = solve_steps(solver, in.scene, bonds, *outcome.steps, work);
+    outcome.solution = solve_steps(solver, in.scene, bonds, *outcome.steps, work, options.progress);
   } else {
     outcome.solution = solver.solve(sigma, bonds);
     work = outcome.solution.seconds;

@@ -13,15 +13,12 @@
 
 namespace dualcell::stage {
 
-// Exit code of a solve that stopped without converging, or whose recovered solution failed its
-// check (the file is still written, with its status).
-inline constexpr int exit_not_converged = 4;
-
 struct SolveOptions {
   std::string scene_file, mesh_file, out;
   std::string stress_text;  // "sxx,syy,sxy" as given on the command line; empty with boundary = "edges"
   std::string bonds_file;   // a solution.h5 whose bond state is the start; empty: intact
   int threads = 0;
+  bool progress = true;  // per load step on stderr (rank 0); --quiet turns it off
 };
 
 struct SolveOutcome {

@@ -7,15 +7,11 @@
 #include <functional>
 #include <string>
 
+#include "core/exit_codes.hpp"
 #include "core/scene.hpp"
 #include "mesh/mesh.hpp"
 
 namespace dualcell {
-
-// Exit codes of every stage.
-inline constexpr int exit_ok = 0;
-inline constexpr int exit_input_error = 1;     // bad scene, file, value or output path
-inline constexpr int exit_internal_error = 3;  // a bug or an unexpected system failure
 
 // Whether a stage shares its work over the ranks of an MPI launch (docs/method.md §16):
 // dualcell-solve and dualcell-sweep do; the others, started under mpirun, run once, on rank 0,

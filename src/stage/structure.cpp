@@ -6,6 +6,7 @@
 
 #include "core/error.hpp"
 #include "core/structure_scene.hpp"
+#include "core/text.hpp"
 #include "io/atomic_output.hpp"
 #include "io/hash.hpp"
 #include "io/law_file.hpp"
@@ -19,9 +20,10 @@ structure::CellLaw cell_law(const std::filesystem::path& law_file, double& cell_
     throw InputError(law_file.string() + ": /law/cone: no fitted cone-wise law (" + law.cone.message +
                      "): nothing a structure can use");
   cell_size = law.constituents.cell_size;
-  if (!(cell_size > 0) || !std::isfinite(cell_size))
-    throw InputError(law_file.string() + ": /law attribute cell_size = " + std::to_string(cell_size) +
-                     ": a structure needs a positive cell size");
+  if (!(cell_size >= min_structure_cell_size && cell_size <= max_structure_cell_size))
+    throw InputError(law_file.string() + ": /law attribute cell_size = " + shortest(cell_size) +
+                     ": a structure needs a cell size in [" + shortest(min_structure_cell_size) + ", " +
+                     shortest(max_structure_cell_size) + "] (its positions are in that unit)");
   structure::CellLaw cell;
   cell.bonded = cell.debonded = law.cone.law;
   if (!law.onset.linear) {
@@ -38,15 +40,12 @@ structure::CellLaw cell_law(const std::filesystem::path& law_file, double& cell_
 StructureSummary run_structure(const StructureOptions& options) {
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
+  // Every output checked before any work, against the inputs it could destroy.
+  io::check_outputs({options.out, io::xdmf_beside(options.out)}, {options.scene_file, options.law_file});
   StructureScene scene = load_structure_scene(options.scene_file);
   StructureSummary summary;
   const structure::CellLaw law = cell_law(options.law_file, scene.cell_size, summary.fuse_note);
   summary.cell_size = scene.cell_size;
-  {
-    // Fail on an unwritable output before any work.
-    io::AtomicOutputs probe;
-    probe.add(options.out);
-  }
   structure::HomogenisedStructure structure(scene, law);
   const auto& mesh = structure.mesh();
   summary.n_nodes = static_cast<int>(mesh.nodes.rows());

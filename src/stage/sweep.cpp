@@ -34,17 +34,16 @@ SweepSummary run_sweep(const SweepOptions& options) {
   std::optional<SceneAndMesh> loaded;
   std::string problem;
   try {
+    std::vector<std::filesystem::path> inputs{options.scene_file, options.mesh_file};
+    io::check_output_path(options.out, inputs);  // before any work, not after hours of it
     loaded.emplace(load_scene_and_mesh("dualcell-sweep", options.scene_file, options.mesh_file));
+    inputs.push_back(loaded->scene.material_file);
     if (loaded->scene.load.boundary == Boundary::edges)
       throw InputError(loaded->scene.file.string() +
                        ": boundary = \"edges\" is a structure of resolved cells, not a cell to sweep: solve its load "
                        "steps with dualcell-solve (a sweep needs boundary = \"symmetry\", \"traction\" or "
                        "\"periodic\")");
-    if (par::rank() == 0) {
-      // Fail on an unwritable output before any work, not after hours of it.
-      io::AtomicOutputs probe;
-      probe.add(options.out);
-    }
+    if (par::rank() == 0) io::check_outputs({options.out}, inputs);
   } catch (const InputError& e) {
     problem = e.what();
   }

@@ -195,8 +195,8 @@ void HomogenisedStructure::Impl::setup() {
   for (const Support& s : scene.supports) {
     const int node = mesh.node_at(s.at);
     if (node < 0)
-      throw InputError("support at (" + std::to_string(s.at(0)) + ", " + std::to_string(s.at(1)) +
-                       "): no node there (nodes lie on a grid of step cell_size/(elements_per_cell·order))");
+      throw InputError(position_text(s.where, "support", s.at) +
+                       ": no node there (nodes lie on a grid of step cell_size/(elements_per_cell·order))");
     if (s.fix_x) hold(node, 0, 0, 4);
     if (s.fix_y) hold(node, 1, 0, 4);
   }
@@ -230,8 +230,8 @@ void HomogenisedStructure::Impl::setup() {
   for (const PointLoad& p : scene.point_loads) {
     const int node = mesh.node_at(p.at);
     if (node < 0)
-      throw InputError("point load at (" + std::to_string(p.at(0)) + ", " + std::to_string(p.at(1)) +
-                       "): no node there (nodes lie on a grid of step cell_size/(elements_per_cell·order))");
+      throw InputError(position_text(p.where, "point load", p.at) +
+                       ": no node there (nodes lie on a grid of step cell_size/(elements_per_cell·order))");
     f.segment<2>(2 * node) += p.force;
   }
 
@@ -262,8 +262,7 @@ void HomogenisedStructure::Impl::setup() {
       }
   }
   if (mesh.node_at(scene.watch) < 0)
-    throw InputError("watch point (" + std::to_string(scene.watch(0)) + ", " + std::to_string(scene.watch(1)) +
-                     "): no node there");
+    throw InputError(position_text(scene.watch_where, "[output] watch", scene.watch) + ": no node there");
   if (n_free > 0) cholesky.analyze(K);
   u = Eigen::VectorXd::Zero(n_dofs);
   r_full.resize(n_dofs);
@@ -316,7 +315,7 @@ void HomogenisedStructure::Impl::newton(double factor, StepResult& out) {
     const double scale = std::max({f_int.norm(), factor * f.norm(), 1e-300});
     out.residual = r.norm() / scale;
     out.energy = Pi;
-    if (out.residual <= scene.tolerance || n_free == 0) {
+    if (std::isfinite(Pi) && (out.residual <= scene.tolerance || n_free == 0)) {
       out.converged = true;
       return;
     }

@@ -245,12 +245,13 @@ std::string run_floor_only(const BenchOptions& options) {
   const int all = options.threads > 0 ? options.threads : omp_get_max_threads();
   std::filesystem::create_directories(options.out_dir);
   io::AtomicOutputs outputs;
-  const auto md_tmp = outputs.add(options.out_dir / "floor.md");
-  const auto json_tmp = outputs.add(options.out_dir / "floor.json");
+  const auto md_file = options.out_dir / "floor.md", json_file = options.out_dir / "floor.json";
+  outputs.add(md_file);
+  outputs.add(json_file);
   const Floor floor = run_floor(all, options.quick);
-  std::ofstream(md_tmp) << floor.md;
-  std::ofstream(json_tmp) << JsonObject().add_text("blas", loaded_blas()).add("floor", json_list(floor.json)).str()
-                          << "\n";
+  outputs.write(md_file, floor.md);
+  outputs.write(json_file,
+                JsonObject().add_text("blas", loaded_blas()).add("floor", json_list(floor.json)).str() + "\n");
   outputs.commit();
   return floor.md;
 }
@@ -260,8 +261,9 @@ std::string run_bench(const BenchOptions& options) {
   const int all = options.threads > 0 ? options.threads : omp_get_max_threads();
   std::filesystem::create_directories(options.out_dir);
   io::AtomicOutputs outputs;
-  const auto md_tmp = outputs.add(options.out_dir / "bench.md");
-  const auto json_tmp = outputs.add(options.out_dir / "summary.json");
+  const auto md_file = options.out_dir / "bench.md", json_file = options.out_dir / "summary.json";
+  outputs.add(md_file);
+  outputs.add(json_file);
   std::ostringstream md;
   JsonObject json;
   std::vector<std::string> scalability_json, preconditioners_json;
@@ -372,8 +374,8 @@ std::string run_bench(const BenchOptions& options) {
      << second.operator_applications << " F applications: ratio " << ratio
      << " (target ≤ 0.1).\n\nThe thesis' cases beside the thesis' figures: thesis.md (make -C pipelines thesis).\n";
   json.add("sweep_step_ratio", json_number(ratio)).add("bytes_per_dof", json_number(bytes_per_dof));
-  std::ofstream(md_tmp) << md.str();
-  std::ofstream(json_tmp) << json.str() << "\n";
+  outputs.write(md_file, md.str());
+  outputs.write(json_file, json.str() + "\n");
   outputs.commit();
   return md.str();
 }

@@ -3,9 +3,9 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <map>
 #include <numbers>
+#include <sstream>
 
 #include "core/error.hpp"
 #include "feti/solver.hpp"
@@ -106,9 +106,9 @@ StabilityReport run_stability(const StabilityOptions& options) {
   StabilityReport report;
   const auto cases = stability_cases(options.fast);
   io::AtomicOutputs outputs;
-  const auto csv_tmp = outputs.add(options.csv);
-  const auto md_tmp = options.summary.empty() ? std::filesystem::path() : outputs.add(options.summary);
-  std::ofstream csv(csv_tmp);
+  outputs.add(options.csv);
+  if (!options.summary.empty()) outputs.add(options.summary);
+  std::ostringstream csv;
   csv << "element,boundary,direction_deg,stiffness_ratio,nu_matrix,radius,offset,adhesion,load,status,primal_ok,finite,"
          "ok,"
          "outer_iterations,operator_applications,relative_projected_gradient,relative_equality_residual,"
@@ -160,9 +160,9 @@ StabilityReport run_stability(const StabilityOptions& options) {
       std::fprintf(stderr, "\rdualcell-stability: case %zu of %zu, %d failed   ", i + 1, cases.size(), report.failed);
   }
   if (show) std::fprintf(stderr, "\n");
-  csv.close();
-  if (!md_tmp.empty()) {
-    std::ofstream md(md_tmp);
+  outputs.write(options.csv, csv.str());
+  if (!options.summary.empty()) {
+    std::ostringstream md;
     md << "# Stability matrix (" << cases.size() << " cases, tolerance " << options.tolerance << ")\n\n"
        << "A case passes when it converges with its primal check passed and every result finite, or stops with a "
           "diagnostic. Per factor value:\n\n"
@@ -172,6 +172,7 @@ StabilityReport run_stability(const StabilityOptions& options) {
     for (const auto& [name, t] : by_factor)
       md << "| " << name << " | " << t.n << " | " << t.converged << " | " << t.failed << " | " << t.max_ops << " | "
          << t.max_gradient << " | " << t.max_penetration << " |\n";
+    outputs.write(options.summary, md.str());
   }
   outputs.commit();
   report.cases = static_cast<int>(cases.size());

@@ -12,8 +12,8 @@
 #include <set>
 #include <sstream>
 
+#include "hostile/hostile_util.hpp"
 #include "io/sweep_file.hpp"
-#include "test_util.hpp"
 
 namespace dualcell {
 namespace {
@@ -43,33 +43,15 @@ std::vector<Row> manifest(const fs::path& file) {
   return rows;
 }
 
-struct Outcome {
-  int exit_code;
-  std::string err;  // stderr only
-};
+using testing::expect_no_temporary;
+using testing::expect_refused;
+using testing::Outcome;
+using testing::slurp;
 
-// `command` under `timeout 20`, stdout discarded, stderr captured. A crash shows as -1 (the
-// signal passes through timeout) and a hang as 124.
-Outcome run(const std::string& command) {
-  const auto r = testing::run_command("{ timeout 20 " + command + " 2>&1 >/dev/null; }");
-  return {r.exit_code, r.output};
-}
+// Every hostile input answers within 20 s.
+Outcome run(const std::string& command) { return testing::run_bounded(command, 20); }
 
-std::string quoted(const fs::path& p) {
-  std::string q(1, '\'');
-  q += p.string();
-  q += '\'';
-  return q;
-}
-
-void expect_refused(const Outcome& r, const std::string& stage, const std::string& substring) {
-  EXPECT_EQ(r.exit_code, 1) << "exit code (-1: killed by a signal, 124: hung, 3: internal error): " << r.err;
-  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "not one line: " << r.err;
-  EXPECT_TRUE(!r.err.empty() && r.err.back() == '\n') << r.err;
-  EXPECT_EQ(r.err.rfind(stage + ": error: ", 0), 0u) << r.err;
-  EXPECT_NE(r.err.find(substring), std::string::npos) << "expected \"" << substring << "\" in: " << r.err;
-  EXPECT_LE(r.err.size(), 1200u) << "an unreadably long line";
-}
+std::string quoted(const fs::path& p) { return testing::quoted(p); }
 
 void expect_accepted(const Outcome& r) { EXPECT_EQ(r.exit_code, 0) << r.err; }
 
@@ -78,21 +60,9 @@ void expect_empty(const fs::path& folder) {
   for (const auto& e : fs::directory_iterator(folder)) ADD_FAILURE() << "left behind: " << e.path().filename();
 }
 
-void expect_no_temporary(const fs::path& folder) {
-  for (const auto& e : fs::directory_iterator(folder))
-    EXPECT_EQ(e.path().filename().string().find(".tmp."), std::string::npos) << "left behind: " << e.path();
-}
-
 void reset(const fs::path& folder) {
   fs::remove_all(folder);
   fs::create_directories(folder);
-}
-
-std::string slurp(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
 }
 
 // --- scene files -------------------------------------------------------------------------------

@@ -8,6 +8,7 @@
 #include <cstring>
 
 #include "core/error.hpp"
+#include "io/atomic_output.hpp"
 #include "io/hdf5.hpp"
 #include "law/fields.hpp"
 #include "law/synthetic_law.hpp"
@@ -214,10 +215,17 @@ TEST(LawFile, ForeignTruncatedAndMissingFilesAreRefused) {
   EXPECT_NE(refusal(dir.write("text.h5", "hello")).find("not an HDF5 file"), std::string::npos);
   EXPECT_NE(refusal(dir / "absent.h5").find("file not found"), std::string::npos);
   // An HDF5 file of another stage.
-  { io::File::create(dir / "other.h5").write_attribute("/", "format", std::string("dualcell sweep 1")); }
+  {
+    io::File f = io::File::create(dir / "other.h5");
+    f.write_attribute("/", "format", std::string("dualcell sweep 1"));
+    io::write_output(dir / "other.h5", f.close_to_image());
+  }
   EXPECT_NE(refusal(dir / "other.h5").find("attribute format is 'dualcell sweep 1', expected 'dualcell law 3'"),
             std::string::npos);
-  { io::File::create(dir / "empty.h5"); }
+  {
+    io::File f = io::File::create(dir / "empty.h5");
+    io::write_output(dir / "empty.h5", f.close_to_image());
+  }
   EXPECT_NE(refusal(dir / "empty.h5").find("not a dualcell law file"), std::string::npos);
 }
 

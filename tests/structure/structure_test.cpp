@@ -48,7 +48,7 @@ Bending bend(const CellLaw& law, int ny, int m, Element element, double sigma0) 
   s.edges[1].kind = EdgeKind::traction;
   s.edges[1].traction_start = {sigma0, 0};
   s.edges[1].traction_end = {-sigma0, 0};
-  s.supports = {{{0, 0}, false, true}};
+  s.supports = {{{0, 0}, false, true, ""}};
   s.watch = {8.0 * ny, 0};
   HomogenisedStructure structure(s, law);
   const StepResult r = structure.solve_step(1.0);
@@ -148,7 +148,7 @@ TEST(Structure, NewtonConvergesWhereTheEnergyCannotTellStepsApart) {
   s.edges[1].kind = EdgeKind::traction;
   s.edges[1].traction_start = {0.01, 0};
   s.edges[1].traction_end = {-0.01, 0};
-  s.supports = {{{0, 0}, false, true}};
+  s.supports = {{{0, 0}, false, true, ""}};
   s.watch = {16, 0};
   HomogenisedStructure structure(s, law);
   const StepResult r = structure.solve_step(0.1);
@@ -171,7 +171,7 @@ TEST(Structure, FusedCellsStayFused) {
   s.edges[0].kind = EdgeKind::roller;
   s.edges[1].kind = EdgeKind::traction;
   s.edges[1].traction_start = s.edges[1].traction_end = {1e-3, 0};
-  s.supports = {{{0, 0}, false, true}};
+  s.supports = {{{0, 0}, false, true, ""}};
   s.watch = {4, 0};
   HomogenisedStructure structure(s, law);
   // Uniform σxx = 1e-3·t reaches the surface σxx = 0.8e-3 at t* = 0.8 (round-off of one solve).
