@@ -67,9 +67,14 @@ void FloatingSubdomain::apply_K_plus(const Eigen::VectorXd& y, Eigen::VectorXd& 
   K_plus->apply(y, x, scratch);
 }
 
-FetiSetup::FetiSetup(const mesh::Mesh& mesh, const Scene& scene, int threads, int min_dofs_per_thread, par::Group group)
+FetiSetup::FetiSetup(const mesh::Mesh& mesh, const Scene& scene, int threads, int min_dofs_per_thread, par::Group group,
+                     Progress* progress)
     : mesh_(mesh), scene_(scene), group_(std::move(group)), threads_(threads > 0 ? threads : omp_get_max_threads()) {
   validate(scene_);  // scenes built in code are checked like scenes read from a file
+  const auto phase = [&](const char* name) {
+    if (progress) progress->update([&] { return std::string(name) + ", " + seconds_text(progress->seconds()); });
+  };
+  phase("assembly");
   const auto t0 = Clock::now();
   const int S = static_cast<int>(mesh.subdomains.size());
   const bool periodic = scene.load.boundary == Boundary::periodic;
@@ -131,6 +136,7 @@ FetiSetup::FetiSetup(const mesh::Mesh& mesh, const Scene& scene, int threads, in
   // thread-safe.
   const linalg::CholmodOptions subdomain_factor_options{linalg::FactorKind::simplicial, linalg::Ordering::amd};
   const auto t1 = Clock::now();
+  phase("factorisation");
   for_each_subdomain([&](int s) {
     FloatingSubdomain& sub = subdomains_[s];
     if (!sub.is_macro)

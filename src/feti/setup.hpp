@@ -20,6 +20,7 @@
 #include <memory>
 #include <vector>
 
+#include "core/progress.hpp"
 #include "core/scene.hpp"
 #include "linalg/fixing_node_inverse.hpp"
 #include "mesh/mesh.hpp"
@@ -58,8 +59,9 @@ class FetiSetup {
   //
   // group: the ranks that share this solve (default: this process alone). Every subdomain's R
   // and place are known on every rank; K, K⁺ and the preconditioner's factor only on its owner.
+  // progress, when given, shows the phase (assembly, factorisation) while the setup works.
   FetiSetup(const mesh::Mesh& mesh, const Scene& scene, int threads = 1,
-            int min_dofs_per_thread = default_min_dofs_per_thread, par::Group group = {});
+            int min_dofs_per_thread = default_min_dofs_per_thread, par::Group group = {}, Progress* progress = nullptr);
 
   const mesh::Mesh& mesh() const { return mesh_; }
   const Scene& scene() const { return scene_; }

@@ -71,8 +71,8 @@ constexpr double onset_qp_tolerance = 1e-13;
 }  // namespace
 
 ContactSolver::ContactSolver(const mesh::Mesh& mesh, const Scene& scene, int threads, int min_dofs_per_thread,
-                             par::Group group)
-    : setup_(mesh, scene, threads, min_dofs_per_thread, std::move(group)) {}
+                             par::Group group, Progress* progress)
+    : setup_(mesh, scene, threads, min_dofs_per_thread, std::move(group), progress), progress_(progress) {}
 
 const DualProblem& ContactSolver::problem(const BondState& bonds) {
   if (!problem_ || bonds != problem_bonds_) {
@@ -94,6 +94,8 @@ Solution ContactSolver::solve_fixed(const Eigen::Vector3d& sigma, const BondStat
                      std::to_string(setup_.mesh().interface_pairs.size()) + " interface pairs");
   const auto t0 = Clock::now();
   const bool rebuilt = !problem_ || bonds != problem_bonds_;
+  if (rebuilt && progress_)
+    progress_->update([&] { return "dual setup (B, G, GGᵀ), " + seconds_text(progress_->seconds()); });
   const DualProblem& dual = problem(bonds);
   const double dual_setup = rebuilt ? seconds_since(t0) : 0.0;
   Solution out = solve_problem(dual, norm_PFP_, sigma, warm_lambda, warm_multiplier);
@@ -165,9 +167,56 @@ Solution ContactSolver::solve_problem(const DualProblem& dual, double& norm_PFP,
   options.inner.norm_A = norm_PFP;
   options.inner.max_iterations = settings.max_operator_applications;
   options.projected_operator = true;  // A = PFP: ‖A + ρQ‖ = max(‖A‖, ρ)
+  // Progress: per application of F one clock read; the line (the last outer iteration's
+  // stopping quantities against their tolerance, F so far, and what is left at the rate the
+  // worse of the two has fallen per outer iteration) is formed only when one is due.
+  long applications = 0;
+  qp::OuterReport first{}, last{};
+  double first_seconds = 0, last_seconds = 0;
+  const auto qp_line = [&] {
+    char text[320];
+    const double tol = out.qp_tolerance;
+    const double now = progress_->seconds();
+    std::string left;
+    // The distance to convergence, max(‖gᴾ‖, ‖Gλ−e‖)/tol, falls about geometrically per outer
+    // iteration; from the rate seen since the first, the outer iterations and seconds left.
+    const auto distance = [&](const qp::OuterReport& r) {
+      return std::max(r.projected_gradient, r.equality_residual) / tol;
+    };
+    if (last.outer_iterations >= 3 && distance(last) > 1 && distance(first) > distance(last)) {
+      const double steps = static_cast<double>(last.outer_iterations - first.outer_iterations);
+      const double rate = std::pow(distance(last) / distance(first), 1 / steps);
+      const double per_outer = (last_seconds - first_seconds) / steps;
+      const double outers_left = std::log(distance(last)) / -std::log(rate);
+      if (rate < 0.95)
+        left = ", ~" + seconds_text(std::max(0.0, outers_left * per_outer - (now - last_seconds))) + " left";
+    }
+    if (last.outer_iterations == 0)
+      std::snprintf(text, sizeof text, "QP (%d rows): outer 1, %ld F applications, %s", m, applications,
+                    seconds_text(now).c_str());
+    else
+      std::snprintf(text, sizeof text,
+                    "QP (%d rows): outer %ld, |gP| %.1e, |G l - e| %.1e (tol %.0e), %ld F applications, %s%s", m,
+                    last.outer_iterations, last.projected_gradient, last.equality_residual, tol, applications,
+                    seconds_text(now).c_str(), left.c_str());
+    return std::string(text);
+  };
   options.A_plus_shifted_Q = [&](const Eigen::VectorXd& x, double shift, Eigen::VectorXd& y) {
     A_plus_shifted_Q(x, shift, y);
+    if (progress_) {
+      ++applications;
+      progress_->update(qp_line);
+    }
   };
+  if (progress_)
+    options.on_outer = [&](const qp::OuterReport& r) {
+      if (r.outer_iterations == 1) {
+        first = r;
+        first_seconds = progress_->seconds();
+      }
+      last = r;
+      last_seconds = progress_->seconds();
+    };
   // The preconditioner of PFP on Im P: P M⁻¹ P, fused with SMALBE's Q/ρ like A + ρQ.
   std::optional<ProjectedPlusShiftedQ> M_plus_shifted_Q;
   if (settings.preconditioner != Preconditioner::none) {
@@ -199,6 +248,7 @@ Solution ContactSolver::solve_problem(const DualProblem& dual, double& norm_PFP,
   out.lambda = lambda_scaled.cwiseProduct(con.weight);
   out.multiplier = multiplier;
   const auto t_rec = Clock::now();
+  if (progress_) progress_->update([&] { return "recovery of u, " + seconds_text(progress_->seconds()); });
   recover(dual, f, d, lambda_scaled, multiplier, out);
   out.seconds.recovery = seconds_since(t_rec);
   report(dual, f, lambda_scaled, out);

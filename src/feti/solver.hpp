@@ -109,8 +109,11 @@ class ContactSolver {
   // depend on them. group: the ranks that solve together, each owning some subdomains
   // (FetiSetup); every call below is then collective over the group, and every rank gets the
   // whole Solution.
+  // progress, when given, shows the phase and every SMALBE outer iteration while it works (it
+  // must outlive the solver).
   ContactSolver(const mesh::Mesh& mesh, const Scene& scene, int threads = 1,
-                int min_dofs_per_thread = FetiSetup::default_min_dofs_per_thread, par::Group group = {});
+                int min_dofs_per_thread = FetiSetup::default_min_dofs_per_thread, par::Group group = {},
+                Progress* progress = nullptr);
   // The cached dual problem refers to setup_: not copyable, not movable.
   ContactSolver(const ContactSolver&) = delete;
   ContactSolver& operator=(const ContactSolver&) = delete;
@@ -165,6 +168,7 @@ class ContactSolver {
               Solution& out) const;
 
   FetiSetup setup_;
+  Progress* progress_ = nullptr;
   std::unique_ptr<DualProblem> problem_;
   BondState problem_bonds_;
   double norm_PFP_ = 0;  // ‖PFP‖ of problem_, estimated once per problem

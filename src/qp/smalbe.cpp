@@ -252,6 +252,9 @@ Result smalbe(const LinearOperator& A, const LinearOperator& Q, const Eigen::Vec
     // L = ½ xᵀ(A + ρQ)x - (b - m)ᵀx = ½ xᵀ(g - (b - m)) with the fresh inner gradient g.
     const double lagrangian = 0.5 * x.dot(work.g - b_minus_m);
     m += rho * Qx;
+    if (opts.on_outer)
+      opts.on_outer(
+          {counters.outer_iterations, gP_norm / scale, Qx_norm * scale_A / scale, counters.operator_applications, rho});
 
     if (gP_norm <= tolerance_g && Qx_norm <= tolerance_e) {
       result.status = Status::converged;

@@ -13,6 +13,16 @@
 
 namespace dualcell::qp {
 
+// The state after one outer iteration, for a monitor (progress on a terminal): the two
+// stopping quantities relative to ‖b‖ as the tolerances are, and the work so far.
+struct OuterReport {
+  long outer_iterations = 0;       // done so far
+  double projected_gradient = 0;   // ‖gᴾ‖/‖b‖, against relative_tolerance
+  double equality_residual = 0;    // ‖A‖‖Qx‖/‖b‖, against equality_tolerance
+  long operator_applications = 0;  // so far, all included
+  double rho = 0;                  // the penalty now
+};
+
 struct SmalbeOptions {
   // Stop when ‖gᴾ‖ ≤ relative_tolerance·‖b‖ and ‖A‖‖Q x‖ ≤ equality_tolerance·‖b‖ (‖b‖ → 1 if
   // b = 0). ‖A‖‖Qx‖ is the gradient a residual Qx can cause, so both tests are in units of b
@@ -65,6 +75,8 @@ struct SmalbeOptions {
   // replaced by SMALBE's inner stopping test. inner.preconditioner must be empty (it is built
   // from preconditioner, for the current ρ).
   MprgpOptions inner;
+  // Called after every outer iteration (empty: not called); must not change anything.
+  std::function<void(const OuterReport&)> on_outer;
 };
 
 // Empty when the options are valid, else a one-line description of the first invalid one.

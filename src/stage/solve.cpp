@@ -41,7 +41,7 @@ namespace {
 // are irreversible); progress per step on stderr when `progress`. `work` gets every step's QP
 // seconds and exchanges added (the last step's solution has only its own).
 feti::Solution solve_steps(feti::ContactSolver& solver, const Scene& scene, feti::BondState bonds, io::LoadSteps& steps,
-                           feti::Timings& work, bool progress) {
+                           feti::Timings& work, Progress& progress) {
   const EdgeLoads& loads = scene.load.edge_loads;
   const int watch = feti::node_at(solver.setup().mesh(), loads.watch, loads.watch_where, "[output] watch");
   steps.first_break_factor = solver.debond_onset(Eigen::Vector3d(1, 0, 0));
@@ -60,10 +60,11 @@ feti::Solution solve_steps(feti::ContactSolver& solver, const Scene& scene, feti
     steps.broken.push_back(broken);
     steps.converged.push_back(s.converged() ? 1 : 0);
     steps.operator_applications.push_back(s.operator_applications);
-    if (progress && par::rank() == 0)
-      std::fprintf(stderr, "dualcell-solve: step %zu/%zu, factor %g: %s, %ld F applications, %ld bonds broken\n", k + 1,
-                   loads.factors.size(), t, s.converged() ? "converged" : "NOT converged", s.operator_applications,
-                   broken);
+    char line[160];
+    std::snprintf(line, sizeof line, "step %zu/%zu, factor %g: %s, %ld F applications, %ld bonds broken", k + 1,
+                  loads.factors.size(), t, s.converged() ? "converged" : "NOT converged", s.operator_applications,
+                  broken);
+    progress.message(line);
   }
   return s;
 }
@@ -141,14 +142,16 @@ SolveOutcome run_solve(const SolveOptions& options) {
   par::agree_on_error(problem);
   SceneAndMesh& in = *loaded;
   const bool edges = in.scene.load.boundary == Boundary::edges;
+  // The phases and the QP's outer iterations on stderr while it works (rank 0 only).
+  Progress progress("dualcell-solve", options.progress && par::rank() == 0);
   feti::ContactSolver solver(in.mesh, in.scene, options.threads, feti::FetiSetup::default_min_dofs_per_thread,
-                             par::Group::world());
+                             par::Group::world(), &progress);
   const feti::BondState bonds = bonds_read ? *bonds_read : solver.intact();
   SolveOutcome outcome;
   feti::Timings work;
   if (edges) {
     outcome.steps.emplace();
-    outcome.solution = solve_steps(solver, in.scene, bonds, *outcome.steps, work, options.progress);
+    outcome.solution = solve_steps(solver, in.scene, bonds, *outcome.steps, work, progress);
   } else {
     outcome.solution = solver.solve(sigma, bonds);
     work = outcome.solution.seconds;

@@ -18,7 +18,7 @@ struct SolveOptions {
   std::string stress_text;  // "sxx,syy,sxy" as given on the command line; empty with boundary = "edges"
   std::string bonds_file;   // a solution.h5 whose bond state is the start; empty: intact
   int threads = 0;
-  bool progress = true;  // per load step on stderr (rank 0); --quiet turns it off
+  bool progress = true;  // phases, QP iterations and load steps on stderr (rank 0); --quiet: none
 };
 
 struct SolveOutcome {

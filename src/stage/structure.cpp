@@ -46,7 +46,9 @@ StructureSummary run_structure(const StructureOptions& options) {
   StructureSummary summary;
   const structure::CellLaw law = cell_law(options.law_file, scene.cell_size, summary.fuse_note);
   summary.cell_size = scene.cell_size;
+  Progress progress("dualcell-structure", options.progress);
   structure::HomogenisedStructure structure(scene, law);
+  structure.set_progress(&progress);
   const auto& mesh = structure.mesh();
   summary.n_nodes = static_cast<int>(mesh.nodes.rows());
   summary.n_triangles = static_cast<int>(mesh.triangles.rows());
@@ -55,12 +57,12 @@ StructureSummary run_structure(const StructureOptions& options) {
   for (std::size_t k = 0; k < scene.factors.size(); ++k) {
     summary.steps.push_back(structure.solve_step(scene.factors[k]));
     const auto& s = summary.steps.back();
-    if (options.progress)
-      std::fprintf(stderr,
-                   "dualcell-structure: step %zu/%zu factor %g: %d Newton steps, %d newly fused cells, %d/%d triangles "
-                   "open/closed, %s\n",
-                   k + 1, scene.factors.size(), s.factor, s.newton_steps, s.newly_fused_cells, s.open_triangles,
-                   s.closed_triangles, s.converged ? "converged" : "NOT converged");
+    char line[200];
+    std::snprintf(line, sizeof line,
+                  "step %zu/%zu factor %g: %d Newton steps, %d newly fused cells, %d/%d triangles open/closed, %s",
+                  k + 1, scene.factors.size(), s.factor, s.newton_steps, s.newly_fused_cells, s.open_triangles,
+                  s.closed_triangles, s.converged ? "converged" : "NOT converged");
+    progress.message(line);
   }
   for (std::uint8_t f : structure.fused_cells()) summary.fused_cells += f;
   Provenance provenance;

@@ -3,6 +3,7 @@
 #include <Eigen/SparseCore>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 #include "core/error.hpp"
@@ -64,6 +65,7 @@ struct Point {
 }  // namespace
 
 struct HomogenisedStructure::Impl {
+  Progress* progress = nullptr;
   StructureScene scene;
   CellLaw law;
   StructureMesh mesh;
@@ -315,6 +317,14 @@ void HomogenisedStructure::Impl::newton(double factor, StepResult& out) {
     const double scale = std::max({f_int.norm(), factor * f.norm(), 1e-300});
     out.residual = r.norm() / scale;
     out.energy = Pi;
+    if (progress)
+      progress->update([&] {
+        char text[200];
+        std::snprintf(text, sizeof text, "load factor %g: Newton %d, residual %.1e (tol %.0e), %d fused cells, %s",
+                      factor, iteration, out.residual, scene.tolerance, out.newly_fused_cells,
+                      seconds_text(progress->seconds()).c_str());
+        return std::string(text);
+      });
     if (std::isfinite(Pi) && (out.residual <= scene.tolerance || n_free == 0)) {
       out.converged = true;
       return;
@@ -363,6 +373,8 @@ void HomogenisedStructure::Impl::newton(double factor, StepResult& out) {
     ++out.newton_steps;
   }
 }
+
+void HomogenisedStructure::set_progress(Progress* progress) { impl_->progress = progress; }
 
 StepResult HomogenisedStructure::solve_step(double factor) {
   Impl& s = *impl_;

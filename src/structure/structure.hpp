@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "core/progress.hpp"
 #include "core/structure_scene.hpp"
 #include "law/cone.hpp"
 #include "law/onset.hpp"
@@ -89,6 +90,9 @@ class HomogenisedStructure {
   double first_fuse_factor();
   const StructureMesh& mesh() const;
   const std::vector<std::uint8_t>& fused_cells() const;
+  // Shows every Newton iteration (its residual against the tolerance) while a step works; it
+  // must outlive the structure's use of it.
+  void set_progress(Progress* progress);
 
  private:
   struct Impl;

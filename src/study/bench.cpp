@@ -75,12 +75,14 @@ struct Run {
   Eigen::VectorXd lambda, u, f;
 };
 
+// progress: the solve's phases and QP iterations on stderr while it works (the big cases run
+// for minutes); it reads a clock per F application and prints only when a line is due.
 Run contact(int cells, int degree, int threads, Preconditioner preconditioner = Preconditioner::none,
-            Element element = Element::p1) {
+            Element element = Element::p1, Progress* progress = nullptr) {
   const Scene s = block(cells, degree, preconditioner, 0, element);
   const mesh::Mesh m = mesh::build_mesh(s.geometry);
   const auto t0 = Clock::now();  // the mesh is an input of both solvers, timed in neither
-  feti::ContactSolver solver(m, s, threads);
+  feti::ContactSolver solver(m, s, threads, feti::FetiSetup::default_min_dofs_per_thread, {}, progress);
   const double setup = since(t0);
   const auto t1 = Clock::now();
   feti::Solution r = solver.solve({-10, 0, 0}, solver.intact());
@@ -183,6 +185,7 @@ struct Floor {
 // factorise and solve of the bonded problem as one body on the same mesh, for both element
 // orders at ~1e5 and ~1e6 DOF.
 Floor run_floor(int threads, bool quick) {
+  Progress progress("dualcell-bench", true);
   struct Case {
     int cells, degree;
     Element element;
@@ -206,7 +209,7 @@ Floor run_floor(int threads, bool quick) {
         "factorise+solve s | ratio | peak RSS bytes/DOF |\n|---|---|---|---|---|---|---|---|\n";
   for (std::size_t i = 0; i < cases.size(); ++i) {
     const auto [n, k, element] = cases[i];
-    Run r = contact(n, k, threads, Preconditioner::none, element);
+    Run r = contact(n, k, threads, Preconditioner::none, element, &progress);
     const long rss = par::peak_rss_bytes();
     const Scene bonded = block(n, k, Preconditioner::none, 1e12, element);
     const mesh::Mesh m = mesh::build_mesh(bonded.geometry);
@@ -353,6 +356,33 @@ std::string run_bench(const BenchOptions& options) {
                           .add("max_relative_difference_lambda", json_number(lambda_difference))
                           .add("max_relative_difference_u", json_number(u_difference))
                           .str(4));
+
+  // Progress on stderr costs nothing: the same solve with a live progress line and without,
+  // alternated three times, the fastest of each compared (docs: README, "Progress").
+  progress("progress line");
+  double with_line = 1e300, without_line = 1e300;
+  long applications_with = 0, applications_without = 0;
+  for (int repeat = 0; repeat < 3; ++repeat) {
+    const Run plain = contact(tn, tk, 1);
+    Progress live("dualcell-bench", true);
+    const Run shown = contact(tn, tk, 1, Preconditioner::none, Element::p1, &live);
+    live.finish();
+    without_line = std::min(without_line, plain.solve_seconds + plain.setup_seconds);
+    with_line = std::min(with_line, shown.solve_seconds + shown.setup_seconds);
+    applications_without = plain.applications;
+    applications_with = shown.applications;
+  }
+  const double progress_ratio = with_line / without_line;
+  md << "## Progress\n\n"
+     << tn << "×" << tn << " cells, degree " << tk << ", one thread, setup + solve, best of 3: " << with_line
+     << " s with the progress line, " << without_line << " s without: ratio " << progress_ratio
+     << " (target: within noise); F applications " << applications_with << " and " << applications_without
+     << " (must be equal).\n\n";
+  json.add("progress", JsonObject()
+                           .add("ratio", json_number(progress_ratio))
+                           .add("applications_with", std::to_string(applications_with))
+                           .add("applications_without", std::to_string(applications_without))
+                           .str(4));
 
   // Sweep step: a further proportional step against the first one (setup included).
   progress("sweep step");

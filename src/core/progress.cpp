@@ -1,0 +1,91 @@
+#include "core/progress.hpp"
+
+#include <sys/ioctl.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+
+namespace dualcell {
+
+namespace {
+
+// Where the in-place line must stop so that it never wraps (a wrapped line cannot be rewritten).
+std::size_t terminal_columns() {
+  winsize size{};
+  if (::ioctl(STDERR_FILENO, TIOCGWINSZ, &size) == 0 && size.ws_col > 1) return size.ws_col - 1;
+  return 79;
+}
+
+}  // namespace
+
+Progress::Progress(std::string stage, bool enabled) : stage_(std::move(stage)), enabled_(enabled) {
+  start_ = Clock::now();
+  const char* term = std::getenv("TERM");
+  terminal_ = ::isatty(STDERR_FILENO) == 1 && !(term && std::strcmp(term, "dumb") == 0);
+  if (const char* text = std::getenv("DUALCELL_PROGRESS_INTERVAL")) {
+    char* end = nullptr;
+    const double v = std::strtod(text, &end);
+    if (end != text && *end == '\0' && std::isfinite(v) && v >= 0) interval_ = v;
+  }
+  // A terminal shows the state from the start; a log gets its first line after one interval.
+  next_ = terminal_ ? start_
+                    : start_ + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(interval_));
+}
+
+std::string seconds_text(double seconds) {
+  char text[48];
+  if (!std::isfinite(seconds) || seconds < 0) return "?";
+  if (seconds < 60)
+    std::snprintf(text, sizeof text, "%.1f s", seconds);
+  else if (seconds < 3600)
+    std::snprintf(text, sizeof text, "%d min %02d s", static_cast<int>(seconds / 60), static_cast<int>(seconds) % 60);
+  else
+    std::snprintf(text, sizeof text, "%d h %02d min", static_cast<int>(seconds / 3600),
+                  static_cast<int>(seconds / 60) % 60);
+  return text;
+}
+
+double Progress::seconds() const { return std::chrono::duration<double>(Clock::now() - start_).count(); }
+
+bool Progress::due() {
+  const Clock::time_point now = Clock::now();
+  if (now < next_) return false;
+  const double wait = terminal_ ? 0.2 : interval_;
+  next_ = now + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(wait));
+  return true;
+}
+
+void Progress::show(const std::string& text) {
+  std::string line = stage_ + ": " + text;
+  if (terminal_) {
+    const std::size_t columns = terminal_columns();
+    if (line.size() > columns) line.resize(columns);
+    // Return, the line, then erase what an earlier, longer line left to its right.
+    std::fprintf(stderr, "\r%s\x1b[K", line.c_str());
+    line_shown_ = true;
+  } else {
+    std::fprintf(stderr, "%s\n", line.c_str());
+  }
+  std::fflush(stderr);
+}
+
+void Progress::message(const std::string& line) {
+  if (!enabled_) return;
+  if (terminal_ && line_shown_) std::fprintf(stderr, "\r\x1b[K");
+  line_shown_ = false;
+  std::fprintf(stderr, "%s: %s\n", stage_.c_str(), line.c_str());
+  std::fflush(stderr);
+  if (terminal_) next_ = Clock::now();  // redraw the state at the next update
+}
+
+void Progress::finish() {
+  if (!enabled_ || !terminal_ || !line_shown_) return;
+  std::fprintf(stderr, "\r\x1b[K");
+  std::fflush(stderr);
+  line_shown_ = false;
+}
+
+}  // namespace dualcell
