@@ -3,6 +3,7 @@
 #include <sys/ioctl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -28,7 +29,7 @@ Progress::Progress(std::string stage, bool enabled) : stage_(std::move(stage)), 
   if (const char* text = std::getenv("DUALCELL_PROGRESS_INTERVAL")) {
     char* end = nullptr;
     const double v = std::strtod(text, &end);
-    if (end != text && *end == '\0' && std::isfinite(v) && v >= 0) interval_ = v;
+    if (end != text && *end == '\0' && std::isfinite(v) && v >= 0) interval_ = std::min(v, 1e6);
   }
   // A terminal shows the state from the start; a log gets its first line after one interval.
   next_ = terminal_ ? start_
@@ -62,7 +63,11 @@ void Progress::show(const std::string& text) {
   std::string line = stage_ + ": " + text;
   if (terminal_) {
     const std::size_t columns = terminal_columns();
-    if (line.size() > columns) line.resize(columns);
+    if (line.size() > columns) {  // cut at a character boundary (UTF-8), never inside one
+      std::size_t cut = columns;
+      while (cut > 0 && (static_cast<unsigned char>(line[cut]) & 0xC0) == 0x80) --cut;
+      line.resize(cut);
+    }
     // Return, the line, then erase what an earlier, longer line left to its right.
     std::fprintf(stderr, "\r%s\x1b[K", line.c_str());
     line_shown_ = true;

@@ -1,8 +1,8 @@
 #pragma once
-// Subdomain assembly (docs/method.md §3): each subdomain i gets its own stiffness K_i, its rigid-body
-// kernel R_i and its slice of the load vector f. DOFs are node-interleaved and global DOF
-// 2·node + c (c = 0: x, 1: y); subdomain i owns the contiguous range
-// [2·node_begin, 2·node_end), so K = diag(K_1..K_s) is never formed as one matrix.
+// Subdomain assembly (docs/method.md §3): each subdomain i gets its own stiffness K_i, its
+// rigid-body kernel R_i and its slice of the load vector f. DOFs are node-interleaved, global
+// DOF 2·node + c (c = 0: x, 1: y); subdomain i owns the contiguous range [2·node_begin,
+// 2·node_end), so K = diag(K_1..K_s) is never formed as one matrix.
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <array>
@@ -17,9 +17,9 @@ namespace dualcell::fem {
 Eigen::SparseMatrix<double> assemble_stiffness(const mesh::Mesh& mesh, int s, const Material& material);
 
 // R_i: orthonormal basis (dim_i × 3) of ker K_i: two translations and the rotation about the
-// subdomain's node centroid (a far-away rotation centre would make the rotation column nearly parallel to the
-// translations); with the
-// centroid as centre the three columns are orthogonal before normalisation.
+// subdomain's node centroid (a far-away rotation centre would make the rotation column nearly
+// parallel to the translations); with the centroid as centre the three columns are orthogonal
+// before normalisation.
 Eigen::MatrixXd rigid_body_modes(const mesh::Mesh& mesh, int s);
 
 // Consistent nodal forces ∫ φ_i t ds of a traction varying linearly (in the edge parameter)

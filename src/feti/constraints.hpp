@@ -11,14 +11,15 @@
 //   tangential   | t·u_f − t·u_m            = 0        | bonded only: −s_t·L_p ≤ λ ≤ s_t·L_p
 //
 // n is the fibre's outward normal at the node from the exact circle, t = (−n_y, n_x), L_p the
-// interface length of pair p, ∫ φ_p ds over its rim edges (half its two chords for p1), s_n and s_t the strengths per
-// unit length: nodal bounds consistent with nodal forces, so results do not depend on the
-// mesh degree. A scene without adhesion has no tangential rows; one cell has no glue rows.
+// interface length of pair p, ∫ φ_p ds over its rim edges (half its two chords for p1), s_n
+// and s_t the strengths per unit length: nodal bounds consistent with nodal forces, so results
+// do not depend on the mesh degree. A scene without adhesion has no tangential rows; one cell
+// has no glue rows.
 //
 // Rows are scaled by w_r = sqrt(harmonic mean of the Young's moduli the row couples) so that
 // F = B K⁺ Bᵀ has a diagonal of the same order (that of the matrix, ~1/E_m) whatever the
-// stiffness contrast; the stored B, c and
-// bounds are the scaled ones (λ_scaled = λ / w, force = w·λ_scaled).
+// stiffness contrast; the stored B, c and bounds are the scaled ones (λ_scaled = λ / w,
+// force = w·λ_scaled).
 #include <Eigen/SparseCore>
 #include <array>
 #include <cstdint>

@@ -8,9 +8,8 @@
 namespace dualcell::feti {
 
 // ε̄ = (1/|Ω|) ∮ sym(u ⊗ n) ds over the block's outer boundary, u interpolated along each
-// edge by the edge's shape functions. It
-// counts interface openings, which a volume average of element strains misses.
-// Returns (εxx, εyy, εxy) with tensor shear.
+// edge by the edge's shape functions. It counts interface openings, which a volume average of
+// element strains misses. Returns (εxx, εyy, εxy) with tensor shear.
 Eigen::Vector3d boundary_strain(const mesh::Mesh& mesh, const Eigen::VectorXd& u);
 
 // (1/|Ω|) Σ_e ∫_e σ dA over all triangles: equals the applied σ̄ when the forces are in

@@ -68,6 +68,17 @@ constexpr double min_qp_tolerance = 1e-14;
 // no active set to find, so the extra decades cost a few dozen CG steps.
 constexpr double onset_qp_tolerance = 1e-13;
 
+// Recovery of a fibre's rigid motion: a direction is seen by the active rows when its singular
+// value is above this fraction of what all the fibre's rows could give (rank-revealing), and a
+// row's rate along a direction below this fraction of |row|·|step| is round-off (a spin seen by
+// normal rows), which limits nothing.
+constexpr double active_rank_tolerance = 1e-8;
+constexpr double round_off_rate = 1e-10;
+
+// The primal check never asks for better than this relative accuracy, which still flags any
+// recovery error (those err by O(‖u‖)).
+constexpr double primal_check_floor = 1e-6;
+
 }  // namespace
 
 ContactSolver::ContactSolver(const mesh::Mesh& mesh, const Scene& scene, int threads, int min_dofs_per_thread,
@@ -192,7 +203,7 @@ Solution ContactSolver::solve_problem(const DualProblem& dual, double& norm_PFP,
         left = ", ~" + seconds_text(std::max(0.0, outers_left * per_outer - (now - last_seconds))) + " left";
     }
     if (last.outer_iterations == 0)
-      std::snprintf(text, sizeof text, "QP (%d rows): outer 1, %ld F applications, %s", m, applications,
+      std::snprintf(text, sizeof text, "QP (%d rows): %ld F applications, %s", m, applications,
                     seconds_text(now).c_str());
     else
       std::snprintf(text, sizeof text,
@@ -306,7 +317,7 @@ void ContactSolver::recover(const DualProblem& dual, const Eigen::VectorXd& f, c
     }
     const Eigen::Vector3d shift_target = (fit.transpose() * fit).ldlt().solve(fit.transpose() * mismatch);
     // Directions the active rows do not see: right singular vectors of B_A R with singular
-    // values below 1e-8 of what all rows of this fibre could give (rank-revealing).
+    // values below active_rank_tolerance of what all rows of this fibre could give.
     const Eigen::MatrixXd BR = local.B * sub.R;
     std::vector<int> active, open;
     for (std::size_t k = 0; k < local.rows.size(); ++k)
@@ -319,7 +330,8 @@ void ContactSolver::recover(const DualProblem& dual, const Eigen::VectorXd& f, c
       for (std::size_t i = 0; i < active.size(); ++i) Ma.row(i) = BR.row(active[i]);
       Eigen::JacobiSVD<Eigen::MatrixXd> svd(Ma, Eigen::ComputeFullV);
       int rank = 0;
-      for (int j = 0; j < svd.singularValues().size(); ++j) rank += svd.singularValues()(j) > 1e-8 * reference;
+      for (int j = 0; j < svd.singularValues().size(); ++j)
+        rank += svd.singularValues()(j) > active_rank_tolerance * reference;
       undetermined = svd.matrixV().rightCols(3 - rank);
     }
     // Move along each undetermined direction separately, as far as the rows at a bound allow:
@@ -338,7 +350,7 @@ void ContactSolver::recover(const DualProblem& dual, const Eigen::VectorXd& f, c
       double t = 1;
       for (int k : open) {
         const double rate = BR.row(k).dot(step);
-        if (std::abs(rate) <= 1e-10 * BR.row(k).norm() * step.norm()) continue;
+        if (std::abs(rate) <= round_off_rate * BR.row(k).norm() * step.norm()) continue;
         const bool at_upper = lambda_scaled(local.rows[k]) >= con.upper(local.rows[k]);
         if (!at_upper && rate > 0) t = std::min(t, std::max(0.0, -gap(k) / rate));
         if (at_upper && rate < 0) t = std::min(t, std::max(0.0, gap(k) / -rate));
@@ -416,8 +428,8 @@ void ContactSolver::report(const DualProblem& dual, const Eigen::VectorXd& f, co
   // its hole) errs by O(‖u‖). A right one has gaps and jumps of the dual residual amplified by
   // the conditioning of F: ≤ 1 × tolerance × ‖u‖∞ on the thesis cases, but 2.5e-8 at a
   // tolerance of 1e-10 for bonded near-voids (compliance contrast 1e6). Hence 100 × tolerance,
-  // and never below 1e-6 relative, which still flags any recovery error.
-  const double tolerance = std::max(100 * scene.solver.tolerance, 1e-6);
+  // and never below primal_check_floor relative.
+  const double tolerance = std::max(100 * scene.solver.tolerance, primal_check_floor);
   const double u_scale = out.u.lpNorm<Eigen::Infinity>();
   const double lambda_scale = out.lambda.lpNorm<Eigen::Infinity>();
   out.primal_ok = true;

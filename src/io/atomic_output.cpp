@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <chrono>
 #include <climits>
 #include <cstring>
 #include <stdexcept>
@@ -38,16 +39,23 @@ fs::path folder_of(const fs::path& target) {
   throw InputError(target.string() + ": " + what + ": " + std::strerror(error));
 }
 
-// A temporary "<name>.tmp.<host>.<pid>" (or, as written before hosts were named,
-// "<name>.tmp.<pid>") of a process on this host that no longer runs.
-bool orphaned(const std::string& entry, const std::string& name, const std::string& host) {
+// A temporary "<name>.tmp.<host>.<pid>" of a process on this host that no longer runs; or one
+// "<name>.tmp.<pid>" as written before hosts were named, which names no host: only when its pid
+// runs nowhere here and it is older than a day (no run of that version is still writing it).
+bool orphaned(const fs::path& path, const std::string& name, const std::string& host) {
+  const std::string entry = path.filename().string();
   const std::string prefix = name + ".tmp.";
   if (entry.rfind(prefix, 0) != 0) return false;
   std::string rest = entry.substr(prefix.size());
   const std::size_t dot = rest.rfind('.');
-  if (dot != std::string::npos) {
+  const bool legacy = dot == std::string::npos;
+  if (!legacy) {
     if (rest.substr(0, dot) != host) return false;
     rest = rest.substr(dot + 1);
+  } else {
+    std::error_code ec;
+    const auto written = fs::last_write_time(path, ec);
+    if (ec || fs::file_time_type::clock::now() - written < std::chrono::hours(24)) return false;
   }
   if (rest.empty() || rest.size() > 9 || rest.find_first_not_of("0123456789") != std::string::npos) return false;
   const pid_t pid = static_cast<pid_t>(std::stol(rest));
@@ -58,20 +66,20 @@ void remove_orphans(const fs::path& target) {
   const std::string name = target.filename().string(), host = host_name();
   std::error_code ec;
   for (fs::directory_iterator it(folder_of(target), ec), end; !ec && it != end; it.increment(ec)) {
-    if (orphaned(it->path().filename().string(), name, host)) {
+    if (orphaned(it->path(), name, host)) {
       std::error_code ignored;
       fs::remove(it->path(), ignored);
     }
   }
 }
 
+// After the renames: the outputs are in place either way, so a folder that cannot be synced (some
+// file systems cannot, EINVAL) is not reported as a failed write; the data were synced before.
 void sync_folder(const fs::path& folder) {
   const int fd = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-  if (fd < 0) return;  // the rename is done; a folder we cannot open cannot be synced either
-  const int rc = ::fsync(fd), error = errno;
+  if (fd < 0) return;
+  ::fsync(fd);
   ::close(fd);
-  // Some file systems cannot sync a folder (EINVAL); the data itself was synced before.
-  if (rc != 0 && error != EINVAL && error != EROFS) cannot_write(folder, "cannot sync folder", error);
 }
 
 }  // namespace

@@ -95,7 +95,7 @@ herr_t image_free(void* ptr, H5FD_file_image_op_t op, void* udata) {
     std::free(ptr);
     return 0;
   }
-  std::free(image->data);  // the last close is the file's
+  if (ptr != image->data) std::free(image->data);  // the last close is the file's
   image->data = ptr;
   image->closed = true;
   return 0;
@@ -120,6 +120,9 @@ File File::create(const std::filesystem::path& path) {
   Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
   H5Pset_libver_bounds(fapl.get(), H5F_LIBVER_V18, H5F_LIBVER_V18);
   H5Pset_fapl_core(fapl.get(), std::size_t{4} << 20, 0);
+  // Closing closes every object of the file at once, so that the memory is handed over then and
+  // never later (at library exit, after the File is gone).
+  H5Pset_fclose_degree(fapl.get(), H5F_CLOSE_STRONG);
   H5FD_file_image_callbacks_t callbacks{image_malloc,     image_memcpy,     image_realloc, image_free,
                                         image_udata_copy, image_udata_free, image.get()};
   if (H5Pset_file_image_callbacks(fapl.get(), &callbacks) < 0)
@@ -139,13 +142,18 @@ std::string_view File::close_to_image() {
   // Closing hands the driver's memory to image_free. Nothing of the file is open any more
   // (every handle of a read or write is scoped), so the close is complete.
   if (H5Fclose(file_.release()) < 0) fail("/", "internal error: cannot close the HDF5 file in memory");
-  // The file ends where its superblock says (HDF5 file format, superblock version 2: the end-of-
-  // file address at byte 28); the driver's memory beyond it is allocation slack.
+  // The file ends where its superblock says (HDF5 file format, superblock version 2 at offset 0:
+  // version at byte 8, size of offsets at byte 9, base address at bytes 12-19, end-of-file
+  // address at bytes 28-35, little-endian); the driver's memory beyond it is allocation slack.
   const auto* bytes = static_cast<const unsigned char*>(image_->data);
-  if (!image_->closed || !bytes || image_->allocated < 48 || bytes[8] != 2)
-    fail("/", "internal error: HDF5 left no closed file image");
-  std::uint64_t end = 0;
-  for (int i = 7; i >= 0; --i) end = end << 8 | bytes[28 + i];
+  const auto address = [&](int at) {
+    std::uint64_t value = 0;
+    for (int i = 7; i >= 0; --i) value = value << 8 | bytes[at + i];
+    return value;
+  };
+  if (!image_->closed || !bytes || image_->allocated < 48 || bytes[8] != 2 || bytes[9] != 8 || address(12) != 0)
+    fail("/", "internal error: HDF5 left no closed file image of the expected format");
+  const std::uint64_t end = address(28);
   if (end < 48 || end > image_->allocated) fail("/", "internal error: HDF5 file image of inconsistent size");
   return {static_cast<const char*>(image_->data), static_cast<std::size_t>(end)};
 }

@@ -94,6 +94,10 @@ class File {
   // for AtomicOutputs to write. Nothing may be read or written afterwards.
   std::string_view close_to_image();
 
+  File(File&&) noexcept = default;
+  // No move assignment: it would free the old file's memory before closing the old file.
+  File& operator=(File&&) = delete;
+
   struct Image;  // the core driver's memory, kept when HDF5 closes the file (hdf5.cpp)
   struct ImageDeleter {
     void operator()(Image* image) const;

@@ -3,6 +3,7 @@
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 namespace dualcell::law {
 
@@ -55,6 +56,12 @@ Eigen::Vector3d strain_for(const ConeLaw& law, const Eigen::Vector3d& stress) {
     e += t * step;
   }
   return e;
+}
+
+double apparent_modulus(const ConeLaw& law, double theta_deg, double sign) {
+  const double t = theta_deg * std::numbers::pi / 180, c = std::cos(t), s = std::sin(t);
+  const Eigen::Vector3d e = strain_for(law, sign * Eigen::Vector3d(c * c, s * s, c * s));
+  return sign / (c * c * e(0) + s * s * e(1) + c * s * e(2));
 }
 
 }  // namespace dualcell::law

@@ -26,7 +26,8 @@ inline constexpr int max_planes = 32;
 struct ConeLaw {
   Eigen::Matrix3d C_c = Eigen::Matrix3d::Identity();            // stiffness where every c_k·ε ≤ 0
   std::vector<Eigen::Vector3d> c = {Eigen::Vector3d::UnitX()};  // unit normals of the switching planes
-  std::vector<double> beta = {0.0};                             // β_k ≥ 0: the stiffness jump across each
+  // β_k ≥ 0: the stiffness added across plane k, C(ε) = C_c + Σ β_k c_k c_kᵀ over the open planes
+  std::vector<double> beta = {0.0};
 };
 
 struct ConeState {
@@ -61,5 +62,10 @@ std::string admissibility_problem(const ConeLaw& law);
 // Newton's method with the one-sided tangent and a backtracking line search on that energy
 // (finitely many steps for a piecewise quadratic). Exact to round-off: ‖σ(ε) − σ̄‖ ≤ 1e-13‖σ̄‖.
 Eigen::Vector3d strain_for(const ConeLaw& law, const Eigen::Vector3d& stress);
+
+// The law's apparent plane-strain modulus E = s/ε_nn under the uniaxial stress s·n⊗n along
+// n = (cos θ, sin θ), in tension (sign +1) or compression (−1): what the sweep measures per
+// direction, so that the two can be set side by side.
+double apparent_modulus(const ConeLaw& law, double theta_deg, double sign);
 
 }  // namespace dualcell::law

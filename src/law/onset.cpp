@@ -1,5 +1,6 @@
 #include "law/onset.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -15,6 +16,17 @@ double onset_along(const OnsetSurface& surface, const Eigen::Vector3d& N) {
   const double phi = onset_measure(surface, N);
   if (std::isnan(phi)) return phi;
   return phi > 0 ? 1 / phi : std::numeric_limits<double>::infinity();
+}
+
+OnsetCheck check_against_sweep(const OnsetSurface& surface) {
+  OnsetCheck check;
+  for (std::size_t k = 0; k < surface.path_onset.size() && k < surface.path_sweep_onset.size(); ++k) {
+    if (std::isnan(surface.path_sweep_onset[k])) continue;
+    check.worst_relative =
+        std::max(check.worst_relative, std::abs(surface.path_onset[k] / surface.path_sweep_onset[k] - 1));
+    ++check.paths;
+  }
+  return check;
 }
 
 }  // namespace dualcell::law

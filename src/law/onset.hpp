@@ -33,6 +33,14 @@ struct OnsetSurface {
 // without facets).
 double onset_measure(const OnsetSurface& surface, const Eigen::Vector3d& sigma);
 
+// How well the surface predicts the onsets the sweep found: the largest relative difference
+// over the swept paths that debonded, and how many those were (0, 0 when none did).
+struct OnsetCheck {
+  double worst_relative = 0;
+  int paths = 0;
+};
+OnsetCheck check_against_sweep(const OnsetSurface& surface);
+
 // s* along the unit stress N: 1/φ(N), +inf where no facet faces N, NaN where not linear.
 double onset_along(const OnsetSurface& surface, const Eigen::Vector3d& N);
 

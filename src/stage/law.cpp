@@ -1,5 +1,8 @@
 #include "stage/law.hpp"
 
+#include <cmath>
+#include <cstdio>
+
 #include "core/error.hpp"
 #include "fit/fit.hpp"
 #include "io/atomic_output.hpp"
@@ -58,6 +61,47 @@ std::string export_law(const ExportOptions& options) {
   }
   io::write_output(options.out, text);
   return describe(law, options.format, options.name);
+}
+
+void print_fit_summary(const std::filesystem::path& sweep_file, const std::filesystem::path& out, const law::Law& law) {
+  std::printf("dualcell-fit: %s -> %s (%zu directions)\n", sweep_file.c_str(), out.c_str(), law.directions.size());
+  std::printf("  %8s %12s %10s %12s %10s %8s %8s %8s %12s %10s\n", "theta", "E_tension", "se", "E_compress", "se",
+              "Ec/Et", "nu_t", "nu_c", "fuse_stress", "jump x");
+  for (const auto& d : law.directions)
+    std::printf("  %8.2f %12.5g %10.2e %12.5g %10.2e %8.4f %8.4f %8.4f %12.5g %10.3g\n", d.direction_deg, d.E_tension,
+                d.E_tension_se, d.E_compression, d.E_compression_se, d.E_compression / d.E_tension, d.nu_tension,
+                d.nu_compression, d.fuse_stress, d.fuse_strain_ratio);
+  for (const auto* fit : {&law.tension, &law.compression}) {
+    std::printf("  S_%s (engineering shear), rank %d, relative residual %.2e, %s:\n",
+                fit == &law.tension ? "tension" : "compression", fit->rank, fit->relative_residual,
+                fit->rank < 6 ? "not all entries determined by these directions"
+                              : (fit->symmetric_positive_definite ? "SPD" : "NOT positive definite"));
+    for (int i = 0; i < 3; ++i) std::printf("    %14.6e %14.6e %14.6e\n", fit->S(i, 0), fit->S(i, 1), fit->S(i, 2));
+  }
+  if (!std::isnan(law.cone_rank_one_ratio))
+    std::printf("  cone-wise linear (Curnier-He-Zysset): rank-one ratio %.3f -> %s\n", law.cone_rank_one_ratio,
+                law.cone_wise_linear ? "yes" : "no (the stiffness jump is not rank-one)");
+  for (const auto* cone : {&law.cone, &law.cone_after_fuse}) {
+    const char* name = cone == &law.cone ? "cone-wise law" : "cone-wise law after the fuse";
+    if (!cone->ok) {
+      std::printf("  %s: none (%s)\n", name, cone->message.c_str());
+      continue;
+    }
+    std::printf("  %s: %s, %zu planes, relative residual %.3g over %d points (one plane %.3g, struts %.3g)\n", name,
+                cone->form.c_str(), cone->law.c.size(), cone->relative_residual, cone->n_points,
+                cone->one_plane_residual, cone->struts_residual);
+    std::printf("    %8s %12s %12s\n", "theta", "E_tension", "E_compress");
+    for (const auto& d : law.directions)
+      std::printf("    %8.2f %12.5g %12.5g\n", d.direction_deg, law::apparent_modulus(cone->law, d.direction_deg, 1),
+                  law::apparent_modulus(cone->law, d.direction_deg, -1));
+  }
+  if (law.onset.linear) {
+    const law::OnsetCheck check = law::check_against_sweep(law.onset);
+    std::printf("  onset surface: %ld facets; predicts the onset of %d swept paths to %.2e relative\n",
+                static_cast<long>(law.onset.facets.rows()), check.paths, check.worst_relative);
+  } else {
+    std::printf("  onset surface: none (%s)\n", law.onset.message.c_str());
+  }
 }
 
 }  // namespace dualcell::stage

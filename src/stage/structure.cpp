@@ -46,6 +46,10 @@ StructureSummary run_structure(const StructureOptions& options) {
   StructureSummary summary;
   const structure::CellLaw law = cell_law(options.law_file, scene.cell_size, summary.fuse_note);
   summary.cell_size = scene.cell_size;
+  // Positions are in the law's unit (its cell size), so the check waits for it.
+  if (const std::string free = free_rigid_motion(scene, scene.nx * scene.cell_size, scene.ny * scene.cell_size);
+      !free.empty())
+    throw InputError(options.scene_file.string() + ": the edges and supports leave a rigid-body motion free, " + free);
   Progress progress("dualcell-structure", options.progress);
   structure::HomogenisedStructure structure(scene, law);
   structure.set_progress(&progress);

@@ -309,12 +309,17 @@ void HomogenisedStructure::Impl::newton(double factor, StepResult& out) {
   for (int d = 0; d < n_dofs; ++d)
     if (constrained_by[d] >= 0) u(d) = factor * prescribed(d);
   out.converged = false;
+  double r_initial = 0;
   for (int iteration = 0; iteration <= scene.max_newton_steps; ++iteration) {
     const double Pi = energy(u, factor, true, true);
     for (int d = 0; d < n_dofs; ++d)
       if (free_index[d] >= 0) r(free_index[d]) = r_full(d);
-    // Scale: the larger of the internal and the external forces (their sum is what equilibrium balances).
-    const double scale = std::max({f_int.norm(), factor * f.norm(), 1e-300});
+    // Scale: the larger of the internal and the external forces (their sum is what equilibrium
+    // balances), and the residual the step started from: prescribed displacements that a rigid
+    // motion satisfies end in a stress-free state where both forces vanish, and only the
+    // starting residual says what "small" is there.
+    if (iteration == 0) r_initial = r.norm();
+    const double scale = std::max({f_int.norm(), factor * f.norm(), r_initial, 1e-300});
     out.residual = r.norm() / scale;
     out.energy = Pi;
     if (progress)

@@ -58,7 +58,7 @@ class Progress : public ::testing::Test {
 };
 
 TEST_F(Progress, OnATerminalOneLineInPlaceErasedBeforeTheSummary) {
-  const std::string out = run_on_terminal(solve_);
+  const std::string out = run_on_terminal("TERM=xterm " + solve_);
   // The state, rewritten in place: a return, the stage, the text, erase to the end of the line.
   EXPECT_NE(out.find("\rdualcell-solve: assembly"), std::string::npos) << out;
   EXPECT_NE(out.find("\x1b[K"), std::string::npos) << out;
@@ -70,11 +70,12 @@ TEST_F(Progress, OnATerminalOneLineInPlaceErasedBeforeTheSummary) {
   EXPECT_EQ(out.find("\x1b", summary), std::string::npos) << "progress after the summary: " << out;
 }
 
-TEST_F(Progress, QuietPrintsNothingOnATerminal) { EXPECT_EQ(run_on_terminal(solve_ + " --quiet"), ""); }
+TEST_F(Progress, QuietPrintsNothingOnATerminal) { EXPECT_EQ(run_on_terminal("TERM=xterm " + solve_ + " --quiet"), ""); }
 
 TEST_F(Progress, InAPipePlainLinesAtMostOnePerInterval) {
-  // A short solve at the default interval (5 s): no progress line at all, only the summary.
-  const auto quiet_log = stderr_of(solve_);
+  // A solve shorter than the interval (an hour here, so that no slow machine or sanitizer build
+  // outlasts it): no progress line at all, only the summary.
+  const auto quiet_log = stderr_of("DUALCELL_PROGRESS_INTERVAL=3600 " + solve_);
   EXPECT_EQ(quiet_log.output, "");
   // At an interval of 0 every due update is a plain line: no returns, no escapes.
   const auto log = stderr_of("DUALCELL_PROGRESS_INTERVAL=0 " + solve_);
@@ -84,6 +85,7 @@ TEST_F(Progress, InAPipePlainLinesAtMostOnePerInterval) {
   EXPECT_NE(log.output.find("F applications"), std::string::npos) << log.output;
   EXPECT_EQ(log.output.find('\r'), std::string::npos) << log.output;
   EXPECT_EQ(log.output.find('\x1b'), std::string::npos) << log.output;
+  ASSERT_FALSE(log.output.empty());
   EXPECT_EQ(log.output.back(), '\n');
 }
 

@@ -14,6 +14,7 @@
 #include <numeric>
 #include <sstream>
 
+#include "core/exit_codes.hpp"
 #include "io/hdf5.hpp"
 #include "par/parallel.hpp"
 #include "test_util.hpp"
@@ -172,7 +173,7 @@ TEST_F(SolveMpi, AProblemTooLargeForOneProcessUnderAMemoryLimitSolvesOnTwoRanks)
           "0.01,0,0");
   const std::string limit = "ulimit -d 240000; OPENBLAS_NUM_THREADS=1 ";
   const auto alone = run_command("(" + limit + solve_command("") + (dir_ / "alone.h5").string() + ")");
-  EXPECT_EQ(alone.exit_code, 3) << alone.output;
+  EXPECT_EQ(alone.exit_code, exit_internal_error) << alone.output;
   EXPECT_NE(alone.output.find("out of memory"), std::string::npos) << alone.output;
   EXPECT_FALSE(std::filesystem::exists(dir_ / "alone.h5"));
   const auto two = run_command("(" + limit + solve_command(mpiexec(2)) + (dir_ / "two.h5").string() + ")");
@@ -192,7 +193,7 @@ TEST_F(SolveMpi, APositionOffTheMeshStopsEveryRankWithOneMessage) {
       run_command(bin("dualcell-mesh") + " --quiet --config " + scene_.string() + " --out " + mesh_.string()).exit_code,
       0);
   const auto r = run_command(solve_command(mpiexec(3)) + (dir_ / "x.h5").string());
-  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_EQ(r.exit_code, exit_input_error) << r.output;
   EXPECT_EQ(testing::occurrences(r.output, "dualcell-solve: error:"), 1u) << r.output;
   EXPECT_NE(r.output.find("[output] watch at (1.5, 0.123): no node of the mesh there"), std::string::npos) << r.output;
   EXPECT_FALSE(std::filesystem::exists(dir_ / "x.h5"));
@@ -202,7 +203,7 @@ TEST_F(SolveMpi, BadInputStopsEveryRankWithOneMessage) {
   prepare(debonding_block, debonding_stress);
   const auto r =
       run_command(solve_command(mpiexec(3)) + (dir_ / "x.h5").string() + " --bonds " + (dir_ / "absent.h5").string());
-  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_EQ(r.exit_code, exit_input_error) << r.output;
   EXPECT_EQ(testing::occurrences(r.output, "dualcell-solve: error:"), 1u) << r.output;
   EXPECT_NE(r.output.find("absent.h5"), std::string::npos) << r.output;
   EXPECT_FALSE(std::filesystem::exists(dir_ / "x.h5"));

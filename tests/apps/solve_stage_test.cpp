@@ -1,6 +1,7 @@
 // dualcell-solve as a user runs it: output layout, XDMF of the deformed shape, refusals.
 #include <gtest/gtest.h>
 
+#include "core/exit_codes.hpp"
 #include "io/hdf5.hpp"
 #include "test_util.hpp"
 
@@ -137,10 +138,10 @@ TEST(SolveStage, EdgesBoundarySolvesTheLoadStepsWithTheBondHistory) {
   // Refusals: --stress with an edges scene, and sweeping it.
   const auto stress =
       run_command(bin("dualcell-solve") + cfg + " --stress 0.01,0,0 --out " + (p.dir / "x.h5").string());
-  EXPECT_EQ(stress.exit_code, 1) << stress.output;
+  EXPECT_EQ(stress.exit_code, exit_input_error) << stress.output;
   EXPECT_NE(stress.output.find("leave --stress out"), std::string::npos) << stress.output;
   const auto sweep = run_command(bin("dualcell-sweep") + cfg + " --out " + (p.dir / "sweep.h5").string());
-  EXPECT_EQ(sweep.exit_code, 1) << sweep.output;
+  EXPECT_EQ(sweep.exit_code, exit_input_error) << sweep.output;
   EXPECT_FALSE(std::filesystem::exists(p.dir / "x.h5"));
   EXPECT_FALSE(std::filesystem::exists(p.dir / "sweep.h5"));
 }

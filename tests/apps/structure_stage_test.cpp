@@ -4,6 +4,7 @@
 
 #include <algorithm>
 
+#include "core/exit_codes.hpp"
 #include "io/hdf5.hpp"
 #include "test_util.hpp"
 
@@ -77,7 +78,7 @@ TEST(StructureStage, RefusalsAreOneLineAndWriteNothing) {
   const auto scene = dir.write("beam.toml", cantilever);
   const auto missing = run_command(bin("dualcell-structure") + " --config " + scene.string() + " --law " +
                                    (dir / "none.h5").string() + " --out " + (dir / "s.h5").string());
-  EXPECT_EQ(missing.exit_code, 1) << missing.output;
+  EXPECT_EQ(missing.exit_code, exit_input_error) << missing.output;
   EXPECT_NE(missing.output.find("none.h5"), std::string::npos) << missing.output;
   const auto law = make_law(dir);
   const auto floating = dir.write("floating.toml",
@@ -85,7 +86,7 @@ TEST(StructureStage, RefusalsAreOneLineAndWriteNothing) {
                                   "[edges.right]\ntype = \"traction\"\ntraction = [0.01, 0]\n");
   const auto r = run_command(bin("dualcell-structure") + " --config " + floating.string() + " --law " + law.string() +
                              " --out " + (dir / "s.h5").string());
-  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_EQ(r.exit_code, exit_input_error) << r.output;
   EXPECT_NE(r.output.find("rigid-body motion"), std::string::npos) << r.output;
   EXPECT_FALSE(std::filesystem::exists(dir / "s.h5"));
   EXPECT_FALSE(std::filesystem::exists(dir / "s.xdmf"));

@@ -7,6 +7,7 @@
 // Skipped in a build without MPI or without mpiexec.
 #include <gtest/gtest.h>
 
+#include "core/exit_codes.hpp"
 #include "par/parallel.hpp"
 #include "test_util.hpp"
 
@@ -103,14 +104,14 @@ TEST_F(SweepMpi, AStageThatDoesNotShareRunsOnceOnRankZero) {
   EXPECT_EQ(testing::h5diff_except(mesh_, dir_ / "mesh-3.h5", {}), "");
   const auto bad = run_command(mpiexec(3) + bin("dualcell-mesh") + " --config " + (dir_ / "absent.toml").string() +
                                " --out " + (dir_ / "x.h5").string());
-  EXPECT_EQ(bad.exit_code, 1) << bad.output;
+  EXPECT_EQ(bad.exit_code, exit_input_error) << bad.output;
   EXPECT_EQ(testing::occurrences(bad.output, "dualcell-mesh: error:"), 1u) << bad.output;
 }
 
 TEST_F(SweepMpi, BadInputStopsEveryRankWithOneMessage) {
   const auto r = run_command(mpiexec(3) + bin("dualcell-sweep") + " --quiet --config " + scene_.string() + " --mesh " +
                              (dir_ / "absent.h5").string() + " --out " + (dir_ / "x.h5").string());
-  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_EQ(r.exit_code, exit_input_error) << r.output;
   EXPECT_EQ(testing::occurrences(r.output, "dualcell-sweep: error:"), 1u) << r.output;
   EXPECT_NE(r.output.find("absent.h5"), std::string::npos) << r.output;
   EXPECT_FALSE(std::filesystem::exists(dir_ / "x.h5"));

@@ -12,6 +12,7 @@
 #include <set>
 #include <sstream>
 
+#include "core/exit_codes.hpp"
 #include "hostile/hostile_util.hpp"
 #include "io/sweep_file.hpp"
 
@@ -272,7 +273,7 @@ void expect_kill_keeps_previous(const std::string& what, const std::string& comm
   const Outcome r =
       run("prlimit --fsize=" + std::to_string(limit_bytes) + " -- " + command + " --out " + quoted(target));
   EXPECT_NE(r.exit_code, 0) << "the limit did not stop the write: " << r.err;
-  if (r.exit_code == 1) {
+  if (r.exit_code == exit_input_error) {
     expect_no_temporary(target.parent_path());
   }
   EXPECT_EQ(slurp(target), before) << "the previous file changed";

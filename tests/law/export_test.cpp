@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/exit_codes.hpp"
 #include "io/hdf5.hpp"
 #include "io/law_file.hpp"
 #include "law/synthetic_law.hpp"
@@ -335,7 +336,7 @@ void expect_refused(const testing::ScratchDir& dir, const std::string& law_file,
   for (const auto& e : std::filesystem::directory_iterator(dir.path()))
     ASSERT_EQ(e.path().filename().string().find("out."), std::string::npos) << "left over: " << e.path();
   const auto r = run_command(export_command(dir, law_file, format, "out." + format) + extra);
-  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_EQ(r.exit_code, exit_input_error) << r.output;
   EXPECT_EQ(r.output.rfind("dualcell-export: error: ", 0), 0u) << r.output;
   EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
   EXPECT_NE(r.output.find(expected), std::string::npos) << r.output;
@@ -372,7 +373,7 @@ TEST(Export, BadLawFilesAreRefusedWithOneLineAndNoOutput) {
   // A folder that does not exist.
   const auto r = run_command(bin("dualcell-export") + " --law " + (dir / "law.h5").string() + " --format csv --out " +
                              (dir / "no/such/law.csv").string());
-  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_EQ(r.exit_code, exit_input_error) << r.output;
   EXPECT_NE(r.output.find("does not exist"), std::string::npos) << r.output;
 }
 

@@ -1,0 +1,16 @@
+#pragma once
+// The mesh stage as one call (dualcell-mesh): a scene to mesh.h5 (+ mesh.xdmf), and its summary.
+#include <filesystem>
+
+#include "mesh/mesh.hpp"
+
+namespace dualcell::stage {
+
+// Reads and validates the scene (its warnings on stderr), checks the outputs before any work,
+// builds the mapped mesh and writes mesh.h5 with mesh.xdmf beside it, atomically.
+mesh::Mesh run_mesh(const std::filesystem::path& scene_file, const std::filesystem::path& out);
+// dualcell-mesh's summary on stdout: cells, subdomains, nodes, triangles, pairs, minimum angle.
+void print_mesh_summary(const std::filesystem::path& scene_file, const std::filesystem::path& out,
+                        const mesh::Mesh& mesh);
+
+}  // namespace dualcell::stage
