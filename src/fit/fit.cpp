@@ -195,7 +195,7 @@ double along(const Eigen::Vector3d& N, const Eigen::Vector3d& strain) {
   return N(0) * strain(0) + N(1) * strain(1) + 2 * N(2) * strain(2);
 }
 
-law::Law fit_law(const std::vector<sweep::PathResult>& paths, const io::SweepHeader& header) {
+law::Law fit_law(const std::vector<sweep::PathResult>& paths, const sweep::SweepHeader& header) {
   law::Law law;
   std::vector<double> directions;
   for (const auto& p : paths)

@@ -15,14 +15,13 @@
 //   cone-wise linear check (Curnier, He & Zysset 1995): ΔC = S_t⁻¹ − S_c⁻¹ rank-one?
 #include <vector>
 
-#include "io/sweep_file.hpp"
 #include "law/law.hpp"
 #include "sweep/sweep.hpp"
 
 namespace dualcell::fit {
 
 // The law of a sweep; its provenance is the sweep's (the caller adds the sweep file and hash).
-law::Law fit_law(const std::vector<sweep::PathResult>& paths, const io::SweepHeader& header);
+law::Law fit_law(const std::vector<sweep::PathResult>& paths, const sweep::SweepHeader& header);
 
 // Strain along the unit stress N (tensor shear): N:ε = N_xx ε_xx + N_yy ε_yy + 2 N_xy ε_xy.
 double along(const Eigen::Vector3d& N, const Eigen::Vector3d& strain);

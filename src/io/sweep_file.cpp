@@ -122,7 +122,7 @@ sweep::PathResult read_path(const File& f, int index) {
 
 void write_header(File& f, const SweepHeader& header, std::size_t n_paths) {
   write_provenance(f, sweep_format, header.provenance);
-  f.write_attribute("/", "inputs_key", header.key());
+  f.write_attribute("/", "inputs_key", inputs_key(header));
   f.write_attribute("/", "n_paths", static_cast<std::int64_t>(n_paths));
   write_constituents(f, "/", header.constituents);
   write_onset(f, "/onset", header.onset);
@@ -130,8 +130,8 @@ void write_header(File& f, const SweepHeader& header, std::size_t n_paths) {
 
 }  // namespace
 
-std::string SweepHeader::key() const {
-  const Provenance& p = provenance;
+std::string inputs_key(const SweepHeader& header) {
+  const Provenance& p = header.provenance;
   return text_hash(p.scene_text + '\0' + p.material_text + '\0' + p.mesh_hash + '\0' + p.solver_options + '\0' +
                    p.code_version);
 }
@@ -150,7 +150,7 @@ void write_part(const std::filesystem::path& out, const sweep::PathResult& path,
   File f = File::create(folder / name);
   f.create_group("/paths");
   write_path(f, path);
-  f.write_attribute("/", "inputs_key", header.key());
+  f.write_attribute("/", "inputs_key", inputs_key(header));
   write_output(folder / name, f.close_to_image());
 }
 
@@ -161,7 +161,7 @@ std::optional<sweep::PathResult> read_part(const std::filesystem::path& out, int
   if (!std::filesystem::exists(file)) return std::nullopt;
   try {
     const File f = File::open_read(file);
-    if (f.read_string_attribute("/", "inputs_key") != header.key()) return std::nullopt;
+    if (f.read_string_attribute("/", "inputs_key") != inputs_key(header)) return std::nullopt;
     return read_path(f, index);
   } catch (const InputError&) {
     return std::nullopt;  // a damaged part is recomputed

@@ -17,13 +17,11 @@ namespace dualcell::io {
 
 // The root of sweep.h5 besides its paths: where it came from and what the fit and the exports
 // need of the scene.
-struct SweepHeader {
-  Provenance provenance;      // scene, material, mesh, solver options, code version
-  Constituents constituents;  // root attributes fibre_E, ..., fibre_volume_fraction
-  law::OnsetSurface onset;    // /onset: the cell's exact debond onset surface
-  // Identifies the inputs of a run: journal parts with another key are stale and recomputed.
-  std::string key() const;
-};
+// The header is sweep::SweepHeader (root attributes fibre_E, ..., and /onset in the file).
+using sweep::SweepHeader;
+// Identifies the inputs of a run (scene, material, mesh, solver options, code version): journal
+// parts with another key are stale and recomputed.
+std::string inputs_key(const SweepHeader& header);
 
 // One column of /paths/NNN: a member of sweep::Step per row (exactly one member pointer set).
 struct StepColumn {

@@ -29,7 +29,7 @@
 #include "feti/solver.hpp"
 #include "io/atomic_output.hpp"
 #include "par/parallel.hpp"
-#include "study/monolithic.hpp"
+#include "primal/one_body.hpp"
 
 namespace dualcell::study {
 
@@ -214,7 +214,7 @@ Floor run_floor(int threads, bool quick) {
     const Scene bonded = block(n, k, Preconditioner::none, 1e12, element);
     const mesh::Mesh m = mesh::build_mesh(bonded.geometry);
     double cholesky = 0;  // same mesh and load (the load does not depend on the bonds)
-    study::monolithic_solve(m, bonded, r.f, false, false, &cholesky);
+    primal::solve_one_body(m, bonded, r.f, false, false, &cholesky);
     const double total = r.setup_seconds + r.solve_seconds;
     // The peak resident set is the process's: it says something about a row only when that row
     // is the largest problem so far.

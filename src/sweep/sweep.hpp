@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "core/provenance.hpp"
 #include "core/scene.hpp"
 #include "feti/solver.hpp"
 
@@ -51,6 +52,15 @@ struct Fuse {
   double load_after = 0;   // smallest bracketed load with it
   Eigen::Vector3d strain_before = Eigen::Vector3d::Zero();
   Eigen::Vector3d strain_after = Eigen::Vector3d::Zero();
+};
+
+// What a sweep records besides its paths: where it came from, the constituents, and the cell's
+// exact debond onset surface. The fit reads it with the paths; io writes and reads it
+// (io/sweep_file.hpp, which also derives the key that identifies a run's inputs).
+struct SweepHeader {
+  Provenance provenance;      // scene, material, mesh, solver options, code version
+  Constituents constituents;  // fibre_E, ..., fibre_volume_fraction
+  law::OnsetSurface onset;    // the cell's exact debond onset surface
 };
 
 struct PathResult {

@@ -8,7 +8,7 @@
 #include "core/error.hpp"
 #include "feti/solver.hpp"
 #include "mesh/mesh.hpp"
-#include "study/monolithic.hpp"
+#include "primal/one_body.hpp"
 #include "test_util.hpp"
 
 namespace dualcell::feti {
@@ -43,7 +43,7 @@ TEST(EdgesBoundary, BondedEqualsTheOneBodySolveWithTheSameEdges) {
       const Eigen::Vector3d p(t, 0, 0);
       const Solution s = solver.solve_fixed(p, solver.intact());
       ASSERT_TRUE(s.converged()) << s.qp.message << " " << s.primal_message;
-      const Eigen::VectorXd u_ref = study::monolithic_solve(m, scene, solver.setup().load(p), false, true, nullptr, t);
+      const Eigen::VectorXd u_ref = primal::solve_one_body(m, scene, solver.setup().load(p), false, true, nullptr, t);
       EXPECT_LT((s.u - u_ref).norm() / u_ref.norm(), 1e-8) << edges << " t " << t;
     }
   }

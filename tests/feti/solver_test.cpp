@@ -8,7 +8,7 @@
 #include <map>
 
 #include "feti/macro.hpp"
-#include "study/monolithic.hpp"
+#include "primal/one_body.hpp"
 #include "test_util.hpp"
 
 namespace dualcell::feti {
@@ -55,7 +55,7 @@ TEST_P(ContactSolverOrders, BondedEqualsMonolithicPrimalForEveryBoundary) {
           boundary == Boundary::symmetry ? Eigen::Vector3d(0.3, -0.1, 0) : Eigen::Vector3d(0.3, -0.1, 0.2);
       const Solution s = solver.solve_fixed(sigma, solver.intact());
       ASSERT_TRUE(s.converged()) << to_string(boundary) << ": " << qp::to_string(s.qp.status) << " " << s.qp.message;
-      const Eigen::VectorXd u_ref = study::monolithic_solve(m, scene, solver.setup().load(sigma));
+      const Eigen::VectorXd u_ref = primal::solve_one_body(m, scene, solver.setup().load(sigma));
       EXPECT_LE(relative_difference(s.u, u_ref), 1e-8) << to_string(boundary) << ", E_f = " << Ef;
       EXPECT_EQ(s.newly_broken, 0);
       // Hill–Mandel: the volume average of the element stresses is the applied stress. With
@@ -99,7 +99,7 @@ TEST_P(ContactSolverOrders, TightensTheDualToleranceUntilThePrimalCheckHolds) {
   ASSERT_TRUE(s.converged()) << s.qp.message << " " << s.primal_message;
   EXPECT_GE(s.tightenings, 1);
   EXPECT_LT(s.qp_tolerance, scene.solver.tolerance);
-  const Eigen::VectorXd u_ref = study::monolithic_solve(m, scene, solver.setup().load(sigma));
+  const Eigen::VectorXd u_ref = primal::solve_one_body(m, scene, solver.setup().load(sigma));
   const Eigen::Vector3d strain_ref = boundary_strain(m, u_ref);
   EXPECT_LE((s.strain - strain_ref).norm() / strain_ref.norm(), 1e-6);
   // A problem that meets its check at once is not tightened.
@@ -152,7 +152,7 @@ TEST_P(ContactSolverOrders, PreconditionersGiveTheSameSolution) {
       const Solution s = solver.solve_fixed(sigma, solver.intact());
       ASSERT_TRUE(s.converged()) << to_string(p) << ", " << to_string(boundary) << ": " << s.qp.message;
       EXPECT_GT(s.preconditioner_applications, 0);
-      const Eigen::VectorXd u_ref = study::monolithic_solve(m, scene, solver.setup().load(sigma));
+      const Eigen::VectorXd u_ref = primal::solve_one_body(m, scene, solver.setup().load(sigma));
       EXPECT_LE(relative_difference(s.u, u_ref), 1e-8) << to_string(p) << ", " << to_string(boundary);
     }
     Scene contact = make_scene(3, 3, 3, Boundary::symmetry, 100, 1, 0);
@@ -242,7 +242,7 @@ TEST_P(ContactSolverOrders, TensionAgainstHolesAndBonded) {
     const Solution s = solver.solve(equibiaxial, solver.intact());
     ASSERT_TRUE(s.converged()) << s.qp.message;
     for (double force : s.normal_force) EXPECT_EQ(force, 0.0);
-    const Eigen::VectorXd u_holes = study::monolithic_solve(m, scene, solver.setup().load(equibiaxial), true);
+    const Eigen::VectorXd u_holes = primal::solve_one_body(m, scene, solver.setup().load(equibiaxial), true);
     Eigen::VectorXd u_matrix = s.u;
     for (const auto& sub : m.subdomains)
       if (sub.is_fibre) u_matrix.segment(2 * sub.node_begin, 2 * sub.n_nodes()).setZero();
@@ -283,7 +283,7 @@ TEST_P(ContactSolverOrders, TensionAgainstHolesAndBonded) {
     const double E_contact = 1 / t.strain(0);
     const double E_bonded = 1 / bonded.solve_fixed(uniaxial, bonded.intact()).strain(0);
     const double E_holes =
-        1 / feti::boundary_strain(m, study::monolithic_solve(m, scene, solver.setup().load(uniaxial), true))(0);
+        1 / feti::boundary_strain(m, primal::solve_one_body(m, scene, solver.setup().load(uniaxial), true))(0);
     EXPECT_LT(E_holes * 1.001, E_contact) << to_string(boundary);
     EXPECT_LT(E_contact, E_bonded * 0.999) << to_string(boundary);
     // Contact only where the normal points across the load (|n_y| > |n_x|), and on every

@@ -1,4 +1,4 @@
-#include "study/monolithic.hpp"
+#include "primal/one_body.hpp"
 
 #include <Eigen/SparseCore>
 #include <chrono>
@@ -7,13 +7,14 @@
 #include <numeric>
 #include <vector>
 
+#include "core/error.hpp"
 #include "fem/assembly.hpp"
 #include "linalg/sparse_cholesky.hpp"
 
-namespace dualcell::study {
+namespace dualcell::primal {
 
-Eigen::VectorXd monolithic_solve(const mesh::Mesh& m, const Scene& scene, const Eigen::VectorXd& f, bool holes,
-                                 bool refine, double* seconds_factorise_solve, double load_factor) {
+Eigen::VectorXd solve_one_body(const mesh::Mesh& m, const Scene& scene, const Eigen::VectorXd& f, bool holes,
+                               bool refine, double* seconds_factorise_solve, double load_factor) {
   const int N = m.n_nodes();
   std::vector<int> parent(N);
   std::iota(parent.begin(), parent.end(), 0);
@@ -71,10 +72,12 @@ Eigen::VectorXd monolithic_solve(const mesh::Mesh& m, const Scene& scene, const 
   }
   // Dirichlet DOFs (per root and component) and their values.
   std::map<std::pair<int, int>, double> fixed;
+  // The (merged) node at a corner or support; a position off the mesh is an input error, never
+  // a silent −1.
   auto corner = [&](double x, double y) {
     for (int v = 0; v < N; ++v)
       if ((m.nodes[v] - Eigen::Vector2d(x, y)).norm() < tol) return find(v);
-    return -1;
+    throw InputError(position_text("", "support", Eigen::Vector2d(x, y)) + ": no node of the mesh there");
   };
   switch (scene.load.boundary) {
     case Boundary::symmetry:
@@ -184,4 +187,4 @@ Eigen::VectorXd monolithic_solve(const mesh::Mesh& m, const Scene& scene, const 
   return T * z + u_D;
 }
 
-}  // namespace dualcell::study
+}  // namespace dualcell::primal

@@ -9,7 +9,7 @@
 #include "core/scene.hpp"
 #include "mesh/mesh.hpp"
 
-namespace dualcell::study {
+namespace dualcell::primal {
 
 // u over all global DOFs (dim u, + 3 macro DOFs εxx, εyy, γxy when periodic). With `holes` the
 // fibres are left out (their DOFs stay 0): the block is the matrix with empty holes.
@@ -17,8 +17,7 @@ namespace dualcell::study {
 // `seconds_factorise_solve`, when given, receives the wall time of CHOLMOD's analyse,
 // factorise and first solve alone (not the merging of nodes or the assembly of K_red).
 // With Boundary::edges, `load_factor` scales the prescribed displacements (f is already scaled).
-Eigen::VectorXd monolithic_solve(const mesh::Mesh& m, const Scene& scene, const Eigen::VectorXd& f, bool holes = false,
-                                 bool refine = true, double* seconds_factorise_solve = nullptr,
-                                 double load_factor = 1.0);
+Eigen::VectorXd solve_one_body(const mesh::Mesh& m, const Scene& scene, const Eigen::VectorXd& f, bool holes = false,
+                               bool refine = true, double* seconds_factorise_solve = nullptr, double load_factor = 1.0);
 
-}  // namespace dualcell::study
+}  // namespace dualcell::primal
