@@ -1,5 +1,7 @@
 #include "io/solution_file.hpp"
 
+#include <iterator>
+
 #include "core/error.hpp"
 #include "fem/assembly.hpp"
 #include "io/atomic_output.hpp"
@@ -93,17 +95,19 @@ void write_solution(const std::filesystem::path& h5, const mesh::Mesh& mesh, con
     for (const auto& field : kkt_fields) f.write_attribute("/kkt", field.attribute, s.kkt.*field.value);
 
     if (ranks) {
-      const hsize_t R = ranks->dofs.size();
-      f.write("/ranks/first_subdomain", ranks->first_subdomain, {R});
-      f.write("/ranks/subdomains", ranks->subdomains, {R});
-      f.write("/ranks/dofs", ranks->dofs, {R});
-      f.write("/ranks/subdomain_bytes", ranks->subdomain_bytes, {R});
-      f.write("/ranks/peak_rss_bytes", ranks->peak_rss_bytes, {R});
-      f.write("/ranks/seconds_setup", ranks->seconds_setup, {R});
-      f.write("/ranks/seconds_apply", ranks->seconds_apply, {R});
-      f.write("/ranks/seconds_communication", ranks->seconds_communication, {R});
-      f.write("/ranks/exchanges", ranks->exchanges, {R});
-      f.write("/ranks/bytes_received", ranks->bytes_received, {R});
+      const hsize_t R = ranks->size();
+      for (const RankColumn& c : rank_columns) {
+        const std::string name = std::string("/ranks/") + c.name;
+        if (c.count) {
+          std::vector<std::int64_t> column;
+          for (const RankEntry& e : *ranks) column.push_back(e.*c.count);
+          f.write(name, column, {R});
+        } else {
+          std::vector<double> column;
+          for (const RankEntry& e : *ranks) column.push_back(e.*c.seconds);
+          f.write(name, column, {R});
+        }
+      }
     }
 
     if (steps) {
@@ -136,6 +140,27 @@ void write_solution(const std::filesystem::path& h5, const mesh::Mesh& mesh, con
                      {"displacement", "/solution/displacement", false, {N, 3}, false}};
   outputs.write(xdmf, xdmf_text(name, {deformed}));
   outputs.commit();
+}
+
+std::vector<double> pack(const RankEntry& entry) {
+  std::vector<double> packed;
+  for (const RankColumn& c : rank_columns)
+    packed.push_back(c.count ? static_cast<double>(entry.*c.count) : entry.*c.seconds);
+  return packed;
+}
+
+RankTable unpack_rank_table(const std::vector<double>& packed) {
+  constexpr std::size_t width = std::size(rank_columns);
+  RankTable table(packed.size() / width);
+  for (std::size_t r = 0; r < table.size(); ++r)
+    for (std::size_t k = 0; k < width; ++k) {
+      const double v = packed[r * width + k];
+      if (rank_columns[k].count)
+        table[r].*rank_columns[k].count = static_cast<std::int64_t>(v);
+      else
+        table[r].*rank_columns[k].seconds = v;
+    }
+  return table;
 }
 
 feti::BondState read_bonds(const std::filesystem::path& h5, const mesh::Mesh& mesh, const std::string& mesh_hash) {

@@ -78,15 +78,40 @@ struct LoadSteps {
 
 // One entry per rank that shared the solve (one without MPI; docs/method.md §16): what it held
 // and where its time went. /ranks in solution.h5.
-struct RankTable {
-  std::vector<std::int64_t> first_subdomain, subdomains, dofs;  // its run of subdomains
-  std::vector<std::int64_t> subdomain_bytes;                    // K, R and the factors of its subdomains
-  std::vector<std::int64_t> peak_rss_bytes;                     // the process's peak resident memory
-  std::vector<double> seconds_setup;                            // assembly and factorisation of its subdomains
+// One rank's row of /ranks: what it owned and where its time went.
+struct RankEntry {
+  std::int64_t first_subdomain = 0, subdomains = 0, dofs = 0;  // its run of subdomains
+  std::int64_t subdomain_bytes = 0;                            // K, R and the factors of its subdomains
+  std::int64_t peak_rss_bytes = 0;                             // the process's peak resident memory
+  double seconds_setup = 0;                                    // assembly and factorisation of its subdomains
   // Applying F and M⁻¹: its subdomains' share (K⁺, the preconditioner), and the exchanges.
-  std::vector<double> seconds_apply, seconds_communication;
-  std::vector<std::int64_t> exchanges, bytes_received;
+  double seconds_apply = 0, seconds_communication = 0;
+  std::int64_t exchanges = 0, bytes_received = 0;
 };
+using RankTable = std::vector<RankEntry>;  // one entry per rank, in rank order
+
+// The columns of /ranks, one member of RankEntry each (exactly one member pointer set): the
+// writer walks it, and so do the packing of an entry into doubles for the one gather over the
+// ranks and its unpacking (counts are exact in a double up to 2^53).
+struct RankColumn {
+  const char* name;
+  std::int64_t RankEntry::*count = nullptr;
+  double RankEntry::*seconds = nullptr;
+};
+inline const RankColumn rank_columns[] = {
+    {"first_subdomain", &RankEntry::first_subdomain},
+    {"subdomains", &RankEntry::subdomains},
+    {"dofs", &RankEntry::dofs},
+    {"subdomain_bytes", &RankEntry::subdomain_bytes},
+    {"peak_rss_bytes", &RankEntry::peak_rss_bytes},
+    {"seconds_setup", nullptr, &RankEntry::seconds_setup},
+    {"seconds_apply", nullptr, &RankEntry::seconds_apply},
+    {"seconds_communication", nullptr, &RankEntry::seconds_communication},
+    {"exchanges", &RankEntry::exchanges},
+    {"bytes_received", &RankEntry::bytes_received},
+};
+std::vector<double> pack(const RankEntry& entry);
+RankTable unpack_rank_table(const std::vector<double>& packed);  // the gathered packs, in rank order
 
 // `provenance` names the mesh (mesh_file, mesh_hash); the scene's text is taken from `scene`.
 // `steps`, when given, is written to /steps.

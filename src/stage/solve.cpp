@@ -69,39 +69,21 @@ feti::Solution solve_steps(feti::ContactSolver& solver, const Scene& scene, feti
   return s;
 }
 
-// This rank's entry of the rank table, as doubles for one gather; `t` holds the QP work of the
-// whole run (every load step's).
-std::vector<double> rank_entry(const feti::ContactSolver& solver, const feti::Timings& t) {
+// This rank's entry of the rank table; `t` holds the QP work of the whole run (every load step's).
+io::RankEntry rank_entry(const feti::ContactSolver& solver, const feti::Timings& t) {
   const feti::FetiSetup& setup = solver.setup();
-  return {static_cast<double>(setup.owned_begin()),
-          static_cast<double>(setup.owned_end() - setup.owned_begin()),
-          static_cast<double>(setup.owned_dofs()),
-          static_cast<double>(setup.owned_bytes()),
-          static_cast<double>(par::peak_rss_bytes()),
-          setup.seconds_assembly + setup.seconds_factorisation,
-          t.qp_F + t.qp_preconditioner - t.qp_communication,
-          t.qp_communication,
-          static_cast<double>(t.exchanges),
-          t.bytes_received};
-}
-
-io::RankTable rank_table(const std::vector<double>& entries) {
-  io::RankTable table;
-  const auto count = [](double v) { return static_cast<std::int64_t>(v); };
-  for (std::size_t i = 0; i + 10 <= entries.size(); i += 10) {
-    const double* e = &entries[i];
-    table.first_subdomain.push_back(count(e[0]));
-    table.subdomains.push_back(count(e[1]));
-    table.dofs.push_back(count(e[2]));
-    table.subdomain_bytes.push_back(count(e[3]));
-    table.peak_rss_bytes.push_back(count(e[4]));
-    table.seconds_setup.push_back(e[5]);
-    table.seconds_apply.push_back(e[6]);
-    table.seconds_communication.push_back(e[7]);
-    table.exchanges.push_back(count(e[8]));
-    table.bytes_received.push_back(count(e[9]));
-  }
-  return table;
+  io::RankEntry e;
+  e.first_subdomain = setup.owned_begin();
+  e.subdomains = setup.owned_end() - setup.owned_begin();
+  e.dofs = setup.owned_dofs();
+  e.subdomain_bytes = static_cast<std::int64_t>(setup.owned_bytes());
+  e.peak_rss_bytes = static_cast<std::int64_t>(par::peak_rss_bytes());
+  e.seconds_setup = setup.seconds_assembly + setup.seconds_factorisation;
+  e.seconds_apply = t.qp_F + t.qp_preconditioner - t.qp_communication;
+  e.seconds_communication = t.qp_communication;
+  e.exchanges = t.exchanges;
+  e.bytes_received = static_cast<std::int64_t>(t.bytes_received);
+  return e;
 }
 
 }  // namespace
@@ -156,7 +138,7 @@ SolveOutcome run_solve(const SolveOptions& options) {
     outcome.solution = solver.solve(sigma, bonds);
     work = outcome.solution.seconds;
   }
-  outcome.ranks = rank_table(solver.setup().group().gather(rank_entry(solver, work)));
+  outcome.ranks = io::unpack_rank_table(solver.setup().group().gather(io::pack(rank_entry(solver, work))));
   if (par::rank() == 0) {
     Provenance provenance;
     provenance.mesh_file = in.mesh_file;
@@ -224,18 +206,18 @@ void print_solve_summary(const SolveOptions& options, const SolveOutcome& outcom
     std::printf("  preconditioner %s: %ld applications\n", to_string(scene.solver.preconditioner),
                 s.preconditioner_applications);
   const io::RankTable& r = outcome.ranks;
-  if (r.dofs.size() > 1) {
+  if (r.size() > 1) {
     std::printf(
         "  %zu ranks: subdomain data, peak memory, and seconds (setup; applying F and M^-1: own share, "
         "exchanges)\n",
-        r.dofs.size());
+        r.size());
     std::printf("  %6s %8s %10s %10s %9s %9s %9s %9s %10s\n", "rank", "subdom.", "dofs", "data MiB", "peak MiB",
                 "setup s", "apply s", "comm. s", "recv. MiB");
-    for (std::size_t p = 0; p < r.dofs.size(); ++p)
+    for (std::size_t p = 0; p < r.size(); ++p)
       std::printf("  %6zu %8lld %10lld %10.1f %9.1f %9.3f %9.3f %9.3f %10.1f\n", p,
-                  static_cast<long long>(r.subdomains[p]), static_cast<long long>(r.dofs[p]),
-                  r.subdomain_bytes[p] / 1048576.0, r.peak_rss_bytes[p] / 1048576.0, r.seconds_setup[p],
-                  r.seconds_apply[p], r.seconds_communication[p], r.bytes_received[p] / 1048576.0);
+                  static_cast<long long>(r[p].subdomains), static_cast<long long>(r[p].dofs),
+                  r[p].subdomain_bytes / 1048576.0, r[p].peak_rss_bytes / 1048576.0, r[p].seconds_setup,
+                  r[p].seconds_apply, r[p].seconds_communication, r[p].bytes_received / 1048576.0);
   }
 }
 
