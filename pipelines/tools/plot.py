@@ -77,49 +77,17 @@ def stress_strain(sweep, outbase):
     gnuplot(script, outbase, data)
 
 
-def cone_modulus(C_c, c, beta, theta_deg, sign):
-    """E(θ) of the cone-wise law (planes c_k, rows of c; jumps β_k) under uniaxial stress
-    sign·n⊗n: the strain minimises the convex W(ε) − σ̄·ε (Newton with the one-sided tangent and
-    backtracking on that energy, as law::strain_for), E = s/ε_nn with engineering shear
-    ε = (εxx, εyy, γxy)."""
-    import numpy as np
-    t = math.radians(theta_deg)
-    n = (math.cos(t), math.sin(t))
-    sigma = sign * np.array([n[0] * n[0], n[1] * n[1], n[0] * n[1]])
-    c = np.atleast_2d(c)
-    beta = np.atleast_1d(beta)
-
-    def state(e):
-        opening = np.maximum(c @ e, 0.0)
-        stress = C_c @ e + c.T @ (beta * opening)
-        tangent = C_c + (c.T * (beta * (c @ e > 0))) @ c
-        energy = 0.5 * e @ (C_c @ e) + 0.5 * float(beta @ opening ** 2) - sigma @ e
-        return stress, tangent, energy
-
-    strain = np.linalg.solve(C_c, sigma)
-    for _ in range(100):
-        stress, tangent, energy = state(strain)
-        r = stress - sigma
-        if np.linalg.norm(r) <= 1e-14 * np.linalg.norm(sigma):
-            break
-        step = -np.linalg.solve(tangent, r)
-        a = 1.0
-        while a > 1e-12 and state(strain + a * step)[2] > energy + 1e-4 * a * (r @ step):
-            a /= 2
-        strain = strain + a * step
-    e_nn = n[0] * n[0] * strain[0] + n[1] * n[1] * strain[1] + n[0] * n[1] * strain[2]
-    return sign / e_nn
-
-
 def polar(law, outbase):
     with h5py.File(law, "r") as f:
         g = f["law"]
         theta = list(g["direction_deg"][:])
         Et, Ec, onset = list(g["E_tension"][:]), list(g["E_compression"][:]), list(g["onset_stress"][:])
         after = list(g["E_after_fuse"][:])
+        # The fitted cone-wise law's moduli around the circle, as dualcell-fit wrote them.
         cone = None
-        if "cone" in g and int(g["cone/ok"][0]) == 1:
-            cone = (g["cone/C_c"][:], g["cone/c"][:], g["cone/beta"][:])
+        if "cone" in g and int(g["cone/ok"][0]) == 1 and "cone/polar_deg" in g:
+            cone = (list(g["cone/polar_deg"][:]), list(g["cone/polar_E_tension"][:]),
+                    list(g["cone/polar_E_compression"][:]))
         facets, swept = None, []
         if "onset" in g and int(g["onset"].attrs["linear"]) == 1:
             facets = g["onset/facets"][:]
@@ -143,8 +111,9 @@ def polar(law, outbase):
     # The fitted cone-wise law's E(θ) over the whole circle, as thin lines beside the points.
     cone_curves = ""
     if cone is not None:
-        for name, sign in (("cone_c.dat", -1.0), ("cone_t.dat", 1.0)):
-            data[name] = "".join("{:.10g} {:.10g}\n".format(t, cone_modulus(*cone, t, sign)) for t in range(0, 361, 2))
+        polar_theta, polar_t, polar_c = cone
+        for name, values in (("cone_c.dat", polar_c), ("cone_t.dat", polar_t)):
+            data[name] = "".join("{:.10g} {:.10g}\n".format(t, v) for t, v in zip(polar_theta, values))
         cone_curves = (", \\\n  'cone_c.dat' using 1:2 with lines lw 1 dt 2 lc rgb '#8000c0' "
                        "title 'cone-wise law, compression', \\\n  'cone_t.dat' using 1:2 with lines lw 1 dt 2 "
                        "lc rgb '#009060' title 'cone-wise law, tension'")

@@ -69,6 +69,19 @@ void write_cone(File& f, const std::string& name, const law::ConeFit& fit, std::
   write_count(f, name + "/ok", fit.ok ? 1 : 0);
   f.write_attribute(object(name), "message", fit.message);
   f.write_attribute(object(name), "form", fit.form);
+  // The law's apparent moduli around the whole circle (law::apparent_modulus), for the polar
+  // picture: derived data, written so that no picture re-implements the law.
+  if (fit.ok) {
+    std::vector<double> theta, tension, compression;
+    for (int t = 0; t <= 360; t += 2) {
+      theta.push_back(t);
+      tension.push_back(law::apparent_modulus(fit.law, t, 1));
+      compression.push_back(law::apparent_modulus(fit.law, t, -1));
+    }
+    f.write(object(name + "/polar_deg"), theta, {theta.size()});
+    f.write(object(name + "/polar_E_tension"), tension, {theta.size()});
+    f.write(object(name + "/polar_E_compression"), compression, {theta.size()});
+  }
 }
 
 // Reads /law/<name> with the shape-checked reads of File; refusals name the file and the object.
