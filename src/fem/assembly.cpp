@@ -3,6 +3,7 @@
 #include <cmath>
 #include <vector>
 
+#include "fem/edge_conditions.hpp"
 #include "fem/element.hpp"
 
 namespace dualcell::fem {
@@ -60,17 +61,10 @@ Eigen::MatrixXd rigid_body_modes(const mesh::Mesh& mesh, int s) {
 
 void add_edge_traction(const mesh::Mesh& mesh, const mesh::Edge& edge, const Eigen::Vector2d& t_a,
                        const Eigen::Vector2d& t_b, Eigen::VectorXd& f) {
-  // ∫ φ_i t ds with t linear in the edge parameter s and ds = |x'(s)| ds.
   int v[3];
   const int n = edge_nodes(edge, v);
-  for (const EdgePoint& q : edge_rule()) {
-    double phi[3], dphi[3];
-    edge_shape(n, q.s, phi, dphi);
-    Eigen::Vector2d dx = Eigen::Vector2d::Zero();
-    for (int i = 0; i < n; ++i) dx += dphi[i] * mesh.nodes[v[i]];
-    const Eigen::Vector2d t = (1 - q.s) * t_a + q.s * t_b;
-    for (int i = 0; i < n; ++i) f.segment<2>(2 * v[i]) += (q.weight * dx.norm() * phi[i]) * t;
-  }
+  const Eigen::Vector2d x[3] = {mesh.nodes[v[0]], mesh.nodes[v[1]], n == 3 ? mesh.nodes[v[2]] : Eigen::Vector2d()};
+  add_edge_traction(std::span<const Eigen::Vector2d>(x, n), std::span<const int>(v, n), t_a, t_b, f);
 }
 
 std::array<double, 3> edge_weights(std::span<const Eigen::Vector2d> x) {

@@ -24,7 +24,7 @@ Eigen::MatrixXd rigid_body_modes(const mesh::Mesh& mesh, int s);
 
 // Consistent nodal forces ∫ φ_i t ds of a traction varying linearly (in the edge parameter)
 // from t_a at end a to t_b at end b of a boundary edge (2 or 3 nodes), added to the global
-// vector f (size dim u).
+// vector f (size dim u): fem::add_edge_traction (edge_conditions.hpp) on the mesh's edge.
 void add_edge_traction(const mesh::Mesh& mesh, const mesh::Edge& edge, const Eigen::Vector2d& t_a,
                        const Eigen::Vector2d& t_b, Eigen::VectorXd& f);
 

@@ -11,6 +11,7 @@
 #include "core/error.hpp"
 #include "core/text.hpp"
 #include "fem/assembly.hpp"
+#include "fem/edge_conditions.hpp"
 
 namespace dualcell::feti {
 
@@ -93,10 +94,10 @@ std::vector<int> side_points(const mesh::Mesh& mesh, int side, NodeClasses& clas
 const std::array<int, 4> edge_sides = {mesh::left, mesh::right, mesh::bottom, mesh::top};
 
 int node_at(const mesh::Mesh& mesh, const Eigen::Vector2d& x, const std::string& where, const char* what) {
-  const double reach = 1e-9 * std::max(mesh.block_width(), mesh.block_height());
-  for (int v = 0; v < mesh.n_nodes(); ++v)
-    if ((mesh.nodes[v] - x).norm() <= reach) return v;
-  throw InputError(position_text(where, what, x) + ": no node of the mesh there");
+  const int v = fem::node_near(
+      mesh.n_nodes(), [&](int i) { return mesh.nodes[i]; }, x, std::max(mesh.block_width(), mesh.block_height()));
+  if (v < 0) throw InputError(position_text(where, what, x) + ": no node of the mesh there");
+  return v;
 }
 
 void check_positions(const mesh::Mesh& mesh, const EdgeLoads& loads) {
@@ -213,27 +214,13 @@ Constraints build_constraints(const mesh::Mesh& mesh, const Scene& scene, const 
       // two edges (a corner) or a support as well keeps the first row only, so that B has full
       // row rank. c holds the prescribed displacements at load factor 1.
       const EdgeLoads& loads = scene.load.edge_loads;
-      std::set<int> held;  // 2·point + component
-      const auto hold = [&](int v, int component, double value) {
-        if (held.insert(2 * v + component).second)
-          rows.add(RowKind::dirichlet, -1, {{2 * v + component, 1.0}}, -inf, inf, w_single, value);
-      };
-      for (int e = 0; e < 4; ++e) {
-        const EdgeCondition& condition = loads.edges[e];
-        const int normal = e < 2 ? 0 : 1;
-        for (int v : side_points(mesh, edge_sides[e], classes)) {
-          if (condition.kind == EdgeKind::fixed) hold(v, 0, 0), hold(v, 1, 0);
-          if (condition.kind == EdgeKind::roller) hold(v, normal, 0);
-          if (condition.kind == EdgeKind::displacement)
-            for (int k = 0; k < 2; ++k)
-              if (!std::isnan(condition.displacement(k))) hold(v, k, condition.displacement(k));
-        }
-      }
-      for (const Support& support : loads.supports) {
-        const int v = classes.find(node_at(mesh, support.at, support.where, "support"));
-        if (support.fix_x) hold(v, 0, 0);
-        if (support.fix_y) hold(v, 1, 0);
-      }
+      std::array<std::vector<int>, 4> edge_points;
+      for (int e = 0; e < 4; ++e) edge_points[e] = side_points(mesh, edge_sides[e], classes);
+      const auto held = fem::held_components(loads, edge_points, [&](const Support& support) {
+        return classes.find(node_at(mesh, support.at, support.where, "support"));
+      });
+      for (const fem::HeldComponent& h : held)
+        rows.add(RowKind::dirichlet, -1, {{2 * h.point + h.component, 1.0}}, -inf, inf, w_single, h.value);
       break;
     }
   }

@@ -1,6 +1,8 @@
 #include "primal/one_body.hpp"
 
 #include <Eigen/SparseCore>
+#include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <map>
@@ -9,6 +11,7 @@
 
 #include "core/error.hpp"
 #include "fem/assembly.hpp"
+#include "fem/edge_conditions.hpp"
 #include "linalg/sparse_cholesky.hpp"
 
 namespace dualcell::primal {
@@ -75,9 +78,10 @@ Eigen::VectorXd solve_one_body(const mesh::Mesh& m, const Scene& scene, const Ei
   // The (merged) node at a corner or support; a position off the mesh is an input error, never
   // a silent −1.
   auto corner = [&](double x, double y) {
-    for (int v = 0; v < N; ++v)
-      if ((m.nodes[v] - Eigen::Vector2d(x, y)).norm() < tol) return find(v);
-    throw InputError(position_text("", "support", Eigen::Vector2d(x, y)) + ": no node of the mesh there");
+    const int v = fem::node_near(
+        N, [&](int i) { return m.nodes[i]; }, Eigen::Vector2d(x, y), std::max(W, H));
+    if (v < 0) throw InputError(position_text("", "support", Eigen::Vector2d(x, y)) + ": no node of the mesh there");
+    return find(v);
   };
   switch (scene.load.boundary) {
     case Boundary::symmetry:
@@ -93,25 +97,16 @@ Eigen::VectorXd solve_one_body(const mesh::Mesh& m, const Scene& scene, const Ei
       fixed[{corner(0, 0), 0}] = fixed[{corner(0, 0), 1}] = 0.0;
       break;
     case Boundary::edges: {
-      // First condition wins at a point held twice, as in the dual solver's rows.
-      const EdgeLoads& loads = scene.load.edge_loads;
+      // The merged nodes on each side, and the conditions on them as the dual solver's rows
+      // have them (fem::held_components: the first condition wins at a point held twice).
       const int sides[4] = {mesh::left, mesh::right, mesh::bottom, mesh::top};
-      for (int e = 0; e < 4; ++e) {
-        const EdgeCondition& c = loads.edges[e];
-        for (int v = 0; v < N; ++v) {
-          if (absent[v] || !on(v, sides[e])) continue;
-          if (c.kind == EdgeKind::fixed) fixed.insert({{find(v), 0}, 0.0}), fixed.insert({{find(v), 1}, 0.0});
-          if (c.kind == EdgeKind::roller) fixed.insert({{find(v), e < 2 ? 0 : 1}, 0.0});
-          if (c.kind == EdgeKind::displacement)
-            for (int k = 0; k < 2; ++k)
-              if (!std::isnan(c.displacement(k))) fixed.insert({{find(v), k}, load_factor * c.displacement(k)});
-        }
-      }
-      for (const Support& support : loads.supports) {
-        const int root = corner(support.at.x(), support.at.y());
-        if (support.fix_x) fixed.insert({{root, 0}, 0.0});
-        if (support.fix_y) fixed.insert({{root, 1}, 0.0});
-      }
+      std::array<std::vector<int>, 4> edge_points;
+      for (int e = 0; e < 4; ++e)
+        for (int v = 0; v < N; ++v)
+          if (!absent[v] && on(v, sides[e])) edge_points[e].push_back(find(v));
+      const auto held = fem::held_components(scene.load.edge_loads, edge_points,
+                                             [&](const Support& s) { return corner(s.at.x(), s.at.y()); });
+      for (const fem::HeldComponent& h : held) fixed.insert({{h.point, h.component}, load_factor * h.value});
       break;
     }
   }

@@ -7,16 +7,16 @@
 #include <limits>
 
 #include "core/error.hpp"
+#include "fem/edge_conditions.hpp"
 #include "fem/element.hpp"
 #include "linalg/sparse_cholesky.hpp"
 
 namespace dualcell::structure {
 
 int StructureMesh::node_at(const Eigen::Vector2d& x) const {
-  const double reach = 1e-9 * std::max((nodes.colwise().maxCoeff() - nodes.colwise().minCoeff()).maxCoeff(), 1e-300);
-  for (Eigen::Index i = 0; i < nodes.rows(); ++i)
-    if ((nodes.row(i).transpose() - x).norm() <= reach) return static_cast<int>(i);
-  return -1;
+  const double size = std::max((nodes.colwise().maxCoeff() - nodes.colwise().minCoeff()).maxCoeff(), 1e-300);
+  return fem::node_near(
+      static_cast<int>(nodes.rows()), [&](int i) { return Eigen::Vector2d(nodes.row(i).transpose()); }, x, size);
 }
 
 StructureMesh build_structure_mesh(const StructureScene& scene) {
@@ -174,59 +174,47 @@ void HomogenisedStructure::Impl::setup() {
     area[t] = fem::element_area(x);
   }
 
-  // Constraints: edges (fixed, roller, displacement), then point supports.
+  // Constraints: edges (fixed, roller, displacement), then point supports (fem::held_components).
   constrained_by.assign(n_dofs, -1);
   prescribed = Eigen::VectorXd::Zero(n_dofs);
-  const auto hold = [&](int node, int component, double value, int by) {
-    const int d = 2 * node + component;
-    if (constrained_by[d] >= 0) return;
-    constrained_by[d] = by;
-    prescribed(d) = value;
-  };
-  for (int e = 0; e < 4; ++e) {
-    const EdgeCondition& c = scene.edges[e];
-    const int normal = e < 2 ? 0 : 1;
-    for (int node : mesh.edge_nodes[e]) {
-      if (c.kind == EdgeKind::fixed) hold(node, 0, 0, e), hold(node, 1, 0, e);
-      if (c.kind == EdgeKind::roller) hold(node, normal, 0, e);
-      if (c.kind == EdgeKind::displacement)
-        for (int k = 0; k < 2; ++k)
-          if (!std::isnan(c.displacement(k))) hold(node, k, c.displacement(k), e);
-    }
-  }
-  for (const Support& s : scene.supports) {
+  const auto held = fem::held_components(scene, mesh.edge_nodes, [&](const Support& s) {
     const int node = mesh.node_at(s.at);
     if (node < 0)
       throw InputError(position_text(s.where, "support", s.at) +
                        ": no node there (nodes lie on a grid of step cell_size/(elements_per_cell·order))");
-    if (s.fix_x) hold(node, 0, 0, 4);
-    if (s.fix_y) hold(node, 1, 0, 4);
+    return node;
+  });
+  for (const fem::HeldComponent& h : held) {
+    constrained_by[2 * h.point + h.component] = h.by;
+    prescribed(2 * h.point + h.component) = h.value;
   }
   free_index.assign(n_dofs, -1);
   int n_free = 0;
   for (int d = 0; d < n_dofs; ++d)
     if (constrained_by[d] < 0) free_index[d] = n_free++;
 
-  // Loads at factor 1: edge tractions (linear from start to end, exact Gauss rule), point loads.
+  // Loads at factor 1: edge tractions (linear from start to end, fem::add_edge_traction per
+  // element edge, q + 1 nodes each), point loads.
   f = Eigen::VectorXd::Zero(n_dofs);
   const int q = per == 3 ? 1 : 2;
   for (int e = 0; e < 4; ++e) {
     const EdgeCondition& c = scene.edges[e];
     if (c.kind != EdgeKind::traction) continue;
     const auto& nodes = mesh.edge_nodes[e];
-    const double length = (mesh.nodes.row(nodes.back()) - mesh.nodes.row(nodes.front())).norm();
+    const Eigen::Vector2d start = mesh.nodes.row(nodes.front()).transpose();
+    const double length = (mesh.nodes.row(nodes.back()).transpose() - start).norm();
+    const auto traction = [&](int node) {
+      const double position = (mesh.nodes.row(node).transpose() - start).norm() / length;
+      return (c.traction_start + position * (c.traction_end - c.traction_start)).eval();
+    };
     for (std::size_t k = 0; k + q < nodes.size(); k += q) {
       const int a = nodes[k], b = nodes[k + q];
-      const Eigen::Vector2d xa = mesh.nodes.row(a).transpose(), xb = mesh.nodes.row(b).transpose();
       const int ids[3] = {a, b, q == 2 ? nodes[k + 1] : -1};
-      const double segment = (xb - xa).norm();
-      for (const auto& g : fem::edge_rule()) {
-        double phi[3], dphi[3];
-        fem::edge_shape(q + 1, g.s, phi, dphi);
-        const double position = ((xa + g.s * (xb - xa)) - mesh.nodes.row(nodes.front()).transpose()).norm() / length;
-        const Eigen::Vector2d traction = c.traction_start + position * (c.traction_end - c.traction_start);
-        for (int i = 0; i < q + 1; ++i) f.segment<2>(2 * ids[i]) += g.weight * segment * phi[i] * traction;
-      }
+      const Eigen::Vector2d x[3] = {
+          mesh.nodes.row(a).transpose(), mesh.nodes.row(b).transpose(),
+          q == 2 ? Eigen::Vector2d(mesh.nodes.row(nodes[k + 1]).transpose()) : Eigen::Vector2d::Zero()};
+      fem::add_edge_traction(std::span<const Eigen::Vector2d>(x, q + 1), std::span<const int>(ids, q + 1), traction(a),
+                             traction(b), f);
     }
   }
   for (const PointLoad& p : scene.point_loads) {
