@@ -12,6 +12,7 @@
 #include "io/solution_file.hpp"
 #include "par/parallel.hpp"
 #include "stage/stage.hpp"
+#include "sweep/sweep.hpp"
 
 namespace dualcell::stage {
 
@@ -37,23 +38,24 @@ Eigen::Vector3d parse_stress(const std::string& text) {
 
 namespace {
 
-// The load steps of a block with boundary = "edges", bonds carried from step to step (breaks
-// are irreversible); progress per step on stderr when `progress`. `work` gets every step's QP
-// seconds and exchanges added (the last step's solution has only its own).
+// The load steps of a block with boundary = "edges": a sweep::LoadWalk along the load factor
+// (bonds carried from step to step, breaks irreversible, warm starts scaled); one line per step
+// on `progress`. `work` gets every step's QP seconds and exchanges added (the last step's
+// solution has only its own).
 feti::Solution solve_steps(feti::ContactSolver& solver, const Scene& scene, feti::BondState bonds, io::LoadSteps& steps,
                            feti::Timings& work, Progress& progress) {
   const EdgeLoads& loads = scene.load.edge_loads;
   const int watch = feti::node_at(solver.setup().mesh(), loads.watch, loads.watch_where, "[output] watch");
   steps.first_break_factor = solver.debond_onset(Eigen::Vector3d(1, 0, 0));
   const feti::BondState intact = solver.intact();
+  sweep::LoadWalk walk(solver, Eigen::Vector3d(1, 0, 0), std::move(bonds));
   feti::Solution s;
   for (std::size_t k = 0; k < loads.factors.size(); ++k) {
     const double t = loads.factors[k];
-    s = solver.solve(Eigen::Vector3d(t, 0, 0), bonds, k > 0 ? &s.lambda : nullptr);
-    bonds = s.bonds;
+    s = walk.solve(t);
+    walk.accept(t, s);
     work.add_qp(s.seconds);
-    long broken = 0;
-    for (std::size_t p = 0; p < bonds.size(); ++p) broken += intact[p] != 0 && bonds[p] == 0;
+    const long broken = sweep::count_broken(intact, s.bonds);
     steps.factor.push_back(t);
     steps.watch_displacement.insert(steps.watch_displacement.end(), {s.u(2 * watch), s.u(2 * watch + 1)});
     steps.newly_broken.push_back(s.newly_broken);

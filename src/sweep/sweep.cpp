@@ -38,13 +38,30 @@ double jump_ratio(const PathSpec& spec, const Fuse& fuse) {
   return before != 0 ? along_load(spec, fuse.strain_after) / before : std::numeric_limits<double>::infinity();
 }
 
+}  // namespace
+
 int count_broken(const feti::BondState& intact, const feti::BondState& now) {
   int broken = 0;
   for (std::size_t p = 0; p < now.size(); ++p) broken += intact[p] && !now[p];
   return broken;
 }
 
-}  // namespace
+feti::Solution LoadWalk::solve(double load, const feti::BondState* from) {
+  Eigen::VectorXd scaled, scaled_multiplier;
+  if (lambda_.size() > 0 && load_ != 0) {
+    scaled = lambda_ * (load / load_);
+    if (multiplier_.size() == lambda_.size()) scaled_multiplier = multiplier_ * (load / load_);
+  }
+  return solver_.solve(load * unit_stress_, from ? *from : bonds_, scaled.size() ? &scaled : nullptr,
+                       scaled_multiplier.size() ? &scaled_multiplier : nullptr);
+}
+
+void LoadWalk::accept(double load, const feti::Solution& s) {
+  bonds_ = s.bonds;
+  lambda_ = s.lambda;
+  multiplier_ = s.multiplier;
+  load_ = load;
+}
 
 std::vector<PathSpec> plan_paths(const Scene& scene) {
   std::vector<double> tension, compression;
@@ -124,7 +141,7 @@ std::vector<Eigen::Vector3d> sphere_directions(int n) {
 }
 
 PathResult run_path(feti::ContactSolver& solver, const PathSpec& spec, double fuse_tolerance,
-                    const Progress& progress) {
+                    const StepObserver& on_step) {
   using Clock = std::chrono::steady_clock;
   PathResult result;
   result.spec = spec;
@@ -145,24 +162,11 @@ PathResult run_path(feti::ContactSolver& solver, const PathSpec& spec, double fu
     }
   }
 
-  feti::BondState bonds = intact;
-  Eigen::VectorXd lambda, multiplier;  // of the last recorded state, for the warm start
-  double previous_load = 0;
+  LoadWalk walk(solver, spec.unit_stress, intact);
   Eigen::Vector3d previous_strain = Eigen::Vector3d::Zero();
   auto record = [&](double load, const feti::Solution& s, double seconds) {
     result.steps.push_back(make_step(load, s, count_broken(intact, s.bonds), seconds));
-    if (progress) progress(spec, static_cast<int>(result.steps.size()) - 1, result.steps.back());
-  };
-  // Warm start: the last state's λ and SMALBE multiplier scaled to the new load (exact for a
-  // positively homogeneous step).
-  auto solve_at = [&](double load, const feti::BondState& from, const Eigen::VectorXd* warm, double from_load) {
-    Eigen::VectorXd scaled, scaled_multiplier;
-    if (warm && warm->size() > 0 && from_load != 0) {
-      scaled = *warm * (load / from_load);
-      if (multiplier.size() == warm->size()) scaled_multiplier = multiplier * (load / from_load);
-    }
-    return solver.solve(load * spec.unit_stress, from, scaled.size() ? &scaled : nullptr,
-                        scaled_multiplier.size() ? &scaled_multiplier : nullptr);
+    if (on_step) on_step(spec, static_cast<int>(result.steps.size()) - 1, result.steps.back());
   };
 
   // Each scheduled load is reached from the last recorded state. Whenever the solve there
@@ -177,27 +181,24 @@ PathResult run_path(feti::ContactSolver& solver, const PathSpec& spec, double fu
       // Onto the onset from the intact state: the critical bonds are at their strength, which
       // the onset solve knows exactly and the QP's multipliers only to its tolerance. They
       // break here, as the rule says, and the solve goes on from there (the cascade).
-      feti::BondState from = bonds;
+      feti::BondState from = walk.bonds();
       long broken_at_onset = 0;
-      if (load == onset && count_broken(intact, bonds) == 0)
+      if (load == onset && count_broken(intact, walk.bonds()) == 0)
         for (int p : critical) broken_at_onset += std::exchange(from[p], std::uint8_t{0}) ? 1 : 0;
-      feti::Solution s = solve_at(load, from, &lambda, previous_load);
+      feti::Solution s = walk.solve(load, &from);
       s.newly_broken += broken_at_onset;
       if (!(adhesion && s.newly_broken > 0) || event >= max_events_per_step) {
         record(load, s, std::chrono::duration<double>(Clock::now() - t0).count());
-        bonds = s.bonds;
-        lambda = s.lambda;
-        multiplier = s.multiplier;
-        previous_load = load;
+        walk.accept(load, s);
         previous_strain = s.strain;
         break;
       }
-      double lo = previous_load, hi = load;
+      double lo = walk.load(), hi = load;
       std::optional<feti::Solution> at_lo;
       feti::Solution at_hi = std::move(s);
       while (std::abs(hi - lo) > fuse_tolerance * std::abs(hi)) {
         const double mid = 0.5 * (lo + hi);
-        feti::Solution m = solve_at(mid, bonds, &lambda, previous_load);
+        feti::Solution m = walk.solve(mid);
         if (m.newly_broken > 0) {
           hi = mid;
           at_hi = std::move(m);
@@ -212,10 +213,7 @@ PathResult run_path(feti::ContactSolver& solver, const PathSpec& spec, double fu
       if (!result.fuse || jump_ratio(spec, jump) > jump_ratio(spec, *result.fuse)) result.fuse = jump;
       if (at_lo) record(lo, *at_lo, seconds / 2);
       record(hi, at_hi, at_lo ? seconds / 2 : seconds);
-      bonds = at_hi.bonds;
-      lambda = at_hi.lambda;
-      multiplier = at_hi.multiplier;
-      previous_load = hi;
+      walk.accept(hi, at_hi);
       previous_strain = at_hi.strain;
       if (hi == load) break;
     }

@@ -74,12 +74,39 @@ struct PathResult {
 // for a direction the boundary condition cannot carry (symmetry: shear-free only).
 std::vector<PathSpec> plan_paths(const Scene& scene);
 
+// A walk along loads t·N from a bond state: each solve starts from the last accepted state's
+// bonds (breaks are irreversible) and warm-starts from its λ and SMALBE multiplier scaled to the
+// new load (exact for a positively homogeneous step, so a proportional step costs almost
+// nothing). The sweep's paths and the load steps of a resolved structure walk this way.
+class LoadWalk {
+ public:
+  LoadWalk(feti::ContactSolver& solver, const Eigen::Vector3d& unit_stress, feti::BondState bonds)
+      : solver_(solver), unit_stress_(unit_stress), bonds_(std::move(bonds)) {}
+  // The solve at `load` from the last accepted state, or from `from` (the accepted bonds with
+  // some more broken) when given.
+  feti::Solution solve(double load, const feti::BondState* from = nullptr);
+  // Makes s, the solution at `load`, the state the next solves start from.
+  void accept(double load, const feti::Solution& s);
+  const feti::BondState& bonds() const { return bonds_; }
+  double load() const { return load_; }
+
+ private:
+  feti::ContactSolver& solver_;
+  Eigen::Vector3d unit_stress_;
+  feti::BondState bonds_;
+  Eigen::VectorXd lambda_, multiplier_;
+  double load_ = 0;
+};
+
+// Bonds intact in `intact` and broken in `now`.
+int count_broken(const feti::BondState& intact, const feti::BondState& now);
+
 // Called after every step: path, step index, the step, bisections so far.
-using Progress = std::function<void(const PathSpec&, int step, const Step&)>;
+using StepObserver = std::function<void(const PathSpec&, int step, const Step&)>;
 
 // Runs one path from the intact, unloaded state. Deterministic: the same solver and spec give
 // the same numbers whatever ran before.
 PathResult run_path(feti::ContactSolver& solver, const PathSpec& spec, double fuse_tolerance,
-                    const Progress& progress = {});
+                    const StepObserver& on_step = {});
 
 }  // namespace dualcell::sweep
