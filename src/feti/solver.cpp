@@ -248,12 +248,8 @@ Solution ContactSolver::solve_problem(const DualProblem& dual, double& norm_PFP,
   out.seconds.qp_communication = dual.profile().communication - profile_before.communication;
   out.seconds.exchanges = dual.profile().exchanges - profile_before.exchanges;
   out.seconds.bytes_received = dual.profile().bytes_received - profile_before.bytes_received;
-  out.operator_applications = out.qp.counters.operator_applications + extra_applications;
-  out.preconditioner_applications = out.qp.counters.preconditioner_applications;
-  out.outer_iterations = out.qp.counters.outer_iterations;
-  out.cg_steps = out.qp.counters.cg_steps;
-  out.expansion_steps = out.qp.counters.expansion_steps;
-  out.proportioning_steps = out.qp.counters.proportioning_steps;
+  out.counters = out.qp.counters;
+  out.counters.operator_applications += extra_applications;
 
   const Eigen::VectorXd lambda_scaled = lambda0 + lambda_shift;
   out.lambda = lambda_scaled.cwiseProduct(con.weight);

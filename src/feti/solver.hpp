@@ -74,9 +74,9 @@ struct Solution {
   long debond_rounds = 0;                              // QP solves in the debonding loop
   long n_rows = 0;                                     // dim λ of the last QP
   qp::Result qp;                                       // of the last QP
-  long operator_applications = 0;                      // F applications, all QPs of this solve
-  long preconditioner_applications = 0;                // M⁻¹ applications (SolverSettings::preconditioner)
-  long outer_iterations = 0, cg_steps = 0, expansion_steps = 0, proportioning_steps = 0;
+  // The QPs' counters over all QPs of this solve; operator_applications also counts the F
+  // applications outside them (Fλ₀, the norm estimate), preconditioner_applications the M⁻¹ ones.
+  qp::Counters counters;
   // Times the dual tolerance was tightened because a converged QP did not give the primal
   // accuracy the check asks (docs/method.md §10), and the dual tolerance of the last QP.
   long tightenings = 0;
@@ -90,12 +90,7 @@ struct Solution {
   bool qp_converged() const { return qp.status == qp::Status::converged; }
   // Adds the work (counters, seconds but the setup's) of an earlier QP of the same load.
   void add_work(const Solution& earlier) {
-    operator_applications += earlier.operator_applications;
-    preconditioner_applications += earlier.preconditioner_applications;
-    outer_iterations += earlier.outer_iterations;
-    cg_steps += earlier.cg_steps;
-    expansion_steps += earlier.expansion_steps;
-    proportioning_steps += earlier.proportioning_steps;
+    counters += earlier.counters;
     tightenings += earlier.tightenings;
     seconds.dual_setup += earlier.seconds.dual_setup;
     seconds.add_qp(earlier.seconds);

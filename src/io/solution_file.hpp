@@ -13,22 +13,25 @@
 
 namespace dualcell::io {
 
-// The counters of a solve, written as integer attributes of /solver.
+// The counters of a solve, written as integer attributes of /solver: those of the QPs
+// (Solution::counters) and those of the solve itself (exactly one member pointer set).
 struct SolverCountField {
   const char* attribute;
-  long feti::Solution::*count;
+  long qp::Counters::*qp_count = nullptr;
+  long feti::Solution::*count = nullptr;
+  long of(const feti::Solution& s) const { return qp_count ? s.counters.*qp_count : s.*count; }
 };
 inline constexpr SolverCountField solver_count_fields[] = {
-    {"outer_iterations", &feti::Solution::outer_iterations},
-    {"operator_applications", &feti::Solution::operator_applications},
-    {"cg_steps", &feti::Solution::cg_steps},
-    {"expansion_steps", &feti::Solution::expansion_steps},
-    {"proportioning_steps", &feti::Solution::proportioning_steps},
-    {"preconditioner_applications", &feti::Solution::preconditioner_applications},
-    {"debond_rounds", &feti::Solution::debond_rounds},
-    {"newly_broken", &feti::Solution::newly_broken},
-    {"dim_lambda", &feti::Solution::n_rows},
-    {"tightenings", &feti::Solution::tightenings},
+    {"outer_iterations", &qp::Counters::outer_iterations},
+    {"operator_applications", &qp::Counters::operator_applications},
+    {"cg_steps", &qp::Counters::cg_steps},
+    {"expansion_steps", &qp::Counters::expansion_steps},
+    {"proportioning_steps", &qp::Counters::proportioning_steps},
+    {"preconditioner_applications", &qp::Counters::preconditioner_applications},
+    {"debond_rounds", nullptr, &feti::Solution::debond_rounds},
+    {"newly_broken", nullptr, &feti::Solution::newly_broken},
+    {"dim_lambda", nullptr, &feti::Solution::n_rows},
+    {"tightenings", nullptr, &feti::Solution::tightenings},
 };
 
 // Seconds per phase, as float attributes of /solver.

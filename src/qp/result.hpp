@@ -23,6 +23,16 @@ struct Counters {
   long operator_applications = 0;        // applications of the caller's A (incl. norm estimation)
   long preconditioner_applications = 0;  // applications of the preconditioner, not of A
   long outer_iterations = 0;             // SMALBE only
+  // The work of two solves together (e.g. the QPs of one load, before and after breaks).
+  Counters& operator+=(const Counters& other) {
+    cg_steps += other.cg_steps;
+    expansion_steps += other.expansion_steps;
+    proportioning_steps += other.proportioning_steps;
+    operator_applications += other.operator_applications;
+    preconditioner_applications += other.preconditioner_applications;
+    outer_iterations += other.outer_iterations;
+    return *this;
+  }
 };
 
 // Residuals are of the returned x and a gradient recomputed as A x - b (+ m for SMALBE), never a

@@ -61,11 +61,11 @@ feti::Solution solve_steps(feti::ContactSolver& solver, const Scene& scene, feti
     steps.newly_broken.push_back(s.newly_broken);
     steps.broken.push_back(broken);
     steps.converged.push_back(s.converged() ? 1 : 0);
-    steps.operator_applications.push_back(s.operator_applications);
+    steps.operator_applications.push_back(s.counters.operator_applications);
     char line[160];
     std::snprintf(line, sizeof line, "step %zu/%zu, factor %g: %s, %ld F applications, %ld bonds broken", k + 1,
-                  loads.factors.size(), t, s.converged() ? "converged" : "NOT converged", s.operator_applications,
-                  broken);
+                  loads.factors.size(), t, s.converged() ? "converged" : "NOT converged",
+                  s.counters.operator_applications, broken);
     progress.message(line);
   }
   return s;
@@ -181,8 +181,8 @@ void print_solve_summary(const SolveOptions& options, const SolveOutcome& outcom
               scene.interface.has_adhesion() ? "yes" : "no", outcome.dim_u, s.n_rows);
   std::printf(
       "  status %s: %ld outer iterations, %ld operator applications (%ld CG, %ld expansion, %ld proportioning)\n",
-      qp::to_string(s.qp.status), s.outer_iterations, s.operator_applications, s.cg_steps, s.expansion_steps,
-      s.proportioning_steps);
+      qp::to_string(s.qp.status), s.counters.outer_iterations, s.counters.operator_applications, s.counters.cg_steps,
+      s.counters.expansion_steps, s.counters.proportioning_steps);
   if (s.tightenings > 0)
     std::printf("  the primal check asked for more accuracy: dual tolerance tightened %ld time(s) to %.0e\n",
                 s.tightenings, s.qp_tolerance);
@@ -206,7 +206,7 @@ void print_solve_summary(const SolveOptions& options, const SolveOutcome& outcom
       s.seconds.qp_preconditioner, s.seconds.recovery, outcome.threads_used);
   if (scene.solver.preconditioner != Preconditioner::none)
     std::printf("  preconditioner %s: %ld applications\n", to_string(scene.solver.preconditioner),
-                s.preconditioner_applications);
+                s.counters.preconditioner_applications);
   const io::RankTable& r = outcome.ranks;
   if (r.size() > 1) {
     std::printf(

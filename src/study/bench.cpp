@@ -95,12 +95,12 @@ Run contact(int cells, int degree, int threads, Preconditioner preconditioner = 
           r.n_rows,
           used_threads,
           preconditioner,
-          r.outer_iterations,
-          r.cg_steps,
-          r.expansion_steps,
-          r.proportioning_steps,
-          r.operator_applications,
-          r.preconditioner_applications,
+          r.counters.outer_iterations,
+          r.counters.cg_steps,
+          r.counters.expansion_steps,
+          r.counters.proportioning_steps,
+          r.counters.operator_applications,
+          r.counters.preconditioner_applications,
           setup,
           solve,
           r.seconds,
@@ -400,8 +400,8 @@ std::string run_bench(const BenchOptions& options) {
   const double ratio = second_seconds / first_seconds;
   md << "## Sweep step\n\n"
      << sn << "×" << sn << " cells, degree " << sk << ": first step (setup + solve) " << first_seconds << " s, "
-     << first_step.operator_applications << " F applications; a further step " << second_seconds << " s, "
-     << second.operator_applications << " F applications: ratio " << ratio
+     << first_step.counters.operator_applications << " F applications; a further step " << second_seconds << " s, "
+     << second.counters.operator_applications << " F applications: ratio " << ratio
      << " (target ≤ 0.1).\n\nThe thesis' cases beside the thesis' figures: thesis.md (make -C pipelines thesis).\n";
   json.add("sweep_step_ratio", json_number(ratio)).add("bytes_per_dof", json_number(bytes_per_dof));
   outputs.write(md_file, md.str());

@@ -80,8 +80,8 @@ StabilityRow run_stability_case(const StabilityCase& c, double tolerance) {
     row.primal_ok = s.primal_ok;
     row.message = s.qp_converged() ? s.primal_message : s.qp.message;
     row.finite = s.u.allFinite() && s.lambda.allFinite() && s.strain.allFinite();
-    row.outer_iterations = s.outer_iterations;
-    row.operator_applications = s.operator_applications;
+    row.outer_iterations = s.counters.outer_iterations;
+    row.operator_applications = s.counters.operator_applications;
     row.relative_projected_gradient = s.kkt.relative_projected_gradient;
     row.relative_equality_residual = s.kkt.relative_equality_residual;
     row.relative_equilibrium = s.kkt.relative_equilibrium;

@@ -19,8 +19,8 @@ Step make_step(double load, const feti::Solution& s, int broken, double seconds)
   step.stress = s.sigma;
   step.strain = s.strain;
   step.broken_bonds = broken;
-  step.outer_iterations = s.outer_iterations;
-  step.operator_applications = s.operator_applications;
+  step.outer_iterations = s.counters.outer_iterations;
+  step.operator_applications = s.counters.operator_applications;
   step.kkt_residual =
       std::max({s.kkt.relative_projected_gradient, s.kkt.relative_equality_residual, s.kkt.relative_equilibrium});
   step.seconds = seconds;

@@ -127,7 +127,7 @@ TEST_P(ContactSolverOrders, ResultsDoNotDependOnTheThreadCount) {
     }
     ASSERT_GT(runs[0].newly_broken, 0);  // the case exercises debonding
     for (std::size_t t = 1; t < runs.size(); ++t) {
-      EXPECT_EQ(runs[t].operator_applications, runs[0].operator_applications) << to_string(p);
+      EXPECT_EQ(runs[t].counters.operator_applications, runs[0].counters.operator_applications) << to_string(p);
       EXPECT_EQ(runs[t].newly_broken, runs[0].newly_broken) << to_string(p);
       EXPECT_EQ((runs[t].lambda - runs[0].lambda).lpNorm<Eigen::Infinity>(), 0.0) << to_string(p);
       EXPECT_EQ((runs[t].u - runs[0].u).lpNorm<Eigen::Infinity>(), 0.0) << to_string(p);
@@ -151,7 +151,7 @@ TEST_P(ContactSolverOrders, PreconditionersGiveTheSameSolution) {
           boundary == Boundary::symmetry ? Eigen::Vector3d(0.3, -0.1, 0) : Eigen::Vector3d(0.3, -0.1, 0.2);
       const Solution s = solver.solve_fixed(sigma, solver.intact());
       ASSERT_TRUE(s.converged()) << to_string(p) << ", " << to_string(boundary) << ": " << s.qp.message;
-      EXPECT_GT(s.preconditioner_applications, 0);
+      EXPECT_GT(s.counters.preconditioner_applications, 0);
       const Eigen::VectorXd u_ref = primal::solve_one_body(m, scene, solver.setup().load(sigma));
       EXPECT_LE(relative_difference(s.u, u_ref), 1e-8) << to_string(p) << ", " << to_string(boundary);
     }
@@ -179,7 +179,7 @@ TEST_P(ContactSolverOrders, PreconditionersReduceIterationsAtFineDegree) {
     ContactSolver solver(m, scene);
     const Solution s = solver.solve_fixed({0.3, -0.1, 0.2}, solver.intact());
     ASSERT_TRUE(s.converged()) << to_string(p) << ": " << s.qp.message;
-    applications[p] = s.operator_applications;
+    applications[p] = s.counters.operator_applications;
   }
   // Measured 108 (none), 94 (lumped), 53 (Dirichlet), 21 of each for the norm estimate and λ₀.
   EXPECT_LT(applications[Preconditioner::lumped], applications[Preconditioner::none]);
