@@ -3,7 +3,7 @@
 // JSON (everything in law.h5, for scripts), CSV (one row per direction) or CalculiX/Abaqus
 // material cards: <name>_TENSION and <name>_COMPRESSION, 3D materials in the axes x, y, z = fibre
 // direction whose plane-strain response is the fitted one (formulas: README.md, "Stage:
-// dualcell-export", and src/law/export.hpp). The output is written to a temporary and renamed,
+// dualcell-export", and src/io/law_export.hpp). The output is written to a temporary and renamed,
 // so a refused or failed export leaves no file.
 //
 //   dualcell-export --law law.h5 --format calculix --out law.inp --name GLASS_EPOXY
@@ -39,7 +39,7 @@ int main(int argc, char** argv) {
     stage::ExportOptions options;
     options.law_file = law_file;
     options.out = out;
-    options.format = law::parse_export_format(format);
+    options.format = io::parse_export_format(format);
     options.name = name;
     const std::string written = stage::export_law(options);
     if (!quiet) std::printf("dualcell-export: %s -> %s (%s)\n", law_file.c_str(), out.c_str(), written.c_str());

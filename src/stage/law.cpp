@@ -25,15 +25,15 @@ law::Law run_fit(const std::filesystem::path& sweep_file, const std::filesystem:
 
 namespace {
 
-std::string describe(const law::Law& law, law::ExportFormat format, const std::string& name) {
+std::string describe(const law::Law& law, io::ExportFormat format, const std::string& name) {
   switch (format) {
-    case law::ExportFormat::json:
+    case io::ExportFormat::json:
       return "JSON, " + std::to_string(law.directions.size()) + " directions";
-    case law::ExportFormat::csv:
+    case io::ExportFormat::csv:
       return "CSV, " + std::to_string(law.directions.size()) + " rows";
-    case law::ExportFormat::calculix:
+    case io::ExportFormat::calculix:
       return "CalculiX, materials " + name + "_TENSION and " + name + "_COMPRESSION";
-    case law::ExportFormat::umat:
+    case io::ExportFormat::umat:
       return "user material ABAQUS_" + name + " for dualcell's umat";
   }
   return "";
@@ -46,17 +46,17 @@ std::string export_law(const ExportOptions& options) {
   const law::Law law = io::read_law(options.law_file);
   std::string text;
   switch (options.format) {
-    case law::ExportFormat::json:
-      text = law::law_json(law);
+    case io::ExportFormat::json:
+      text = io::law_json(law);
       break;
-    case law::ExportFormat::csv:
-      text = law::law_csv(law);
+    case io::ExportFormat::csv:
+      text = io::law_csv(law);
       break;
-    case law::ExportFormat::calculix:
-      text = law::law_calculix(law, options.name, options.law_file.string());
+    case io::ExportFormat::calculix:
+      text = io::law_calculix(law, options.name, options.law_file.string());
       break;
-    case law::ExportFormat::umat:
-      text = law::law_umat(law, options.name, options.law_file.string());
+    case io::ExportFormat::umat:
+      text = io::law_umat(law, options.name, options.law_file.string());
       break;
   }
   io::write_output(options.out, text);

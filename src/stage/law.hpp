@@ -4,7 +4,7 @@
 #include <filesystem>
 #include <string>
 
-#include "law/export.hpp"
+#include "io/law_export.hpp"
 #include "law/law.hpp"
 
 namespace dualcell::stage {
@@ -18,7 +18,7 @@ void print_fit_summary(const std::filesystem::path& sweep_file, const std::files
 
 struct ExportOptions {
   std::filesystem::path law_file, out;
-  law::ExportFormat format = law::ExportFormat::json;
+  io::ExportFormat format = io::ExportFormat::json;
   std::string name = "DUALCELL";  // CalculiX material base name: a letter, then letters, digits, _
 };
 

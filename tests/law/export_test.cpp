@@ -1,8 +1,6 @@
 // dualcell-export: the 3D constants reproduce the plane-strain law (algebra, then the real
 // CalculiX solver on a small plane-strain model), JSON read by Python, CSV with one row per
 // direction, and refusals of bad law files and inadmissible laws that leave no output.
-#include "law/export.hpp"
-
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -13,12 +11,20 @@
 #include "core/error.hpp"
 #include "core/exit_codes.hpp"
 #include "io/hdf5.hpp"
+#include "io/law_export.hpp"
 #include "io/law_file.hpp"
 #include "law/synthetic_law.hpp"
 #include "test_util.hpp"
 
 namespace dualcell::law {
 namespace {
+
+// The formats are io's, the 3D material the law's.
+using io::law_calculix;
+using io::law_csv;
+using io::law_json;
+using io::law_umat;
+using io::umat_constants;
 
 using testing::bin;
 using testing::run_command;

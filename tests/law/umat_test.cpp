@@ -1,5 +1,5 @@
 // The user material for other FE codes (src/umat/dualcell_umat.c) with the constants
-// dualcell-export writes (law::umat_constants) against the library's own evaluation of the law
+// dualcell-export writes (io::umat_constants) against the library's own evaluation of the law
 // (law::evaluate) on random strains, and its fuse: once a point's stress leaves the onset
 // surface it takes the law past the fuse, and a fused point stays fused.
 #include <gtest/gtest.h>
@@ -7,7 +7,7 @@
 #include <cstddef>
 #include <random>
 
-#include "law/export.hpp"
+#include "io/law_export.hpp"
 
 extern "C" void umat_(double* stress, double* statev, double* ddsdde, double* sse, double* spd, double* scd,
                       double* rpl, double* ddsddt, double* drplde, double* drpldt, const double* stran,
@@ -20,6 +20,13 @@ extern "C" void umat_(double* stress, double* statev, double* ddsdde, double* ss
 
 namespace dualcell::law {
 namespace {
+
+// The formats are io's, the 3D material the law's.
+using io::law_calculix;
+using io::law_csv;
+using io::law_json;
+using io::law_umat;
+using io::umat_constants;
 
 // A law as the fit makes them: SPD C_c, compression struts, a softer law past the fuse, and an
 // onset surface of a few facets; realistic constituents for the out-of-plane constants.

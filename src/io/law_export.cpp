@@ -1,6 +1,5 @@
-#include "law/export.hpp"
+#include "io/law_export.hpp"
 
-#include <Eigen/Eigenvalues>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -8,33 +7,24 @@
 
 #include "core/error.hpp"
 #include "core/json.hpp"
+#include "core/text.hpp"
 #include "law/fields.hpp"
 
-namespace dualcell::law {
+namespace dualcell::io {
+
+using namespace law;
 
 namespace {
-
-std::string format_double(const char* format, double value) {
-  char text[64];
-  std::snprintf(text, sizeof text, format, value);
-  return text;
-}
-
-// ---------------------------------------------------------------------------------------------
-// CSV
 
 std::string csv_number(double value) {
   if (std::isnan(value)) return "nan";
   if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
-  return format_double("%.17g", value);
+  return formatted("%.17g", value);
 }
-
-// ---------------------------------------------------------------------------------------------
-// 3D material
 
 // CalculiX reads each number of a data line as a 20-character field and silently drops the rest
 // (1.2345678901234567e+01 is read as 1.2345678901234567): %.12e is at most 19 characters.
-std::string card_number(double value) { return format_double("%.12e", value); }
+std::string card_number(double value) { return formatted("%.12e", value); }
 
 // Comment text on one line: a newline in a path or a units string would end the comment.
 std::string one_line(std::string text) {
@@ -43,49 +33,14 @@ std::string one_line(std::string text) {
   return text;
 }
 
-void check_constituents(const Law& law, const std::string& file) {
-  const std::string where = file + ": /law: ";
-  auto need = [&](bool ok, const char* name, double value, const char* range) {
-    if (!ok)
-      throw InputError(where + "attribute " + name + " = " + format_double("%g", value) + ": out of range " + range +
-                       " (the constituents give the out-of-plane constants of the 3D material)");
-  };
-  need(std::isfinite(law.constituents.fibre_E) && law.constituents.fibre_E > 0, "fibre_E", law.constituents.fibre_E,
-       "> 0");
-  need(std::isfinite(law.constituents.matrix_E) && law.constituents.matrix_E > 0, "matrix_E", law.constituents.matrix_E,
-       "> 0");
-  need(law.constituents.fibre_nu > -1 && law.constituents.fibre_nu < 0.5, "fibre_nu", law.constituents.fibre_nu,
-       "(-1, 0.5)");
-  need(law.constituents.matrix_nu > -1 && law.constituents.matrix_nu < 0.5, "matrix_nu", law.constituents.matrix_nu,
-       "(-1, 0.5)");
-  need(law.constituents.fibre_volume_fraction >= 0 && law.constituents.fibre_volume_fraction < 1,
-       "fibre_volume_fraction", law.constituents.fibre_volume_fraction, "[0, 1)");
-}
-
-struct OutOfPlane {
-  double E3, nu31, G_longitudinal;
-};
-
-OutOfPlane rule_of_mixtures(const Law& law) {
-  const double Vf = law.constituents.fibre_volume_fraction;
-  const double G_f = law.constituents.fibre_E / (2 * (1 + law.constituents.fibre_nu));
-  const double G_m = law.constituents.matrix_E / (2 * (1 + law.constituents.matrix_nu));
-  return {Vf * law.constituents.fibre_E + (1 - Vf) * law.constituents.matrix_E,    // E3 = Vf E_f + (1 − Vf) E_m
-          Vf * law.constituents.fibre_nu + (1 - Vf) * law.constituents.matrix_nu,  // ν31 = Vf ν_f + (1 − Vf) ν_m
-          1 / (Vf / G_f + (1 - Vf) / G_m)};                                        // 1/G = Vf/G_f + (1 − Vf)/G_m
-}
-
 // Three comment lines, one per row.
 std::string matrix_comment(const Eigen::Matrix3d& m) {
   std::string out;
   for (int i = 0; i < 3; ++i)
-    out += "**   " + format_double("%.9g", m(i, 0)) + ", " + format_double("%.9g", m(i, 1)) + ", " +
-           format_double("%.9g", m(i, 2)) + "\n";
+    out += "**   " + formatted("%.9g", m(i, 0)) + ", " + formatted("%.9g", m(i, 1)) + ", " +
+           formatted("%.9g", m(i, 2)) + "\n";
   return out;
 }
-
-// ---------------------------------------------------------------------------------------------
-// CalculiX cards
 
 void check_name(const std::string& name) {
   // CalculiX and Abaqus names are at most 80 characters; the longest suffix is _COMPRESSION.
@@ -102,8 +57,8 @@ std::string material_cards(const std::string& material_name, const std::string& 
   out += "*MATERIAL, NAME=" + material_name + "\n";
   if (m.orthotropic) {
     const auto& k = m.constants;
-    out += "** normal-shear coupling " + format_double("%.2g", m.coupling) +
-           " (<= " + format_double("%.0e", coupling_tolerance) + ", dropped): engineering constants\n";
+    out += "** normal-shear coupling " + formatted("%.2g", m.coupling) +
+           " (<= " + formatted("%.0e", coupling_tolerance) + ", dropped): engineering constants\n";
     out += "** E1, E2, E3, nu12, nu13, nu23, G12, G13 / G23\n";
     out += "*ELASTIC, TYPE=ENGINEERING CONSTANTS\n";
     const double first[] = {k.E1, k.E2, k.E3, k.nu12, k.nu13, k.nu23, k.G12, k.G13};
@@ -111,8 +66,8 @@ std::string material_cards(const std::string& material_name, const std::string& 
     out += card_number(k.G23) + "\n";
     return out;
   }
-  out += "** normal-shear coupling " + format_double("%.2g", m.coupling) + " (> " +
-         format_double("%.0e", coupling_tolerance) + "): engineering constants cannot hold it; full stiffness\n";
+  out += "** normal-shear coupling " + formatted("%.2g", m.coupling) + " (> " + formatted("%.0e", coupling_tolerance) +
+         "): engineering constants cannot hold it; full stiffness\n";
   out +=
       "** D1111, D1122, D2222, D1133, D2233, D3333, D1112, D2212 / D3312, D1212, D1113, D2213, D3313, D1213,\n"
       "** D1313, D1123 / D2223, D3323, D1223, D1323, D2323 (engineering shear: D1212 = G12)\n";
@@ -137,77 +92,6 @@ ExportFormat parse_export_format(const std::string& text) {
   if (text == "calculix") return ExportFormat::calculix;
   if (text == "umat") return ExportFormat::umat;
   throw InputError("--format " + text + ": expected json, csv, calculix or umat");
-}
-
-SolidMaterial solid_material(const Eigen::Matrix3d& S_ps_in, const Law& law, const std::string& file,
-                             const std::string& fit_name) {
-  const std::string what = file + ": /law/" + fit_name;
-  static const char* entry_names[3][3] = {
-      {"xx,xx", "xx,yy", "xx,xy"}, {"yy,xx", "yy,yy", "yy,xy"}, {"xy,xx", "xy,yy", "xy,xy"}};
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j)
-      if (!std::isfinite(S_ps_in(i, j)))
-        throw InputError(what + ": entry (" + entry_names[i][j] + ") is " + format_double("%g", S_ps_in(i, j)) +
-                         ": the sweep does not determine it (a shear entry needs load directions off the axes or "
-                         "stress_directions with shear), so no 3D material can be exported");
-  const double scale = S_ps_in.cwiseAbs().maxCoeff();
-  const double asymmetry = (S_ps_in - S_ps_in.transpose()).cwiseAbs().maxCoeff();
-  if (!(scale > 0) || asymmetry > 1e-6 * scale)
-    throw InputError(what + ": not symmetric (max |S_ij - S_ji| = " + format_double("%.3g", asymmetry) +
-                     " of max |S_ij| = " + format_double("%.3g", scale) + "): not an elastic compliance");
-  const Eigen::Matrix3d S_ps = (S_ps_in + S_ps_in.transpose()) / 2;
-  const Eigen::Vector3d eigenvalues = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(S_ps).eigenvalues();
-  // A singular or indefinite S_ps gives a 3D material with zero or negative strain energy.
-  if (!(eigenvalues(0) > 1e-12 * eigenvalues(2)))
-    throw InputError(what + ": not positive definite (eigenvalues " + format_double("%.4g", eigenvalues(0)) + ", " +
-                     format_double("%.4g", eigenvalues(1)) + ", " + format_double("%.4g", eigenvalues(2)) +
-                     "): no admissible elastic material reproduces it");
-  check_constituents(law, file);
-
-  SolidMaterial m;
-  m.coupling = std::max(std::abs(S_ps(0, 2)) / std::sqrt(S_ps(0, 0) * S_ps(2, 2)),
-                        std::abs(S_ps(1, 2)) / std::sqrt(S_ps(1, 1) * S_ps(2, 2)));
-  m.orthotropic = m.coupling <= coupling_tolerance;
-
-  const OutOfPlane z = rule_of_mixtures(law);
-  // S13 = S23 = −ν31/E3, S33 = 1/E3.
-  const double S13 = -z.nu31 / z.E3, S23 = S13, S33 = 1 / z.E3;
-  auto& S = m.S;
-  S(2, 2) = S33;
-  S(0, 2) = S(2, 0) = S13;
-  S(1, 2) = S(2, 1) = S23;
-  // In plane: S_ij = S_ps,ij + S_i3 S_j3 / S33, so that ε33 = 0 gives back S_ps.
-  S(0, 0) = S_ps(0, 0) + S13 * S13 / S33;
-  S(1, 1) = S_ps(1, 1) + S23 * S23 / S33;
-  S(0, 1) = S(1, 0) = S_ps(0, 1) + S13 * S23 / S33;
-  // Shear γ12 (Voigt index 3): unchanged by σ33, since σ33 does not couple to γ12 (S34 = 0).
-  S(3, 3) = S_ps(2, 2);
-  if (!m.orthotropic) {
-    S(0, 3) = S(3, 0) = S_ps(0, 2);
-    S(1, 3) = S(3, 1) = S_ps(1, 2);
-  }
-  // Out-of-plane shears γ13, γ23.
-  S(4, 4) = S(5, 5) = 1 / z.G_longitudinal;
-
-  const Eigen::Matrix<double, 6, 1> eigenvalues_3d =
-      Eigen::SelfAdjointEigenSolver<SolidMaterial::Matrix6d>(S).eigenvalues();
-  if (!(eigenvalues_3d(0) > 1e-12 * eigenvalues_3d(5)))
-    throw InputError(what + ": the 3D compliance is not positive definite (smallest eigenvalue " +
-                     format_double("%.4g", eigenvalues_3d(0)) + "): not an admissible material");
-  m.C = S.inverse();
-
-  auto& k = m.constants;
-  k.E1 = 1 / S(0, 0);
-  k.E2 = 1 / S(1, 1);
-  k.E3 = 1 / S(2, 2);
-  // ν_ij = −S_ij E_i: ε_j = −ν_ij σ_i / E_i under σ_i alone (the CalculiX/Abaqus convention).
-  k.nu12 = -S(0, 1) * k.E1;
-  k.nu13 = -S(0, 2) * k.E1;
-  k.nu23 = -S(1, 2) * k.E2;
-  k.G12 = 1 / S(3, 3);
-  k.G13 = 1 / S(4, 4);
-  k.G23 = 1 / S(5, 5);
-  return m;
 }
 
 std::string law_json(const Law& law) {
@@ -352,13 +236,12 @@ std::string law_calculix(const Law& law, const std::string& name, const std::str
       "** out of plane by the rule of mixtures:\n"
       "**   E3 = Vf Ef + (1 - Vf) Em, nu31 = nu32 = Vf nuf + (1 - Vf) num  (S13 = S23 = -nu31/E3, S33 = 1/E3),\n"
       "**   1/G13 = 1/G23 = Vf/Gf + (1 - Vf)/Gm, G = E/(2 (1 + nu)),\n";
-  out += "** with Vf = " + format_double("%.6g", law.constituents.fibre_volume_fraction) +
-         ", fibre E = " + format_double("%.6g", law.constituents.fibre_E) +
-         ", nu = " + format_double("%.6g", law.constituents.fibre_nu) +
-         ", matrix E = " + format_double("%.6g", law.constituents.matrix_E) +
-         ", nu = " + format_double("%.6g", law.constituents.matrix_nu) + ": E3 = " + format_double("%.6g", z.E3) +
-         ", nu31 = " + format_double("%.6g", z.nu31) + ", G13 = G23 = " + format_double("%.6g", z.G_longitudinal) +
-         "\n";
+  out += "** with Vf = " + formatted("%.6g", law.constituents.fibre_volume_fraction) +
+         ", fibre E = " + formatted("%.6g", law.constituents.fibre_E) +
+         ", nu = " + formatted("%.6g", law.constituents.fibre_nu) +
+         ", matrix E = " + formatted("%.6g", law.constituents.matrix_E) +
+         ", nu = " + formatted("%.6g", law.constituents.matrix_nu) + ": E3 = " + formatted("%.6g", z.E3) +
+         ", nu31 = " + formatted("%.6g", z.nu31) + ", G13 = G23 = " + formatted("%.6g", z.G_longitudinal) + "\n";
   out += material_cards(name + "_TENSION", "S_tension", tension, law.tension.S);
   out += material_cards(name + "_COMPRESSION", "S_compression", compression, law.compression.S);
   return out;
@@ -405,8 +288,8 @@ std::string law_umat(const Law& law, const std::string& name, const std::string&
   out += fuse ? "** The fuse: a point whose stress leaves the onset surface (max_f g_f.sigma >= 1) switches to the\n"
                 "** law past the fuse for good (state variable 1: 0 bonded, 1 fused).\n"
               : "** No fuse: the law has no onset surface or no law past the fuse; points stay bonded.\n";
-  out += "** Constants: version 1, K_b = " + format_double("%.0f", k[1]) +
-         " planes, K_a = " + format_double("%.0f", k[2]) + " planes past the fuse, F = " + format_double("%.0f", k[3]) +
+  out += "** Constants: version 1, K_b = " + formatted("%.0f", k[1]) + " planes, K_a = " + formatted("%.0f", k[2]) +
+         " planes past the fuse, F = " + formatted("%.0f", k[3]) +
          " facets, E33, G13, G23;\n"
          "** then C_c (row by row) and c1, c2, c3, beta per plane, bonded then past the fuse; then the facets.\n";
   out += "*MATERIAL, NAME=ABAQUS_" + name + "\n";
@@ -417,4 +300,4 @@ std::string law_umat(const Law& law, const std::string& name, const std::string&
   return out;
 }
 
-}  // namespace dualcell::law
+}  // namespace dualcell::io

@@ -1,8 +1,8 @@
 #pragma once
-// The exports of a law.h5 (README.md, "Stage: dualcell-export"): JSON for scripts, CSV with one
-// row per direction, and CalculiX/Abaqus material cards.
+// The 3D material of a fitted law, for codes whose elements are 3D (CalculiX/Abaqus cards, the
+// umat's out-of-plane constants; the formats themselves are io/law_export.hpp).
 //
-// The cards are 3D materials in the material axes 1 = x, 2 = y (the plane of the cells),
+// The 3D materials are in the material axes 1 = x, 2 = y (the plane of the cells),
 // 3 = z = fibre direction, chosen so that plane-strain elements (ε33 = 0) reproduce the fitted
 // plane-strain compliance S_ps exactly. Voigt order (11, 22, 33, 12, 13, 23), engineering shear.
 //
@@ -21,16 +21,10 @@
 // exactly when S_ps is and E3 > 0: an inadmissible fit is refused, not exported.
 #include <Eigen/Core>
 #include <string>
-#include <vector>
 
 #include "law/law.hpp"
 
 namespace dualcell::law {
-
-enum class ExportFormat { json, csv, calculix, umat };
-
-// "json", "csv", "calculix" or "umat"; anything else is an InputError.
-ExportFormat parse_export_format(const std::string& text);
 
 struct OrthotropicConstants {
   double E1 = 0, E2 = 0, E3 = 0, nu12 = 0, nu13 = 0, nu23 = 0, G12 = 0, G13 = 0, G23 = 0;
@@ -58,23 +52,14 @@ struct SolidMaterial {
 SolidMaterial solid_material(const Eigen::Matrix3d& S_ps, const Law& law, const std::string& file,
                              const std::string& fit_name);
 
-// Everything in law.h5 as one JSON object, keys named as the objects of law.h5 (datasets of
-// shape (1) as numbers, 3×3 as row arrays); NaN and infinities as null.
-std::string law_json(const Law& law);
-// A header line and one row per direction: the per-direction datasets of law.h5 and the two
-// fits' per-direction residuals; NaN as "nan".
-std::string law_csv(const Law& law);
-// Two *MATERIALs, <name>_TENSION and <name>_COMPRESSION, with comment lines stating the axes,
-// units, formulas and provenance. `source` is the law file named in the comments.
-std::string law_calculix(const Law& law, const std::string& name, const std::string& source);
+// Refuses (InputError naming `file`) constituents that cannot give the out-of-plane constants.
+void check_constituents(const Law& law, const std::string& file);
 
-// The constants of the user material src/umat/dualcell_umat.c (its header gives the layout):
-// the bonded cone-wise law, the law past the fuse and the onset facets when the law has both
-// (otherwise K_a = F = 0: the points never fuse), and the out-of-plane E33, G13 = G23 by the
-// rule of mixtures. Refuses a law without a fitted cone-wise law.
-std::vector<double> umat_constants(const Law& law, const std::string& file);
-// The *MATERIAL card ABAQUS_<name> (*USER MATERIAL with umat_constants, *DEPVAR 1) with comment
-// lines stating the layout, axes, units and provenance.
-std::string law_umat(const Law& law, const std::string& name, const std::string& source);
+// The out-of-plane constants by the rule of mixtures (formulas above).
+struct OutOfPlane {
+  double E3, nu31, G_longitudinal;
+};
+
+OutOfPlane rule_of_mixtures(const Law& law);
 
 }  // namespace dualcell::law

@@ -1,0 +1,37 @@
+#pragma once
+// The exports of a law.h5 (README.md, "Stage: dualcell-export"): JSON for scripts, CSV with one
+// row per direction, CalculiX/Abaqus material cards (the 3D materials of law/solid.hpp) and the
+// constants of dualcell's umat.
+#include <string>
+#include <vector>
+
+#include "law/law.hpp"
+#include "law/solid.hpp"
+
+namespace dualcell::io {
+
+enum class ExportFormat { json, csv, calculix, umat };
+
+// "json", "csv", "calculix" or "umat"; anything else is an InputError.
+ExportFormat parse_export_format(const std::string& text);
+
+// Everything in law.h5 as one JSON object, keys named as the objects of law.h5 (datasets of
+// shape (1) as numbers, 3×3 as row arrays); NaN and infinities as null.
+std::string law_json(const law::Law& law);
+// A header line and one row per direction: the per-direction datasets of law.h5 and the two
+// fits' per-direction residuals; NaN as "nan".
+std::string law_csv(const law::Law& law);
+// Two *MATERIALs, <name>_TENSION and <name>_COMPRESSION, with comment lines stating the axes,
+// units, formulas and provenance. `source` is the law file named in the comments.
+std::string law_calculix(const law::Law& law, const std::string& name, const std::string& source);
+
+// The constants of the user material src/umat/dualcell_umat.c (its header gives the layout):
+// the bonded cone-wise law, the law past the fuse and the onset facets when the law has both
+// (otherwise K_a = F = 0: the points never fuse), and the out-of-plane E33, G13 = G23 by the
+// rule of mixtures. Refuses a law without a fitted cone-wise law.
+std::vector<double> umat_constants(const law::Law& law, const std::string& file);
+// The *MATERIAL card ABAQUS_<name> (*USER MATERIAL with umat_constants, *DEPVAR 1) with comment
+// lines stating the layout, axes, units and provenance.
+std::string law_umat(const law::Law& law, const std::string& name, const std::string& source);
+
+}  // namespace dualcell::io
