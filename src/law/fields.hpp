@@ -1,6 +1,6 @@
 #pragma once
 // The objects of a Law, named as in law.h5, so that the file writer and reader (io/law_file)
-// and the JSON/CSV exports (law/export) walk one list and cannot drift apart. The constituents
+// and the JSON/CSV exports (io/law_export) walk one list and cannot drift apart. The constituents
 // and the provenance have their own lists (core/scene.hpp, core/provenance.hpp).
 #include "law/law.hpp"
 

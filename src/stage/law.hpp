@@ -1,6 +1,6 @@
 #pragma once
 // The fit and export stages as one call each (dualcell-fit, dualcell-export): a sweep.h5 to a
-// law.h5, and a law.h5 to JSON, CSV or CalculiX cards (conversions in law/export.hpp).
+// law.h5, and a law.h5 to JSON, CSV or CalculiX cards (conversions in io/law_export.hpp).
 #include <filesystem>
 #include <string>
 
