@@ -11,12 +11,12 @@ namespace dualcell::feti {
 DualProblem::DualProblem(const FetiSetup& setup, Constraints constraints)
     : setup_(setup), constraints_(std::move(constraints)) {
   const auto& subs = setup.subdomains();
-  const int S = static_cast<int>(subs.size());
-  locals_.resize(S);
+  const int n_subdomains = static_cast<int>(subs.size());
+  locals_.resize(n_subdomains);
 
   // Split B by subdomain: which rows touch it, and the local block.
   const auto& B = constraints_.B;
-  std::vector<std::vector<Eigen::Triplet<double>>> triplets(S);
+  std::vector<std::vector<Eigen::Triplet<double>>> triplets(n_subdomains);
   for (int r = 0; r < B.rows(); ++r)
     for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(B, r); it; ++it) {
       const int s = setup.subdomain_of_dof(static_cast<int>(it.col()));
@@ -30,7 +30,7 @@ DualProblem::DualProblem(const FetiSetup& setup, Constraints constraints)
   // eigenvectors with eigenvalues above round-off span what the constraints control.
   std::vector<Eigen::Triplet<double>> G_triplets;
   int G_rows = 0;
-  for (int s = 0; s < S; ++s) {
+  for (int s = 0; s < n_subdomains; ++s) {
     Local& local = locals_[s];
     const int n_local = static_cast<int>(local.rows.size());
     local.B.resize(n_local, subs[s].n_dofs);
@@ -87,10 +87,10 @@ void DualProblem::set_exchange() {
   ex.row.clear();
   // Ownership is contiguous in subdomain order (FetiSetup), and so are the subdomains' DOFs.
   int s = 0;
-  const int S = static_cast<int>(subs.size());
+  const int n_subdomains = static_cast<int>(subs.size());
   for (int p = 0; p < P; ++p) {
     const int begin = s;
-    while (s < S && setup_.owner(s) == p) ++s;
+    while (s < n_subdomains && setup_.owner(s) == p) ++s;
     std::vector<int> rows;
     for (int i = begin; i < s; ++i) rows.insert(rows.end(), locals_[i].rows.begin(), locals_[i].rows.end());
     std::sort(rows.begin(), rows.end());
@@ -98,7 +98,7 @@ void DualProblem::set_exchange() {
     ex.displs[p] = static_cast<int>(ex.row.size());
     ex.counts[p] = static_cast<int>(rows.size());
     ex.row.insert(ex.row.end(), rows.begin(), rows.end());
-    ex.dof_displs[p] = begin < S ? subs[begin].dof_begin : setup_.n_dofs();
+    ex.dof_displs[p] = begin < n_subdomains ? subs[begin].dof_begin : setup_.n_dofs();
     ex.dof_counts[p] = begin < s ? subs[s - 1].dof_begin + subs[s - 1].n_dofs - subs[begin].dof_begin : 0;
     if (p == group.rank())
       for (int i = begin; i < s; ++i) {
@@ -108,7 +108,7 @@ void DualProblem::set_exchange() {
           local.slot[k] = static_cast<int>(std::lower_bound(rows.begin(), rows.end(), local.rows[k]) - rows.begin());
       }
   }
-  if (s != S) throw std::logic_error("DualProblem: subdomain owners are not contiguous in rank order");
+  if (s != n_subdomains) throw std::logic_error("DualProblem: subdomain owners are not contiguous in rank order");
   ex.all.resize(static_cast<Eigen::Index>(ex.row.size()));
 }
 

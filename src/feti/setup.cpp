@@ -76,9 +76,9 @@ FetiSetup::FetiSetup(const mesh::Mesh& mesh, const Scene& scene, int threads, in
   };
   phase("assembly");
   const auto t0 = Clock::now();
-  const int S = static_cast<int>(mesh.subdomains.size());
+  const int n_subdomains = static_cast<int>(mesh.subdomains.size());
   const bool periodic = scene.load.boundary == Boundary::periodic;
-  subdomains_.resize(S + (periodic ? 1 : 0));
+  subdomains_.resize(n_subdomains + (periodic ? 1 : 0));
   n_dofs_ = mesh.dim_u() + (periodic ? 3 : 0);
   // Owners: contiguous runs of subdomains, balanced by DOFs (the factorisation and every K⁺
   // grow with them); a subdomain goes to the rank its middle DOF falls in. Contiguous and in
@@ -86,7 +86,7 @@ FetiSetup::FetiSetup(const mesh::Mesh& mesh, const Scene& scene, int threads, in
   // partial sums in rank order (DualProblem::RowSums). The macro subdomain goes to the last rank.
   const int P = group_.size();
   owner_.assign(subdomains_.size(), P - 1);
-  for (int s = 0; s < S; ++s) {
+  for (int s = 0; s < n_subdomains; ++s) {
     const double middle = 2.0 * mesh.subdomains[s].node_begin + mesh.subdomains[s].n_nodes();
     owner_[s] = std::min(P - 1, static_cast<int>(P * middle / mesh.dim_u()));
   }
@@ -96,7 +96,7 @@ FetiSetup::FetiSetup(const mesh::Mesh& mesh, const Scene& scene, int threads, in
       owner_.begin());
   // Every rank knows every subdomain's place and rigid modes (G is built from them); the
   // stiffness only where it is owned.
-  for (int s = 0; s < S; ++s) {
+  for (int s = 0; s < n_subdomains; ++s) {
     const mesh::Subdomain& ms = mesh.subdomains[s];
     FloatingSubdomain& sub = subdomains_[s];
     sub.index = s;
@@ -109,15 +109,15 @@ FetiSetup::FetiSetup(const mesh::Mesh& mesh, const Scene& scene, int threads, in
   // from here on).
   parallel_ = threads_ > 1 && owned_dofs() >= static_cast<long>(min_dofs_per_thread) * threads_;
   for_each_subdomain([&](int s) {
-    if (s >= S) return;
+    if (s >= n_subdomains) return;
     const mesh::Subdomain& ms = mesh.subdomains[s];
     FloatingSubdomain& sub = subdomains_[s];
     sub.K = fem::assemble_stiffness(mesh, s, ms.is_fibre ? scene.fibre : scene.matrix);
     sub.fixing_dofs = fixing_dofs(mesh, ms);
   });
   if (periodic) {
-    FloatingSubdomain& macro = subdomains_[S];
-    macro.index = S;
+    FloatingSubdomain& macro = subdomains_[n_subdomains];
+    macro.index = n_subdomains;
     macro.is_macro = true;
     macro.dof_begin = mesh.dim_u();
     macro.n_dofs = 3;
@@ -168,8 +168,8 @@ FetiSetup::FetiSetup(const mesh::Mesh& mesh, const Scene& scene, int threads, in
 
 Eigen::VectorXd FetiSetup::load(const Eigen::Vector3d& sigma) const {
   Eigen::VectorXd f = Eigen::VectorXd::Zero(n_dofs_);
-  Eigen::Matrix2d S;
-  S << sigma(0), sigma(2), sigma(2), sigma(1);
+  Eigen::Matrix2d sigma_bar;
+  sigma_bar << sigma(0), sigma(2), sigma(2), sigma(1);
   std::vector<int> sides;
   switch (scene_.load.boundary) {
     case Boundary::symmetry:
@@ -205,7 +205,7 @@ Eigen::VectorXd FetiSetup::load(const Eigen::Vector3d& sigma) const {
   for (int side : sides)
     for (const mesh::Edge& edge : mesh_.boundary_edges[side]) {
       const Eigen::Vector2d e = mesh_.nodes[edge.b] - mesh_.nodes[edge.a];  // the outer edges are straight
-      const Eigen::Vector2d t = S * Eigen::Vector2d(e.y(), -e.x()).normalized();
+      const Eigen::Vector2d t = sigma_bar * Eigen::Vector2d(e.y(), -e.x()).normalized();
       fem::add_edge_traction(mesh_, edge, t, t, f);
     }
   const Eigen::Vector2d body(scene_.load.body_force[0], scene_.load.body_force[1]);

@@ -276,15 +276,15 @@ void ContactSolver::recover(const DualProblem& dual, const Eigen::VectorXd& f, c
   const Constraints& con = dual.constraints();
   const auto& subs = setup_.subdomains();
   const auto& locals = dual.locals();
-  const int S = static_cast<int>(subs.size());
+  const int n_subdomains = static_cast<int>(subs.size());
   Eigen::VectorXd u = dual.K_plus_residual(f, lambda_scaled);
   Eigen::VectorXd g(con.n_rows());
   dual.apply_F(lambda_scaled, g);
   g -= d + multiplier;
   // α̂: amplitudes of the modes R̂ that B sees; α = V α̂ per subdomain (R̂_i = R_i V_i).
   const Eigen::VectorXd alpha_hat = dual.coarse_solve(g);
-  out.alpha = Eigen::VectorXd::Zero(3 * S);
-  for (int s = 0; s < S; ++s) {
+  out.alpha = Eigen::VectorXd::Zero(3 * n_subdomains);
+  for (int s = 0; s < n_subdomains; ++s) {
     const auto& local = locals[s];
     const Eigen::Vector3d alpha = local.V * alpha_hat.segment(local.G_offset, local.V.cols());
     out.alpha.segment<3>(3 * s) = alpha;
@@ -295,11 +295,11 @@ void ContactSolver::recover(const DualProblem& dual, const Eigen::VectorXd& f, c
   std::vector<int> fibre_of_cell(mesh.n_cells(), -1);
   for (int s = 0; s < static_cast<int>(mesh.subdomains.size()); ++s)
     if (mesh.subdomains[s].is_fibre) fibre_of_cell[mesh.subdomains[s].cell] = s;
-  std::vector<std::vector<int>> pairs_of_fibre(S);
+  std::vector<std::vector<int>> pairs_of_fibre(n_subdomains);
   for (int p = 0; p < static_cast<int>(mesh.interface_pairs.size()); ++p)
     pairs_of_fibre[fibre_of_cell[mesh.interface_cell[p]]].push_back(p);
   const Eigen::VectorXd Bu = con.B * u;
-  for (int s = 0; s < S; ++s) {
+  for (int s = 0; s < n_subdomains; ++s) {
     if (!subs[s].is_fibre) continue;
     const FloatingSubdomain& sub = subs[s];
     const auto& local = locals[s];

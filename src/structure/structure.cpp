@@ -58,7 +58,7 @@ namespace {
 
 // One quadrature point of an element: its strain-displacement matrix and weight (w·det J).
 struct Point {
-  Eigen::MatrixXd B;
+  Eigen::MatrixXd grad_s;  // ∇ˢ: the strain-displacement matrix, ε = ∇ˢ u_e (docs/method.md §3)
   double weight;
 };
 
@@ -71,7 +71,7 @@ struct HomogenisedStructure::Impl {
   StructureMesh mesh;
   int n_dofs = 0, per = 3;
   std::vector<std::vector<Point>> points;  // per triangle
-  std::vector<Eigen::MatrixXd> B_centroid;
+  std::vector<Eigen::MatrixXd> grad_s_centroid;
   std::vector<double> area;
   std::vector<int> free_index;      // per DOF: its index among the free DOFs, or −1
   std::vector<int> constrained_by;  // per DOF: 0..3 an edge, 4 a support, −1 free
@@ -103,7 +103,7 @@ std::vector<Eigen::Vector3d> HomogenisedStructure::Impl::cell_average_stress() c
   for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t) {
     for (int a = 0; a < 2 * per; ++a) ue(a) = u(dof(static_cast<int>(t), a));
     for (const Point& p : points[t])
-      cell_stress[mesh.cell[t]] += p.weight * law::evaluate(law_of(static_cast<int>(t)), p.B * ue).stress;
+      cell_stress[mesh.cell[t]] += p.weight * law::evaluate(law_of(static_cast<int>(t)), p.grad_s * ue).stress;
   }
   for (auto& s : cell_stress) s /= scene.cell_size * scene.cell_size;
   return cell_stress;
@@ -156,19 +156,19 @@ void HomogenisedStructure::Impl::setup() {
 
   // Quadrature: p1 constant strain, one point; p2 the 6-point degree-4 rule.
   points.resize(T);
-  B_centroid.resize(T);
+  grad_s_centroid.resize(T);
   area.resize(T);
   std::vector<Eigen::Vector2d> x(per);
   for (Eigen::Index t = 0; t < T; ++t) {
     for (int k = 0; k < per; ++k) x[k] = mesh.nodes.row(mesh.triangles(t, k)).transpose();
     double det_J = 0;
-    B_centroid[t] = fem::strain_displacement_at(x, 1.0 / 3, 1.0 / 3, det_J);
+    grad_s_centroid[t] = fem::strain_displacement_at(x, 1.0 / 3, 1.0 / 3, det_J);
     if (per == 3) {
-      points[t].push_back({B_centroid[t], 0.5 * det_J});
+      points[t].push_back({grad_s_centroid[t], 0.5 * det_J});
     } else {
       for (const auto& p : fem::triangle_rule()) {
-        Eigen::MatrixXd B = fem::strain_displacement_at(x, p.L1, p.L2, det_J);
-        points[t].push_back({std::move(B), p.weight * det_J});
+        Eigen::MatrixXd grad_s = fem::strain_displacement_at(x, p.L1, p.L2, det_J);
+        points[t].push_back({std::move(grad_s), p.weight * det_J});
       }
     }
     area[t] = fem::element_area(x);
@@ -272,13 +272,13 @@ double HomogenisedStructure::Impl::energy(const Eigen::VectorXd& x, double facto
     const law::ConeLaw& l = law_of(static_cast<int>(t));
     if (with_tangent) Ke.setZero();
     for (const Point& p : points[t]) {
-      const law::ConeState s = law::evaluate(l, p.B * ue);
+      const law::ConeState s = law::evaluate(l, p.grad_s * ue);
       Pi += p.weight * s.energy;
       if (with_gradient) {
-        const Eigen::VectorXd fe = p.weight * (p.B.transpose() * s.stress);
+        const Eigen::VectorXd fe = p.weight * (p.grad_s.transpose() * s.stress);
         for (int a = 0; a < n; ++a) f_int(dof(static_cast<int>(t), a)) += fe(a);
       }
-      if (with_tangent) Ke.noalias() += p.weight * (p.B.transpose() * s.tangent * p.B);
+      if (with_tangent) Ke.noalias() += p.weight * (p.grad_s.transpose() * s.tangent * p.grad_s);
     }
     if (with_tangent)
       for (int a = 0; a < n; ++a)
@@ -406,9 +406,9 @@ StepResult HomogenisedStructure::solve_step(double factor) {
     for (int a = 0; a < 2 * s.per; ++a) ue(a) = s.u(s.dof(static_cast<int>(t), a));
     const law::ConeLaw& l = s.law_of(static_cast<int>(t));
     Eigen::Vector3d integral = Eigen::Vector3d::Zero();
-    for (const Point& p : s.points[t]) integral += p.weight * law::evaluate(l, p.B * ue).stress;
+    for (const Point& p : s.points[t]) integral += p.weight * law::evaluate(l, p.grad_s * ue).stress;
     out.stress.row(t) = integral.transpose() / s.area[t];
-    out.open[t] = law::evaluate(l, s.B_centroid[t] * ue).open;
+    out.open[t] = law::evaluate(l, s.grad_s_centroid[t] * ue).open;
     (out.open[t] ? out.open_triangles : out.closed_triangles) += 1;
     out.fused[t] = s.cell_fused[s.mesh.cell[t]];
   }
