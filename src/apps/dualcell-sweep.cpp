@@ -7,7 +7,6 @@
 // interrupted run resumes; the final sweep.h5 appears complete at the end (stage/sweep.hpp).
 //
 //   dualcell-sweep --config scene.toml --mesh mesh.h5 --out sweep.h5
-#include <unistd.h>
 
 #include <cstdio>
 
@@ -39,7 +38,7 @@ int main(int argc, char** argv) {
   return dualcell::run_stage(
       "dualcell-sweep",
       [&] {
-        options.progress = !quiet && ::isatty(2);
+        options.progress = !quiet;
         const auto s = dualcell::stage::run_sweep(options);
         if (!quiet && s.written)
           std::printf("dualcell-sweep: %d paths -> %s (%d with a fuse, %d steps not converged, %d resumed), %.2f s\n",

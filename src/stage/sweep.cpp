@@ -11,6 +11,7 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "core/progress.hpp"
 #include "feti/solver.hpp"
 #include "io/atomic_output.hpp"
 #include "io/sweep_file.hpp"
@@ -22,20 +23,25 @@ namespace dualcell::stage {
 
 namespace {
 
-const char* path_kind(const sweep::PathSpec& p) { return p.sphere ? "sphere" : p.sign > 0 ? "tension" : "compression"; }
+using Clock = std::chrono::steady_clock;
 
-}  // namespace
+// "tension 90 deg", "compression 45 deg", "sphere" (a sphere path is a general stress direction).
+std::string path_label(const sweep::PathSpec& p) {
+  if (p.sphere) return "sphere";
+  char text[64];
+  std::snprintf(text, sizeof text, "%s %g deg", p.sign > 0 ? "tension" : "compression", p.direction_deg);
+  return text;
+}
 
-SweepSummary run_sweep(const SweepOptions& options) {
-  using Clock = std::chrono::steady_clock;
-  // Every rank reads the scene and the mesh and builds its own solver (nothing of a rank's
-  // data is shared). An input error is agreed on before any work, so that every rank stops
-  // with the same one message instead of some ranks waiting for the others.
+// Every rank reads the scene and the mesh (nothing of a rank's data is shared). An input error
+// is agreed on before any work, so that every rank stops with the same one message instead of
+// some ranks waiting for the others; the output is checked before any work, not after hours.
+SceneAndMesh load_inputs(const SweepOptions& options) {
   std::optional<SceneAndMesh> loaded;
   std::string problem;
   try {
     std::vector<std::filesystem::path> inputs{options.scene_file, options.mesh_file};
-    io::check_output_path(options.out, inputs);  // before any work, not after hours of it
+    io::check_output_path(options.out, inputs);
     loaded.emplace(load_scene_and_mesh("dualcell-sweep", options.scene_file, options.mesh_file));
     inputs.push_back(loaded->scene.material_file);
     if (loaded->scene.load.boundary == Boundary::edges)
@@ -48,17 +54,47 @@ SweepSummary run_sweep(const SweepOptions& options) {
     problem = e.what();
   }
   par::agree_on_error(problem);
-  const SceneAndMesh& in = *loaded;
-  const Scene& scene = in.scene;
-  const std::vector<sweep::PathSpec> specs = sweep::plan_paths(scene);
-  io::SweepHeader header;
-  header.provenance.scene_text = scene.text;
+  return std::move(*loaded);
+}
+
+// What sweep.h5 records besides its paths (the onset surface is added once the solver exists).
+sweep::SweepHeader header_of(const SweepOptions& options, const SceneAndMesh& in) {
+  sweep::SweepHeader header;
+  header.provenance.scene_text = in.scene.text;
   header.provenance.scene_file = options.scene_file;
-  header.provenance.material_text = scene.material_text;
+  header.provenance.material_text = in.scene.material_text;
   header.provenance.mesh_file = in.mesh_file;
   header.provenance.mesh_hash = in.mesh_hash;
-  header.provenance.solver_options = solver_options_text(scene);
-  header.constituents = constituents(scene);
+  header.provenance.solver_options = solver_options_text(in.scene);
+  header.constituents = constituents(in.scene);
+  return header;
+}
+
+// Rank 0 gathers every path, its own and the others' from the journal, in plan order.
+std::vector<sweep::PathResult> collect_paths(const SweepOptions& options, const std::vector<sweep::PathSpec>& specs,
+                                             std::map<int, sweep::PathResult>& computed_here,
+                                             const sweep::SweepHeader& header) {
+  std::vector<sweep::PathResult> results;
+  for (const auto& spec : specs) {
+    if (auto mine = computed_here.find(spec.index); mine != computed_here.end()) {
+      results.push_back(std::move(mine->second));
+    } else if (auto part = io::read_part(options.out, spec.index, header)) {
+      results.push_back(std::move(*part));
+    } else {
+      throw std::runtime_error("path " + std::to_string(spec.index) + " is missing from the journal of " + options.out +
+                               " after every rank finished");
+    }
+  }
+  return results;
+}
+
+}  // namespace
+
+SweepSummary run_sweep(const SweepOptions& options) {
+  const SceneAndMesh in = load_inputs(options);
+  const Scene& scene = in.scene;
+  const std::vector<sweep::PathSpec> specs = sweep::plan_paths(scene);
+  sweep::SweepHeader header = header_of(options, in);
   const auto t0 = Clock::now();
   // Groups of ranks_per_path consecutive ranks share one solver; the group's first rank (its
   // leader) takes the paths, journals them and reports, the others follow it.
@@ -79,6 +115,9 @@ SweepSummary run_sweep(const SweepOptions& options) {
   std::map<int, sweep::PathResult> computed_here;
   long computed = 0, total_steps = 0, done_steps = 0;
   for (const auto& spec : specs) total_steps += static_cast<long>(spec.loads.size());
+  // One line with the path, step, load, broken bonds and the time left (alone: under several
+  // ranks each rank reports its finished paths instead).
+  Progress progress("dualcell-sweep", options.progress && ranks == 1);
   {
     par::SharedCounter next_path;
     const auto next = [&] { return group.broadcast(leader ? next_path.next() : 0, 0); };
@@ -91,23 +130,27 @@ SweepSummary run_sweep(const SweepOptions& options) {
         done_steps += static_cast<long>(spec.loads.size());
         continue;
       }
-      const auto progress = [&](const sweep::PathSpec& p, int step, const sweep::Step& s) {
+      const auto on_step = [&](const sweep::PathSpec& p, int step, const sweep::Step& s) {
         if (par::rank() == 0) next_path.serve();  // after every step: the others' next path
-        if (!options.progress || ranks > 1) return;
-        const double elapsed = std::chrono::duration<double>(Clock::now() - t0).count();
-        // Work done: finished paths' steps plus this path's share by load (bisection steps for
-        // the fuse are not in the schedule, so counting steps would run ahead).
-        const double finished = done_steps + p.loads.size() * std::abs(s.load / p.loads.back());
-        const double eta = finished > 0 ? elapsed * (total_steps - finished) / finished : 0;
-        std::fprintf(stderr, "\rdualcell-sweep: path %d/%zu (%s %g deg) step %d load %.4g broken %ld  ETA %.0f s   ",
-                     p.index + 1, specs.size(), path_kind(p), p.direction_deg, step + 1, s.load, s.broken_bonds, eta);
+        progress.update([&] {
+          // Work done: finished paths' steps plus this path's share by load (bisection steps
+          // for the fuse are not in the schedule, so counting steps would run ahead).
+          const double elapsed = progress.seconds();
+          const double finished = done_steps + p.loads.size() * std::abs(s.load / p.loads.back());
+          const double left = finished > 0 ? elapsed * (total_steps - finished) / finished : 0;
+          char text[200];
+          std::snprintf(text, sizeof text, "path %d/%zu (%s) step %d load %.4g broken %ld, %s, ~%s left", p.index + 1,
+                        specs.size(), path_label(p).c_str(), step + 1, s.load, s.broken_bonds,
+                        seconds_text(elapsed).c_str(), seconds_text(left).c_str());
+          return std::string(text);
+        });
       };
-      sweep::PathResult result = sweep::run_path(solver, spec, scene.sweep.fuse_tolerance, progress);
+      sweep::PathResult result = sweep::run_path(solver, spec, scene.sweep.fuse_tolerance, on_step);
       if (!leader) continue;
       io::write_part(options.out, result, header);
       if (options.progress && ranks > 1)
-        std::fprintf(stderr, "dualcell-sweep: rank %d/%d: path %d/%zu (%s %g deg) done, %.0f s\n", par::rank(), ranks,
-                     spec.index + 1, specs.size(), path_kind(spec), spec.direction_deg,
+        std::fprintf(stderr, "dualcell-sweep: rank %d/%d: path %d/%zu (%s) done, %.0f s\n", par::rank(), ranks,
+                     spec.index + 1, specs.size(), path_label(spec).c_str(),
                      std::chrono::duration<double>(Clock::now() - t0).count());
       done_steps += static_cast<long>(spec.loads.size());
       if (par::rank() == 0) computed_here.emplace(spec.index, std::move(result));
@@ -118,24 +161,14 @@ SweepSummary run_sweep(const SweepOptions& options) {
         std::raise(SIGKILL);
     }
   }
+  progress.finish();
   summary.resumed = static_cast<int>(par::sum(summary.resumed));
   // Every path is journaled now; rank 0 alone writes sweep.h5, from its own paths and the
   // journal of the others.
   par::barrier();
   if (par::rank() != 0) return summary;
-  std::vector<sweep::PathResult> results;
-  for (const auto& spec : specs) {
-    if (auto mine = computed_here.find(spec.index); mine != computed_here.end()) {
-      results.push_back(std::move(mine->second));
-    } else if (auto part = io::read_part(options.out, spec.index, header)) {
-      results.push_back(std::move(*part));
-    } else {
-      throw std::runtime_error("path " + std::to_string(spec.index) + " is missing from the journal of " + options.out +
-                               " after every rank finished");
-    }
-  }
+  const std::vector<sweep::PathResult> results = collect_paths(options, specs, computed_here, header);
   io::write_sweep(options.out, results, header);
-  if (options.progress && ranks == 1) std::fprintf(stderr, "\n");
   summary.written = true;
   summary.paths = static_cast<int>(results.size());
   for (const auto& r : results) {

@@ -2,7 +2,7 @@
 // The sweep stage as one call (dualcell-sweep): every path of the scene through one solver
 // (setup once for the whole sweep), each finished path journaled at once in <out>.parts/ so that
 // an interrupted run, even by kill -9, resumes where it stopped and ends with the same sweep.h5;
-// progress with an ETA on stderr when it is a terminal. Under mpirun the paths are handed out
+// progress with the time left on stderr (core/progress.hpp). Under mpirun the paths are handed out
 // to the ranks (or groups of ranks_per_path ranks) as they ask for them, and rank 0 writes
 // sweep.h5 (docs/method.md §16).
 #include <string>
