@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "par/parallel.hpp"
+
 namespace dualcell::testing {
 
 // A fresh folder under the system temp dir, removed at the end of the test.
@@ -66,6 +68,10 @@ inline std::string mpiexec(int ranks, int seconds = 300) {
          std::to_string(seconds) + " mpiexec -n " + std::to_string(ranks) + " --oversubscribe ";
 }
 inline std::string source_dir() { return DUALCELL_SOURCE_DIR; }
+
+// Whether a stage launched by mpiexec shares its work over ranks: built with MPI and a
+// launcher on the PATH (the serial build runs each launched process as one whole run).
+inline bool mpi_runs() { return par::built_with_mpi() && run_command("command -v mpiexec").exit_code == 0; }
 
 // How many times `what` occurs in `text` (e.g. an error line that must be printed once).
 inline std::size_t occurrences(const std::string& text, const std::string& what) {

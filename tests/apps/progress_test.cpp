@@ -90,7 +90,7 @@ TEST_F(Progress, InAPipePlainLinesAtMostOnePerInterval) {
 }
 
 TEST_F(Progress, UnderMpirunOnlyRankZeroPrints) {
-  if (testing::run_command("command -v mpiexec").exit_code != 0) GTEST_SKIP() << "no mpiexec";
+  if (!testing::mpi_runs()) GTEST_SKIP() << "built without MPI, or no mpiexec";
   const auto log = stderr_of("DUALCELL_PROGRESS_INTERVAL=0 " + testing::mpiexec(2, 120) + solve_);
   EXPECT_EQ(log.exit_code, 0) << log.output;
   EXPECT_EQ(testing::occurrences(log.output, "dualcell-solve: assembly"), 1u) << log.output;

@@ -377,7 +377,7 @@ TEST(FreeStructures, TheMotionLeftFreeIsNamed) {
     expect_refused(run(bin(stage) + " --config " + q(scene) + extra + " --out " + q(dir / "x.h5")), stage,
                    "(a support inside a fibre holds that fibre only)");
   }
-  if (testing::run_command("command -v mpiexec").exit_code == 0) {
+  if (testing::mpi_runs()) {
     const auto r = testing::run_command(testing::mpiexec(2, 60) + bin("dualcell-solve") + " --config " + q(scene) +
                                         " --mesh " + q(corpus_h5 / "mesh.h5") + " --out " + q(dir / "x.h5"));
     EXPECT_EQ(r.exit_code, exit_input_error) << r.output;
