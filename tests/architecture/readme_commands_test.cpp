@@ -139,7 +139,7 @@ TEST(Readme, EveryStageCommandRunsAsWritten) {
       ++ran;
     }
   }
-  EXPECT_GE(ran, 12);
+  EXPECT_GE(ran, have_mpi ? 12 : 10);  // the two mpirun blocks need a build with MPI
 }
 
 }  // namespace
