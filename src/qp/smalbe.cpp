@@ -229,11 +229,7 @@ Result smalbe(const LinearOperator& A, const LinearOperator& Q, const Eigen::Vec
     inner.max_iterations = std::min(opts.inner.max_iterations, budget);
     b_minus_m = b - m;
     const Result inner_result = mprgp(A_plus_rho_Q, b_minus_m, l, u, x, inner, inner_stop, work);
-    counters.cg_steps += inner_result.counters.cg_steps;
-    counters.expansion_steps += inner_result.counters.expansion_steps;
-    counters.proportioning_steps += inner_result.counters.proportioning_steps;
-    counters.operator_applications += inner_result.counters.operator_applications;
-    counters.preconditioner_applications += inner_result.counters.preconditioner_applications;
+    counters += inner_result.counters;  // MPRGP counts no outer iterations
     counters.outer_iterations = k + 1;
     if (inner_result.status == Status::non_finite || inner_result.status == Status::invalid_input) {
       result.status = inner_result.status;
