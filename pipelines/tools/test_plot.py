@@ -1,0 +1,95 @@
+#!/usr/bin/python3
+"""Tests of plot.py (run by ctest with the stages' folder as argument): every picture of the
+default chain drawn from real stage outputs of a small cell, as PNG and SVG files that open.
+
+The outputs come from the stages themselves (mesh, sweep, fit, solve), so a change of a file
+layout that plot.py reads fails here, not in a pipeline run hours later.
+"""
+import os
+import subprocess
+import sys
+import tempfile
+import unittest
+import xml.etree.ElementTree as ElementTree
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import plot  # noqa: E402
+
+BIN = None  # the stages' folder, the first argument
+
+SCENE = """[geometry]
+cells = [1, 1]
+fibre_radius = 0.3
+degree = 2
+[fibre]
+E = 10.0
+nu = 0.2
+[matrix]
+E = 1.0
+nu = 0.3
+[interface]
+normal_strength = 0.05
+[load]
+boundary = "periodic"
+[sweep]
+directions_deg = [0, 30, 45, 60, 90]
+magnitudes = [-0.1, -0.02, 0.02, 0.1]
+"""
+
+
+def stage(name, *args):
+    subprocess.run([os.path.join(BIN, name), "--quiet", *args], check=True)
+
+
+class Pictures(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.TemporaryDirectory()
+        d = cls.tmp.name
+        cls.files = {k: os.path.join(d, k) for k in ("scene.toml", "mesh.h5", "sweep.h5", "law.h5", "solution.h5")}
+        with open(cls.files["scene.toml"], "w") as f:
+            f.write(SCENE)
+        stage("dualcell-mesh", "--config", cls.files["scene.toml"], "--out", cls.files["mesh.h5"])
+        stage("dualcell-sweep", "--config", cls.files["scene.toml"], "--mesh", cls.files["mesh.h5"],
+              "--out", cls.files["sweep.h5"])
+        stage("dualcell-fit", "--sweep", cls.files["sweep.h5"], "--out", cls.files["law.h5"])
+        stage("dualcell-solve", "--config", cls.files["scene.toml"], "--mesh", cls.files["mesh.h5"],
+              "--stress", "0.01,0,0", "--out", cls.files["solution.h5"])
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.tmp.cleanup()
+
+    def assert_picture(self, outbase):
+        with open(outbase + ".png", "rb") as f:
+            self.assertEqual(f.read(8), b"\x89PNG\r\n\x1a\n", outbase + ".png is not a PNG")
+        self.assertGreater(os.path.getsize(outbase + ".png"), 1000)
+        root = ElementTree.parse(outbase + ".svg").getroot()
+        self.assertTrue(root.tag.endswith("svg"), outbase + ".svg is not an SVG")
+        leftovers = [n for n in os.listdir(os.path.dirname(outbase)) if ".tmp" in n]
+        self.assertEqual(leftovers, [], "temporaries left")
+
+    def test_stress_strain(self):
+        out = os.path.join(self.tmp.name, "stress_strain")
+        plot.stress_strain(self.files["sweep.h5"], out)
+        self.assert_picture(out)
+
+    def test_polar_draws_the_law_from_its_file(self):
+        out = os.path.join(self.tmp.name, "polar")
+        plot.polar(self.files["law.h5"], out)
+        self.assert_picture(out)
+        # The fitted law's curve is drawn from /law/cone/polar_* as dualcell-fit wrote them.
+        svg = open(out + ".svg").read()
+        self.assertIn("cone-wise law, tension", svg)
+
+    def test_deformed(self):
+        out = os.path.join(self.tmp.name, "deformed")
+        plot.deformed(self.files["solution.h5"], out)
+        self.assert_picture(out)
+
+
+if __name__ == "__main__":
+    if len(sys.argv) < 2:
+        sys.exit("usage: test_plot.py BIN_DIR")
+    BIN = sys.argv.pop(1)
+    unittest.main()
