@@ -17,18 +17,23 @@ Material read_material(TableReader& t) {
   return m;
 }
 
-}  // namespace
+// What each section reader of a cell scene needs: the parsed file, its name, text and lines,
+// the scene being filled, and the reader of the top level (which refusals of top-level keys use).
+struct SceneReading {
+  const toml::table& root;
+  const std::filesystem::path& file;
+  const std::string& fname;
+  std::string_view text;
+  const std::vector<std::string>& lines;
+  TableReader& top;
+  Scene& scene;
+};
 
-Scene parse_scene(std::string_view text, const std::filesystem::path& file) {
-  const std::string fname = file.string();
-  Scene scene;
-  scene.file = file;
-  scene.text = std::string(text);
-  const toml::table root = parse_toml(text, fname);
-
-  const std::vector<std::string> tables{"geometry", "fibre", "matrix", "interface", "load", "sweep", "solver"};
-  const std::vector<std::string> lines = split_lines(text);
-  TableReader top(&root, "top level", fname, lines);
+// `material = "..."` as written (a path with non-ASCII characters decoded), or "".
+std::string read_material_path(SceneReading& r) {
+  const toml::table& root = r.root;
+  const std::vector<std::string>& lines = r.lines;
+  TableReader& top = r.top;
   std::string material = top.string("material", "");
   if (material.find(replacement) != std::string::npos) {
     // A path with non-ASCII characters: decode the string as written (toml++ parses a value
@@ -42,6 +47,15 @@ Scene parse_scene(std::string_view text, const std::filesystem::path& file) {
     if (material.empty())
       top.fail(root.get("material"), "material", written, "a path with non-ASCII characters must be one line");
   }
+  return material;
+}
+
+// Every top-level key is a known table (the edge-load tables are checked with [load]).
+void check_top_level_keys(SceneReading& r) {
+  const toml::table& root = r.root;
+  const std::vector<std::string>& lines = r.lines;
+  TableReader& top = r.top;
+  const std::vector<std::string> tables{"geometry", "fibre", "matrix", "interface", "load", "sweep", "solver"};
   for (const auto& [key, value] : root) {
     const std::string k(key.str());
     if (k == "material") continue;
@@ -52,7 +66,13 @@ Scene parse_scene(std::string_view text, const std::filesystem::path& file) {
                "[matrix], [interface], [load], [sweep], [solver], and with [load] boundary = \"edges\" "
                "[edges.left|right|bottom|top], [[support]], [[point_load]], [steps], [output]");
   }
+}
 
+void read_geometry(SceneReading& r) {
+  const toml::table& root = r.root;
+  const std::string& fname = r.fname;
+  const std::vector<std::string>& lines = r.lines;
+  Scene& scene = r.scene;
   // [geometry]
   TableReader g(sub_table(root, "geometry", fname), "geometry", fname, lines, &scene.written);
   if (!g.present()) throw InputError(fname + ": missing table [geometry]");
@@ -69,7 +89,15 @@ Scene parse_scene(std::string_view text, const std::filesystem::path& file) {
   geo.degree = g.integer<int>("degree", 1);
   geo.element = g.string("element", "p2", {"p1", "p2"}) == "p1" ? Element::p1 : Element::p2;
   g.finish();
+}
 
+void read_materials(SceneReading& r, const std::string& material) {
+  const toml::table& root = r.root;
+  const std::filesystem::path& file = r.file;
+  const std::string& fname = r.fname;
+  const std::string_view text = r.text;
+  TableReader& top = r.top;
+  Scene& scene = r.scene;
   // Materials: inline [fibre]/[matrix] tables, or `material = "file"` holding them.
   const toml::table* fibre_table = sub_table(root, "fibre", fname);
   const toml::table* matrix_table = sub_table(root, "matrix", fname);
@@ -113,7 +141,14 @@ Scene parse_scene(std::string_view text, const std::filesystem::path& file) {
   scene.fibre = read_material(ft);
   TableReader mt(matrix_table, "matrix", material_name, material_lines, &scene.written);
   scene.matrix = read_material(mt);
+}
 
+void read_interface_and_load(SceneReading& r) {
+  const toml::table& root = r.root;
+  const std::string& fname = r.fname;
+  const std::vector<std::string>& lines = r.lines;
+  TableReader& top = r.top;
+  Scene& scene = r.scene;
   // [interface]
   TableReader it(sub_table(root, "interface", fname), "interface", fname, lines, &scene.written);
   scene.interface.normal_strength = it.real("normal_strength", 0);
@@ -138,7 +173,13 @@ Scene parse_scene(std::string_view text, const std::filesystem::path& file) {
   const auto bf = lt.reals("body_force", {0, 0}, 2, 2);
   scene.load.body_force = {bf[0], bf[1]};
   lt.finish();
+}
 
+void read_sweep_and_solver(SceneReading& r) {
+  const toml::table& root = r.root;
+  const std::string& fname = r.fname;
+  const std::vector<std::string>& lines = r.lines;
+  Scene& scene = r.scene;
   // [sweep]
   TableReader st(sub_table(root, "sweep", fname), "sweep", fname, lines, &scene.written);
   scene.sweep.directions_deg = st.reals("directions_deg", scene.sweep.directions_deg, 1, 3600);
@@ -164,7 +205,25 @@ Scene parse_scene(std::string_view text, const std::filesystem::path& file) {
                       : preconditioner == "dirichlet" ? Preconditioner::dirichlet
                                                       : Preconditioner::none;
   sv.finish();
+}
 
+}  // namespace
+
+Scene parse_scene(std::string_view text, const std::filesystem::path& file) {
+  const std::string fname = file.string();
+  Scene scene;
+  scene.file = file;
+  scene.text = std::string(text);
+  const toml::table root = parse_toml(text, fname);
+  const std::vector<std::string> lines = split_lines(text);
+  TableReader top(&root, "top level", fname, lines);
+  SceneReading reading{root, file, fname, text, lines, top, scene};
+  const std::string material = read_material_path(reading);
+  check_top_level_keys(reading);
+  read_geometry(reading);
+  read_materials(reading, material);
+  read_interface_and_load(reading);
+  read_sweep_and_solver(reading);
   validate(scene);
   scene.warnings = scene_warnings(scene);
   return scene;
