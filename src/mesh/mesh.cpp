@@ -90,119 +90,116 @@ int fibre_nodes_per_cell(int degree, Element element) {
   return (2 * k + 1) * (2 * k + 1);
 }
 
-Mesh build_mesh(const Geometry& geometry) {
-  Mesh mesh;
-  mesh.geometry = geometry;
-  const int o = element_order(geometry.element);  // fine grid steps per element edge
-  mesh.triangles = Triangles(o == 1 ? 3 : 6);
-  const int k = geometry.degree * o;  // degree of the fine grid that holds every node
-  const int n = 4 * k;                // fine grid intervals per cell edge
-  const int ex = geometry.cells[0], ey = geometry.cells[1];
-  const double a = geometry.cell_size, r = geometry.fibre_radius;
-  const int n_cells = ex * ey;
-  mesh.nodes.reserve(static_cast<std::size_t>(n_cells) * (matrix_nodes_per_cell(k) + fibre_nodes_per_cell(k)));
-  const auto triangle_count = [&] { return static_cast<int>(mesh.triangles.size()); };
-  std::vector<char> keep;  // per node: its mapped position lies on the circle or a cell edge
+namespace {
 
-  // grid index -> global node of each cell's matrix, for glue pairs
-  std::vector<std::vector<int>> matrix_grid(n_cells);
+// The fine grid that holds every node of a cell: k = degree·order levels from the rim to the
+// cell's square, n = 4k intervals per cell edge, o grid steps per element edge; a the cell
+// size, r the fibre radius.
+struct FineGrid {
+  int k, n, o;
+  double a, r;
+};
 
-  for (int cy = 0; cy < ey; ++cy) {
-    for (int cx = 0; cx < ex; ++cx) {
-      const int cell = cx + ex * cy;
-      const Eigen::Vector2d cell_centre((cx + 0.5) * a, (cy + 0.5) * a);
-      const Eigen::Vector2d c = cell_centre + Eigen::Vector2d(geometry.fibre_offset[0], geometry.fibre_offset[1]);
-      mesh.fibre_centres.push_back(c);
-
-      // Matrix subdomain.
-      Subdomain matrix{false, cell, mesh.n_nodes(), 0, triangle_count(), 0};
-      std::vector<int>& grid = matrix_grid[cell];
-      grid.assign((n + 1) * (n + 1), -1);
-      for (int j = 0; j <= n; ++j) {
-        for (int i = 0; i <= n; ++i) {
-          const int di = i - 2 * k, dj = j - 2 * k;
-          const int l = std::max(std::abs(di), std::abs(dj));
-          if (l < k) continue;  // inside the hole
-          Eigen::Vector2d p;
-          // Outer square points from integer grid coordinates of the whole block, so that
-          // neighbouring cells produce bitwise identical shared nodes.
-          const Eigen::Vector2d square(a * static_cast<double>(cx * n + i) / n,
-                                       a * static_cast<double>(cy * n + j) / n);
-          if (l == 2 * k) {
-            p = square;
-          } else {
-            const double theta = ring_angle(di, dj, l);
-            const Eigen::Vector2d circle = c + r * Eigen::Vector2d(std::cos(theta), std::sin(theta));
-            const Eigen::Vector2d s = cell_centre + (a / 2) * Eigen::Vector2d(double(di) / l, double(dj) / l);
-            p = l == k ? circle : Eigen::Vector2d(circle + (double(l - k) / k) * (s - circle));
-          }
-          grid[i + (n + 1) * j] = mesh.n_nodes();
-          mesh.nodes.push_back(p);
-          keep.push_back(l == k || l == 2 * k);
-        }
+// Cell (cx, cy)'s matrix subdomain, its hole's rim on the circle about c: nodes (the outer
+// square from integer grid coordinates of the whole block, so that neighbouring cells produce
+// bitwise identical shared nodes), then triangles. Returns grid index -> node.
+std::vector<int> add_matrix(Mesh& mesh, std::vector<char>& keep, const FineGrid& g, int cx, int cy, int cell,
+                            const Eigen::Vector2d& cell_centre, const Eigen::Vector2d& c) {
+  const int k = g.k, n = g.n, o = g.o;
+  const double a = g.a, r = g.r;
+  Subdomain matrix{false, cell, mesh.n_nodes(), 0, static_cast<int>(mesh.triangles.size()), 0};
+  std::vector<int> grid((n + 1) * (n + 1), -1);
+  for (int j = 0; j <= n; ++j) {
+    for (int i = 0; i <= n; ++i) {
+      const int di = i - 2 * k, dj = j - 2 * k;
+      const int l = std::max(std::abs(di), std::abs(dj));
+      if (l < k) continue;  // inside the hole
+      Eigen::Vector2d p;
+      const Eigen::Vector2d square(a * static_cast<double>(cx * n + i) / n, a * static_cast<double>(cy * n + j) / n);
+      if (l == 2 * k) {
+        p = square;
+      } else {
+        const double theta = ring_angle(di, dj, l);
+        const Eigen::Vector2d circle = c + r * Eigen::Vector2d(std::cos(theta), std::sin(theta));
+        const Eigen::Vector2d s = cell_centre + (a / 2) * Eigen::Vector2d(double(di) / l, double(dj) / l);
+        p = l == k ? circle : Eigen::Vector2d(circle + (double(l - k) / k) * (s - circle));
       }
-      for (int j = 0; j < n; j += o) {
-        for (int i = 0; i < n; i += o) {
-          // A quad belongs to the matrix unless it lies inside the middle block.
-          const bool in_hole = i >= k && i < 3 * k && j >= k && j < 3 * k;
-          if (!in_hole) add_quad(mesh.nodes, keep, grid, n + 1, o, i, j, mesh.triangles);
-        }
-      }
-      matrix.node_end = mesh.n_nodes();
-      matrix.triangle_end = triangle_count();
-      const int matrix_index = static_cast<int>(mesh.subdomains.size());
-      mesh.subdomains.push_back(matrix);
-
-      // Fibre subdomain.
-      const int m = 2 * k;
-      Subdomain fibre{true, cell, mesh.n_nodes(), 0, triangle_count(), 0};
-      std::vector<int> fgrid((m + 1) * (m + 1));
-      for (int j = 0; j <= m; ++j) {
-        for (int i = 0; i <= m; ++i) {
-          const int di = i - k, dj = j - k;
-          const int l = std::max(std::abs(di), std::abs(dj));
-          Eigen::Vector2d p = c;
-          if (l == k) {
-            const double theta = ring_angle(di, dj, l);
-            p = c + r * Eigen::Vector2d(std::cos(theta), std::sin(theta));
-          } else if (l > 0) {
-            const double theta = ring_angle(di, dj, l);
-            p = c + r * fibre_ring_radius(double(l) / k) * Eigen::Vector2d(std::cos(theta), std::sin(theta));
-          }
-          fgrid[i + (m + 1) * j] = mesh.n_nodes();
-          mesh.nodes.push_back(p);
-          keep.push_back(l == k);
-        }
-      }
-      for (int j = 0; j < m; j += o)
-        for (int i = 0; i < m; i += o) add_quad(mesh.nodes, keep, fgrid, m + 1, o, i, j, mesh.triangles);
-      fibre.node_end = mesh.n_nodes();
-      fibre.triangle_end = triangle_count();
-      const int fibre_index = static_cast<int>(mesh.subdomains.size());
-      mesh.subdomains.push_back(fibre);
-      for (int t = matrix.triangle_begin; t < matrix.triangle_end; ++t) mesh.triangle_subdomain.push_back(matrix_index);
-      for (int t = fibre.triangle_begin; t < fibre.triangle_end; ++t) mesh.triangle_subdomain.push_back(fibre_index);
-
-      // Interface pairs: the fibre rim (fibre grid level k) against the hole ring (matrix
-      // grid level k), walked counter-clockwise from angle 0.
-      std::vector<std::pair<int, std::array<int, 2>>> ring;
-      for (int j = 0; j <= m; ++j) {
-        for (int i = 0; i <= m; ++i) {
-          const int di = i - k, dj = j - k;
-          if (std::max(std::abs(di), std::abs(dj)) != k) continue;
-          ring.push_back({perimeter_position(di, dj, k), {fgrid[i + (m + 1) * j], grid[(i + k) + (n + 1) * (j + k)]}});
-        }
-      }
-      std::sort(ring.begin(), ring.end());
-      for (const auto& [pos, pair] : ring) {
-        mesh.interface_pairs.push_back(pair);
-        mesh.interface_cell.push_back(cell);
-      }
+      grid[i + (n + 1) * j] = mesh.n_nodes();
+      mesh.nodes.push_back(p);
+      keep.push_back(l == k || l == 2 * k);
     }
   }
+  for (int j = 0; j < n; j += o) {
+    for (int i = 0; i < n; i += o) {
+      // A quad belongs to the matrix unless it lies inside the middle block.
+      const bool in_hole = i >= k && i < 3 * k && j >= k && j < 3 * k;
+      if (!in_hole) add_quad(mesh.nodes, keep, grid, n + 1, o, i, j, mesh.triangles);
+    }
+  }
+  matrix.node_end = mesh.n_nodes();
+  matrix.triangle_end = static_cast<int>(mesh.triangles.size());
+  mesh.subdomains.push_back(matrix);
+  return grid;
+}
 
-  // Glue pairs along shared cell edges. Vertical edges: every node. Horizontal edges: skip the
-  // left end node where a vertical edge already ties it (cx > 0), keeping the rows independent.
+// Cell `cell`'s fibre subdomain about c: rings of its own grid, the outermost on the circle.
+// Returns grid index -> node.
+std::vector<int> add_fibre(Mesh& mesh, std::vector<char>& keep, const FineGrid& g, int cell, const Eigen::Vector2d& c) {
+  const int k = g.k, o = g.o, m = 2 * k;
+  const double r = g.r;
+  Subdomain fibre{true, cell, mesh.n_nodes(), 0, static_cast<int>(mesh.triangles.size()), 0};
+  std::vector<int> fgrid((m + 1) * (m + 1));
+  for (int j = 0; j <= m; ++j) {
+    for (int i = 0; i <= m; ++i) {
+      const int di = i - k, dj = j - k;
+      const int l = std::max(std::abs(di), std::abs(dj));
+      Eigen::Vector2d p = c;
+      if (l == k) {
+        const double theta = ring_angle(di, dj, l);
+        p = c + r * Eigen::Vector2d(std::cos(theta), std::sin(theta));
+      } else if (l > 0) {
+        const double theta = ring_angle(di, dj, l);
+        p = c + r * fibre_ring_radius(double(l) / k) * Eigen::Vector2d(std::cos(theta), std::sin(theta));
+      }
+      fgrid[i + (m + 1) * j] = mesh.n_nodes();
+      mesh.nodes.push_back(p);
+      keep.push_back(l == k);
+    }
+  }
+  for (int j = 0; j < m; j += o)
+    for (int i = 0; i < m; i += o) add_quad(mesh.nodes, keep, fgrid, m + 1, o, i, j, mesh.triangles);
+  fibre.node_end = mesh.n_nodes();
+  fibre.triangle_end = static_cast<int>(mesh.triangles.size());
+  mesh.subdomains.push_back(fibre);
+  return fgrid;
+}
+
+// Interface pairs: the fibre rim (fibre grid level k) against the hole ring (matrix grid
+// level k), walked counter-clockwise from angle 0.
+void add_interface_pairs(Mesh& mesh, const FineGrid& g, int cell, const std::vector<int>& fgrid,
+                         const std::vector<int>& grid) {
+  const int k = g.k, n = g.n, m = 2 * k;
+  std::vector<std::pair<int, std::array<int, 2>>> ring;
+  for (int j = 0; j <= m; ++j) {
+    for (int i = 0; i <= m; ++i) {
+      const int di = i - k, dj = j - k;
+      if (std::max(std::abs(di), std::abs(dj)) != k) continue;
+      ring.push_back({perimeter_position(di, dj, k), {fgrid[i + (m + 1) * j], grid[(i + k) + (n + 1) * (j + k)]}});
+    }
+  }
+  std::sort(ring.begin(), ring.end());
+  for (const auto& [pos, pair] : ring) {
+    mesh.interface_pairs.push_back(pair);
+    mesh.interface_cell.push_back(cell);
+  }
+}
+
+// Glue pairs along shared cell edges (vertical edges: every node; horizontal edges: the left
+// end node skipped where a vertical edge already ties it, keeping the rows independent), and
+// the outer boundary counter-clockwise, a p2 edge's mid-side node the fine grid node half-way.
+void add_glue_and_boundary(Mesh& mesh, const FineGrid& g, int ex, int ey,
+                           const std::vector<std::vector<int>>& matrix_grid) {
+  const int n = g.n, o = g.o;
   auto at = [&](int cell, int i, int j) { return matrix_grid[cell][i + (n + 1) * j]; };
   for (int cy = 0; cy < ey; ++cy)
     for (int cx = 0; cx + 1 < ex; ++cx)
@@ -211,9 +208,6 @@ Mesh build_mesh(const Geometry& geometry) {
     for (int cx = 0; cx < ex; ++cx)
       for (int i = (cx > 0 ? 1 : 0); i <= n; ++i)
         mesh.glue_pairs.push_back({at(cx + ex * cy, i, n), at(cx + ex * (cy + 1), i, 0)});
-
-  // Outer boundary, counter-clockwise around the block; the mid-side node of a p2 edge is the
-  // fine grid node half-way.
   const auto mid = [&](int cell, int i, int j) { return o == 1 ? -1 : at(cell, i, j); };
   for (int cy = 0; cy < ey; ++cy)
     for (int j = 0; j < n; j += o) {
@@ -227,6 +221,39 @@ Mesh build_mesh(const Geometry& geometry) {
       mesh.boundary_edges[bottom].push_back({at(b, i, 0), at(b, i + o, 0), mid(b, i + 1, 0)});
       mesh.boundary_edges[top].push_back({at(t, i + o, n), at(t, i, n), mid(t, i + 1, n)});
     }
+}
+
+}  // namespace
+
+Mesh build_mesh(const Geometry& geometry) {
+  Mesh mesh;
+  mesh.geometry = geometry;
+  const int o = element_order(geometry.element);  // fine grid steps per element edge
+  mesh.triangles = Triangles(o == 1 ? 3 : 6);
+  const int k = geometry.degree * o;  // degree of the fine grid that holds every node
+  const FineGrid g{k, 4 * k, o, geometry.cell_size, geometry.fibre_radius};
+  const int ex = geometry.cells[0], ey = geometry.cells[1];
+  const int n_cells = ex * ey;
+  mesh.nodes.reserve(static_cast<std::size_t>(n_cells) * (matrix_nodes_per_cell(k) + fibre_nodes_per_cell(k)));
+  std::vector<char> keep;  // per node: its mapped position lies on the circle or a cell edge
+  std::vector<std::vector<int>> matrix_grid(n_cells);  // grid index -> global node of each cell's matrix
+  for (int cy = 0; cy < ey; ++cy) {
+    for (int cx = 0; cx < ex; ++cx) {
+      const int cell = cx + ex * cy;
+      const Eigen::Vector2d cell_centre((cx + 0.5) * g.a, (cy + 0.5) * g.a);
+      const Eigen::Vector2d c = cell_centre + Eigen::Vector2d(geometry.fibre_offset[0], geometry.fibre_offset[1]);
+      mesh.fibre_centres.push_back(c);
+      const int matrix_index = static_cast<int>(mesh.subdomains.size());
+      matrix_grid[cell] = add_matrix(mesh, keep, g, cx, cy, cell, cell_centre, c);
+      const int fibre_index = static_cast<int>(mesh.subdomains.size());
+      const std::vector<int> fgrid = add_fibre(mesh, keep, g, cell, c);
+      for (int index : {matrix_index, fibre_index})
+        for (int t = mesh.subdomains[index].triangle_begin; t < mesh.subdomains[index].triangle_end; ++t)
+          mesh.triangle_subdomain.push_back(index);
+      add_interface_pairs(mesh, g, cell, fgrid, matrix_grid[cell]);
+    }
+  }
+  add_glue_and_boundary(mesh, g, ex, ey, matrix_grid);
   return mesh;
 }
 
