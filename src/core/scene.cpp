@@ -77,12 +77,13 @@ class Checker {
 
 }  // namespace
 
-void validate(const Scene& scene) {
-  const Checker c(scene);
-  const auto positive = [](double v) { return v > 0; };
-  const auto non_negative = [](double v) { return v >= 0; };
-  const auto finite = [](double) { return true; };
+namespace {
 
+bool positive(double v) { return v > 0; }
+bool non_negative(double v) { return v >= 0; }
+bool finite(double) { return true; }
+
+void validate_geometry(const Checker& c, const Scene& scene) {
   const Geometry& geo = scene.geometry;
   c.reals(
       "geometry", "cells", {double(geo.cells[0]), double(geo.cells[1])}, [](double v) { return v >= 1 && v <= 4096; },
@@ -113,7 +114,9 @@ void validate(const Scene& scene) {
       c.fail("geometry", "fibre_radius", shortest(geo.fibre_radius), s.str());
     }
   }
+}
 
+void validate_materials_and_interface(const Checker& c, const Scene& scene) {
   for (const auto& [name, m] :
        {std::pair<const char*, const Material*>{"fibre", &scene.fibre}, {"matrix", &scene.matrix}}) {
     c.real(name, "E", m->E, positive, "E > 0");
@@ -125,7 +128,9 @@ void validate(const Scene& scene) {
          "normal_strength >= 0 (0: no adhesion)");
   c.real("interface", "tangential_strength", scene.interface.tangential_strength, non_negative,
          "tangential_strength >= 0 (0: no adhesion)");
+}
 
+void validate_load(const Checker& c, const Scene& scene) {
   const auto& bf = scene.load.body_force;
   c.reals("load", "body_force", {bf[0], bf[1]}, finite, "an array of 2 numbers, each a finite number");
   // A body force is carried only by the symmetry edges' reactions, and the debond onset formula
@@ -141,7 +146,9 @@ void validate(const Scene& scene) {
              "a body force cannot be combined with adhesion (the debond onset is "
              "computed for the macro stress alone)");
   }
+}
 
+void validate_sweep_and_solver(const Checker& c, const Scene& scene) {
   const SweepSettings& sw = scene.sweep;
   if (sw.directions_deg.empty()) c.fail("sweep", "directions_deg", "[]", "must be an array of at least 1 numbers");
   c.reals(
@@ -176,10 +183,13 @@ void validate(const Scene& scene) {
   c.real(
       "solver", "Gamma", so.Gamma, [](double v) { return v > 0 && v <= 1e3; }, "0 < Gamma <= 1e3");
   c.integer("solver", "max_debond_rounds", so.max_debond_rounds, 1, 1000000);
+}
 
-  // A resolved block must be held against every rigid motion by its edges and by supports on the
-  // matrix: a support inside a fibre holds that fibre only (without adhesion the matrix would
-  // float free of it; with adhesion, once the bonds break).
+// A resolved block must be held against every rigid motion (core/edge_loads.hpp).
+void validate_edges(const Scene& scene) {
+  const Geometry& geo = scene.geometry;
+  // By its edges and by supports on the matrix: a support inside a fibre holds that fibre only
+  // (without adhesion the matrix would float free of it; with adhesion, once the bonds break).
   if (scene.load.boundary == Boundary::edges) {
     const double a = geo.cell_size, r = geo.fibre_radius;
     const auto on_matrix = [&](const Eigen::Vector2d& p) {
@@ -194,6 +204,17 @@ void validate(const Scene& scene) {
                        ": the edges and the supports on the matrix leave a rigid-body motion free, " + free +
                        " (a support inside a fibre holds that fibre only)");
   }
+}
+
+}  // namespace
+
+void validate(const Scene& scene) {
+  const Checker c(scene);
+  validate_geometry(c, scene);
+  validate_materials_and_interface(c, scene);
+  validate_load(c, scene);
+  validate_sweep_and_solver(c, scene);
+  validate_edges(scene);
 }
 
 std::vector<std::string> scene_warnings(const Scene& scene) {
