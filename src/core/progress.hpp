@@ -24,7 +24,6 @@ class Progress {
   Progress& operator=(const Progress&) = delete;
 
   bool enabled() const { return enabled_; }
-  bool terminal() const { return terminal_; }
   double seconds() const;  // since construction
 
   template <typename Text>
