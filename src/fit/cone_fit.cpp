@@ -27,7 +27,7 @@ law::ConeLaw law_of(const double* p) {
   L(2, 2) = std::exp(p[5]);
   law::ConeLaw law;
   law.C_c = L * L.transpose();
-  law.c = {{std::sin(p[6]) * std::cos(p[7]), std::sin(p[6]) * std::sin(p[7]), std::cos(p[6])}};
+  law.q = {{std::sin(p[6]) * std::cos(p[7]), std::sin(p[6]) * std::sin(p[7]), std::cos(p[6])}};
   law.beta = {p[8] * p[8]};
   return law;
 }
@@ -172,7 +172,7 @@ Eigen::VectorXd nonnegative_least_squares(const Eigen::MatrixXd& A, const Eigen:
   return x;
 }
 
-// The compression struts: planes c_k = −n_k⊗n_k/|n_k⊗n_k| (engineering shear: (cos², sin²,
+// The compression struts: planes q_k = −n_k⊗n_k/|n_k⊗n_k| (engineering shear: (cos², sin²,
 // cos·sin)) at θ_k = kπ/12. With the normals fixed, σ(ε) is linear in the unknowns (the six
 // entries of a symmetric C_c and β_k), so the fit is a least-squares problem with β ≥ 0: C_c
 // eliminated by its QR projection, β by nonnegative least squares, then C_c from β. A law whose
@@ -219,11 +219,11 @@ double fit_struts(const std::vector<ConePoint>& points, law::ConeLaw& out) {
   const Eigen::VectorXd entry = A_C.colPivHouseholderQr().solve(b - A_beta * beta);
   law::ConeLaw law;
   for (int j = 0; j < 6; ++j) law.C_c(entries[j][0], entries[j][1]) = law.C_c(entries[j][1], entries[j][0]) = entry(j);
-  law.c.clear();
+  law.q.clear();
   law.beta.clear();
   for (int k = 0; k < n_struts; ++k)
-    if (beta(k) > 0) law.c.push_back(normals[k]), law.beta.push_back(beta(k));
-  if (law.c.empty()) law.c = {normals[0]}, law.beta = {0.0};
+    if (beta(k) > 0) law.q.push_back(normals[k]), law.beta.push_back(beta(k));
+  if (law.q.empty()) law.q = {normals[0]}, law.beta = {0.0};
   if (!law::admissibility_problem(law).empty()) return std::numeric_limits<double>::infinity();
   out = law;
   return cost(points, law);

@@ -37,16 +37,16 @@ struct LineFit {
   int n = 0;
 };
 
-// y = c x by least squares (gsl_fit_mul). se needs two points at least.
+// y = k x by least squares (gsl_fit_mul). se needs two points at least.
 LineFit through_origin(const std::vector<double>& x, const std::vector<double>& y) {
   LineFit fit;
   fit.n = static_cast<int>(x.size());
   if (x.empty()) return fit;
-  double c = 0, cov = 0, sumsq = 0;
-  gsl_fit_mul(x.data(), 1, y.data(), 1, x.size(), &c, &cov, &sumsq);
+  double k = 0, cov = 0, sumsq = 0;
+  gsl_fit_mul(x.data(), 1, y.data(), 1, x.size(), &k, &cov, &sumsq);
   double sum_y2 = 0;
   for (double v : y) sum_y2 += v * v;
-  fit.slope = c;
+  fit.slope = k;
   fit.slope_se = x.size() >= 2 ? std::sqrt(cov) : nan;
   fit.r2 = sum_y2 > 0 ? 1 - sumsq / sum_y2 : nan;
   return fit;

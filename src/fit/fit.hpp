@@ -2,8 +2,8 @@
 // The fit stage: from sweep paths to the effective bilinear law (law::Law).
 //
 //   per direction θ (uniaxial paths), on the points before any bond breaks:
-//     E   : ε_nn = s / E, least squares through the origin (GSL gsl_fit_mul on ε_nn = c·s,
-//           E = 1/c, se(E) = se(c)/c², R² = 1 − SSR/Σε_nn²)
+//     E   : ε_nn = s / E, least squares through the origin (GSL gsl_fit_mul on ε_nn = k·s,
+//           E = 1/k, se(E) = se(k)/k², R² = 1 − SSR/Σε_nn²)
 //     ν   : ε_tt = −ν ε_nn, through the origin (gsl_fit_mul)
 //   past the largest jump of the tension path (the fuse): E_after_fuse, the tangent modulus
 //     of s against ε_nn with intercept (gsl_fit_linear)

@@ -135,7 +135,7 @@ std::string law_json(const Law& law) {
     const law::ConeFit& fit = law.*m.fit;
     o.add(m.name, JsonObject()
                       .add("C_c", json_array(fit.law.C_c))
-                      .add("c", normals(fit.law.c))
+                      .add("q", normals(fit.law.q))
                       .add("beta", json_array(fit.law.beta))
                       .add_text("form", fit.form)
                       .add("relative_residual", json_number(fit.relative_residual))
@@ -254,7 +254,7 @@ std::vector<double> umat_constants(const Law& law, const std::string& file) {
   check_constituents(law, file);
   const OutOfPlane z = rule_of_mixtures(law);
   const bool fuse = law.cone_after_fuse.ok && law.onset.linear && law.onset.facets.rows() > 0;
-  const auto planes = [](const ConeLaw& l) { return static_cast<double>(l.c.size()); };
+  const auto planes = [](const ConeLaw& l) { return static_cast<double>(l.q.size()); };
   std::vector<double> k = {1.0,
                            planes(law.cone.law),
                            fuse ? planes(law.cone_after_fuse.law) : 0.0,
@@ -265,7 +265,7 @@ std::vector<double> umat_constants(const Law& law, const std::string& file) {
   const auto add_law = [&](const ConeLaw& l) {
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j) k.push_back(l.C_c(i, j));
-    for (std::size_t p = 0; p < l.c.size(); ++p) k.insert(k.end(), {l.c[p](0), l.c[p](1), l.c[p](2), l.beta[p]});
+    for (std::size_t p = 0; p < l.q.size(); ++p) k.insert(k.end(), {l.q[p](0), l.q[p](1), l.q[p](2), l.beta[p]});
   };
   add_law(law.cone.law);
   if (fuse) {
@@ -283,7 +283,7 @@ std::string law_umat(const Law& law, const std::string& name, const std::string&
   std::string out = card_header(law, source, "cone-wise law as a user material");
   out +=
       "** For a code built with dualcell's umat (src/umat/dualcell_umat.c; CalculiX: make -C pipelines ccx-umat).\n"
-      "** Plane strain in the x-y plane (CPE*): sigma = C_c eps + sum_k beta_k <c_k.eps>+ c_k in (11, 22, 12),\n"
+      "** Plane strain in the x-y plane (CPE*): sigma = C_c eps + sum_k beta_k <q_k.eps>+ q_k in (11, 22, 12),\n"
       "** engineering shear; out of plane decoupled: E33, G13, G23 (rule of mixtures).\n";
   out += fuse ? "** The fuse: a point whose stress leaves the onset surface (max_f g_f.sigma >= 1) switches to the\n"
                 "** law past the fuse for good (state variable 1: 0 bonded, 1 fused).\n"

@@ -49,15 +49,15 @@ void write_compliance(File& f, const std::string& prefix, const ComplianceFit& f
   write_count(f, prefix + "_n_points", fit.n_points);
 }
 
-// /law/<name>/: C_c (3×3), c (K×3), beta (K), relative_residual, one_plane_residual,
+// /law/<name>/: C_c (3×3), q (K×3), beta (K), relative_residual, one_plane_residual,
 // struts_residual, direction_residual (one per direction), n_points, ok (1: a fitted law; 0:
 // none, attribute message says why); attribute form.
 void write_cone(File& f, const std::string& name, const law::ConeFit& fit, std::size_t n_directions) {
   f.create_group(object(name));
   f.write(object(name + "/C_c"), row_major(fit.law.C_c), {3, 3});
-  std::vector<double> c;
-  for (const auto& normal : fit.law.c) c.insert(c.end(), normal.data(), normal.data() + 3);
-  f.write(object(name + "/c"), c, {fit.law.c.size(), 3});
+  std::vector<double> q;
+  for (const auto& normal : fit.law.q) q.insert(q.end(), normal.data(), normal.data() + 3);
+  f.write(object(name + "/q"), q, {fit.law.q.size(), 3});
   f.write(object(name + "/beta"), fit.law.beta, {fit.law.beta.size()});
   write_scalar(f, name + "/relative_residual", fit.relative_residual);
   write_scalar(f, name + "/one_plane_residual", fit.one_plane_residual);
@@ -138,13 +138,13 @@ law::ConeFit read_cone(const File& f, const Reader& r, const std::string& name, 
   law::ConeFit fit;
   fit.law.C_c = r.matrix(name + "/C_c");
   Shape found;
-  const auto c = f.read_doubles(object(name + "/c"), {any_extent, 3}, "", &found);
+  const auto q = f.read_doubles(object(name + "/q"), {any_extent, 3}, "", &found);
   const hsize_t K = found[0];
   if (K < 1 || K > static_cast<hsize_t>(law::max_planes))
-    r.fail(object(name + "/c"), std::to_string(K) + " planes, expected 1 to " + std::to_string(law::max_planes));
-  fit.law.c.clear();
-  for (hsize_t k = 0; k < K; ++k) fit.law.c.emplace_back(c[3 * k], c[3 * k + 1], c[3 * k + 2]);
-  fit.law.beta = r.doubles(name + "/beta", {K}, (" like " + object(name + "/c")).c_str());
+    r.fail(object(name + "/q"), std::to_string(K) + " planes, expected 1 to " + std::to_string(law::max_planes));
+  fit.law.q.clear();
+  for (hsize_t k = 0; k < K; ++k) fit.law.q.emplace_back(q[3 * k], q[3 * k + 1], q[3 * k + 2]);
+  fit.law.beta = r.doubles(name + "/beta", {K}, (" like " + object(name + "/q")).c_str());
   fit.relative_residual = r.scalar(name + "/relative_residual");
   fit.one_plane_residual = r.scalar(name + "/one_plane_residual");
   fit.struts_residual = r.scalar(name + "/struts_residual");

@@ -16,7 +16,7 @@ inline constexpr const char* sweep_format = "dualcell sweep 3";
 inline constexpr const char* structure_format = "dualcell structure 1";
 
 // Refuses a file whose root attribute `format` is not `format`, with one line:
-// "<file>: not a dualcell law file (root attribute format is 'dualcell sweep 1', expected 'dualcell law 3')".
+// "<file>: not a dualcell law file (root attribute format is 'dualcell sweep 1', expected 'dualcell law 4')".
 void check_format(const File& file, const char* format);
 
 // Writes `format` and every non-empty provenance text as root attributes.

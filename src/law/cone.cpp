@@ -12,28 +12,28 @@ ConeState evaluate(const ConeLaw& law, const Eigen::Vector3d& strain) {
   s.stress = law.C_c * strain;
   s.tangent = law.C_c;
   s.energy = 0.5 * strain.dot(s.stress);
-  for (std::size_t k = 0; k < law.c.size(); ++k) {
-    const double opening = law.c[k].dot(strain);  // c_k·ε
+  for (std::size_t k = 0; k < law.q.size(); ++k) {
+    const double opening = law.q[k].dot(strain);  // q_k·ε
     if (opening <= 0) continue;
     s.open |= std::uint32_t{1} << k;
-    s.stress += law.beta[k] * opening * law.c[k];
-    s.tangent += law.beta[k] * law.c[k] * law.c[k].transpose();
+    s.stress += law.beta[k] * opening * law.q[k];
+    s.tangent += law.beta[k] * law.q[k] * law.q[k].transpose();
     s.energy += 0.5 * law.beta[k] * opening * opening;
   }
   return s;
 }
 
 std::string admissibility_problem(const ConeLaw& law) {
-  if (law.c.empty() || law.c.size() > static_cast<std::size_t>(max_planes))
-    return "the number of planes is " + std::to_string(law.c.size()) + ", not 1 to " + std::to_string(max_planes);
-  if (law.beta.size() != law.c.size()) return "there are not as many beta as planes";
+  if (law.q.empty() || law.q.size() > static_cast<std::size_t>(max_planes))
+    return "the number of planes is " + std::to_string(law.q.size()) + ", not 1 to " + std::to_string(max_planes);
+  if (law.beta.size() != law.q.size()) return "there are not as many beta as planes";
   if (!law.C_c.allFinite()) return "non-finite entries";
-  for (std::size_t k = 0; k < law.c.size(); ++k)
-    if (!law.c[k].allFinite() || !std::isfinite(law.beta[k])) return "non-finite entries";
+  for (std::size_t k = 0; k < law.q.size(); ++k)
+    if (!law.q[k].allFinite() || !std::isfinite(law.beta[k])) return "non-finite entries";
   if ((law.C_c - law.C_c.transpose()).norm() > 1e-12 * law.C_c.norm()) return "C_c is not symmetric";
   if (law.C_c.llt().info() != Eigen::Success) return "C_c is not positive definite";
-  for (std::size_t k = 0; k < law.c.size(); ++k) {
-    if (std::abs(law.c[k].norm() - 1) > 1e-12) return "c is not a unit vector";
+  for (std::size_t k = 0; k < law.q.size(); ++k) {
+    if (std::abs(law.q[k].norm() - 1) > 1e-12) return "q is not a unit vector";
     if (law.beta[k] < 0) return "beta is negative";
   }
   return "";

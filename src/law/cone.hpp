@@ -3,14 +3,14 @@
 // with one or more switching planes: one strain energy for every strain, in the
 // engineering-shear strain space ε = (εxx, εyy, γxy),
 //
-//   W(ε) = ½ εᵀ C_c ε + ½ Σ_k β_k ⟨c_k·ε⟩₊²,        ⟨x⟩₊ = max(x, 0),
-//   σ(ε) = ∂W/∂ε = C_c ε + Σ_k β_k ⟨c_k·ε⟩₊ c_k,      (σxx, σyy, σxy)
-//   C(ε) = ∂σ/∂ε = C_c + Σ_k β_k H(c_k·ε) c_k c_kᵀ    (H the Heaviside step; off the planes),
+//   W(ε) = ½ εᵀ C_c ε + ½ Σ_k β_k ⟨q_k·ε⟩₊²,        ⟨x⟩₊ = max(x, 0),
+//   σ(ε) = ∂W/∂ε = C_c ε + Σ_k β_k ⟨q_k·ε⟩₊ q_k,      (σxx, σyy, σxy)
+//   C(ε) = ∂σ/∂ε = C_c + Σ_k β_k H(q_k·ε) q_k q_kᵀ    (H the Heaviside step; off the planes),
 //
-// with C_c symmetric positive definite, unit normals c_k and β_k ≥ 0. Each term is convex and
+// with C_c symmetric positive definite, unit normals q_k and β_k ≥ 0. Each term is convex and
 // C¹, so W is convex and C¹ (σ continuous across every plane) and a structure code can use it
 // for every strain. Curnier, He & Zysset's form is one plane (K = 1): stiffness C_c where
-// c·ε ≤ 0 and C_c + β c cᵀ where c·ε > 0. Several planes c_k = −n_k⊗n_k (compression struts
+// q·ε ≤ 0 and C_c + β q qᵀ where q·ε > 0. Several planes q_k = −n_k⊗n_k (compression struts
 // along in-plane directions n_k) describe a cell whose gaps close under compression along n_k
 // whatever the other strains do.
 #include <Eigen/Core>
@@ -24,17 +24,17 @@ namespace dualcell::law {
 inline constexpr int max_planes = 32;
 
 struct ConeLaw {
-  Eigen::Matrix3d C_c = Eigen::Matrix3d::Identity();            // stiffness where every c_k·ε ≤ 0
-  std::vector<Eigen::Vector3d> c = {Eigen::Vector3d::UnitX()};  // unit normals of the switching planes
-  // β_k ≥ 0: the stiffness added across plane k, C(ε) = C_c + Σ β_k c_k c_kᵀ over the open planes
+  Eigen::Matrix3d C_c = Eigen::Matrix3d::Identity();            // stiffness where every q_k·ε ≤ 0
+  std::vector<Eigen::Vector3d> q = {Eigen::Vector3d::UnitX()};  // unit normals q_k of the switching planes
+  // β_k ≥ 0: the stiffness added across plane k, C(ε) = C_c + Σ β_k q_k q_kᵀ over the open planes
   std::vector<double> beta = {0.0};
 };
 
 struct ConeState {
   Eigen::Vector3d stress;   // σ(ε)
-  Eigen::Matrix3d tangent;  // consistent tangent: C_c, plus β_k c_k c_kᵀ for every open plane
+  Eigen::Matrix3d tangent;  // consistent tangent: C_c, plus β_k q_k q_kᵀ for every open plane
   double energy = 0;        // W(ε)
-  std::uint32_t open = 0;   // bit k set where c_k·ε > 0 (the stiffer side of plane k)
+  std::uint32_t open = 0;   // bit k set where q_k·ε > 0 (the stiffer side of plane k)
 };
 
 // A cone-wise law fitted to stress–strain points (fit/cone_fit.hpp), with its quality.
@@ -53,8 +53,8 @@ struct ConeFit {
 // Stress, consistent tangent, energy and side of the law at strain ε (engineering shear).
 ConeState evaluate(const ConeLaw& law, const Eigen::Vector3d& strain);
 
-// Empty when the law is admissible (1 to max_planes planes, as many β as c, C_c symmetric
-// positive definite, every |c_k| = 1 to 1e-12, every β_k ≥ 0, everything finite); otherwise
+// Empty when the law is admissible (1 to max_planes planes, as many β as q, C_c symmetric
+// positive definite, every |q_k| = 1 to 1e-12, every β_k ≥ 0, everything finite); otherwise
 // what is wrong.
 std::string admissibility_problem(const ConeLaw& law);
 

@@ -59,7 +59,7 @@ inline constexpr ConeMember cone_members[] = {
 };
 
 // The root attribute `format` of law.h5, and the JSON export's "format".
-inline constexpr const char* format_name = "dualcell law 3";
+inline constexpr const char* format_name = "dualcell law 4";
 
 // Stated in every law.h5 and export, so that a reader never has to guess the shear factor.
 inline constexpr const char* shear_convention =

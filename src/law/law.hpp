@@ -51,10 +51,10 @@ struct Law {
   std::vector<DirectionLaw> directions;  // ascending direction_deg
   ComplianceFit tension, compression;
   // Cone-wise linear form (Curnier, He & Zysset, J. Elasticity 37, 1995): the stiffness jump
-  // C_t − C_c across the switching plane must be rank-one, ΔC = β c⊗c.
+  // C_t − C_c across the switching plane must be rank-one, ΔC = β q⊗q.
   double cone_rank_one_ratio = 0;                         // |second eigenvalue| / |first| of ΔC (0 = exactly rank-one)
   bool cone_wise_linear = false;                          // ratio below 0.05 and both fits SPD
-  Eigen::Vector3d cone_normal = Eigen::Vector3d::Zero();  // c (unit), in engineering-shear strain space
+  Eigen::Vector3d cone_normal = Eigen::Vector3d::Zero();  // q (unit), in engineering-shear strain space
   double cone_beta = 0;                                   // β
   // The cone-wise law fitted to every point before any break (an admissible law for every
   // strain, law/cone.hpp), and to the points past the largest jump of each path that has one

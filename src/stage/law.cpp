@@ -88,7 +88,7 @@ void print_fit_summary(const std::filesystem::path& sweep_file, const std::files
       continue;
     }
     std::printf("  %s: %s, %zu planes, relative residual %.3g over %d points (one plane %.3g, struts %.3g)\n", name,
-                cone->form.c_str(), cone->law.c.size(), cone->relative_residual, cone->n_points,
+                cone->form.c_str(), cone->law.q.size(), cone->relative_residual, cone->n_points,
                 cone->one_plane_residual, cone->struts_residual);
     std::printf("    %8s %12s %12s\n", "theta", "E_tension", "E_compress");
     for (const auto& d : law.directions)

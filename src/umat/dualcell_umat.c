@@ -3,7 +3,7 @@
  * README, "The law in CalculiX").
  *
  * In the plane of the cells (strain ε = (ε11, ε22, γ12), engineering shear) the stress is
- *   σ(ε) = C_c ε + Σ_k β_k ⟨c_k·ε⟩₊ c_k,   tangent C_c + Σ_k β_k H(c_k·ε) c_k c_kᵀ,
+ *   σ(ε) = C_c ε + Σ_k β_k ⟨q_k·ε⟩₊ q_k,   tangent C_c + Σ_k β_k H(q_k·ε) q_k q_kᵀ,
  * with the bonded law until the point's stress leaves the onset surface (max_f g_f·σ ≥ 1) and
  * the law past the fuse from then on, for good (state variable 1: 0 bonded, 1 fused; the code
  * keeps it only when the increment converges). Out of the plane the point is decoupled and
@@ -13,7 +13,7 @@
  * Constants (*USER MATERIAL, CONSTANTS = n, written by dualcell-export --format umat):
  *   1: layout version (1)       2: K_b, planes of the bonded law     3: K_a, planes past the fuse
  *   4: F, onset facets (0: no fuse)   5–7: E33, G13, G23
- *   then the bonded law: C_c row by row (9), then per plane c1, c2, c3, β (4 K_b);
+ *   then the bonded law: C_c row by row (9), then per plane q1, q2, q3, β (4 K_b);
  *   then, when K_a > 0, the law past the fuse the same way (9 + 4 K_a);
  *   then the facets g_f row by row (3 F), in stress (σ11, σ22, σ12).
  * ntens must be 6 (CalculiX passes 6 for every element, 2D ones included).
@@ -24,7 +24,7 @@ enum { max_planes = 32 };
 
 typedef struct {
   const double* C;     /* 3 × 3, row by row */
-  const double* c;     /* planes, 4 numbers each: c1, c2, c3, β */
+  const double* q;     /* planes, 4 numbers each: q1, q2, q3, β */
   int planes;
 } cone_law;
 
@@ -40,7 +40,7 @@ static double cone_evaluate(const cone_law* law, const double e[3], double s[3],
     W += 0.5 * e[i] * s[i];
   }
   for (int k = 0; k < law->planes; ++k) {
-    const double* p = law->c + 4 * k;
+    const double* p = law->q + 4 * k;
     const double opening = p[0] * e[0] + p[1] * e[1] + p[2] * e[2];
     if (opening <= 0) continue;
     for (int i = 0; i < 3; ++i) {

@@ -38,20 +38,20 @@ Eigen::Vector3d strut(double theta_deg) {
 TEST(ConeFit, RecoversAKnownLawFromItsOwnPoints) {
   law::ConeLaw truth;
   truth.C_c << 12, 4, 0.5, 4, 10, -0.3, 0.5, -0.3, 3;
-  truth.c = {Eigen::Vector3d(0.7, 0.6, 0.2).normalized()};
+  truth.q = {Eigen::Vector3d(0.7, 0.6, 0.2).normalized()};
   truth.beta = {6};
   const auto points = points_of(truth, 24);
   const law::ConeFit fit = fit_cone(points, 24);
   ASSERT_TRUE(fit.ok) << fit.message;
   EXPECT_EQ(fit.form, "one plane");
-  ASSERT_EQ(fit.law.c.size(), 1u);
+  ASSERT_EQ(fit.law.q.size(), 1u);
   EXPECT_GT(fit.struts_residual, 1e-3);  // no strut is this plane
   // The data are exact: the fit must reproduce them to the solver's tolerance (1e-12 on the
   // step and gradient) and find the law's parameters (c up to its sign convention, which the
   // side of β fixes).
   EXPECT_LT(fit.relative_residual, 1e-8);
   EXPECT_LE((fit.law.C_c - truth.C_c).norm(), 1e-6 * truth.C_c.norm());
-  EXPECT_LE((fit.law.c[0] - truth.c[0]).norm(), 1e-6);
+  EXPECT_LE((fit.law.q[0] - truth.q[0]).norm(), 1e-6);
   EXPECT_NEAR(fit.law.beta[0], truth.beta[0], 1e-6 * truth.beta[0]);
   for (double r : fit.direction_residual) EXPECT_LT(r, 1e-8);
 }
@@ -74,7 +74,7 @@ TEST(ConeFit, LinearDataGiveNoJump) {
 TEST(ConeFit, StrutsRecoverACellThatStiffensInCompressionAlongTwoDirections) {
   law::ConeLaw truth;
   truth.C_c << 2.0, 0.9, 0.05, 0.9, 2.0, 0.05, 0.05, 0.05, 0.6;
-  truth.c = {strut(0), strut(90), strut(45)};
+  truth.q = {strut(0), strut(90), strut(45)};
   truth.beta = {7.0, 7.0, 1.5};
   const law::ConeFit fit = fit_cone(points_of(truth, 40), 40);
   ASSERT_TRUE(fit.ok) << fit.message;
@@ -84,11 +84,11 @@ TEST(ConeFit, StrutsRecoverACellThatStiffensInCompressionAlongTwoDirections) {
   EXPECT_LT(fit.relative_residual, 1e-8);
   EXPECT_LE((fit.law.C_c - truth.C_c).norm(), 1e-6 * truth.C_c.norm());
   // The struts the data ask for, and no other.
-  ASSERT_EQ(fit.law.c.size(), 3u) << "planes";
-  for (std::size_t k = 0; k < truth.c.size(); ++k) {
+  ASSERT_EQ(fit.law.q.size(), 3u) << "planes";
+  for (std::size_t k = 0; k < truth.q.size(); ++k) {
     bool found = false;
-    for (std::size_t j = 0; j < fit.law.c.size(); ++j)
-      if ((fit.law.c[j] - truth.c[k]).norm() < 1e-12) {
+    for (std::size_t j = 0; j < fit.law.q.size(); ++j)
+      if ((fit.law.q[j] - truth.q[k]).norm() < 1e-12) {
         found = true;
         EXPECT_NEAR(fit.law.beta[j], truth.beta[k], 1e-6 * truth.beta[k]);
       }
@@ -102,8 +102,8 @@ TEST(ConeFit, DataNoConeReproducesStillGiveAnAdmissibleLawAndSayHowFarOff) {
   law::ConeLaw a, b;
   a.C_c << 10, 3, 0, 3, 10, 0, 0, 0, 3.5;
   b.C_c = a.C_c;
-  a.c = {Eigen::Vector3d::UnitX()}, a.beta = {20};
-  b.c = {Eigen::Vector3d::UnitY()}, b.beta = {20};
+  a.q = {Eigen::Vector3d::UnitX()}, a.beta = {20};
+  b.q = {Eigen::Vector3d::UnitY()}, b.beta = {20};
   std::vector<ConePoint> points = points_of(a, 10);
   for (auto p : points_of(b, 10)) {
     p.direction += 10;

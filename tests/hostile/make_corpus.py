@@ -501,7 +501,7 @@ def write_h5(bin_dir):
                f"16 bytes flipped in the middle of the object header of {READ[kind]} (its checksum fails)",
                flipped(s, range(header + length // 2 - 8, header + length // 2 + 8)))
         h5case(kind, f"{kind}-wrong-kind.h5", "input", f"not a dualcell {kind} file"
-               if kind != "law" else "expected 'dualcell law 3'",
+               if kind != "law" else "expected 'dualcell law 4'",
                f"a valid {others[kind]}.h5 in its place", copied(src[others[kind]]))
         h5case(kind, f"{kind}-no-format.h5", "input", "format", "the root attribute format deleted",
                edited(s, lambda f: f.attrs.__delitem__("format")))

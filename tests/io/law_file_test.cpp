@@ -76,7 +76,7 @@ void expect_same_law(const Law& a, const Law& b) {
   for (int i = 0; i < 3; ++i) EXPECT_TRUE(same(a.cone_normal(i), b.cone_normal(i)));
   for (const auto& [x, y] : {std::pair{&a.cone, &b.cone}, {&a.cone_after_fuse, &b.cone_after_fuse}}) {
     EXPECT_EQ(x->law.C_c, y->law.C_c);
-    EXPECT_EQ(x->law.c, y->law.c);
+    EXPECT_EQ(x->law.q, y->law.q);
     EXPECT_EQ(x->law.beta, y->law.beta);
     EXPECT_EQ(x->form, y->form);
     EXPECT_TRUE(same(x->relative_residual, y->relative_residual));
@@ -161,7 +161,7 @@ TEST(LawFile, HoldsTheDocumentedObjects) {
     const std::string g = group;
     EXPECT_EQ(f.shape(g + "/C_c"), (std::vector<hsize_t>{3, 3})) << g;
     const hsize_t K = g == "/law/cone" ? 2 : 1;  // the synthetic law's planes
-    EXPECT_EQ(f.shape(g + "/c"), (std::vector<hsize_t>{K, 3})) << g;
+    EXPECT_EQ(f.shape(g + "/q"), (std::vector<hsize_t>{K, 3})) << g;
     EXPECT_EQ(f.shape(g + "/beta"), (std::vector<hsize_t>{K})) << g;
     for (const char* name : {"relative_residual", "one_plane_residual", "struts_residual", "n_points", "ok"})
       EXPECT_EQ(f.shape(g + "/" + name), (std::vector<hsize_t>{1})) << g << "/" << name;
@@ -178,7 +178,7 @@ TEST(LawFile, HoldsTheDocumentedObjects) {
   EXPECT_EQ(f.read_int_attribute_value("/law/onset", "linear"), 1);
   EXPECT_TRUE(f.has_attribute("/law/onset", "message"));
   EXPECT_EQ(f.read_doubles("/law/S_tension", {3, 3})[1], testing::synthetic_law().tension.S(0, 1));
-  EXPECT_EQ(f.read_string_attribute("/", "format"), "dualcell law 3");
+  EXPECT_EQ(f.read_string_attribute("/", "format"), "dualcell law 4");
   EXPECT_EQ(f.read_string_attribute("/law", "stress_state"), "plane strain");
   EXPECT_NE(f.read_string_attribute("/law", "shear_convention").find("engineering shear"), std::string::npos);
   for (const char* name : {"scene", "sweep_file", "sweep_hash", "solver_options", "code_version"})
@@ -220,7 +220,7 @@ TEST(LawFile, ForeignTruncatedAndMissingFilesAreRefused) {
     f.write_attribute("/", "format", std::string("dualcell sweep 1"));
     io::write_output(dir / "other.h5", f.close_to_image());
   }
-  EXPECT_NE(refusal(dir / "other.h5").find("attribute format is 'dualcell sweep 1', expected 'dualcell law 3'"),
+  EXPECT_NE(refusal(dir / "other.h5").find("attribute format is 'dualcell sweep 1', expected 'dualcell law 4'"),
             std::string::npos);
   {
     io::File f = io::File::create(dir / "empty.h5");

@@ -11,7 +11,7 @@
 namespace dualcell::law {
 namespace {
 
-// A random admissible law: C_c = LLᵀ + I/10 (SPD), 1 to 4 unit normals c_k, β_k in [0, 5].
+// A random admissible law: C_c = LLᵀ + I/10 (SPD), 1 to 4 unit normals q_k, β_k in [0, 5].
 ConeLaw random_law(std::mt19937& rng) {
   std::uniform_real_distribution<double> u(-1, 1);
   Eigen::Matrix3d L;
@@ -19,10 +19,10 @@ ConeLaw random_law(std::mt19937& rng) {
   ConeLaw law;
   law.C_c = L * L.transpose() + 0.1 * Eigen::Matrix3d::Identity();
   const int planes = 1 + static_cast<int>(rng() % 4);
-  law.c.clear();
+  law.q.clear();
   law.beta.clear();
   for (int k = 0; k < planes; ++k) {
-    law.c.push_back(Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized());
+    law.q.push_back(Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized());
     law.beta.push_back(2.5 * (u(rng) + 1));
   }
   return law;
@@ -36,7 +36,7 @@ Eigen::Vector3d random_strain(std::mt19937& rng) {
 // Distance of ε to the nearest switching plane.
 double to_nearest_plane(const ConeLaw& law, const Eigen::Vector3d& e) {
   double d = std::numeric_limits<double>::infinity();
-  for (const auto& c : law.c) d = std::min(d, std::abs(c.dot(e)));
+  for (const auto& c : law.q) d = std::min(d, std::abs(c.dot(e)));
   return d;
 }
 
@@ -74,22 +74,22 @@ TEST(ConeLaw, StressIsTheEnergyGradientAndTangentItsDerivative) {
     if (to_nearest_plane(law, e) > 10 * h) {
       EXPECT_LE((jacobian - s.tangent).norm(), 1e-6 * s.tangent.norm()) << trial;
     }
-    for (std::size_t k = 0; k < law.c.size(); ++k) EXPECT_EQ((s.open >> k) & 1u, law.c[k].dot(e) > 0 ? 1u : 0u);
+    for (std::size_t k = 0; k < law.q.size(); ++k) EXPECT_EQ((s.open >> k) & 1u, law.q[k].dot(e) > 0 ? 1u : 0u);
   }
 }
 
 TEST(ConeLaw, StressIsContinuousAcrossEverySwitchingPlane) {
-  // On the plane c_k·ε = 0 both sides of it give the same stress; at distance δ on either side
-  // the stress moves by at most ‖C_c + Σβ_j c_j c_jᵀ‖·δ, so σ(ε₀ + δc_k) − σ(ε₀ − δc_k) → 0
+  // On the plane q_k·ε = 0 both sides of it give the same stress; at distance δ on either side
+  // the stress moves by at most ‖C_c + Σβ_j q_j q_jᵀ‖·δ, so σ(ε₀ + δq_k) − σ(ε₀ − δq_k) → 0
   // linearly with δ.
   std::mt19937 rng(3);
   for (int trial = 0; trial < 200; ++trial) {
     const ConeLaw law = random_law(rng);
     Eigen::Matrix3d stiffest = law.C_c;
-    for (std::size_t j = 0; j < law.c.size(); ++j) stiffest += law.beta[j] * law.c[j] * law.c[j].transpose();
+    for (std::size_t j = 0; j < law.q.size(); ++j) stiffest += law.beta[j] * law.q[j] * law.q[j].transpose();
     const double bound = stiffest.norm();
-    for (std::size_t k = 0; k < law.c.size(); ++k) {
-      const Eigen::Vector3d& c = law.c[k];
+    for (std::size_t k = 0; k < law.q.size(); ++k) {
+      const Eigen::Vector3d& c = law.q[k];
       Eigen::Vector3d e0 = random_strain(rng);
       e0 -= c.dot(e0) * c;  // onto plane k
       for (double delta : {1e-4, 1e-6, 1e-8}) {
@@ -100,10 +100,10 @@ TEST(ConeLaw, StressIsContinuousAcrossEverySwitchingPlane) {
   }
   // One plane: the stiffer side is stiffer along c by exactly β, c·(C₊ − C_c)c = β.
   ConeLaw one;
-  one.c = {Eigen::Vector3d(0.6, 0.0, 0.8)};
+  one.q = {Eigen::Vector3d(0.6, 0.0, 0.8)};
   one.beta = {3.5};
-  const Eigen::Vector3d e_plus = 1e-3 * one.c[0];
-  EXPECT_NEAR(one.c[0].dot((evaluate(one, e_plus).tangent - one.C_c) * one.c[0]), 3.5, 1e-12 * 4.5);
+  const Eigen::Vector3d e_plus = 1e-3 * one.q[0];
+  EXPECT_NEAR(one.q[0].dot((evaluate(one, e_plus).tangent - one.C_c) * one.q[0]), 3.5, 1e-12 * 4.5);
 }
 
 TEST(ConeLaw, StrainForAStressInvertsTheLaw) {
@@ -131,11 +131,11 @@ TEST(ConeLaw, InadmissibleLawsAreNamed) {
   law.C_c(0, 1) = 0.5;
   EXPECT_EQ(admissibility_problem(law), "C_c is not symmetric");
   law.C_c = Eigen::Matrix3d::Identity();
-  law.c = {{1, 1, 0}};
-  EXPECT_EQ(admissibility_problem(law), "c is not a unit vector");
-  law.c = {{1, 0, 0}, {0, 1, 0}};
+  law.q = {{1, 1, 0}};
+  EXPECT_EQ(admissibility_problem(law), "q is not a unit vector");
+  law.q = {{1, 0, 0}, {0, 1, 0}};
   EXPECT_EQ(admissibility_problem(law), "there are not as many beta as planes");
-  law.c.clear();
+  law.q.clear();
   law.beta.clear();
   EXPECT_EQ(admissibility_problem(law), "the number of planes is 0, not 1 to 32");
 }

@@ -71,7 +71,7 @@ inline law::Law synthetic_law() {
   law.cone_beta = 2.75;
   // The cone-wise fits: an admissible law before the fuse; none after it (too few points).
   law.cone.law.C_c << 8.5, 2.9, 0.1, 2.9, 9.7, -0.2, 0.1, -0.2, 3.1;
-  law.cone.law.c = {Eigen::Vector3d(0.6, 0.8, 0.0), Eigen::Vector3d(0.0, 0.0, 1.0)};
+  law.cone.law.q = {Eigen::Vector3d(0.6, 0.8, 0.0), Eigen::Vector3d(0.0, 0.0, 1.0)};
   law.cone.law.beta = {2.5, 0.75};
   law.cone.form = "compression struts";
   law.cone.relative_residual = 0.021;

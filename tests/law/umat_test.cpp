@@ -35,12 +35,12 @@ Law test_law() {
   law.constituents = {72.0, 0.22, 3.5, 0.35, 0.38, 1.0};
   law.cone.ok = true;
   law.cone.law.C_c << 10.3, 4.3, 0.1, 4.3, 10.1, -0.05, 0.1, -0.05, 2.2;
-  law.cone.law.c = {Eigen::Vector3d(-1, 0, 0), Eigen::Vector3d(0, -1, 0),
+  law.cone.law.q = {Eigen::Vector3d(-1, 0, 0), Eigen::Vector3d(0, -1, 0),
                     Eigen::Vector3d(-0.5, -0.5, 1 / std::sqrt(2.0))};
   law.cone.law.beta = {3.0, 2.5, 1.0};
   law.cone_after_fuse.ok = true;
   law.cone_after_fuse.law.C_c = 0.3 * law.cone.law.C_c;
-  law.cone_after_fuse.law.c = law.cone.law.c;
+  law.cone_after_fuse.law.q = law.cone.law.q;
   law.cone_after_fuse.law.beta = {9.0, 8.0, 2.0};
   law.onset.linear = true;
   law.onset.facets.resize(3, 3);

@@ -17,7 +17,7 @@ namespace {
 CellLaw strut_law(double beta) {
   CellLaw law;
   law.bonded.C_c = fem::plane_strain_D({1.0, 0.3});
-  law.bonded.c = {-Eigen::Vector3d::UnitX()};
+  law.bonded.q = {-Eigen::Vector3d::UnitX()};
   law.bonded.beta = {beta};
   law.debonded = law.bonded;
   return law;
@@ -139,7 +139,7 @@ TEST(Structure, NewtonTerminatesInFewStepsAtRoundOff) {
 TEST(Structure, NewtonConvergesWhereTheEnergyCannotTellStepsApart) {
   CellLaw law;  // the bonded law fitted to the glass/epoxy cell of the structures validation
   law.bonded.C_c << 10.2957, 4.28384, 9.29626e-09, 4.28384, 10.2957, 2.49162e-08, 9.29626e-09, 2.49162e-08, 2.21078;
-  law.bonded.c = {Eigen::Vector3d(0.174693, 0.984497, -0.0157437).normalized()};
+  law.bonded.q = {Eigen::Vector3d(0.174693, 0.984497, -0.0157437).normalized()};
   law.bonded.beta = {3.99751e-07};
   law.debonded = law.bonded;
   StructureScene s;
