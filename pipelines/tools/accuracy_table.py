@@ -18,8 +18,8 @@ import math
 import os
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from convergence_table import richardson  # noqa: E402
+import common
+from convergence_table import richardson
 
 TARGET = 1e-4
 
@@ -50,17 +50,12 @@ def ladder(rows, code, element, which):
                   key=lambda r: r["dofs"])
 
 
-def write(path, text):
-    tmp = f"{path}.tmp.{os.getpid()}"
-    with open(tmp, "w") as f:
-        f.write(text)
-    os.replace(tmp, path)
-
-
 def main(argv):
-    if len(argv) < 3:
-        raise ValueError("usage: accuracy_table.py OUT_DIR ROWS.csv...")
-    out_dir, rows = argv[1], read_rows(argv[2:])
+    parser = common.Parser(__doc__)
+    parser.add_argument("out_dir", metavar="OUT_DIR")
+    parser.add_argument("rows", metavar="ROWS.csv", nargs="+")
+    args = parser.parse_args(argv[1:])
+    out_dir, rows = args.out_dir, read_rows(args.rows)
     reference, orders = {}, {}
     for which in ("tension", "compression"):
         finest = [r for r in ladder(rows, "dualcell", "p2", which) if r["degree"]][-3:]
@@ -90,7 +85,7 @@ def main(argv):
     for r in sorted(rows, key=lambda r: (r["code"], r["element"], -r["load"], r["dofs"])):
         csv_lines.append(f"{r['code']},{r['element']},{r['degree'] if r['degree'] else ''},{r['dofs']},"
                          f"{r['load']!r},{r['E']!r},{r['error']:.4e},{r['seconds']:.4f}")
-    write(os.path.join(out_dir, "table.csv"), "\n".join(csv_lines) + "\n")
+    common.write_atomic(os.path.join(out_dir, "table.csv"), "\n".join(csv_lines) + "\n")
 
     md = ["# Accuracy per second: dualcell and CalculiX on one cell", "",
           "Reference (Richardson limit of the three finest dualcell p2 rungs): "
@@ -119,13 +114,9 @@ def main(argv):
         c = line.split(",")
         md.append(f"| {' | '.join(c[:4])} | {float(c[4]):+g} | {float(c[5]):.8f} | {c[6]} | {c[7]} |")
     text = "\n".join(md) + "\n"
-    write(os.path.join(out_dir, "table.md"), text)
+    common.write_atomic(os.path.join(out_dir, "table.md"), text)
     sys.stdout.write(text)
 
 
 if __name__ == "__main__":
-    try:
-        main(sys.argv)
-    except (OSError, ValueError, KeyError) as e:
-        sys.stderr.write(f"accuracy_table.py: error: {e}\n")
-        sys.exit(1)
+    common.main_guard(main)

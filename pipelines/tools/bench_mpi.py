@@ -30,31 +30,19 @@ import math
 import os
 import shutil
 import statistics
-import subprocess
 import sys
-import time
 
 import h5py
 
-
-def run(command, env=None):
-    start = time.perf_counter()
-    done = subprocess.run(command, env=env, capture_output=True, text=True)
-    seconds = time.perf_counter() - start
-    if done.returncode != 0:
-        sys.exit(f"bench_mpi.py: {' '.join(command)} failed:\n{done.stdout[-2000:]}{done.stderr[-2000:]}")
-    return seconds
+import common
 
 
 def write(outdir, name, lines):
-    path = os.path.join(outdir, name)
-    with open(path + ".tmp", "w") as f:
-        f.write("\n".join(lines) + "\n")
-    os.replace(path + ".tmp", path)
+    common.write_atomic(os.path.join(outdir, name), "\n".join(lines) + "\n")
 
 
 def same_but_seconds(a, b):
-    done = subprocess.run(["h5diff", a, b], capture_output=True, text=True)
+    done, _ = common.run(["h5diff", a, b], check=False)
     if done.returncode > 1:
         sys.exit(f"bench_mpi.py: h5diff failed: {done.stderr}")
     others = [l for l in done.stdout.splitlines()
@@ -62,14 +50,10 @@ def same_but_seconds(a, b):
     return not others
 
 
-def sweep(args):
-    if len(args) != 6:
-        sys.exit(__doc__)
-    bindir, scene, outdir, ranks, repeat, cores = args
-    ranks, repeat, cores = [int(p) for p in ranks.split()], int(repeat), int(cores)
+def sweep(bindir, scene, outdir, ranks, repeat, cores):
     os.makedirs(outdir, exist_ok=True)
     mesh = os.path.join(outdir, "mesh.h5")
-    run([os.path.join(bindir, "dualcell-mesh"), "--quiet", "--config", scene, "--out", mesh])
+    common.run([os.path.join(bindir, "dualcell-mesh"), "--quiet", "--config", scene, "--out", mesh])
     env = dict(os.environ, OMP_NUM_THREADS="1", OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
     sweep = [os.path.join(bindir, "dualcell-sweep"), "--quiet", "--threads", "1", "--config", scene, "--mesh", mesh]
 
@@ -81,7 +65,7 @@ def sweep(args):
                     shutil.rmtree(stale)
                 elif os.path.exists(stale):
                     os.remove(stale)
-            times.append(run(prefix + sweep + ["--out", out], env))
+            times.append(common.run(prefix + sweep + ["--out", out], env)[1])
             print(f"bench_mpi.py: {os.path.basename(out)}: {times[-1]:.2f} s", file=sys.stderr)
         return times
 
@@ -142,14 +126,10 @@ def differs_from_serial(serial, other):
     return ""
 
 
-def solve(args):
-    if len(args) != 7:
-        sys.exit(__doc__)
-    bindir, scene, stress, outdir, ranks, repeat, cores = args
-    ranks, repeat, cores = [int(p) for p in ranks.split()], int(repeat), int(cores)
+def solve(bindir, scene, stress, outdir, ranks, repeat, cores):
     os.makedirs(outdir, exist_ok=True)
     mesh = os.path.join(outdir, "solve-mesh.h5")
-    run([os.path.join(bindir, "dualcell-mesh"), "--quiet", "--config", scene, "--out", mesh])
+    common.run([os.path.join(bindir, "dualcell-mesh"), "--quiet", "--config", scene, "--out", mesh])
     env = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1", OMPI_ALLOW_RUN_AS_ROOT="1",
                OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
     command = [os.path.join(bindir, "dualcell-solve"), "--quiet", "--threads", "1", "--config", scene, "--mesh", mesh,
@@ -159,7 +139,7 @@ def solve(args):
         """The wall seconds of each run; `out` is the fastest run's solution."""
         times = []
         for k in range(repeat):
-            times.append(run(prefix + command + ["--out", f"{out}.{k}.h5"], env))
+            times.append(common.run(prefix + command + ["--out", f"{out}.{k}.h5"], env)[1])
             print(f"bench_mpi.py: {os.path.basename(out)} run {k + 1}: {times[-1]:.2f} s", file=sys.stderr)
         best = times.index(min(times))
         for k in range(repeat):
@@ -301,10 +281,7 @@ class UnitCosts:
                 "total": setup + compute + vector + coarse + communication}
 
 
-def model(args):
-    if len(args) != 1:
-        sys.exit(__doc__)
-    outdir = args[0]
+def model(outdir):
     serial = os.path.join(outdir, "solve-serial.h5")
     if not os.path.exists(serial):
         sys.exit(f"bench_mpi.py: {serial} is missing: run `bench_mpi.py solve` first")
@@ -367,9 +344,28 @@ def model(args):
     print("\n".join(md))
 
 
-MODES = {"sweep": sweep, "solve": solve, "model": model}
+def rank_counts(text):
+    """The rank counts of "P1 P2 ..." (one word on the command line)."""
+    return [int(p) for p in text.split()]
+
+
+def main(argv):
+    parser = common.Parser(__doc__)
+    modes = parser.add_subparsers(dest="mode", metavar="MODE", required=True)
+    for mode in ("sweep", "solve"):
+        p = modes.add_parser(mode)
+        p.add_argument("bindir", metavar="BIN")
+        p.add_argument("scene", metavar="SCENE.toml")
+        if mode == "solve":
+            p.add_argument("stress", metavar="STRESS")
+        p.add_argument("outdir", metavar="OUTDIR")
+        p.add_argument("ranks", metavar='"P1 P2 ..."', type=rank_counts)
+        p.add_argument("repeat", metavar="REPEAT", type=int)
+        p.add_argument("cores", metavar="CORES", type=int)
+    modes.add_parser("model").add_argument("outdir", metavar="OUTDIR")
+    args = vars(parser.parse_args(argv[1:]))
+    {"sweep": sweep, "solve": solve, "model": model}[args.pop("mode")](**args)
+
 
 if __name__ == "__main__":
-    if len(sys.argv) < 2 or sys.argv[1] not in MODES:
-        sys.exit(__doc__)
-    MODES[sys.argv[1]](sys.argv[2:])
+    common.main_guard(main)

@@ -71,18 +71,18 @@ dofs = 2·nodes, iterations: ccx's ITRS summed over every attempt, increment and
 file; penalty: the final slope K, empty when bonded), and prints the row. Errors: one line on
 stderr, exit 1.
 """
-import types
 import math
 import os
 import shutil
 import subprocess
 import sys
 import tempfile
-import time
 import tomllib
 
 import h5py
 import numpy as np
+
+import common
 
 HEADER = "code,element,degree,nodes,dofs,load,E,seconds,iterations,penalty"
 # Local edges of a triangle in CalculiX's face numbering (faces 1, 2, 3 = corners 1-2, 2-3, 3-1)
@@ -342,55 +342,27 @@ def read_status(sta_path):
     return iterations, failed
 
 
-USAGE = ("usage: ccx_cell.py MESH.h5 LOAD OUT.csv [--penalty F] [--bonded] [--fibre E NU] [--matrix E NU] "
-         "[--regularisation R] [--load-scale S] [--continuation C] [--repeat N] [--ccx PATH] [--work DIR] [--label TEXT]")
-
-
 def parse_args(argv):
-    """The command line (by hand: a negative LOAD such as -1e-2 must not read as an option)."""
-    args = types.SimpleNamespace(penalty=1e5, bonded=False, fibre=None, matrix=None, regularisation=1e-8,
-                                 load_scale=1e-4, continuation=None, repeat=1, ccx="ccx", work=None,
-                                 label=None)
-    values = {"--penalty": 1, "--fibre": 2, "--matrix": 2, "--regularisation": 1, "--load-scale": 1, "--continuation": 1, "--repeat": 1, "--ccx": 1,
-              "--work": 1, "--label": 1}
-    positional, i = [], 0
-    while i < len(argv):
-        word = argv[i]
-        if word == "--bonded":
-            args.bonded = True
-        elif word in values:
-            given = argv[i + 1:i + 1 + values[word]]
-            if len(given) != values[word]:
-                raise ValueError(f"{word} needs {values[word]} value(s); {USAGE}")
-            name = word[2:].replace("-", "_")
-            if name in ("penalty", "regularisation", "load_scale", "continuation"):
-                setattr(args, name, _number(word, given[0]))
-            elif name in ("fibre", "matrix"):
-                setattr(args, name, tuple(_number(word, g) for g in given))
-            elif name == "repeat":
-                if not given[0].isdigit() or int(given[0]) < 1:
-                    raise ValueError(f"--repeat {given[0]!r}: expected an integer >= 1")
-                args.repeat = int(given[0])
-            else:
-                setattr(args, name, given[0])
-            i += values[word]
-        elif word.startswith("--"):
-            raise ValueError(f"unknown option {word}; {USAGE}")
-        else:
-            positional.append(word)
-        i += 1
-    if len(positional) != 3:
-        raise ValueError(USAGE)
-    args.mesh, args.out = positional[0], positional[2]
-    args.load = _number("LOAD", positional[1])
+    """The command line (a negative LOAD such as -1e-2 is a value, not an option: common.Parser)."""
+    parser = common.Parser(__doc__)
+    parser.add_argument("mesh", metavar="MESH.h5")
+    parser.add_argument("load", metavar="LOAD", type=float)
+    parser.add_argument("out", metavar="OUT.csv")
+    parser.add_argument("--penalty", metavar="F", type=float, default=1e5)
+    parser.add_argument("--bonded", action="store_true")
+    parser.add_argument("--fibre", metavar=("E", "NU"), type=float, nargs=2)
+    parser.add_argument("--matrix", metavar=("E", "NU"), type=float, nargs=2)
+    parser.add_argument("--regularisation", metavar="R", type=float, default=1e-8)
+    parser.add_argument("--load-scale", metavar="S", type=float, default=1e-4)
+    parser.add_argument("--continuation", metavar="C", type=float)
+    parser.add_argument("--repeat", metavar="N", type=int, default=1)
+    parser.add_argument("--ccx", metavar="PATH", default="ccx")
+    parser.add_argument("--work", metavar="DIR")
+    parser.add_argument("--label", metavar="TEXT")
+    args = parser.parse_args(argv)
+    if args.repeat < 1:
+        raise ValueError(f"--repeat {args.repeat}: expected an integer >= 1")
     return args
-
-
-def _number(what, text):
-    try:
-        return float(text)
-    except ValueError:
-        raise ValueError(f"{what} {text!r}: expected a number")
 
 
 def main(argv):
@@ -440,10 +412,8 @@ def main(argv):
             for stale in (".dat", ".sta", ".frd", ".cvg"):
                 if os.path.exists(os.path.join(work, job + stale)):
                     os.remove(os.path.join(work, job + stale))
-            start = time.perf_counter()
-            done = subprocess.run([args.ccx, "-i", job], cwd=work, env=env, stdout=subprocess.PIPE,
-                                  stderr=subprocess.STDOUT, text=True)
-            seconds = min(seconds, time.perf_counter() - start)
+            done, run_seconds = common.run([args.ccx, "-i", job], env, check=False, cwd=work, stderr=subprocess.STDOUT)
+            seconds = min(seconds, run_seconds)
             with open(os.path.join(work, job + ".log"), "w") as f:
                 f.write(done.stdout)
             errors = [line.strip() for line in done.stdout.splitlines() if "*ERROR" in line]
@@ -475,16 +445,9 @@ def main(argv):
     element = "CPE6" if mesh.quadratic else "CPE3"
     row = (f"{code},{element},{mesh.degree},{len(mesh.used)},{2 * len(mesh.used)},{args.load!r},"
            f"{load / strain!r},{seconds:.6f},{iterations},{'' if args.bonded else repr(slopes[-1])}")
-    tmp = f"{args.out}.tmp.{os.getpid()}"
-    with open(tmp, "w") as f:
-        f.write(HEADER + "\n" + row + "\n")
-    os.replace(tmp, args.out)
+    common.write_atomic(args.out, HEADER + "\n" + row + "\n")
     print(row)
 
 
 if __name__ == "__main__":
-    try:
-        main(sys.argv)
-    except (OSError, ValueError, KeyError, RuntimeError) as e:
-        sys.stderr.write(f"ccx_cell.py: error: {e}\n")
-        sys.exit(1)
+    common.main_guard(main)

@@ -7,7 +7,7 @@ usage:
       One plane-strain element (two CPE3 on the unit square, every node displaced by u = ε·x,
       a uniform strain) per strain state: tension and compression along x and y, pure shear
       of both signs, and random states; the stresses ccx prints against the law of the card's
-      constants (σ = C_c ε + Σ β_k ⟨c_k·ε⟩₊ c_k, bonded: the strains stay below the onset).
+      constants (σ = C_c ε + Σ β_k ⟨q_k·ε⟩₊ q_k, bonded: the strains stay below the onset).
   ccx_umat_check.py beam CCX CARD.inp STRUCTURE.h5 SCENE.toml OUT.md
       The structure of STRUCTURE.h5 (dualcell-structure's mesh, p2 → CPE6, same node order) with
       the edges of SCENE.toml — a roller left edge, one point held in y, a traction linear
@@ -23,12 +23,13 @@ import os
 import random
 import re
 import shutil
-import subprocess
 import sys
 import tempfile
 import tomllib
 
 import numpy as np
+
+import common
 
 
 def card_constants(card):
@@ -54,15 +55,16 @@ def law_stress(law, e):
 
 
 def run_ccx(ccx, work, deck):
-    """Runs ccx on the deck (numbers in it at most 20 characters: ccx reads fields of 20)."""
+    """Runs ccx on the deck (numbers in it at most 20 characters: ccx reads fields of 20);
+    returns the text of its .dat file and ccx's wall seconds."""
     with open(os.path.join(work, "job.inp"), "w") as f:
         f.write(deck)
     env = dict(os.environ, OMP_NUM_THREADS="1", CCX_NPROC_EQUATION_SOLVER="1", CCX_NPROC_RESULTS="1",
                CCX_NPROC_STIFFNESS="1")
-    run = subprocess.run([os.path.abspath(ccx), "job"], cwd=work, env=env, capture_output=True, text=True)
+    run, seconds = common.run([os.path.abspath(ccx), "job"], env, check=False, cwd=work)
     if run.returncode != 0 or "ERROR" in run.stdout:
         sys.exit(f"ccx_umat_check.py: ccx failed in {work}:\n{run.stdout[-2000:]}{run.stderr[-1000:]}")
-    return open(os.path.join(work, "job.dat")).read()
+    return open(os.path.join(work, "job.dat")).read(), seconds
 
 
 def dat_blocks(dat, what):
@@ -113,7 +115,7 @@ def element(ccx, card, out):
                 u = H @ np.array(x, dtype=float)
                 deck += f"{n}, 1, 1, {u[0]:.13e}\n{n}, 2, 2, {u[1]:.13e}\n"
             deck += "*STEP\n*STATIC\n1., 1.\n*EL PRINT, ELSET=E\nS\n*END STEP\n"
-            stresses = dat_blocks(run_ccx(ccx, work, deck), "stresses")
+            stresses = dat_blocks(run_ccx(ccx, work, deck)[0], "stresses")
             # Rows: element, integration point, sxx, syy, szz, sxy, sxz, syz.
             got = np.array([[r[2], r[3], r[5]] for r in stresses]).mean(axis=0)
             want = law_stress(law, e)
@@ -128,8 +130,7 @@ def element(ccx, card, out):
           "strain ε (engineering shear); ccx's stresses (7 significant digits) against the law of the card.", "",
           "| state | ε (xx, yy, γxy) | ccx σ (xx, yy, xy) | law σ | relative difference |", "|---|---|---|---|---|"]
     md += rows + ["", f"Largest relative difference: {worst:.1e} (bound 1e-6: the printed digits)."]
-    with open(out, "w") as f:
-        f.write("\n".join(md) + "\n")
+    common.write_atomic(out, "\n".join(md) + "\n")
     print("\n".join(md))
     if worst > 1e-6:
         sys.exit(f"ccx_umat_check.py: element: largest difference {worst:.1e} > 1e-6")
@@ -200,10 +201,7 @@ def beam(ccx, card, structure_h5, scene_file, out):
     deck = deck.replace("*BOUNDARY\n", "*NSET, NSET=NALL, GENERATE\n1, " + str(len(nodes)) + ", 1\n*BOUNDARY\n", 1)
     work = tempfile.mkdtemp(prefix="ccx-beam-", dir=os.path.dirname(os.path.abspath(out)))
     try:
-        import time
-        start = time.perf_counter()
-        dat = run_ccx(ccx, work, deck)
-        seconds = time.perf_counter() - start
+        dat, seconds = run_ccx(ccx, work, deck)
     finally:
         shutil.rmtree(work, ignore_errors=True)
     rows = dat_blocks(dat, "displacements")
@@ -230,20 +228,28 @@ def beam(ccx, card, structure_h5, scene_file, out):
           f"| CalculiX with the umat ({seconds:.2f} s) | {rot_ccx:.7e} | {axis_ccx:.5f} |", "",
           f"End rotation: relative difference {error:.2e} (bound 0.5 %); largest nodal displacement difference "
           f"{nodal:.2e} of the largest displacement."]
-    with open(out, "w") as f:
-        f.write("\n".join(md) + "\n")
+    common.write_atomic(out, "\n".join(md) + "\n")
     print("\n".join(md))
     if abs(error) > 5e-3:
         sys.exit(f"ccx_umat_check.py: beam: end rotation differs by {error:.2e} > 0.5 %")
 
 
-def main():
-    if len(sys.argv) == 5 and sys.argv[1] == "element":
-        return element(*sys.argv[2:])
-    if len(sys.argv) == 7 and sys.argv[1] == "beam":
-        return beam(*sys.argv[2:])
-    sys.exit(__doc__)
+def main(argv):
+    parser = common.Parser(__doc__)
+    checks = parser.add_subparsers(dest="check", metavar="CHECK", required=True)
+    p = checks.add_parser("element")
+    p.add_argument("ccx", metavar="CCX")
+    p.add_argument("card", metavar="CARD.inp")
+    p.add_argument("out", metavar="OUT.md")
+    p = checks.add_parser("beam")
+    p.add_argument("ccx", metavar="CCX")
+    p.add_argument("card", metavar="CARD.inp")
+    p.add_argument("structure_h5", metavar="STRUCTURE.h5")
+    p.add_argument("scene_file", metavar="SCENE.toml")
+    p.add_argument("out", metavar="OUT.md")
+    args = vars(parser.parse_args(argv[1:]))
+    {"element": element, "beam": beam}[args.pop("check")](**args)
 
 
 if __name__ == "__main__":
-    main()
+    common.main_guard(main)

@@ -10,8 +10,9 @@ writes OUT.toml atomically (temporary + rename). Errors: one line on stderr, exi
 """
 import math
 import os
-import sys
 import tomllib
+
+import common
 
 
 def toml_value(value, where):
@@ -58,27 +59,15 @@ def case_scene(template_path, degree, tolerance, element=None):
 
 
 def main(argv):
-    if len(argv) not in (5, 6):
-        raise ValueError("usage: convergence_case.py TEMPLATE.toml DEGREE TOLERANCE OUT.toml [ELEMENT]")
-    template, degree_text, tolerance_text, out = argv[1:5]
-    element = argv[5] if len(argv) == 6 else None
-    if element not in (None, "p1", "p2"):
-        raise ValueError(f"element {element!r}: expected p1 or p2")
-    try:
-        degree = int(degree_text)
-        tolerance = float(tolerance_text)
-    except ValueError:
-        raise ValueError(f"degree {degree_text!r} and tolerance {tolerance_text!r}: expected an integer and a number")
-    text = case_scene(template, degree, tolerance, element)
-    tmp = f"{out}.tmp.{os.getpid()}"
-    with open(tmp, "w") as f:
-        f.write(text)
-    os.replace(tmp, out)
+    parser = common.Parser(__doc__)
+    parser.add_argument("template", metavar="TEMPLATE.toml")
+    parser.add_argument("degree", metavar="DEGREE", type=int)
+    parser.add_argument("tolerance", metavar="TOLERANCE", type=float)
+    parser.add_argument("out", metavar="OUT.toml")
+    parser.add_argument("element", metavar="ELEMENT", nargs="?", choices=("p1", "p2"))
+    args = parser.parse_args(argv[1:])
+    common.write_atomic(args.out, case_scene(args.template, args.degree, args.tolerance, args.element))
 
 
 if __name__ == "__main__":
-    try:
-        main(sys.argv)
-    except (OSError, ValueError, tomllib.TOMLDecodeError) as e:
-        sys.stderr.write(f"convergence_case.py: error: {e}\n")
-        sys.exit(1)
+    common.main_guard(main)

@@ -15,6 +15,8 @@ import sys
 
 import h5py
 
+import common
+
 
 def richardson(points):
     """points: [(h, E)] for the three finest meshes, h decreasing. Returns (E*, p)."""
@@ -37,10 +39,15 @@ def richardson(points):
     return e3 - (e2 - e3) * h3 ** p / (h2 ** p - h3 ** p), p
 
 
-def main():
-    conv_dir, out = sys.argv[1], sys.argv[2]
+def main(argv):
+    parser = common.Parser(__doc__)
+    parser.add_argument("conv_dir", metavar="CONV_DIR")
+    parser.add_argument("out", metavar="OUT.csv")
+    parser.add_argument("cases", metavar="CASE", nargs="+")
+    args = parser.parse_args(argv[1:])
+    conv_dir, out = args.conv_dir, args.out
     rows = []
-    for case in sys.argv[3:]:
+    for case in args.cases:
         degree = int(case[1:case.index("_t")])
         tolerance = float(case[case.index("_t") + 2:])
         d = os.path.join(conv_dir, case)
@@ -65,11 +72,9 @@ def main():
         lines.append(f"{r['case']},{r['degree']},{r['tolerance']:g},{r['dofs']},{r['seconds']:.4f},"
                      f"{r['E_tension']:.10g},{r['E_compression']:.10g},{err['tension']:.3e},{err['compression']:.3e}")
     text = "\n".join(lines) + "\n"
-    with open(out + ".tmp", "w") as f:
-        f.write(text)
-    os.replace(out + ".tmp", out)
+    common.write_atomic(out, text)
     sys.stdout.write(text)
 
 
 if __name__ == "__main__":
-    main()
+    common.main_guard(main)

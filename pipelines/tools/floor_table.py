@@ -10,8 +10,9 @@ problem as one body) on each BLAS, and the two ratios contact / CHOLMOD. Errors:
 stderr, exit 1.
 """
 import json
-import os
 import sys
+
+import common
 
 
 def load(path):
@@ -21,9 +22,12 @@ def load(path):
 
 
 def main(argv):
-    if len(argv) != 4:
-        raise ValueError("usage: floor_table.py REFERENCE/floor.json OPENBLAS/floor.json OUT.md")
-    (ref_blas, ref), (fast_blas, fast) = load(argv[1]), load(argv[2])
+    parser = common.Parser(__doc__)
+    parser.add_argument("reference", metavar="REFERENCE/floor.json")
+    parser.add_argument("openblas", metavar="OPENBLAS/floor.json")
+    parser.add_argument("out", metavar="OUT.md")
+    args = parser.parse_args(argv[1:])
+    (ref_blas, ref), (fast_blas, fast) = load(args.reference), load(args.openblas)
     if [(r["element"], r["dofs"]) for r in ref] != [(r["element"], r["dofs"]) for r in fast]:
         raise ValueError("the two floor.json files hold different cases")
     lines = ["# The floor on two BLAS libraries", "",
@@ -39,16 +43,9 @@ def main(argv):
                      f"{r['contact_seconds'] / r['cholesky_seconds']:.2f} | {f['contact_seconds']:.2f} | "
                      f"{f['cholesky_seconds']:.2f} | {f['contact_seconds'] / f['cholesky_seconds']:.2f} |")
     text = "\n".join(lines) + "\n"
-    tmp = f"{argv[3]}.tmp.{os.getpid()}"
-    with open(tmp, "w") as f:
-        f.write(text)
-    os.replace(tmp, argv[3])
+    common.write_atomic(args.out, text)
     sys.stdout.write(text)
 
 
 if __name__ == "__main__":
-    try:
-        main(sys.argv)
-    except (OSError, ValueError, KeyError, json.JSONDecodeError) as e:
-        sys.stderr.write(f"floor_table.py: error: {e}\n")
-        sys.exit(1)
+    common.main_guard(main)

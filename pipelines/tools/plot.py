@@ -22,11 +22,12 @@ Debian's python3-h5py reads the files; gnuplot draws.
 """
 import math
 import os
-import subprocess
 import sys
 import tempfile
 
 import h5py
+
+import common
 
 
 def gnuplot(script, outbase, data_files):
@@ -38,14 +39,13 @@ def gnuplot(script, outbase, data_files):
                 f.write(text)
         for ext, terminal in (("png", "pngcairo size 1000,750 font ',11'"), ("svg", "svg size 1000,750 dynamic")):
             target = f"{outbase}.{ext}"
-            partial = f"{target}.tmp.{os.getpid()}"
-            full = f"set terminal {terminal}\nset output '{partial}'\n" + script
-            run = subprocess.run(["gnuplot"], input=full, text=True, cwd=tmp, capture_output=True)
-            if run.returncode != 0 or not os.path.exists(partial):
-                if os.path.exists(partial):
-                    os.remove(partial)
-                sys.exit(f"plot.py: gnuplot failed for {target}: {run.stderr.strip()}")
-            os.replace(partial, target)
+
+            def draw(partial):
+                full = f"set terminal {terminal}\nset output '{partial}'\n" + script
+                run, _ = common.run(["gnuplot"], check=False, input=full, cwd=tmp)
+                if run.returncode != 0 or not os.path.exists(partial):
+                    sys.exit(f"plot.py: gnuplot failed for {target}: {run.stderr.strip()}")
+            common.write_atomic(target, draw)  # the partial file is removed when gnuplot fails
 
 
 def along(n, e):
@@ -306,17 +306,26 @@ def scaling(table, outbase):
     gnuplot(script, outbase, data)
 
 
-def main():
-    if len(sys.argv) < 3:
-        sys.exit(__doc__)
-    kind = sys.argv[1]
-    if kind == "last-stress":
-        return last_stress(sys.argv[2])
-    if len(sys.argv) != 4:
-        sys.exit(__doc__)
-    {"stress-strain": stress_strain, "polar": polar, "deformed": deformed, "work-precision": work_precision,
-     "accuracy": accuracy, "structure": structure, "scaling": scaling}[kind](sys.argv[2], sys.argv[3])
+# Each picture: its function and the metavar of its input.
+PICTURES = {"stress-strain": (stress_strain, "SWEEP.h5"), "polar": (polar, "LAW.h5"),
+            "deformed": (deformed, "SOLUTION.h5"), "work-precision": (work_precision, "TABLE.csv"),
+            "accuracy": (accuracy, "TABLE.csv"), "structure": (structure, "STRUCTURE.h5"),
+            "scaling": (scaling, "MODEL.csv")}
+
+
+def main(argv):
+    parser = common.Parser(__doc__)
+    kinds = parser.add_subparsers(dest="kind", metavar="KIND", required=True)
+    for kind, (_, source) in PICTURES.items():
+        p = kinds.add_parser(kind)
+        p.add_argument("source", metavar=source)
+        p.add_argument("outbase", metavar="OUTBASE")
+    kinds.add_parser("last-stress").add_argument("source", metavar="SWEEP.h5")
+    args = parser.parse_args(argv[1:])
+    if args.kind == "last-stress":
+        return last_stress(args.source)
+    PICTURES[args.kind][0](args.source, args.outbase)
 
 
 if __name__ == "__main__":
-    main()
+    common.main_guard(main)

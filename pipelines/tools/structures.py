@@ -29,8 +29,8 @@ import tomllib
 import h5py
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from plot import gnuplot  # noqa: E402
+import common
+from plot import gnuplot
 
 # Load levels: the largest bending stress about 0.01 (stress units of the cell scene) at t = 1
 # whatever H (cantilever: M = τH·L at the root, σ = 6M/H² = 48τ; three-point: M = P·L/4,
@@ -54,13 +54,6 @@ def edges_text(kind, L, H):
         return (f"[[support]]\nat = [0, 0]\nfix = \"xy\"\n[[support]]\nat = [{L}, 0]\nfix = \"y\"\n"
                 f"[[point_load]]\nat = [{L / 2:g}, {H}]\nforce = [0, {-P:.12g}]\n[output]\nwatch = [{L / 2:g}, 0]\n")
     sys.exit(f"structures.py: unknown kind '{kind}' (bending, cantilever, threepoint)")
-
-
-def write_atomic(path, text):
-    tmp = f"{path}.tmp.{os.getpid()}"
-    with open(tmp, "w") as f:
-        f.write(text)
-    os.replace(tmp, path)
 
 
 def scenes(cell_scene, bond, kind, H, outdir):
@@ -96,8 +89,8 @@ def scenes(cell_scene, bond, kind, H, outdir):
     structure = (f"# {kind}, H = {H}, {bond}: homogeneous cells with the fitted law\n"
                  f"[structure]\ncells = [{L}, {H}]\nelements_per_cell = 2\nelement = \"p2\"\n" + edges +
                  f"[steps]\nfactors = [{step}]\n")
-    write_atomic(os.path.join(outdir, "resolved.toml"), resolved)
-    write_atomic(os.path.join(outdir, "structure.toml"), structure)
+    common.write_atomic(os.path.join(outdir, "resolved.toml"), resolved)
+    common.write_atomic(os.path.join(outdir, "structure.toml"), structure)
 
 
 def line_fit(y, ux):
@@ -166,13 +159,14 @@ def table(outroot, cases):
             "time_ratio": res["seconds"] / hom["seconds"]})
     rows.sort(key=lambda r: (r["bond"], r["kind"], r["H"]))
     fields = list(rows[0].keys())
-    tmp = os.path.join(outroot, f"table.csv.tmp.{os.getpid()}")
-    with open(tmp, "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=fields)
-        w.writeheader()
-        for r in rows:
-            w.writerow({k: (f"{v:.9g}" if isinstance(v, float) else v) for k, v in r.items()})
-    os.replace(tmp, os.path.join(outroot, "table.csv"))
+
+    def write_csv(path):
+        with open(path, "w", newline="") as f:
+            w = csv.DictWriter(f, fieldnames=fields)
+            w.writeheader()
+            for r in rows:
+                w.writerow({k: (f"{v:.9g}" if isinstance(v, float) else v) for k, v in r.items()})
+    common.write_atomic(os.path.join(outroot, "table.csv"), write_csv)
 
     def pct(x):
         return "–" if not math.isfinite(x) else f"{100 * x:+.2f} %"
@@ -200,7 +194,7 @@ def table(outroot, cases):
                   f"{r['broken_in_step']} / {r['fused_in_step']} | {r['seconds_resolved']:.2f} | "
                   f"{r['seconds_homogenised']:.3f} | {r['time_ratio']:.0f} |" +
                   ("" if r["converged"] else " NOT converged"))
-    write_atomic(os.path.join(outroot, "table.md"), "\n".join(md) + "\n")
+    common.write_atomic(os.path.join(outroot, "table.md"), "\n".join(md) + "\n")
 
 
 def plot(outroot):
@@ -225,15 +219,22 @@ def plot(outroot):
     gnuplot(script, os.path.join(outroot, "deflection"), data)
 
 
-def main():
-    if len(sys.argv) >= 2 and sys.argv[1] == "scenes" and len(sys.argv) == 7:
-        return scenes(*sys.argv[2:])
-    if len(sys.argv) >= 4 and sys.argv[1] == "table":
-        return table(sys.argv[2], sys.argv[3:])
-    if len(sys.argv) == 3 and sys.argv[1] == "plot":
-        return plot(sys.argv[2])
-    sys.exit(__doc__)
+def main(argv):
+    parser = common.Parser(__doc__)
+    modes = parser.add_subparsers(dest="mode", metavar="MODE", required=True)
+    p = modes.add_parser("scenes")
+    p.add_argument("cell_scene", metavar="CELL_SCENE")
+    p.add_argument("bond", metavar="BOND")
+    p.add_argument("kind", metavar="KIND")
+    p.add_argument("H")
+    p.add_argument("outdir", metavar="OUTDIR")
+    p = modes.add_parser("table")
+    p.add_argument("outroot", metavar="OUTROOT")
+    p.add_argument("cases", metavar="CASE", nargs="+")
+    modes.add_parser("plot").add_argument("outroot", metavar="OUTROOT")
+    args = vars(parser.parse_args(argv[1:]))
+    {"scenes": scenes, "table": table, "plot": plot}[args.pop("mode")](**args)
 
 
 if __name__ == "__main__":
-    main()
+    common.main_guard(main)

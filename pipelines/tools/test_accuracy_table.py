@@ -7,12 +7,10 @@ row at or below 1e-4 (or the most accurate one when none gets there).
 """
 import csv
 import os
-import sys
 import tempfile
 import unittest
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import accuracy_table  # noqa: E402
+import accuracy_table
 
 HEADER = "code,element,degree,nodes,dofs,load,E,seconds"
 

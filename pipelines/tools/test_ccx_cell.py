@@ -6,15 +6,13 @@ usage: test_ccx_cell.py (or python3 -m unittest test_ccx_cell)
 """
 import math
 import os
-import sys
 import tempfile
 import types
 import unittest
 
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import ccx_cell  # noqa: E402
+import ccx_cell
 
 
 def square(quadratic, ys=(0.0, 0.3, 1.0)):

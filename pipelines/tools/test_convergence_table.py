@@ -4,12 +4,9 @@
 Sequences with a known limit and order: the extrapolation must recover both.
 """
 import math
-import os
-import sys
 import unittest
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from convergence_table import richardson  # noqa: E402
+from convergence_table import richardson
 
 
 def sequence(limit, c, p, degrees, d=0.0, q=0.0):

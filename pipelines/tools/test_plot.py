@@ -12,8 +12,7 @@ import tempfile
 import unittest
 import xml.etree.ElementTree as ElementTree
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import plot  # noqa: E402
+import plot
 
 BIN = None  # the stages' folder, the first argument
 

@@ -12,8 +12,7 @@ import tempfile
 import tomllib
 import unittest
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import structures  # noqa: E402
+import structures
 
 BIN = None
 HERE = os.path.dirname(os.path.abspath(__file__))

@@ -14,6 +14,8 @@ import sys
 
 import h5py
 
+import common
+
 
 def read_solution(path):
     with h5py.File(path, "r") as f:
@@ -32,8 +34,13 @@ def read_solution(path):
         }
 
 
-def main():
-    csv_path, cases_dir, out_path = sys.argv[1:4]
+def main(argv):
+    parser = common.Parser(__doc__)
+    parser.add_argument("thesis_csv", metavar="THESIS_CSV")
+    parser.add_argument("cases_dir", metavar="CASES_DIR")
+    parser.add_argument("out", metavar="OUT.md")
+    args = parser.parse_args(argv[1:])
+    csv_path, cases_dir, out_path = args.thesis_csv, args.cases_dir, args.out
     rows = [line for line in open(csv_path) if not line.startswith("#")]
     header = ("case,cells_x,cells_y,degree,dim_u,dim_lambda,cg_compression,cg_tension,seconds_compression,"
               "seconds_tension,rho_max,proportioning_compression,proportioning_tension,outer_compression,outer_tension")
@@ -64,12 +71,9 @@ def main():
             f"{c['setup_seconds']:.3f} | {t['seconds_compression']}/{t['seconds_tension']} | "
             f"{c['E'] / s['E']:.3f} |")
     text = "\n".join(lines) + "\n"
-    tmp = out_path + ".tmp"
-    with open(tmp, "w") as f:
-        f.write(text)
-    os.replace(tmp, out_path)
+    common.write_atomic(out_path, text)
     sys.stdout.write(text)
 
 
 if __name__ == "__main__":
-    main()
+    common.main_guard(main)
