@@ -11,6 +11,10 @@ namespace dualcell::feti {
 // edge by the edge's shape functions. It counts interface openings, which a volume average of
 // element strains misses. Returns (εxx, εyy, εxy) with tensor shear.
 Eigen::Vector3d boundary_strain(const mesh::Mesh& mesh, const Eigen::VectorXd& u);
+// The same as a matrix: boundary_strain(mesh, u) = W u for every u of size n_dofs (≥ dim u; the
+// columns past dim u, the periodic boundary's macro DOFs, are zero). 3 × n_dofs, dense: only the
+// exact law's condensation needs it, once per cell.
+Eigen::MatrixXd boundary_strain_matrix(const mesh::Mesh& mesh, int n_dofs);
 
 // (1/|Ω|) Σ_e ∫_e σ dA over all triangles: equals the applied σ̄ when the forces are in
 // equilibrium (Hill–Mandel); returns (σxx, σyy, σxy).

@@ -1,0 +1,26 @@
+#pragma once
+// The exact law of a cell (law/condensed.hpp): the cell condensed onto its interface rows
+// (docs/method.md §16a), from the FETI data of its mesh and materials.
+//
+// The dual operator F = B K⁺ Bᵀ is formed explicitly, one column per application (the factors
+// of the setup reused), with G and the macro load's d and e. The rows E that are not interface
+// rows (glue, periodic, Dirichlet) and the rigid modes M they see are eliminated from the
+// stationarity conditions of the dual problem,
+//
+//   [F_EE  G_MEᵀ] [ λ_E]   [d_E − F_EI p]
+//   [G_ME   0   ] [−α_M] = [e_M − G_MI p],
+//
+// by a dense LU; what is left on the interface forces p is H p − Y σ̄ (the reduced gradient),
+// and the macro strain ε̄ = W u with u = K⁺(f − Bᵀλ) + R̂α is linear in p and σ̄ (S₀σ̄ + E_p p).
+// The modes N that only interface rows see (the fibres) stay as the equality rows G_N p = e_N.
+// Reciprocity, |Ω| E_p = −Yᵀ, is measured (CondensedCell::reciprocity_error), not assumed.
+#include "feti/setup.hpp"
+#include "law/condensed.hpp"
+
+namespace dualcell::feti {
+
+// Every rank of setup.group() must call it (it applies F). An InputError for a scene that has no
+// cell law: the edges boundary, a body force (the law would not be homogeneous).
+law::CondensedCell condense(const FetiSetup& setup);
+
+}  // namespace dualcell::feti

@@ -1,0 +1,227 @@
+#include "law/condensed.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace dualcell::law {
+
+namespace {
+
+constexpr double inf = std::numeric_limits<double>::infinity();
+constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+// A bond breaks when its force is within this fraction of its strength, the rule of the full
+// solver (docs/method.md §11): the law and the cell break the same bonds.
+constexpr double at_strength = 1e-7;
+
+bool symmetric(const Eigen::MatrixXd& M) {
+  return M.rows() == M.cols() && (M - M.transpose()).norm() <= 1e-12 * std::max(M.norm(), 1e-300);
+}
+
+}  // namespace
+
+bool CondensedCell::adhesion() const {
+  for (int r = 0; r < n_rows(); ++r)
+    if (lower_bonded(r) != lower_broken(r) || upper_bonded(r) != upper_broken(r)) return true;
+  return false;
+}
+
+std::size_t CondensedCell::bytes() const {
+  const auto size = [](const Eigen::MatrixXd& M) { return static_cast<std::size_t>(M.size()) * sizeof(double); };
+  return size(S0) + size(Y) + size(H) + size(G) + 4 * static_cast<std::size_t>(n_rows()) * sizeof(double) +
+         static_cast<std::size_t>(n_rows()) * (sizeof(int) + 1) + static_cast<std::size_t>(n_pairs);
+}
+
+std::string consistency_problem(const CondensedCell& cell) {
+  const int n = cell.n_rows(), m = cell.n_macro;
+  if (m != 2 && m != 3) return "n_macro is " + std::to_string(m) + ", not 2 or 3";
+  if (!(cell.volume > 0) || !std::isfinite(cell.volume)) return "the volume is not positive and finite";
+  if (cell.S0.rows() != m || cell.S0.cols() != m) return "S0 is not n_macro × n_macro";
+  if (cell.Y.rows() != n || cell.Y.cols() != m) return "Y is not n_rows × n_macro";
+  if (cell.H.rows() != n || cell.H.cols() != n) return "H is not n_rows × n_rows";
+  if (cell.G.cols() != n && cell.G.rows() > 0) return "G does not have n_rows columns";
+  if (static_cast<int>(cell.tangential.size()) != n) return "the row kinds are not one per row";
+  for (const auto* v : {&cell.lower_bonded, &cell.upper_bonded, &cell.lower_broken, &cell.upper_broken})
+    if (v->size() != n) return "the bounds are not one per row";
+  if (static_cast<int>(cell.bonded.size()) != cell.n_pairs) return "the bond state is not one per pair";
+  if (!cell.S0.allFinite() || !cell.Y.allFinite() || !cell.H.allFinite() || !cell.G.allFinite())
+    return "non-finite entries";
+  if (!symmetric(cell.S0) || !symmetric(cell.H)) return "S0 or H is not symmetric";
+  if (Eigen::LLT<Eigen::MatrixXd>(cell.S0).info() != Eigen::Success) return "S0 is not positive definite";
+  for (int r = 0; r < n; ++r) {
+    if (cell.pair[r] < 0 || cell.pair[r] >= cell.n_pairs) return "row " + std::to_string(r) + " names no pair";
+    if (cell.tangential[r] > 1) return "row " + std::to_string(r) + " has an unknown kind";
+    for (const auto& [lo, hi] :
+         {std::pair{cell.lower_bonded(r), cell.upper_bonded(r)}, std::pair{cell.lower_broken(r), cell.upper_broken(r)}})
+      if (std::isnan(lo) || std::isnan(hi) || lo > 0 || hi < 0)
+        return "row " + std::to_string(r) + ": its bounds do not hold 0";
+  }
+  return "";
+}
+
+CellEvaluator::CellEvaluator(const CondensedCell& cell) : cell_(cell) {
+  const int n = cell.n_rows(), m = cell.n_macro;
+  // 𝓗 = [|Ω|S₀ −Yᵀ; −Y H] (docs/method.md §16a).
+  energy_.resize(m + n, m + n);
+  energy_.topLeftCorner(m, m) = cell.volume * cell.S0;
+  energy_.topRightCorner(m, n) = -cell.Y.transpose();
+  energy_.bottomLeftCorner(n, m) = -cell.Y;
+  energy_.bottomRightCorner(n, n) = cell.H;
+  C_stress_ = cell.G;
+  C_strain_ = Eigen::MatrixXd::Zero(cell.G.rows(), m + n);
+  C_strain_.rightCols(n) = cell.G;
+}
+
+CellHistory CellEvaluator::unloaded() const { return {cell_.bonded, {}}; }
+
+void CellEvaluator::set_bounds(const std::vector<std::uint8_t>& bonded, int offset) {
+  const int n = cell_.n_rows();
+  lower_.resize(offset + n);
+  upper_.resize(offset + n);
+  lower_.head(offset).setConstant(-inf);
+  upper_.head(offset).setConstant(inf);
+  for (int r = 0; r < n; ++r) {
+    const bool b = bonded[cell_.pair[r]] != 0;
+    lower_(offset + r) = b ? cell_.lower_bonded(r) : cell_.lower_broken(r);
+    upper_(offset + r) = b ? cell_.upper_bonded(r) : cell_.upper_broken(r);
+  }
+}
+
+void CellEvaluator::check_shear(const Eigen::Vector3d& v, CellResponse& out) const {
+  if (!v.allFinite()) out.message = "a non-finite input";
+  if (cell_.n_macro == 2 && v(2) != 0)
+    out.message = "the cell has the symmetry boundary: it carries no shear (the third component must be 0)";
+}
+
+// Solve, break the bonded rows that end at their strength, solve again: the debond cascade.
+// `solve` runs one QP with the bounds of h.bonded and returns the forces p and the active set of
+// the rows (offset: the position of p in the QP's unknowns).
+template <class Solve>
+CellResponse CellEvaluator::cascade(CellHistory& h, Solve&& solve) {
+  CellResponse out;
+  if (static_cast<int>(h.bonded.size()) != cell_.n_pairs) h = unloaded();
+  for (int round = 0; round <= cell_.n_pairs; ++round) {
+    if (!solve(out)) return out;
+    std::vector<int> breaking;
+    const int n = cell_.n_rows();
+    for (int r = 0; r < n; ++r) {
+      if (!h.bonded[cell_.pair[r]]) continue;
+      const double p = out.forces(r), lo = cell_.lower_bonded(r), hi = cell_.upper_bonded(r);
+      if ((lo < 0 && p <= lo + at_strength * std::abs(lo)) ||
+          (hi > 0 && std::isfinite(hi) && p >= hi - at_strength * hi))
+        breaking.push_back(cell_.pair[r]);
+    }
+    if (breaking.empty()) break;
+    for (int p : breaking) {
+      out.newly_broken += h.bonded[p] ? 1 : 0;
+      h.bonded[p] = 0;
+    }
+  }
+  for (int p = 0; p < cell_.n_pairs; ++p) out.broken += cell_.bonded[p] && !h.bonded[p];
+  out.ok = true;
+  return out;
+}
+
+CellResponse CellEvaluator::at_stress(const Eigen::Vector3d& sigma, CellHistory& h) {
+  CellResponse out;
+  check_shear(sigma, out);
+  if (!out.message.empty()) return out;
+  const int m = cell_.n_macro, n = cell_.n_rows();
+  if (h.active.size() != static_cast<std::size_t>(n)) h.active.clear();
+  Eigen::Matrix3d compliance = Eigen::Matrix3d::Zero();
+  out = cascade(h, [&](CellResponse& r) {
+    set_bounds(h.bonded, 0);
+    b_ = cell_.Y * sigma.head(m);
+    const qp::DenseQpResult qp = stress_qp_.solve(cell_.H, b_, C_stress_, lower_, upper_, h.active);
+    r.iterations += qp.iterations;
+    r.factorisations += qp.factorisations;
+    if (!qp.converged) {
+      r.message = "the cell's QP: " + qp.message;
+      return false;
+    }
+    r.forces = qp.x;
+    return true;
+  });
+  if (!out.ok) return out;
+  out.stress.head(m) = sigma.head(m);
+  out.strain.head(m) = cell_.S0 * sigma.head(m) - cell_.Y.transpose() * out.forces / cell_.volume;
+  // Compliance tangent dε̄/dσ̄ = S₀ − Yᵀ (dp/dσ̄)/|Ω| on the final active set; the stiffness
+  // tangent is its inverse.
+  const Eigen::MatrixXd dp = stress_qp_.sensitivity(cell_.Y);
+  compliance.topLeftCorner(m, m) = cell_.S0 - cell_.Y.transpose() * dp / cell_.volume;
+  const Eigen::MatrixXd C = compliance.topLeftCorner(m, m).inverse();
+  out.tangent.topLeftCorner(m, m) = 0.5 * (C + C.transpose());
+  if (m == 2) {
+    out.strain(2) = nan;
+    out.tangent.row(2).setConstant(nan);
+    out.tangent.col(2).setConstant(nan);
+  }
+  return out;
+}
+
+CellResponse CellEvaluator::at_strain(const Eigen::Vector3d& strain, CellHistory& h) {
+  CellResponse out;
+  check_shear(strain, out);
+  if (!out.message.empty()) return out;
+  const int m = cell_.n_macro, n = cell_.n_rows();
+  if (h.active.size() != static_cast<std::size_t>(m + n)) h.active.clear();
+  Eigen::VectorXd z;
+  out = cascade(h, [&](CellResponse& r) {
+    set_bounds(h.bonded, m);
+    b_ = Eigen::VectorXd::Zero(m + n);
+    b_.head(m) = cell_.volume * strain.head(m);
+    const qp::DenseQpResult qp = strain_qp_.solve(energy_, b_, C_strain_, lower_, upper_, h.active);
+    r.iterations += qp.iterations;
+    r.factorisations += qp.factorisations;
+    if (!qp.converged) {
+      r.message = "the cell's QP: " + qp.message;
+      return false;
+    }
+    z = qp.x;
+    r.forces = qp.x.tail(n);
+    return true;
+  });
+  if (!out.ok) return out;
+  out.stress.head(m) = z.head(m);
+  out.strain.head(m) = strain.head(m);
+  // dσ̄/dε̄: the σ̄ rows of dz/db for db = (|Ω| I, 0), symmetric as the KKT system is.
+  Eigen::MatrixXd db = Eigen::MatrixXd::Zero(m + n, m);
+  db.topRows(m) = cell_.volume * Eigen::MatrixXd::Identity(m, m);
+  const Eigen::MatrixXd dz = strain_qp_.sensitivity(db);
+  out.tangent.topLeftCorner(m, m) = 0.5 * (dz.topRows(m) + dz.topRows(m).transpose());
+  if (m == 2) {
+    out.strain(2) = nan;
+    out.tangent.row(2).setConstant(nan);
+    out.tangent.col(2).setConstant(nan);
+  }
+  return out;
+}
+
+double CellEvaluator::onset(const Eigen::Vector3d& sigma) {
+  const int m = cell_.n_macro, n = cell_.n_rows();
+  if (!cell_.adhesion()) return inf;
+  // The intact cell with the strengths lifted: contact rows keep p_n ≥ 0, so the admissible set
+  // stays a cone and p(sσ̄) = s p(σ̄) for s ≥ 0.
+  set_bounds(cell_.bonded, 0);
+  for (int r = 0; r < n; ++r) {
+    if (!cell_.bonded[cell_.pair[r]]) continue;
+    if (lower_(r) < 0) lower_(r) = -inf;
+    if (upper_(r) > 0) upper_(r) = inf;
+  }
+  b_ = cell_.Y * sigma.head(m);
+  std::vector<qp::Bound> active;
+  qp::DenseActiveSet lifted;
+  const qp::DenseQpResult qp = lifted.solve(cell_.H, b_, C_stress_, lower_, upper_, active);
+  if (!qp.converged) return nan;
+  double s = inf;
+  for (int r = 0; r < n; ++r) {
+    if (!cell_.bonded[cell_.pair[r]]) continue;
+    const double p = qp.x(r);
+    if (p < 0 && cell_.lower_bonded(r) < 0) s = std::min(s, cell_.lower_bonded(r) / p);
+    if (p > 0 && cell_.upper_bonded(r) > 0) s = std::min(s, cell_.upper_bonded(r) / p);
+  }
+  return s;
+}
+
+}  // namespace dualcell::law

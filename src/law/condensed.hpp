@@ -1,0 +1,114 @@
+#pragma once
+// The exact law of a cell: the cell condensed onto its interface rows (docs/method.md §16a).
+//
+//   symbol | variable              | meaning
+//   -------+-----------------------+----------------------------------------------------------
+//   |Ω|    | CondensedCell::volume | the cell's area (the block's, ex × ey cells)
+//   S₀     | S0                    | compliance of the open cell: every interface row removed
+//   H      | H                     | interface flexibility: the opening of row i per unit force
+//          |                       | pair at row j, the open cell responding
+//   Y      | Y                     | the opening of each interface row per unit macro stress
+//   G      | G                     | the fibres' equilibrium rows on the interface forces: G p = 0
+//   p      | CellResponse::forces  | interface forces (physical units: force per unit thickness)
+//
+// Stress-driven, p = argmin ½pᵀHp − pᵀYσ̄ over the admissible set, then ε̄ = S₀σ̄ − Yᵀp/|Ω|;
+// strain-driven, (σ̄, p) = argmin ½zᵀ𝓗z − |Ω|ε̄·σ̄ with z = (σ̄, p) and
+// 𝓗 = [|Ω|S₀ −Yᵀ; −Y H]. The admissible set: G p = 0 and per row the bounds of its bond state
+// (bonded: −s_n L ≤ p_n, |p_t| ≤ s_t L; broken: 0 ≤ p_n, p_t = 0). Strains use engineering
+// shear, ε̄ = (εxx, εyy, γxy), so that σ̄·ε̄ is the work per unit volume.
+//
+// History is the bond state: an evaluation solves, breaks every bonded row that ends at its
+// strength (normal and tangential rows of the pair together), and solves again until nothing
+// more breaks: the debond cascade of the cell, carried to the next evaluation of the same point.
+#include <Eigen/Core>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "qp/dense_qp.hpp"
+
+namespace dualcell::law {
+
+struct CondensedCell {
+  int n_macro = 3;  // 3: σ̄ = (σxx, σyy, σxy); 2: (σxx, σyy), the symmetry boundary (no shear)
+  double volume = 0;
+  Eigen::MatrixXd S0;  // n_macro × n_macro, symmetric positive definite
+  Eigen::MatrixXd Y;   // n_rows × n_macro
+  Eigen::MatrixXd H;   // n_rows × n_rows, symmetric positive semidefinite
+  Eigen::MatrixXd G;   // n_fibre_modes × n_rows
+  // Per interface row: tangential (1) or normal (0), its pair, the bounds of p while the pair
+  // is bonded and after it broke.
+  std::vector<std::uint8_t> tangential;
+  std::vector<int> pair;
+  Eigen::VectorXd lower_bonded, upper_bonded, lower_broken, upper_broken;
+  int n_pairs = 0;
+  std::vector<std::uint8_t> bonded;  // the bond state of the unloaded cell, per pair
+
+  // What the condensation measured: the asymmetry of 𝓗 before it was symmetrised (reciprocity,
+  // relative), its seconds, and the operator applications it took.
+  double reciprocity_error = 0;
+  double seconds = 0;
+  long operator_applications = 0;
+
+  int n_rows() const { return static_cast<int>(pair.size()); }
+  bool adhesion() const;
+  // Bytes of the matrices.
+  std::size_t bytes() const;
+};
+
+// Empty when the cell is usable (sizes agree, everything finite, S₀ and H symmetric, bounds
+// ordered with 0 within them); otherwise what is wrong.
+std::string consistency_problem(const CondensedCell& cell);
+
+// One unit of material that follows the exact law: its bond state and the active set of its
+// last evaluation (the warm start of the next).
+struct CellHistory {
+  std::vector<std::uint8_t> bonded;  // per pair
+  std::vector<qp::Bound> active;     // per unknown of the last QP (empty: none yet)
+};
+
+struct CellResponse {
+  Eigen::Vector3d stress = Eigen::Vector3d::Zero();   // σ̄ (σxy = 0 with n_macro = 2)
+  Eigen::Vector3d strain = Eigen::Vector3d::Zero();   // ε̄, engineering shear (γxy NaN with n_macro = 2)
+  Eigen::Matrix3d tangent = Eigen::Matrix3d::Zero();  // dσ̄/dε̄, symmetric (shear NaN with n_macro = 2)
+  Eigen::VectorXd forces;                             // p
+  int broken = 0;                                     // pairs broken after this evaluation
+  int newly_broken = 0;                               // of which broke in it
+  int iterations = 0;                                 // active-set subproblems, over all rounds
+  int factorisations = 0;
+  bool ok = false;
+  std::string message;  // why not, when not ok
+};
+
+// Evaluates one CondensedCell; holds the energy matrix 𝓗 and the QP workspaces (not thread-safe:
+// one evaluator per thread).
+class CellEvaluator {
+ public:
+  explicit CellEvaluator(const CondensedCell& cell);
+  const CondensedCell& cell() const { return cell_; }
+  // The unloaded cell's history.
+  CellHistory unloaded() const;
+  // The response to a macro stress σ̄ (stress-driven) or a macro strain ε̄ (strain-driven,
+  // engineering shear), from the history h, which is updated (breaks are irreversible).
+  CellResponse at_stress(const Eigen::Vector3d& sigma, CellHistory& h);
+  CellResponse at_strain(const Eigen::Vector3d& strain, CellHistory& h);
+  // The load factor s* at which the first bond of the unloaded cell breaks under s·σ̄ (+inf
+  // without adhesion or when no bond ever reaches its strength along σ̄): the bonded cell with
+  // its strengths lifted is homogeneous of degree one in σ̄, so s* = min over bonded rows of
+  // bound/p(σ̄).
+  double onset(const Eigen::Vector3d& sigma);
+
+ private:
+  template <class Solve>
+  CellResponse cascade(CellHistory& h, Solve&& solve);
+  void set_bounds(const std::vector<std::uint8_t>& bonded, int offset);
+  void check_shear(const Eigen::Vector3d& v, CellResponse& out) const;
+
+  const CondensedCell& cell_;
+  Eigen::MatrixXd energy_;               // 𝓗
+  Eigen::MatrixXd C_stress_, C_strain_;  // G, and [0 G]
+  Eigen::VectorXd lower_, upper_, b_;    // the QP's bounds and linear term
+  qp::DenseActiveSet stress_qp_, strain_qp_;
+};
+
+}  // namespace dualcell::law

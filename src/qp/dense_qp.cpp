@@ -1,0 +1,271 @@
+#include "qp/dense_qp.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace dualcell::qp {
+
+namespace {
+
+// A pivot below this fraction of the largest entry of the KKT matrix: the free set's system is
+// singular (A not positive definite on ker C, or a variable that no row can move).
+constexpr double singular_pivot = 1e-13;
+// Rows of C_F independent to this fraction of its largest column norm (QR with column pivoting
+// of C_Fᵀ): a fibre whose rows are all held at bounds leaves its rows of C with no free column.
+constexpr double independent_row = 1e-10;
+// A bound's multiplier of the wrong sign by less than this fraction of the terms that make it
+// up is round-off: releasing it would let the variable move by round-off and be caught again.
+constexpr double multiplier_round_off = 1e-10;
+// A step of a free variable below this fraction of the size of x is round-off.
+constexpr double round_off_move = 1e-12;
+
+}  // namespace
+
+void DenseActiveSet::free_a_basis(const Eigen::MatrixXd& C) {
+  const Eigen::Index n = C.cols(), n_c = C.rows();
+  if (n_c == 0) return;
+  // An orthonormal basis Q of the span of the free columns of C, then every held column that
+  // adds to that span is freed (it stays where it is: a free variable may sit on its bound).
+  Eigen::MatrixXd Q(n_c, n_c);
+  int rank = 0;
+  const double scale = std::max(C.cwiseAbs().maxCoeff(), std::numeric_limits<double>::min());
+  const auto add = [&](Eigen::Index i) {
+    if (rank == n_c) return false;
+    Eigen::VectorXd v = C.col(i);
+    for (int pass = 0; pass < 2; ++pass) v -= Q.leftCols(rank) * (Q.leftCols(rank).transpose() * v);
+    if (v.norm() <= independent_row * scale) return false;
+    Q.col(rank++) = v.normalized();
+    return true;
+  };
+  for (Eigen::Index i = 0; i < n; ++i)
+    if (working_[i] == Bound::free) add(i);
+  for (Eigen::Index i = 0; i < n && rank < n_c; ++i)
+    if (working_[i] != Bound::free && add(i)) working_[i] = Bound::free;
+}
+
+void DenseActiveSet::factorise(const Eigen::MatrixXd& A, const Eigen::MatrixXd& C) {
+  const Eigen::Index n = A.rows(), n_c = C.rows();
+  free_.clear();
+  for (Eigen::Index i = 0; i < n; ++i)
+    if (working_[i] == Bound::free) free_.push_back(static_cast<int>(i));
+  const int n_F = static_cast<int>(free_.size());
+  kept_rows_.clear();
+  if (n_c > 0 && n_F > 0) {
+    Eigen::MatrixXd CFt(n_F, n_c);
+    for (int j = 0; j < n_F; ++j) CFt.row(j) = C.col(free_[j]).transpose();
+    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(CFt);
+    qr.setThreshold(independent_row);
+    for (Eigen::Index k = 0; k < qr.rank(); ++k) kept_rows_.push_back(qr.colsPermutation().indices()(k));
+    std::sort(kept_rows_.begin(), kept_rows_.end());
+  }
+  const int r = static_cast<int>(kept_rows_.size()), k = n_F + r;
+  if (kkt_.rows() < k) kkt_.resize(std::max<Eigen::Index>(k, n + n_c), std::max<Eigen::Index>(k, n + n_c));
+  if (static_cast<int>(pivot_.size()) < k) pivot_.resize(n + n_c);
+  auto K = kkt_.topLeftCorner(k, k);
+  K.setZero();
+  for (int j = 0; j < n_F; ++j)
+    for (int i = 0; i < n_F; ++i) K(i, j) = A(free_[i], free_[j]);
+  for (int q = 0; q < r; ++q)
+    for (int j = 0; j < n_F; ++j) K(n_F + q, j) = K(j, n_F + q) = C(kept_rows_[q], free_[j]);
+  // LU with partial pivoting, in place (L unit lower, U upper).
+  const double largest = k > 0 ? K.cwiseAbs().maxCoeff() : 0.0;
+  for (int j = 0; j < k; ++j) {
+    Eigen::Index p;
+    const double pivot = K.col(j).tail(k - j).cwiseAbs().maxCoeff(&p);
+    p += j;
+    if (!(pivot > singular_pivot * largest)) {
+      factorised_ = false;
+      return;
+    }
+    pivot_[j] = static_cast<int>(p);
+    if (p != j) K.row(j).swap(K.row(p));
+    K.col(j).tail(k - j - 1) /= K(j, j);
+    K.bottomRightCorner(k - j - 1, k - j - 1).noalias() -= K.col(j).tail(k - j - 1) * K.row(j).tail(k - j - 1);
+  }
+  A_data_ = A.data();
+  C_data_ = C.data();
+  n_ = n;
+  n_c_ = n_c;
+  factorised_ = true;
+}
+
+void DenseActiveSet::lu_solve(Eigen::VectorXd& rhs) const {
+  const int k = static_cast<int>(rhs.size());
+  for (int j = 0; j < k; ++j)
+    if (pivot_[j] != j) std::swap(rhs(j), rhs(pivot_[j]));
+  const auto K = kkt_.topLeftCorner(k, k);
+  K.triangularView<Eigen::UnitLower>().solveInPlace(rhs);
+  K.triangularView<Eigen::Upper>().solveInPlace(rhs);
+}
+
+void DenseActiveSet::solve_subproblem(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const Eigen::MatrixXd& C,
+                                      const Eigen::VectorXd& x, Eigen::VectorXd& x_free, Eigen::VectorXd& mu) const {
+  const int n_F = static_cast<int>(free_.size()), r = static_cast<int>(kept_rows_.size());
+  // The held part of x: x_W (the free entries zero).
+  Eigen::VectorXd x_held = x;
+  for (int i : free_) x_held(i) = 0;
+  Eigen::VectorXd rhs(n_F + r);
+  const Eigen::VectorXd A_held = A * x_held;
+  for (int j = 0; j < n_F; ++j) rhs(j) = b(free_[j]) - A_held(free_[j]);
+  for (int q = 0; q < r; ++q) rhs(n_F + q) = -C.row(kept_rows_[q]).dot(x_held);
+  lu_solve(rhs);
+  x_free = rhs.head(n_F);
+  mu = Eigen::VectorXd::Zero(C.rows());
+  for (int q = 0; q < r; ++q) mu(kept_rows_[q]) = rhs(n_F + q);
+}
+
+DenseQpResult DenseActiveSet::solve(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const Eigen::MatrixXd& C,
+                                    const Eigen::VectorXd& l, const Eigen::VectorXd& u, std::vector<Bound>& active) {
+  DenseQpResult out;
+  const Eigen::Index n = A.rows();
+  if (A.cols() != n || b.size() != n || l.size() != n || u.size() != n || (C.rows() > 0 && C.cols() != n)) {
+    out.message = "sizes do not match";
+    return out;
+  }
+  if ((l.array() > 0).any() || (u.array() < 0).any()) {
+    out.message = "x = 0 is not within the bounds";
+    return out;
+  }
+  if (static_cast<Eigen::Index>(active.size()) != n) active.assign(n, Bound::free);
+  const bool same_problem = factorised_ && A.data() == A_data_ && C.data() == C_data_ && n == n_ && C.rows() == n_c_;
+
+  // The working set and x at its bounds; a bound that is infinite cannot hold a variable.
+  const auto hold = [&](std::vector<Bound>& set, Eigen::VectorXd& x) {
+    for (Eigen::Index i = 0; i < n; ++i) {
+      if (l(i) == u(i)) set[i] = Bound::lower;  // a fixed variable is held from the start
+      if (set[i] == Bound::lower && !std::isfinite(l(i))) set[i] = Bound::free;
+      if (set[i] == Bound::upper && !std::isfinite(u(i))) set[i] = Bound::free;
+      x(i) = set[i] == Bound::lower ? l(i) : set[i] == Bound::upper ? u(i) : x(i);
+    }
+  };
+  const auto refactorise = [&] {
+    bool same = same_problem || (factorised_ && A.data() == A_data_ && C.data() == C_data_);
+    if (same) {
+      int j = 0;
+      for (Eigen::Index i = 0; i < n && same; ++i)
+        if (working_[i] == Bound::free) same = j < static_cast<int>(free_.size()) && free_[j++] == i;
+      same = same && j == static_cast<int>(free_.size());
+    }
+    if (!same) {
+      factorise(A, C);
+      ++out.factorisations;
+    }
+    return factorised_;
+  };
+  const auto feasible = [&](const Eigen::VectorXd& x_free) {
+    for (std::size_t j = 0; j < free_.size(); ++j) {
+      const int i = free_[j];
+      const double slack = 1e-12 * (1 + std::abs(x_free(j)));
+      if (x_free(j) < l(i) - slack || x_free(j) > u(i) + slack) return false;
+    }
+    return true;
+  };
+
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(n), x_free, mu;
+  // Warm start: the given set as it stands, if its subproblem's solution is feasible.
+  working_ = active;
+  hold(working_, x);
+  free_a_basis(C);
+  bool at_subproblem_solution = false;
+  if (refactorise()) {
+    solve_subproblem(A, b, C, x, x_free, mu);
+    ++out.iterations;
+    if (feasible(x_free)) {
+      for (std::size_t j = 0; j < free_.size(); ++j) x(free_[j]) = std::clamp(x_free(j), l(free_[j]), u(free_[j]));
+      at_subproblem_solution = true;
+    }
+  }
+  if (!at_subproblem_solution) {
+    // Cold start from x = 0, every variable with a bound at zero held there: the method then
+    // releases what the multipliers ask for (a step from 0 towards a free subproblem's solution
+    // would be blocked at once by every such variable, one per iteration).
+    x.setZero();
+    for (Eigen::Index i = 0; i < n; ++i)
+      working_[i] = l(i) == 0 ? Bound::lower : u(i) == 0 ? Bound::upper : Bound::free;
+    free_a_basis(C);
+  }
+
+  // The size of x that b asks for, ‖b‖/‖A‖, for a problem whose x is 0 so far.
+  const double b_scale =
+      b.lpNorm<Eigen::Infinity>() / std::max(A.cwiseAbs().maxCoeff(), std::numeric_limits<double>::min());
+  const int max_iterations = 10 * static_cast<int>(n) + 50;
+  while (out.iterations <= max_iterations) {
+    if (!at_subproblem_solution) {
+      if (!refactorise()) {
+        out.message = "the KKT system of the free set is singular (A not positive definite on ker C)";
+        return out;
+      }
+      solve_subproblem(A, b, C, x, x_free, mu);
+      ++out.iterations;
+      // Step from x towards the subproblem's solution, as far as the bounds allow.
+      // A move of round-off size (a variable the rows of C pin, at 0 up to round-off) blocks
+      // nothing: holding it would make the working set dependent.
+      const double x_scale = std::max({x.lpNorm<Eigen::Infinity>(), x_free.lpNorm<Eigen::Infinity>(), b_scale});
+      double step = 1;
+      int blocking = -1;
+      Bound blocking_bound = Bound::free;
+      for (std::size_t j = 0; j < free_.size(); ++j) {
+        const int i = free_[j];
+        double d = x_free(j) - x(i);
+        if (std::abs(d) <= round_off_move * x_scale) d = 0;
+        if (d < 0 && std::isfinite(l(i)) && (l(i) - x(i)) / d < step)
+          step = std::max(0.0, (l(i) - x(i)) / d), blocking = i, blocking_bound = Bound::lower;
+        if (d > 0 && std::isfinite(u(i)) && (u(i) - x(i)) / d < step)
+          step = std::max(0.0, (u(i) - x(i)) / d), blocking = i, blocking_bound = Bound::upper;
+      }
+      for (std::size_t j = 0; j < free_.size(); ++j) x(free_[j]) += step * (x_free(j) - x(free_[j]));
+      if (blocking >= 0) {
+        working_[blocking] = blocking_bound;
+        x(blocking) = blocking_bound == Bound::lower ? l(blocking) : u(blocking);
+        continue;
+      }
+      at_subproblem_solution = true;
+    }
+    // At the subproblem's solution: the multipliers of the held bounds.
+    out.nu = A * x - b;
+    if (C.rows() > 0) out.nu.noalias() += C.transpose() * mu;
+    // A multiplier counts as wrong only beyond the round-off of the terms that make it up.
+    const Eigen::VectorXd terms =
+        A.cwiseAbs() * x.cwiseAbs() + b.cwiseAbs() +
+        (C.rows() > 0 ? (C.cwiseAbs().transpose() * mu.cwiseAbs()).eval() : Eigen::VectorXd::Zero(n).eval());
+    int release = -1;
+    double worst = 0;
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const double wrong = working_[i] == Bound::lower ? -out.nu(i) : working_[i] == Bound::upper ? out.nu(i) : 0.0;
+      const double relative = wrong / std::max(terms(i), std::numeric_limits<double>::min());
+      if (relative > multiplier_round_off && relative > worst) worst = relative, release = static_cast<int>(i);
+    }
+    if (release < 0) {
+      for (Eigen::Index i = 0; i < n; ++i)
+        if (working_[i] == Bound::free) out.nu(i) = 0;
+      out.x = x;
+      out.mu = mu;
+      out.converged = true;
+      active = working_;
+      return out;
+    }
+    working_[release] = Bound::free;
+    at_subproblem_solution = false;
+  }
+  out.message = "no solution within " + std::to_string(max_iterations) + " active-set iterations (cycling)";
+  out.x = x;
+  return out;
+}
+
+Eigen::MatrixXd DenseActiveSet::sensitivity(const Eigen::MatrixXd& db) const {
+  Eigen::MatrixXd dx = Eigen::MatrixXd::Zero(db.rows(), db.cols());
+  if (!factorised_) return dx;
+  const int n_F = static_cast<int>(free_.size()), r = static_cast<int>(kept_rows_.size());
+  Eigen::VectorXd rhs(n_F + r);
+  for (Eigen::Index c = 0; c < db.cols(); ++c) {
+    rhs.setZero();
+    for (int j = 0; j < n_F; ++j) rhs(j) = db(free_[j], c);
+    lu_solve(rhs);
+    for (int j = 0; j < n_F; ++j) dx(free_[j], c) = rhs(j);
+  }
+  return dx;
+}
+
+}  // namespace dualcell::qp

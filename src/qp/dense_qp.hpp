@@ -1,0 +1,80 @@
+#pragma once
+// A small dense convex QP solved exactly by a primal active-set method (docs/method.md §16a):
+//
+//   min ½ xᵀA x − bᵀx   s.t.  C x = 0,  l ≤ x ≤ u,
+//
+// A symmetric, positive semidefinite and positive definite on ker C; l ≤ 0 ≤ u, so x = 0 is
+// feasible. It is the exact law of a cell (law/condensed.hpp): tens to a few hundred unknowns,
+// a few equality rows. Unlike MPRGP it stops at the exact solution of a finite system (to
+// round-off, not to a tolerance) and returns the exact active set, which the consistent tangent
+// needs.
+//
+// Each iteration solves the equality-constrained problem with the variables of the working set
+// held at their bounds (the KKT system of the free ones, factorised by LU with partial
+// pivoting), then either steps to the first bound met (which joins the working set) or, at the
+// solution of that subproblem, releases the bound whose multiplier has the wrong sign by the
+// most (Nocedal & Wright, Numerical Optimization, §16.5). Every step keeps x feasible and does
+// not increase the objective; a working set never repeats once the objective has decreased,
+// so the method terminates.
+//
+// Warm start: `active` in is the previous answer's active set. It is tried first as it stands
+// (the common case along a path: the same set, one solve); if its subproblem's solution is not
+// feasible the method starts from x = 0 with every bound at zero held. Either way held
+// variables are freed until the free columns of C have its full rank (a working set must be
+// linearly independent for its multipliers to say which bound to release). The factorisation
+// of the last working set is kept and reused while the free set and the problem stay the same.
+#include <Eigen/Core>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace dualcell::qp {
+
+enum class Bound : std::int8_t { free = 0, lower = -1, upper = 1 };
+
+struct DenseQpResult {
+  Eigen::VectorXd x;
+  // Multipliers: A x − b + Cᵀμ = ν with ν_i ≥ 0 at a lower bound, ≤ 0 at an upper one, 0 where free.
+  Eigen::VectorXd mu, nu;
+  int iterations = 0;      // subproblems solved
+  int factorisations = 0;  // of those, the ones that needed a new factorisation
+  bool converged = false;
+  std::string message;  // why not, when not converged
+};
+
+class DenseActiveSet {
+ public:
+  // Solves the QP; `active` (size n, or empty for none) is the warm start in and the active set
+  // of the solution out. A and C must stay the same between calls that rely on the kept
+  // factorisation: a call with other matrices (another address or size) factorises anew, and
+  // reset() forgets the factorisation.
+  DenseQpResult solve(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const Eigen::MatrixXd& C,
+                      const Eigen::VectorXd& l, const Eigen::VectorXd& u, std::vector<Bound>& active);
+  // dx/db at the last solution's active set (the free variables move, the bound ones do not),
+  // one column per column of db: what the tangent of a law needs.
+  Eigen::MatrixXd sensitivity(const Eigen::MatrixXd& db) const;
+  void reset() { factorised_ = false; }
+
+ private:
+  // The KKT system of the free set: [A_FF C_Kᵀ; C_K 0], C_K the independent rows of C_F.
+  void factorise(const Eigen::MatrixXd& A, const Eigen::MatrixXd& C);
+  // Frees held variables until the free columns of C span what all columns span, so that the
+  // working set (held bounds and the rows of C) is linearly independent: its multipliers are
+  // then unique, and a released bound moves its variable off the bound.
+  void free_a_basis(const Eigen::MatrixXd& C);
+  // x_F and μ of the subproblem with x_W held; x is updated only on the free entries.
+  void solve_subproblem(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const Eigen::MatrixXd& C,
+                        const Eigen::VectorXd& x, Eigen::VectorXd& x_free, Eigen::VectorXd& mu) const;
+  void lu_solve(Eigen::VectorXd& rhs) const;
+
+  std::vector<Bound> working_;  // the working set of the kept factorisation
+  std::vector<int> free_, kept_rows_;
+  Eigen::MatrixXd kkt_;  // LU factors in place (unit lower, upper)
+  std::vector<int> pivot_;
+  const double* A_data_ = nullptr;
+  const double* C_data_ = nullptr;
+  Eigen::Index n_ = -1, n_c_ = -1;
+  bool factorised_ = false;
+};
+
+}  // namespace dualcell::qp

@@ -1,0 +1,180 @@
+// The exact law of a cell (docs/method.md §16a) against the full dual solve of the same cell at
+// stress directions that no condensation step saw, and against its own algebra.
+#include "feti/condense.hpp"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <random>
+
+#include "feti/solver.hpp"
+#include "sweep/sweep.hpp"
+#include "test_util.hpp"
+
+namespace dualcell::feti {
+namespace {
+
+// The full solver stops at a relative projected gradient of 1e-10; its macro strain carries that
+// error amplified by the conditioning of the dual problem (≈ 1e2 for these meshes): 1e-7
+// relative leaves an order of margin. The law's own evaluations are exact to round-off (1e-11).
+constexpr double against_solver = 1e-7;
+constexpr double round_off = 1e-11;
+
+Scene cell_scene(Boundary boundary, Element element, int ex, int ey, double strength, int degree = 2) {
+  Scene s = parse_scene(testing::scene_text(ex, ey, degree, 0.3), "test.toml");
+  s.geometry.element = element;
+  s.fibre = {30.0, 0.22};
+  s.matrix = {1.0, 0.35};
+  s.load.boundary = boundary;
+  s.interface.normal_strength = strength;
+  s.interface.tangential_strength = strength;
+  s.solver.tolerance = 1e-10;
+  return s;
+}
+
+// Engineering shear from the solver's tensor shear.
+Eigen::Vector3d engineering(const Eigen::Vector3d& tensor) { return {tensor(0), tensor(1), 2 * tensor(2)}; }
+
+// v without its shear where the cell has none (the symmetry boundary: NaN there).
+Eigen::Vector3d in_plane(Eigen::Vector3d v, bool shear) {
+  if (!shear) v(2) = 0;
+  return v;
+}
+Eigen::Matrix3d in_plane(Eigen::Matrix3d C, bool shear) {
+  if (!shear) C.row(2).setZero(), C.col(2).setZero();
+  return C;
+}
+
+// Directions with all three components (two only for the symmetry boundary), not on any axis.
+std::vector<Eigen::Vector3d> directions(int n, bool shear, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> g;
+  std::vector<Eigen::Vector3d> out;
+  for (int i = 0; i < n; ++i) out.push_back(Eigen::Vector3d(g(rng), g(rng), shear ? g(rng) : 0.0).normalized());
+  return out;
+}
+
+struct Case {
+  Boundary boundary;
+  Element element;
+  int ex, ey;
+};
+
+class CondensedContact : public ::testing::TestWithParam<Case> {};
+
+INSTANTIATE_TEST_SUITE_P(Cells, CondensedContact,
+                         ::testing::Values(Case{Boundary::periodic, Element::p2, 1, 1},
+                                           Case{Boundary::periodic, Element::p1, 2, 1},
+                                           Case{Boundary::traction, Element::p2, 1, 1},
+                                           Case{Boundary::symmetry, Element::p2, 2, 2}),
+                         [](const auto& info) {
+                           const Case& c = info.param;
+                           return std::string(to_string(c.boundary)) + "_" + to_string(c.element) + "_" +
+                                  std::to_string(c.ex) + "x" + std::to_string(c.ey);
+                         });
+
+// Without adhesion: the law's strain for a stress equals the full solve's, at directions
+// drawn at random; the strain-driven law inverts it; the tangent is the derivative.
+TEST_P(CondensedContact, ReproducesTheCellAtDirectionsItNeverSaw) {
+  const Case c = GetParam();
+  const Scene scene = cell_scene(c.boundary, c.element, c.ex, c.ey, 0.0);
+  const mesh::Mesh mesh = mesh::build_mesh(scene.geometry);
+  ContactSolver solver(mesh, scene);
+  const law::CondensedCell cell = condense(solver.setup());
+  EXPECT_EQ(law::consistency_problem(cell), "");
+  // Reciprocity holds to the round-off of the elimination (measured 1e-13 … 1e-11).
+  EXPECT_LE(cell.reciprocity_error, 1e-9);
+  EXPECT_FALSE(cell.adhesion());
+  const bool shear = c.boundary != Boundary::symmetry;
+  EXPECT_EQ(cell.n_macro, shear ? 3 : 2);
+
+  law::CellEvaluator law(cell);
+  for (const Eigen::Vector3d& sigma : directions(6, shear, 7)) {
+    const Solution s = solver.solve(sigma, solver.intact());
+    ASSERT_TRUE(s.converged());
+    law::CellHistory h = law.unloaded();
+    const law::CellResponse r = law.at_stress(sigma, h);
+    ASSERT_TRUE(r.ok) << r.message;
+    const Eigen::Vector3d strain = in_plane(r.strain, shear), expected = in_plane(engineering(s.strain), shear);
+    const Eigen::Matrix3d tangent = in_plane(r.tangent, shear);
+    EXPECT_LE((strain - expected).norm(), against_solver * expected.norm()) << sigma.transpose();
+    EXPECT_EQ(r.broken, 0);
+
+    // Strain-driven at that strain: the same stress back, with the same tangent.
+    law::CellHistory h2 = law.unloaded();
+    const law::CellResponse back = law.at_strain(strain, h2);
+    ASSERT_TRUE(back.ok) << back.message;
+    EXPECT_LE((back.stress - sigma).norm(), 1e2 * round_off) << sigma.transpose();
+    EXPECT_LE((in_plane(back.tangent, shear) - tangent).norm(), 1e-8 * tangent.norm());
+
+    // Positively homogeneous of degree one: no adhesion, a cone.
+    law::CellHistory h3 = law.unloaded();
+    const Eigen::Vector3d twice = in_plane(law.at_stress(2.5 * sigma, h3).strain, shear);
+    EXPECT_LE((twice - 2.5 * strain).norm(), 1e2 * round_off * strain.norm());
+
+    // The tangent against central differences of the strain-driven law (piecewise linear: exact
+    // inside a piece; the step 1e-7 of |ε̄| stays inside it unless a row switches within it).
+    const double step = 1e-7 * strain.norm();
+    for (int k = 0; k < cell.n_macro; ++k) {
+      law::CellHistory hp = law.unloaded(), hm = law.unloaded();
+      const Eigen::Vector3d plus = law.at_strain(strain + step * Eigen::Vector3d::Unit(k), hp).stress;
+      const Eigen::Vector3d minus = law.at_strain(strain - step * Eigen::Vector3d::Unit(k), hm).stress;
+      const Eigen::Vector3d column = (plus - minus) / (2 * step);
+      EXPECT_LE((column - tangent.col(k)).norm(), 1e-6 * tangent.norm()) << k;
+    }
+  }
+}
+
+// With adhesion: the exact onset, then a path through the fuse with the bonds carried along it,
+// against the full solver stepping the same path (sweep::LoadWalk); stress-driven, and
+// strain-driven along the strains it reached.
+TEST(CondensedAdhesion, ThroughTheFuseAlongAPathAsTheCellDoes) {
+  for (const Element element : {Element::p1, Element::p2}) {
+    const Scene scene = cell_scene(Boundary::periodic, element, 1, 1, 0.05);
+    const mesh::Mesh mesh = mesh::build_mesh(scene.geometry);
+    ContactSolver solver(mesh, scene);
+    const law::CondensedCell cell = condense(solver.setup());
+    EXPECT_EQ(law::consistency_problem(cell), "");
+    EXPECT_LE(cell.reciprocity_error, 1e-9);
+    ASSERT_TRUE(cell.adhesion());
+    law::CellEvaluator law(cell);
+    for (const Eigen::Vector3d& N : directions(3, true, 11)) {
+      // The onset of §11 (a QP at tolerance 1e-10 on the lifted problem) against the law's.
+      const double onset = solver.debond_onset(N);
+      EXPECT_NEAR(law.onset(N), onset, against_solver * onset) << N.transpose();
+      sweep::LoadWalk walk(solver, N, solver.intact());
+      law::CellHistory h = law.unloaded();
+      int broken_seen = 0;
+      for (const double fraction : {0.5, 0.9, 1.05, 1.3, 1.8, 2.5}) {
+        const double load = fraction * onset;
+        const Solution s = walk.solve(load);
+        ASSERT_TRUE(s.converged());
+        walk.accept(load, s);
+        const law::CellResponse r = law.at_stress(load * N, h);
+        ASSERT_TRUE(r.ok) << r.message;
+        const Eigen::Vector3d expected = engineering(s.strain);
+        EXPECT_LE((r.strain - expected).norm(), against_solver * expected.norm())
+            << to_string(element) << " at " << fraction << " × onset along " << N.transpose();
+        const int broken = sweep::count_broken(solver.intact(), s.bonds);
+        EXPECT_EQ(r.broken, broken) << fraction;
+        if (fraction < 1) {
+          EXPECT_EQ(r.broken, 0);
+        }
+        broken_seen = std::max(broken_seen, broken);
+        // Strain-driven at the strain reached, from the same bond state: the same stress, no
+        // new breaks. (From the state before the step it would differ past the onset: a
+        // strain-driven step breaks at other stresses than a stress-driven one.)
+        law::CellHistory same = h;
+        const law::CellResponse back = law.at_strain(r.strain, same);
+        ASSERT_TRUE(back.ok) << back.message;
+        EXPECT_LE((back.stress - load * N).norm(), 1e-8 * load) << fraction;
+        EXPECT_EQ(back.newly_broken, 0) << fraction;
+      }
+      EXPECT_GT(broken_seen, 0) << "the path must reach past the fuse";
+    }
+  }
+}
+
+}  // namespace
+}  // namespace dualcell::feti

@@ -1,0 +1,150 @@
+// The exact active-set method for small dense QPs (qp/dense_qp.hpp), checked by the optimality
+// conditions of a convex QP, which are sufficient: feasibility, stationarity with the signs of
+// the bound multipliers, complementarity.
+#include "qp/dense_qp.hpp"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <limits>
+#include <random>
+
+namespace dualcell::qp {
+namespace {
+
+constexpr double inf = std::numeric_limits<double>::infinity();
+
+struct Problem {
+  Eigen::MatrixXd A, C;
+  Eigen::VectorXd b, l, u;
+};
+
+// A = LLᵀ of rank n − k (positive semidefinite) plus the rows C that make it definite on ker C:
+// the structure of the cell law (fibres free to move unless their rows hold them).
+Problem random_problem(int n, int n_c, unsigned seed, bool semidefinite) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> g;
+  std::uniform_real_distribution<double> uniform(0, 1);
+  Problem p;
+  Eigen::MatrixXd L(n, n);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) L(i, j) = g(rng);
+  p.C = Eigen::MatrixXd(n_c, n);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n_c; ++i) p.C(i, j) = g(rng);
+  if (semidefinite && n_c > 0) {
+    // Drop the directions that the rows of C see from A's range: A is singular there.
+    const Eigen::MatrixXd Q = p.C.transpose().householderQr().householderQ() * Eigen::MatrixXd::Identity(n, n_c);
+    L -= Q * (Q.transpose() * L);
+  }
+  p.A = L * L.transpose() + (semidefinite ? 0.0 : 0.1) * Eigen::MatrixXd::Identity(n, n);
+  p.b.resize(n), p.l.resize(n), p.u.resize(n);
+  for (int i = 0; i < n; ++i) {
+    p.b(i) = 3 * g(rng);
+    const double kind = uniform(rng);  // contact (0 ≤ x), bond (−s ≤ x), box, fixed, free
+    p.l(i) = kind < 0.5 ? 0.0 : kind < 0.7 ? -uniform(rng) : kind < 0.85 ? -uniform(rng) : kind < 0.9 ? 0.0 : -inf;
+    p.u(i) = kind < 0.7 ? inf : kind < 0.85 ? uniform(rng) : kind < 0.9 ? 0.0 : inf;
+  }
+  return p;
+}
+
+// The optimality conditions, to `tolerance` relative to the size of the terms.
+void expect_optimal(const Problem& p, const DenseQpResult& r, const std::vector<Bound>& active, double tolerance) {
+  ASSERT_TRUE(r.converged) << r.message;
+  const Eigen::VectorXd& x = r.x;
+  const double scale = (p.A.cwiseAbs() * x.cwiseAbs()).maxCoeff() + p.b.lpNorm<Eigen::Infinity>();
+  if (p.C.rows() > 0) {
+    EXPECT_LE((p.C * x).norm(), tolerance * p.C.norm() * x.norm());
+  }
+  const Eigen::VectorXd nu =
+      p.A * x - p.b + (p.C.rows() > 0 ? (p.C.transpose() * r.mu).eval() : Eigen::VectorXd::Zero(x.size()).eval());
+  for (Eigen::Index i = 0; i < x.size(); ++i) {
+    EXPECT_GE(x(i), p.l(i) - tolerance * scale) << i;
+    EXPECT_LE(x(i), p.u(i) + tolerance * scale) << i;
+    switch (active[i]) {
+      case Bound::free:
+        EXPECT_NEAR(nu(i), 0, tolerance * scale) << i;
+        break;
+      case Bound::lower:
+        EXPECT_EQ(x(i), p.l(i));
+        EXPECT_GE(nu(i), -tolerance * scale) << i;
+        break;
+      case Bound::upper:
+        EXPECT_EQ(x(i), p.u(i));
+        EXPECT_LE(nu(i), tolerance * scale) << i;
+        break;
+    }
+  }
+}
+
+TEST(DenseActiveSet, SolvesRandomBoxQpsWithEqualityRowsExactly) {
+  for (unsigned seed = 1; seed <= 40; ++seed) {
+    const int n = 5 + static_cast<int>(seed % 7) * 9, n_c = static_cast<int>(seed % 4);
+    const Problem p = random_problem(n, n_c, seed, seed % 2 == 0);
+    DenseActiveSet qp;
+    std::vector<Bound> active;
+    const DenseQpResult r = qp.solve(p.A, p.b, p.C, p.l, p.u, active);
+    // Round-off of an LU of size ≤ 60 on matrices of condition ≲ 1e4: 1e-9 relative.
+    expect_optimal(p, r, active, 1e-9);
+  }
+}
+
+// Along a path (b moving a little) the active set stays: the warm start solves one subproblem
+// with the factorisation it kept.
+TEST(DenseActiveSet, AWarmStartAtTheSameActiveSetIsOneSolveWithoutFactorisation) {
+  const Problem p = random_problem(40, 2, 5, false);
+  DenseQpResult r;
+  DenseActiveSet qp;
+  std::vector<Bound> active;
+  r = qp.solve(p.A, p.b, p.C, p.l, p.u, active);
+  ASSERT_TRUE(r.converged);
+  EXPECT_GE(r.factorisations, 1);
+  const std::vector<Bound> first = active;
+  Problem q = p;
+  q.b *= 1.0 + 1e-9;  // scaled: x scales, the active set of a cone stays (bounds at 0 stay)
+  for (Eigen::Index i = 0; i < q.l.size(); ++i)
+    if (q.l(i) != 0 || q.u(i) != 0) q.l(i) = q.l(i) == 0 ? 0.0 : -inf, q.u(i) = q.u(i) == 0 ? 0.0 : inf;
+  DenseActiveSet cone;
+  std::vector<Bound> cone_active;
+  ASSERT_TRUE(cone.solve(q.A, p.b, q.C, q.l, q.u, cone_active).converged);
+  const DenseQpResult again = cone.solve(q.A, q.b, q.C, q.l, q.u, cone_active);
+  expect_optimal(q, again, cone_active, 1e-9);
+  EXPECT_EQ(again.iterations, 1);
+  EXPECT_EQ(again.factorisations, 0);
+}
+
+// dx/db at the active set against the difference of two solves that keep it.
+TEST(DenseActiveSet, SensitivityIsTheDerivativeAtTheActiveSet) {
+  const Problem p = random_problem(30, 3, 9, false);
+  DenseActiveSet qp;
+  std::vector<Bound> active;
+  const DenseQpResult r = qp.solve(p.A, p.b, p.C, p.l, p.u, active);
+  ASSERT_TRUE(r.converged);
+  Eigen::VectorXd db = Eigen::VectorXd::Zero(p.b.size());
+  db(3) = 1e-7, db(7) = -2e-7;
+  const Eigen::MatrixXd dx = qp.sensitivity(db);
+  DenseActiveSet other;
+  std::vector<Bound> same = active;
+  const Eigen::VectorXd b2 = p.b + db;
+  const DenseQpResult r2 = other.solve(p.A, b2, p.C, p.l, p.u, same);
+  ASSERT_TRUE(r2.converged);
+  ASSERT_EQ(same, active) << "the step must keep the active set";
+  // A linear map: exact to round-off.
+  EXPECT_LE((r2.x - r.x - dx.col(0)).norm(), 1e-12 * r.x.norm());
+}
+
+TEST(DenseActiveSet, RefusesWhatItCannotSolve) {
+  Problem p = random_problem(6, 1, 3, false);
+  DenseActiveSet qp;
+  std::vector<Bound> active;
+  p.l(2) = 0.5;  // x = 0 infeasible
+  const DenseQpResult r = qp.solve(p.A, p.b, p.C, p.l, p.u, active);
+  EXPECT_FALSE(r.converged);
+  EXPECT_EQ(r.message, "x = 0 is not within the bounds");
+  p.l(2) = 0;
+  Eigen::VectorXd short_b = p.b.head(5);
+  EXPECT_EQ(qp.solve(p.A, short_b, p.C, p.l, p.u, active).message, "sizes do not match");
+}
+
+}  // namespace
+}  // namespace dualcell::qp
