@@ -31,7 +31,7 @@ std::vector<int> all(Eigen::Index n) {
 
 }  // namespace
 
-law::CondensedCell condense(const FetiSetup& setup) {
+law::CondensedCell condense(const FetiSetup& setup, int max_rows) {
   const auto start = std::chrono::steady_clock::now();
   const Scene& scene = setup.scene();
   const mesh::Mesh& mesh = setup.mesh();
@@ -45,6 +45,9 @@ law::CondensedCell condense(const FetiSetup& setup) {
   const DualProblem dual(setup, build_constraints(mesh, scene, intact));
   const Constraints& con = dual.constraints();
   const int m = con.n_rows();
+  if (m > max_rows)
+    throw InputError("the cell has " + std::to_string(m) + " constraint rows, more than the " +
+                     std::to_string(max_rows) + " a dense condensation pays for");
   std::vector<int> I, E;
   for (int r = 0; r < m; ++r) (is_interface(con.kind[r]) ? I : E).push_back(r);
 

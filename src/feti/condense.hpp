@@ -19,8 +19,13 @@
 
 namespace dualcell::feti {
 
-// Every rank of setup.group() must call it (it applies F). An InputError for a scene that has no
-// cell law: the edges boundary, a body force (the law would not be homogeneous).
-law::CondensedCell condense(const FetiSetup& setup);
+// Beyond this many rows of B the dense F (8·rows² bytes, one application per row) no longer
+// pays: 3000 rows are 72 MB and seconds of applications; the compact law stands alone there.
+inline constexpr int max_condensed_rows = 3000;
+
+// Every rank of setup.group() must call it (it applies F). An InputError, saying why, for a
+// scene that has no cell law (the edges boundary; a body force: the law would not be
+// homogeneous) or whose B has more than max_rows rows.
+law::CondensedCell condense(const FetiSetup& setup, int max_rows = max_condensed_rows);
 
 }  // namespace dualcell::feti

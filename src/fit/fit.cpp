@@ -12,6 +12,7 @@
 #include <map>
 #include <memory>
 #include <numbers>
+#include <stdexcept>
 
 #include "core/error.hpp"
 #include "core/version.hpp"
@@ -195,6 +196,34 @@ double along(const Eigen::Vector3d& N, const Eigen::Vector3d& strain) {
   return N(0) * strain(0) + N(1) * strain(1) + 2 * N(2) * strain(2);
 }
 
+law::CellReplay replay_cell(const law::CondensedCell& cell, const std::vector<sweep::PathResult>& paths,
+                            double qp_tolerance) {
+  law::CellReplay replay;
+  replay.limit = 1e3 * qp_tolerance;
+  law::CellEvaluator evaluator(cell);
+  double sum = 0;
+  replay.max_error = 0;
+  for (std::size_t i = 0; i < paths.size(); ++i) {
+    law::CellHistory history = evaluator.unloaded();
+    for (std::size_t k = 0; k < paths[i].steps.size(); ++k) {
+      const sweep::Step& step = paths[i].steps[k];
+      const law::CellResponse r = evaluator.at_stress(step.stress, history);
+      if (!r.ok) throw std::runtime_error("the exact law failed on the sweep's stress: " + r.message);
+      if (!step.converged || step.load == 0) continue;
+      Eigen::Vector3d expected(step.strain(0), step.strain(1), 2 * step.strain(2)), strain = r.strain;
+      if (cell.n_macro == 2) expected(2) = strain(2) = 0;  // no shear with the symmetry boundary
+      const double error = (strain - expected).norm() / expected.norm();
+      ++replay.points;
+      sum += error * error;
+      if (error > replay.max_error || std::isnan(error))
+        replay.max_error = error, replay.worst_path = static_cast<int>(i), replay.worst_step = static_cast<int>(k);
+      replay.break_mismatches += r.broken != step.broken_bonds;
+    }
+  }
+  replay.rms_error = replay.points > 0 ? std::sqrt(sum / replay.points) : nan;
+  return replay;
+}
+
 law::Law fit_law(const std::vector<sweep::PathResult>& paths, const sweep::SweepHeader& header) {
   law::Law law;
   std::vector<double> directions;
@@ -294,6 +323,10 @@ law::Law fit_law(const std::vector<sweep::PathResult>& paths, const sweep::Sweep
       law.onset.path_sweep_onset.push_back(p.fuse ? std::abs(p.fuse->onset_load) : nan);
     }
   }
+
+  law.cell = header.cell;
+  law.cell_note = header.cell_note;
+  if (law.cell) law.cell_replay = replay_cell(*law.cell, paths, header.qp_tolerance);
 
   law.constituents = header.constituents;
   law.provenance = header.provenance;

@@ -23,6 +23,11 @@ namespace dualcell::fit {
 // The law of a sweep; its provenance is the sweep's (the caller adds the sweep file and hash).
 law::Law fit_law(const std::vector<sweep::PathResult>& paths, const sweep::SweepHeader& header);
 
+// The exact law replayed through every converged point of the paths, each path from the unloaded
+// cell with its bonds carried (law::CellReplay); the limit is 1e3 × the sweep's QP tolerance.
+law::CellReplay replay_cell(const law::CondensedCell& cell, const std::vector<sweep::PathResult>& paths,
+                            double qp_tolerance);
+
 // Strain along the unit stress N (tensor shear): N:ε = N_xx ε_xx + N_yy ε_yy + 2 N_xy ε_xy.
 double along(const Eigen::Vector3d& N, const Eigen::Vector3d& strain);
 

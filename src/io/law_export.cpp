@@ -16,12 +16,6 @@ using namespace law;
 
 namespace {
 
-std::string csv_number(double value) {
-  if (std::isnan(value)) return "nan";
-  if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
-  return formatted("%.17g", value);
-}
-
 // CalculiX reads each number of a data line as a 20-character field and silently drops the rest
 // (1.2345678901234567e+01 is read as 1.2345678901234567): %.12e is at most 19 characters.
 std::string card_number(double value) { return formatted("%.12e", value); }

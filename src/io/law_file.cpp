@@ -6,6 +6,7 @@
 
 #include "core/error.hpp"
 #include "io/atomic_output.hpp"
+#include "io/condensed_group.hpp"
 #include "io/hdf5.hpp"
 #include "io/onset_group.hpp"
 #include "io/provenance.hpp"
@@ -193,6 +194,19 @@ void write_law(const std::filesystem::path& file, const Law& law) {
     write_scalar(f, "cone_beta", law.cone_beta);
     for (const auto& m : law::cone_members) write_cone(f, m.name, law.*m.fit, n);
     write_onset(f, object("onset"), law.onset);
+    if (law.cell) {
+      write_condensed(f, object("cell"), *law.cell);
+      const law::CellReplay& c = law.cell_replay;
+      f.create_group(object("cell_replay"));
+      write_count(f, "cell_replay/points", c.points);
+      write_scalar(f, "cell_replay/max_error", c.max_error);
+      write_scalar(f, "cell_replay/rms_error", c.rms_error);
+      write_count(f, "cell_replay/worst_path", c.worst_path);
+      write_count(f, "cell_replay/worst_step", c.worst_step);
+      write_count(f, "cell_replay/break_mismatches", c.break_mismatches);
+      write_scalar(f, "cell_replay/limit", c.limit);
+    }
+    f.write_attribute(group, "cell_note", law.cell_note);
     f.write_attribute(group, "units", law.units);
     f.write_attribute(group, "stress_state", law.stress_state);
     f.write_attribute(group, "shear_convention", std::string(law::shear_convention));
@@ -236,6 +250,18 @@ Law read_law(const std::filesystem::path& file) {
   law.cone_beta = r.scalar("cone_beta");
   for (const auto& m : law::cone_members) law.*m.fit = read_cone(f, r, m.name, n);
   law.onset = read_onset(f, object("onset"));
+  if (f.exists(object("cell"))) {
+    law.cell = read_condensed(f, object("cell"));
+    law::CellReplay& c = law.cell_replay;
+    c.points = static_cast<int>(r.count("cell_replay/points", 0, std::numeric_limits<int>::max()));
+    c.max_error = r.scalar("cell_replay/max_error");
+    c.rms_error = r.scalar("cell_replay/rms_error");
+    c.worst_path = static_cast<int>(r.count("cell_replay/worst_path", -1, std::numeric_limits<int>::max()));
+    c.worst_step = static_cast<int>(r.count("cell_replay/worst_step", -1, std::numeric_limits<int>::max()));
+    c.break_mismatches = static_cast<int>(r.count("cell_replay/break_mismatches", 0, std::numeric_limits<int>::max()));
+    c.limit = r.scalar("cell_replay/limit");
+  }
+  law.cell_note = f.read_string_attribute(group, "cell_note");
 
   law.units = f.read_string_attribute(group, "units");
   law.stress_state = f.read_string_attribute(group, "stress_state");

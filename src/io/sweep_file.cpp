@@ -5,6 +5,7 @@
 
 #include "core/error.hpp"
 #include "io/atomic_output.hpp"
+#include "io/condensed_group.hpp"
 #include "io/hash.hpp"
 #include "io/hdf5.hpp"
 #include "io/onset_group.hpp"
@@ -126,6 +127,9 @@ void write_header(File& f, const SweepHeader& header, std::size_t n_paths) {
   f.write_attribute("/", "n_paths", static_cast<std::int64_t>(n_paths));
   write_constituents(f, "/", header.constituents);
   write_onset(f, "/onset", header.onset);
+  if (header.cell) write_condensed(f, "/cell", *header.cell);
+  f.write_attribute("/", "cell_note", header.cell_note);
+  f.write_attribute("/", "qp_tolerance", header.qp_tolerance);
 }
 
 }  // namespace
@@ -184,8 +188,15 @@ void write_sweep(const std::filesystem::path& out, const std::vector<sweep::Path
 SweepHeader read_sweep_header(const std::filesystem::path& file) {
   const File f = File::open_read(file);
   check_format(f, sweep_format);
-  return {read_provenance(f, {"code_version", "scene", "scene_file", "mesh_file", "mesh_hash", "solver_options"}),
-          read_constituents(f, "/"), read_onset(f, "/onset")};
+  SweepHeader header;
+  header.provenance =
+      read_provenance(f, {"code_version", "scene", "scene_file", "mesh_file", "mesh_hash", "solver_options"});
+  header.constituents = read_constituents(f, "/");
+  header.onset = read_onset(f, "/onset");
+  if (f.exists("/cell")) header.cell = read_condensed(f, "/cell");
+  if (f.has_attribute("/", "cell_note")) header.cell_note = f.read_string_attribute("/", "cell_note");
+  if (f.has_attribute("/", "qp_tolerance")) header.qp_tolerance = f.read_double_attribute_value("/", "qp_tolerance");
+  return header;
 }
 
 std::vector<sweep::PathResult> read_sweep(const std::filesystem::path& file) {

@@ -9,11 +9,13 @@
 // is E = s/ε_nn and ν = −ε_tt/ε_nn. NaN marks a value the data do not determine.
 #include <Eigen/Core>
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "core/provenance.hpp"
 #include "core/scene.hpp"
+#include "law/condensed.hpp"
 #include "law/cone.hpp"
 #include "law/onset.hpp"
 
@@ -47,6 +49,20 @@ struct ComplianceFit {
   int n_points = 0;
 };
 
+// The exact law replayed through every converged point of the sweep it came from: the strain it
+// gives for the point's stress (the bonds carried along the path) against the sweep's strain.
+struct CellReplay {
+  int points = 0;
+  double max_error = std::numeric_limits<double>::quiet_NaN();  // max ‖ε_law − ε_sweep‖ / ‖ε_sweep‖
+  double rms_error = std::numeric_limits<double>::quiet_NaN();
+  int worst_path = -1, worst_step = -1;
+  int break_mismatches = 0;  // points where the law's count of broken bonds differs from the sweep's
+  // What the error may reach: the sweep's QP stopped at a relative tolerance t, which reaches the
+  // strain amplified by the conditioning of the dual problem (≲ 1e2 measured): 1e3·t.
+  double limit = std::numeric_limits<double>::quiet_NaN();
+  bool ok() const { return points > 0 && max_error <= limit; }
+};
+
 struct Law {
   std::vector<DirectionLaw> directions;  // ascending direction_deg
   ComplianceFit tension, compression;
@@ -63,6 +79,12 @@ struct Law {
   // Where the bonded law ends: the exact debond onset surface of the cell (with adhesion), and
   // its prediction checked against every sweep path.
   OnsetSurface onset;
+  // The exact law: the cell condensed onto its interface rows (law/condensed.hpp), as the sweep
+  // built it; none where the scene has none (cell_note says why). cell_replay is its check
+  // against every converged point of that sweep, replayed along each path with its history.
+  std::optional<CondensedCell> cell;
+  std::string cell_note;
+  CellReplay cell_replay;
   // Constituents, for the out-of-plane constants of the exports (rule of mixtures).
   Constituents constituents;
   std::string units = "stress and moduli in the units of the input scene; strains dimensionless";

@@ -20,6 +20,8 @@ constexpr double independent_row = 1e-10;
 constexpr double multiplier_round_off = 1e-10;
 // A step of a free variable below this fraction of the size of x is round-off.
 constexpr double round_off_move = 1e-12;
+// Corrections of the warm start before the method falls back to x = 0.
+constexpr int max_guesses = 6;
 
 }  // namespace
 
@@ -164,17 +166,35 @@ DenseQpResult DenseActiveSet::solve(const Eigen::MatrixXd& A, const Eigen::Vecto
   };
 
   Eigen::VectorXd x = Eigen::VectorXd::Zero(n), x_free, mu;
-  // Warm start: the given set as it stands, if its subproblem's solution is feasible.
+  // Warm start: the given set (none: every variable free) and up to max_guesses corrections of it
+  // in the manner of block principal pivoting (Júdice & Pires): a variable its subproblem puts
+  // beyond a bound is held there, a held one whose multiplier has the wrong sign is freed. The
+  // first guess whose subproblem's solution is feasible starts the primal method; along a path
+  // that is usually the given set itself, one solve.
   working_ = active;
-  hold(working_, x);
-  free_a_basis(C);
   bool at_subproblem_solution = false;
-  if (refactorise()) {
+  for (int guess = 0; guess <= max_guesses && !at_subproblem_solution; ++guess) {
+    hold(working_, x);
+    free_a_basis(C);
+    if (!refactorise()) break;
     solve_subproblem(A, b, C, x, x_free, mu);
     ++out.iterations;
     if (feasible(x_free)) {
       for (std::size_t j = 0; j < free_.size(); ++j) x(free_[j]) = std::clamp(x_free(j), l(free_[j]), u(free_[j]));
       at_subproblem_solution = true;
+      break;
+    }
+    Eigen::VectorXd trial = x;
+    for (std::size_t j = 0; j < free_.size(); ++j) trial(free_[j]) = x_free(j);
+    Eigen::VectorXd nu = A * trial - b;
+    if (C.rows() > 0) nu.noalias() += C.transpose() * mu;
+    for (Eigen::Index i = 0; i < n; ++i) {
+      if (working_[i] == Bound::free) {
+        if (trial(i) < l(i)) working_[i] = Bound::lower;
+        if (trial(i) > u(i)) working_[i] = Bound::upper;
+      } else if ((working_[i] == Bound::lower && nu(i) < 0) || (working_[i] == Bound::upper && nu(i) > 0)) {
+        if (l(i) != u(i)) working_[i] = Bound::free;
+      }
     }
   }
   if (!at_subproblem_solution) {
@@ -233,6 +253,7 @@ DenseQpResult DenseActiveSet::solve(const Eigen::MatrixXd& A, const Eigen::Vecto
     int release = -1;
     double worst = 0;
     for (Eigen::Index i = 0; i < n; ++i) {
+      if (l(i) == u(i)) continue;  // a fixed variable: its multiplier has either sign
       const double wrong = working_[i] == Bound::lower ? -out.nu(i) : working_[i] == Bound::upper ? out.nu(i) : 0.0;
       const double relative = wrong / std::max(terms(i), std::numeric_limits<double>::min());
       if (relative > multiplier_round_off && relative > worst) worst = relative, release = static_cast<int>(i);

@@ -12,6 +12,7 @@
 
 #include "core/error.hpp"
 #include "core/progress.hpp"
+#include "feti/condense.hpp"
 #include "feti/solver.hpp"
 #include "io/atomic_output.hpp"
 #include "io/sweep_file.hpp"
@@ -67,6 +68,7 @@ sweep::SweepHeader header_of(const SweepOptions& options, const SceneAndMesh& in
   header.provenance.mesh_hash = in.mesh_hash;
   header.provenance.solver_options = solver_options_text(in.scene);
   header.constituents = constituents(in.scene);
+  header.qp_tolerance = in.scene.solver.tolerance;
   return header;
 }
 
@@ -106,6 +108,14 @@ SweepSummary run_sweep(const SweepOptions& options) {
   // the fit. Nothing to compute without adhesion. Every rank has it (the journal's header).
   header.onset = solver.onset_surface();
   solver.forget_dual();
+  // The exact law, from the same factorisation: built by the group of rank 0, which writes sweep.h5.
+  if (par::rank() < std::max(1, options.ranks_per_path)) {
+    try {
+      header.cell = feti::condense(solver.setup());
+    } catch (const InputError& e) {
+      header.cell_note = e.what();
+    }
+  }
 
   // Paths are handed out one at a time to whichever rank asks next (their costs differ: a fuse
   // bracket is bisected), each computed path journaled at once by the rank that computed it.
@@ -176,6 +186,12 @@ SweepSummary run_sweep(const SweepOptions& options) {
     for (const auto& st : r.steps) summary.unconverged_steps += !st.converged;
   }
   summary.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  if (header.cell) {
+    summary.cell_rows = header.cell->n_rows();
+    summary.cell_bytes = static_cast<double>(header.cell->bytes());
+    summary.cell_seconds = header.cell->seconds;
+  }
+  summary.cell_note = header.cell_note;
   return summary;
 }
 

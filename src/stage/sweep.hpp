@@ -23,6 +23,11 @@ struct SweepSummary {
   bool written = false;  // this rank wrote sweep.h5 (rank 0; the only one without MPI)
   int paths = 0, resumed = 0, fuses = 0, unconverged_steps = 0;
   double seconds = 0;
+  // The exact law condensed from the sweep's factorisation (/cell): its interface rows, bytes and
+  // seconds; or why there is none.
+  int cell_rows = 0;
+  double cell_bytes = 0, cell_seconds = 0;
+  std::string cell_note;
 };
 
 SweepSummary run_sweep(const SweepOptions& options);

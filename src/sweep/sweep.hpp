@@ -10,6 +10,7 @@
 // bracketed within fuse_tolerance·load; the states just before and after are recorded.
 #include <Eigen/Core>
 #include <functional>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -17,6 +18,7 @@
 #include "core/provenance.hpp"
 #include "core/scene.hpp"
 #include "feti/solver.hpp"
+#include "law/condensed.hpp"
 
 namespace dualcell::sweep {
 
@@ -61,6 +63,12 @@ struct SweepHeader {
   Provenance provenance;      // scene, material, mesh, solver options, code version
   Constituents constituents;  // fibre_E, ..., fibre_volume_fraction
   law::OnsetSurface onset;    // the cell's exact debond onset surface
+  // The cell condensed onto its interface rows (docs/method.md §16a), built once by the sweep from
+  // its factorisation; none (and cell_note says why) where the scene has no cell law or the
+  // dense condensation would not pay.
+  std::optional<law::CondensedCell> cell;
+  std::string cell_note;
+  double qp_tolerance = std::numeric_limits<double>::quiet_NaN();  // [solver] tolerance of the paths' QPs
 };
 
 struct PathResult {
