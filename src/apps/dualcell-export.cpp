@@ -31,6 +31,14 @@ int main(int argc, char** argv) {
   app.add_option("--name", name,
                  "calculix: base of the material names <name>_TENSION and <name>_COMPRESSION; umat: ABAQUS_<name>")
       ->capture_default_str();
+  double max_law_error = 0.02;
+  bool force = false;
+  app.add_option("--max-law-error", max_law_error,
+                 "umat: refuse a cone-wise law whose stress error against the exact law (law.h5 /law/cone_check) "
+                 "exceeds this fraction")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1e300));
+  app.add_flag("--force", force, "umat: write the cone-wise law whatever its measured error");
   app.add_flag("--quiet", quiet, "do not print what was written");
   if (const auto stop = dualcell::parse_options(app, argc, argv)) return *stop;
 
@@ -41,6 +49,8 @@ int main(int argc, char** argv) {
     options.out = out;
     options.format = io::parse_export_format(format);
     options.name = name;
+    options.max_law_error = max_law_error;
+    options.force = force;
     const std::string written = stage::export_law(options);
     if (!quiet) std::printf("dualcell-export: %s -> %s (%s)\n", law_file.c_str(), out.c_str(), written.c_str());
   });

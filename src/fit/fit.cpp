@@ -327,6 +327,7 @@ law::Law fit_law(const std::vector<sweep::PathResult>& paths, const sweep::Sweep
   law.cell = header.cell;
   law.cell_note = header.cell_note;
   if (law.cell) law.cell_replay = replay_cell(*law.cell, paths, header.qp_tolerance);
+  if (law.cell && law.cone.ok) law.cone_check = law::check_cone_against_cell(law.cone.law, *law.cell);
 
   law.constituents = header.constituents;
   law.provenance = header.provenance;

@@ -206,6 +206,20 @@ void write_law(const std::filesystem::path& file, const Law& law) {
       write_count(f, "cell_replay/break_mismatches", c.break_mismatches);
       write_scalar(f, "cell_replay/limit", c.limit);
     }
+    if (!law.cone_check.stress.empty()) {
+      const law::ConeCheck& c = law.cone_check;
+      f.create_group(object("cone_check"));
+      std::vector<double> stress;
+      for (const auto& N : c.stress) stress.insert(stress.end(), N.data(), N.data() + 3);
+      f.write(object("cone_check/stress"), stress, {c.stress.size(), 3});
+      f.write(object("cone_check/error"), c.error, {c.error.size()});
+      write_scalar(f, "cone_check/max_error", c.max_error);
+      write_scalar(f, "cone_check/rms_error", c.rms_error);
+      f.write(object("cone_check/worst"), std::vector<double>{c.worst(0), c.worst(1), c.worst(2)}, {3});
+      f.write(object("cone_check/polar_deg"), c.polar_deg, {c.polar_deg.size()});
+      f.write(object("cone_check/polar_E_tension"), c.polar_E_tension, {c.polar_deg.size()});
+      f.write(object("cone_check/polar_E_compression"), c.polar_E_compression, {c.polar_deg.size()});
+    }
     f.write_attribute(group, "cell_note", law.cell_note);
     f.write_attribute(group, "units", law.units);
     f.write_attribute(group, "stress_state", law.stress_state);
@@ -260,6 +274,21 @@ Law read_law(const std::filesystem::path& file) {
     c.worst_step = static_cast<int>(r.count("cell_replay/worst_step", -1, std::numeric_limits<int>::max()));
     c.break_mismatches = static_cast<int>(r.count("cell_replay/break_mismatches", 0, std::numeric_limits<int>::max()));
     c.limit = r.scalar("cell_replay/limit");
+  }
+  if (f.exists(object("cone_check"))) {
+    law::ConeCheck& c = law.cone_check;
+    Shape found;
+    const auto stress = f.read_doubles(object("cone_check/stress"), {any_extent, 3}, "", &found);
+    const hsize_t K = found[0];
+    for (hsize_t k = 0; k < K; ++k) c.stress.emplace_back(stress[3 * k], stress[3 * k + 1], stress[3 * k + 2]);
+    c.error = r.doubles("cone_check/error", {K}, " like /law/cone_check/stress");
+    c.max_error = r.scalar("cone_check/max_error");
+    c.rms_error = r.scalar("cone_check/rms_error");
+    const auto worst = r.doubles("cone_check/worst", {3});
+    c.worst = {worst[0], worst[1], worst[2]};
+    c.polar_deg = f.read_doubles(object("cone_check/polar_deg"), {any_extent}, "", &found);
+    c.polar_E_tension = r.doubles("cone_check/polar_E_tension", {found[0]}, " like /law/cone_check/polar_deg");
+    c.polar_E_compression = r.doubles("cone_check/polar_E_compression", {found[0]}, " like /law/cone_check/polar_deg");
   }
   law.cell_note = f.read_string_attribute(group, "cell_note");
 

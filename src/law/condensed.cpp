@@ -210,9 +210,7 @@ double CellEvaluator::onset(const Eigen::Vector3d& sigma) {
     if (upper_(r) > 0) upper_(r) = inf;
   }
   b_ = cell_.Y * sigma.head(m);
-  std::vector<qp::Bound> active;
-  qp::DenseActiveSet lifted;
-  const qp::DenseQpResult qp = lifted.solve(cell_.H, b_, C_stress_, lower_, upper_, active);
+  const qp::DenseQpResult qp = onset_qp_.solve(cell_.H, b_, C_stress_, lower_, upper_, onset_active_);
   if (!qp.converged) return nan;
   double s = inf;
   for (int r = 0; r < n; ++r) {

@@ -108,7 +108,8 @@ class CellEvaluator {
   Eigen::MatrixXd energy_;               // 𝓗
   Eigen::MatrixXd C_stress_, C_strain_;  // G, and [0 G]
   Eigen::VectorXd lower_, upper_, b_;    // the QP's bounds and linear term
-  qp::DenseActiveSet stress_qp_, strain_qp_;
+  qp::DenseActiveSet stress_qp_, strain_qp_, onset_qp_;
+  std::vector<qp::Bound> onset_active_;  // the warm start of the next onset
 };
 
 }  // namespace dualcell::law

@@ -16,6 +16,7 @@
 #include "core/provenance.hpp"
 #include "core/scene.hpp"
 #include "law/condensed.hpp"
+#include "law/cone_check.hpp"
 #include "law/cone.hpp"
 #include "law/onset.hpp"
 
@@ -85,6 +86,9 @@ struct Law {
   std::optional<CondensedCell> cell;
   std::string cell_note;
   CellReplay cell_replay;
+  // The compact law (cone) against the exact one over a dense set of directions; empty
+  // (no directions) without an exact law or a cone-wise law.
+  ConeCheck cone_check;
   // Constituents, for the out-of-plane constants of the exports (rule of mixtures).
   Constituents constituents;
   std::string units = "stress and moduli in the units of the input scene; strains dimensionless";

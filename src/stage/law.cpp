@@ -70,9 +70,19 @@ std::string export_law(const ExportOptions& options) {
     case io::ExportFormat::calculix:
       text = io::law_calculix(law, options.name, options.law_file.string());
       break;
-    case io::ExportFormat::umat:
+    case io::ExportFormat::umat: {
+      const law::ConeCheck& c = law.cone_check;
+      if (!options.force && !c.stress.empty() && !(c.max_error <= options.max_law_error)) {
+        char text_[320];
+        std::snprintf(text_, sizeof text_,
+                      "the cone-wise law misses the exact law by %.1f %% of stress at sxx,syy,sxy = %.3f,%.3f,%.3f, "
+                      "more than --max-law-error %.3g %%: not exported (--force writes it anyway)",
+                      100 * c.max_error, c.worst(0), c.worst(1), c.worst(2), 100 * options.max_law_error);
+        throw InputError(options.law_file.string() + ": " + text_);
+      }
       text = io::law_umat(law, options.name, options.law_file.string());
       break;
+    }
   }
   io::write_output(options.out, text);
   return describe(law, options.format, options.name);
@@ -127,6 +137,12 @@ void print_fit_summary(const std::filesystem::path& sweep_file, const std::files
                                 : (std::to_string(c.break_mismatches) + " points differ").c_str());
   } else {
     std::printf("  exact law: none (%s)\n", law.cell_note.c_str());
+  }
+  if (!law.cone_check.stress.empty()) {
+    const law::ConeCheck& c = law.cone_check;
+    std::printf("  cone-wise law against the exact law at %zu stress directions: stress error max %.1f %% (at "
+                "sxx,syy,sxy = %.3f,%.3f,%.3f), rms %.1f %%\n",
+                c.stress.size(), 100 * c.max_error, c.worst(0), c.worst(1), c.worst(2), 100 * c.rms_error);
   }
 }
 

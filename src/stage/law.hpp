@@ -20,6 +20,10 @@ struct ExportOptions {
   std::filesystem::path law_file, out;
   io::ExportFormat format = io::ExportFormat::json;
   std::string name = "DUALCELL";  // CalculiX material base name: a letter, then letters, digits, _
+  // The umat carries the compact cone-wise law: refused when it misses the exact law by more
+  // than this (the largest relative stress error of /law/cone_check), unless forced.
+  double max_law_error = 0.02;
+  bool force = false;
 };
 
 // Reads law_file, converts, writes `out` atomically (nothing is left behind on any error) and

@@ -1,0 +1,91 @@
+#include "law/cone_check.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+namespace dualcell::law {
+
+namespace {
+
+// Directions along rings of constant (√2σxy) on the unit sphere, each ring walked in the
+// direction opposite to the last, so that consecutive directions are neighbours.
+std::vector<Eigen::Vector3d> ordered_sphere(int n) {
+  std::vector<Eigen::Vector3d> out;
+  const int rings = std::max(2, static_cast<int>(std::round(std::sqrt(n * std::numbers::pi / 4))));
+  for (int i = 0; i < rings; ++i) {
+    const double polar = std::numbers::pi * (i + 0.5) / rings, z = std::cos(polar), r = std::sin(polar);
+    const int m = std::max(1, static_cast<int>(std::round(2 * rings * r)));
+    for (int j = 0; j < m; ++j) {
+      const int k = i % 2 == 0 ? j : m - 1 - j;
+      const double azimuth = 2 * std::numbers::pi * (k + 0.5) / m;
+      out.emplace_back(r * std::cos(azimuth), r * std::sin(azimuth), z / std::sqrt(2.0));
+    }
+  }
+  return out;
+}
+
+std::vector<Eigen::Vector3d> ordered_circle(int n) {
+  std::vector<Eigen::Vector3d> out;
+  for (int k = 0; k < n; ++k) {
+    const double t = 2 * std::numbers::pi * (k + 0.5) / n;
+    out.emplace_back(std::cos(t), std::sin(t), 0.0);
+  }
+  return out;
+}
+
+}  // namespace
+
+ConeCheck check_cone_against_cell(const ConeLaw& cone, const CondensedCell& cell, int n) {
+  ConeCheck check;
+  CellEvaluator evaluator(cell);
+  const bool adhesion = cell.adhesion();
+  // The load of a direction: 1, or half the exact onset along it.
+  const auto load = [&](const Eigen::Vector3d& N) {
+    if (!adhesion) return 1.0;
+    const double onset = evaluator.onset(N);
+    return std::isfinite(onset) ? 0.5 * onset : 1.0;
+  };
+  CellHistory history = evaluator.unloaded();
+  const auto exact_strain = [&](const Eigen::Vector3d& sigma, bool& ok) {
+    history.bonded = cell.bonded;  // each point from the intact cell; the active set stays as the warm start
+    const CellResponse r = evaluator.at_stress(sigma, history);
+    ok = r.ok && r.broken == 0;
+    Eigen::Vector3d e = r.strain;
+    if (cell.n_macro == 2) e(2) = 0;
+    return e;
+  };
+  check.stress = cell.n_macro == 3 ? ordered_sphere(n) : ordered_circle(std::max(180, n / 2));
+  double sum = 0;
+  int counted = 0;
+  for (const Eigen::Vector3d& N : check.stress) {
+    const double s = load(N);
+    bool ok = false;
+    const Eigen::Vector3d e = exact_strain(s * N, ok);
+    const double error = ok ? (evaluate(cone, e).stress - s * N).norm() / s : std::numeric_limits<double>::quiet_NaN();
+    check.error.push_back(error);
+    if (!std::isfinite(error)) continue;
+    sum += error * error;
+    ++counted;
+    if (error > check.max_error) check.max_error = error, check.worst = N;
+  }
+  check.rms_error = counted > 0 ? std::sqrt(sum / counted) : std::numeric_limits<double>::quiet_NaN();
+  if (counted == 0) check.max_error = std::numeric_limits<double>::quiet_NaN();
+  // The exact law's apparent moduli around the circle.
+  for (int deg = 0; deg < 180; ++deg) {
+    const double t = deg * std::numbers::pi / 180, c = std::cos(t), si = std::sin(t);
+    const Eigen::Vector3d N(c * c, si * si, c * si);
+    check.polar_deg.push_back(deg);
+    for (const double sign : {1.0, -1.0}) {
+      bool ok = false;
+      const double s = load(sign * N);
+      const Eigen::Vector3d e = exact_strain(s * sign * N, ok);
+      const double E = ok ? sign * s / (c * c * e(0) + si * si * e(1) + c * si * e(2)) : std::numeric_limits<double>::quiet_NaN();
+      (sign > 0 ? check.polar_E_tension : check.polar_E_compression).push_back(E);
+    }
+  }
+  return check;
+}
+
+}  // namespace dualcell::law
