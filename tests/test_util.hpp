@@ -54,6 +54,14 @@ inline CommandResult run_command(const std::string& command) {
   return result;
 }
 
+// Quoted for the shell (built by appending: GCC 12 warns falsely about "'" + s + "'").
+inline std::string quoted(const std::filesystem::path& p) {
+  std::string q(1, '\'');
+  q += p.string();
+  q += '\'';
+  return q;
+}
+
 inline std::string bin(const std::string& stage) { return std::string(DUALCELL_BIN_DIR) + "/" + stage; }
 
 // The launcher of an MPI run of `ranks` ranks, oversubscribed (this machine has 2 cores).

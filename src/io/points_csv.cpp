@@ -55,8 +55,10 @@ LawPoints read_points_csv(const std::filesystem::path& file) {
     double value = 0;
     if (first_row) {
       first_row = false;
-      // A header: its last field is not a number; it names the columns.
-      if (!number(f.back(), value)) {
+      // A header: none of its fields is a number; it names the columns.
+      bool any_number = false;
+      for (const std::string& field : f) any_number = any_number || number(field, value);
+      if (!any_number) {
         if (f.size() != 3 && f.size() != 4)
           throw InputError(where + "a header of " + std::to_string(f.size()) +
                            " columns, expected 3 or 4 (path first)");

@@ -81,7 +81,8 @@ ConeCheck check_cone_against_cell(const ConeLaw& cone, const CondensedCell& cell
       bool ok = false;
       const double s = load(sign * N);
       const Eigen::Vector3d e = exact_strain(s * sign * N, ok);
-      const double E = ok ? sign * s / (c * c * e(0) + si * si * e(1) + c * si * e(2)) : std::numeric_limits<double>::quiet_NaN();
+      const double E =
+          ok ? sign * s / (c * c * e(0) + si * si * e(1) + c * si * e(2)) : std::numeric_limits<double>::quiet_NaN();
       (sign > 0 ? check.polar_E_tension : check.polar_E_compression).push_back(E);
     }
   }

@@ -16,8 +16,8 @@
 #include "core/provenance.hpp"
 #include "core/scene.hpp"
 #include "law/condensed.hpp"
-#include "law/cone_check.hpp"
 #include "law/cone.hpp"
+#include "law/cone_check.hpp"
 #include "law/onset.hpp"
 
 namespace dualcell::law {

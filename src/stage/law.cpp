@@ -140,9 +140,10 @@ void print_fit_summary(const std::filesystem::path& sweep_file, const std::files
   }
   if (!law.cone_check.stress.empty()) {
     const law::ConeCheck& c = law.cone_check;
-    std::printf("  cone-wise law against the exact law at %zu stress directions: stress error max %.1f %% (at "
-                "sxx,syy,sxy = %.3f,%.3f,%.3f), rms %.1f %%\n",
-                c.stress.size(), 100 * c.max_error, c.worst(0), c.worst(1), c.worst(2), 100 * c.rms_error);
+    std::printf(
+        "  cone-wise law against the exact law at %zu stress directions: stress error max %.1f %% (at "
+        "sxx,syy,sxy = %.3f,%.3f,%.3f), rms %.1f %%\n",
+        c.stress.size(), 100 * c.max_error, c.worst(0), c.worst(1), c.worst(2), 100 * c.rms_error);
   }
 }
 

@@ -25,14 +25,6 @@ inline Outcome run_bounded(const std::string& command, int seconds = 20) {
   return {r.exit_code, r.output};
 }
 
-// Quoted for the shell (built by appending: GCC 12 warns falsely about "'" + s + "'").
-inline std::string quoted(const std::filesystem::path& p) {
-  std::string q(1, '\'');
-  q += p.string();
-  q += '\'';
-  return q;
-}
-
 inline std::string slurp(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);
   std::ostringstream s;

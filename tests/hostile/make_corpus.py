@@ -690,6 +690,18 @@ def write_h5(bin_dir):
     h5case("law", "law-onset-pair-short.h5", "input", "/law/onset/pair: expected shape",
            "one facet's pair missing", edited(l, lambda f: replace(f, "/law/onset/pair",
                                                                    np.asarray(f["/law/onset/pair"])[:-1])))
+    h5case("law", "law-cell-H-asymmetric.h5", "input", "/law/cell: S0 or H is not symmetric",
+           "the exact law's interface flexibility made asymmetric",
+           edited(l, lambda f: f["/law/cell/H"].__setitem__((0, 1), f["/law/cell/H"][0, 1] * 2 + 1)))
+    h5case("law", "law-cell-pair-high.h5", "input", "/law/cell/pair: 100000 is not a pair index",
+           "an interface row of the exact law naming a pair that does not exist",
+           edited(l, lambda f: f["/law/cell/pair"].__setitem__(0, 100000)))
+    h5case("law", "law-cell-Y-nan.h5", "input", "/law/cell: non-finite entries",
+           "a NaN in the exact law's openings per unit stress",
+           edited(l, lambda f: f["/law/cell/Y"].__setitem__((0, 0), np.nan)))
+    h5case("law", "law-cell-bounds-open.h5", "input", "its bounds do not hold 0",
+           "an interface row whose bonded bounds exclude zero",
+           edited(l, lambda f: f["/law/cell/lower_bonded"].__setitem__(0, 1.0)))
 
     with open(os.path.join(H5, "expected.tsv"), "w", encoding="utf-8") as manifest:
         manifest.write("# file\tkind\toutcome\tsubstring of the one-line message\twhat\n")

@@ -1,0 +1,183 @@
+// The exact law through the stages: the sweep condenses its cell (/cell), the fit replays the
+// sweep through it and measures the compact law against it (/law/cell, /law/cone_check),
+// dualcell-law evaluates it at given states, dualcell-export refuses a compact law that misses
+// it; and each of them refuses what it must.
+#include <gtest/gtest.h>
+
+#include <Eigen/Core>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+
+#include "core/exit_codes.hpp"
+#include "io/law_file.hpp"
+#include "io/sweep_file.hpp"
+#include "test_util.hpp"
+
+namespace dualcell {
+namespace {
+
+using testing::bin;
+using testing::run_command;
+
+std::string q(const std::filesystem::path& p) { return testing::quoted(p); }
+
+// A periodic cell without adhesion swept along three directions and a sphere of 6.
+const std::string contact_scene = testing::scene_text(
+    1, 1, 2, 0.35,
+    "[load]\nboundary = \"periodic\"\n[sweep]\ndirections_deg = [0, 45, 90]\nmagnitudes = [-0.2, 0.2]\nsphere = 6\n"
+    "[solver]\ntolerance = 1e-10\n");
+
+struct StagesRun {
+  testing::ScratchDir dir;
+  std::filesystem::path sweep, law;
+  explicit StagesRun(const std::string& scene_text) {
+    const auto scene = dir.write("s.toml", scene_text);
+    const std::string cfg = " --quiet --config " + q(scene);
+    EXPECT_EQ(run_command(bin("dualcell-mesh") + cfg + " --out " + q(dir / "mesh.h5")).exit_code, exit_ok);
+    sweep = dir / "sweep.h5";
+    const auto s = run_command(bin("dualcell-sweep") + cfg + " --mesh " + q(dir / "mesh.h5") + " --out " + q(sweep));
+    EXPECT_EQ(s.exit_code, exit_ok) << s.output;
+    law = dir / "law.h5";
+    const auto f = run_command(bin("dualcell-fit") + " --sweep " + q(sweep) + " --out " + q(law));
+    EXPECT_EQ(f.exit_code, exit_ok) << f.output;
+    fit_output = f.output;
+  }
+  std::string fit_output;
+};
+
+std::vector<std::vector<double>> read_csv(const std::filesystem::path& file, std::string* header = nullptr) {
+  std::ifstream in(file);
+  std::string line;
+  std::getline(in, line);
+  if (header) *header = line;
+  std::vector<std::vector<double>> rows;
+  while (std::getline(in, line)) {
+    std::vector<double> row;
+    std::stringstream fields(line);
+    std::string field;
+    while (std::getline(fields, field, ',')) row.push_back(std::stod(field));
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+// The sweep's own points through dualcell-law, stress-driven and back strain-driven, each path
+// with its own path id: the sweep's strains and stresses to the replay's limit.
+TEST(LawStage, DualcellLawGivesBackTheSweepInBothDirections) {
+  StagesRun run(contact_scene);
+  const law::Law law = io::read_law(run.law);
+  ASSERT_TRUE(law.cell.has_value()) << law.cell_note;
+  EXPECT_TRUE(law.cell_replay.ok());
+  EXPECT_EQ(law.cell_replay.points, 12);  // 3 directions × 2 signs and 6 sphere paths, one magnitude each
+  EXPECT_EQ(law.cell_replay.break_mismatches, 0);
+  // QP tolerance 1e-10: the replay limit is 1e-7, and the sweep's strains carry ≲ 1e-8.
+  EXPECT_LE(law.cell_replay.max_error, 1e-7);
+  EXPECT_NE(run.fit_output.find("exact law: the cell on"), std::string::npos) << run.fit_output;
+  EXPECT_NE(run.fit_output.find("cone-wise law against the exact law at"), std::string::npos);
+  EXPECT_GT(law.cone_check.stress.size(), 900u);
+
+  const auto paths = io::read_sweep(run.sweep);
+  std::ofstream stress(run.dir / "stress.csv");
+  stress << std::setprecision(17) << "path,sxx,syy,sxy\n";
+  std::vector<Eigen::Vector3d> strains;
+  for (std::size_t p = 0; p < paths.size(); ++p)
+    for (const auto& step : paths[p].steps) {
+      stress << p << "," << step.stress(0) << "," << step.stress(1) << "," << step.stress(2) << "\n";
+      strains.emplace_back(step.strain(0), step.strain(1), 2 * step.strain(2));
+    }
+  stress.close();
+  const auto r = run_command(bin("dualcell-law") + " --law " + q(run.law) + " --stress " + q(run.dir / "stress.csv") +
+                             " --out " + q(run.dir / "strain.csv"));
+  ASSERT_EQ(r.exit_code, exit_ok) << r.output;
+  std::string header;
+  const auto rows = read_csv(run.dir / "strain.csv", &header);
+  EXPECT_EQ(header, "path,exx,eyy,gxy,C11,C12,C13,C21,C22,C23,C31,C32,C33,broken_pairs");
+  ASSERT_EQ(rows.size(), strains.size());
+  std::ofstream strain_file(run.dir / "strain_in.csv");
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const Eigen::Vector3d e(rows[i][1], rows[i][2], rows[i][3]);
+    EXPECT_LE((e - strains[i]).norm(), 1e-7 * strains[i].norm()) << i;
+    // The tangent is symmetric.
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) EXPECT_NEAR(rows[i][4 + 3 * a + b], rows[i][4 + 3 * b + a], 1e-9 * rows[i][4]);
+    strain_file << std::setprecision(17) << e(0) << "," << e(1) << "," << e(2) << "\n";  // no header, no path
+  }
+  strain_file.close();
+  const auto back = run_command(bin("dualcell-law") + " --law " + q(run.law) + " --strain " +
+                                q(run.dir / "strain_in.csv") + " --out " + q(run.dir / "stress_out.csv"));
+  ASSERT_EQ(back.exit_code, exit_ok) << back.output;
+  const auto stresses = read_csv(run.dir / "stress_out.csv", &header);
+  EXPECT_EQ(header.rfind("sxx,syy,sxy,", 0), 0u) << header;
+  std::size_t i = 0;
+  for (const auto& path : paths)
+    for (const auto& step : path.steps) {
+      const Eigen::Vector3d s(stresses[i][0], stresses[i][1], stresses[i][2]);
+      EXPECT_LE((s - step.stress).norm(), 1e-9 * std::max(step.stress.norm(), 1e-300)) << i;
+      ++i;
+    }
+}
+
+TEST(LawStage, DualcellLawRefusesBadPointsWithTheLine) {
+  StagesRun run(contact_scene);
+  const auto try_points = [&](const std::string& text, const std::string& flag = " --stress ") {
+    const auto points = run.dir.write("p.csv", text);
+    return run_command(bin("dualcell-law") + " --law " + q(run.law) + flag + q(points) + " --out " +
+                       q(run.dir / "o.csv"));
+  };
+  const struct {
+    const char* text;
+    const char* message;
+  } cases[] = {
+      {"sxx,syy,sxy\n0.1,0,0\n0.1,0\n", "p.csv:3: 2 columns, expected 3 like the first row"},
+      {"0.1,0,zero\n", "p.csv:1: column 3 = 'zero' is not a finite number"},
+      {"0.1,0,nan\n", "p.csv:1: column 3 = 'nan' is not a finite number"},
+      {"a,b\n", "a header of 2 columns"},
+      {"name,sxx,syy,sxy\n", "must start with 'path'"},
+      {"# nothing\n\n", "p.csv: no rows"},
+  };
+  for (const auto& c : cases) {
+    const auto r = try_points(c.text);
+    EXPECT_EQ(r.exit_code, exit_input_error) << c.text;
+    EXPECT_NE(r.output.find(c.message), std::string::npos) << c.text << " gave " << r.output;
+    EXPECT_FALSE(std::filesystem::exists(run.dir / "o.csv")) << c.text;
+  }
+  const auto neither = run_command(bin("dualcell-law") + " --law " + q(run.law) + " --out " + q(run.dir / "o.csv"));
+  EXPECT_EQ(neither.exit_code, exit_input_error);
+  EXPECT_NE(neither.output.find("one of --strain and --stress is required"), std::string::npos) << neither.output;
+}
+
+// A compact law that misses the exact one is not exported as a umat, with the error and where;
+// --force writes it; a generous limit lets it through.
+TEST(LawStage, ExportRefusesACompactLawThatMissesTheExactOne) {
+  StagesRun run(contact_scene);
+  const law::Law law = io::read_law(run.law);
+  ASSERT_FALSE(law.cone_check.stress.empty());
+  ASSERT_GT(law.cone_check.max_error, 0.02) << "this cell's cone-wise law misses by more than 2 %";
+  const std::string export_umat =
+      bin("dualcell-export") + " --law " + q(run.law) + " --format umat --out " + q(run.dir / "u.inp");
+  const auto refused = run_command(export_umat);
+  EXPECT_EQ(refused.exit_code, exit_input_error);
+  EXPECT_NE(refused.output.find("the cone-wise law misses the exact law by"), std::string::npos) << refused.output;
+  EXPECT_NE(refused.output.find("--max-law-error 2 %"), std::string::npos) << refused.output;
+  EXPECT_FALSE(std::filesystem::exists(run.dir / "u.inp"));
+  EXPECT_EQ(run_command(export_umat + " --force").exit_code, exit_ok);
+  EXPECT_EQ(run_command(export_umat + " --max-law-error 0.99").exit_code, exit_ok);
+}
+
+// A condensation that does not give back the sweep is refused by the fit, and nothing is written.
+TEST(LawStage, FitRefusesAnExactLawThatMissesItsSweep) {
+  StagesRun run(contact_scene);
+  sweep::SweepHeader header = io::read_sweep_header(run.sweep);
+  ASSERT_TRUE(header.cell.has_value());
+  header.cell->Y *= 1.001;  // the openings per unit stress off by 0.1 %
+  io::write_sweep(run.dir / "wrong.h5", io::read_sweep(run.sweep), header);
+  const auto r = run_command(bin("dualcell-fit") + " --sweep " + q(run.dir / "wrong.h5") + " --out " +
+                             q(run.dir / "wrong-law.h5"));
+  EXPECT_EQ(r.exit_code, exit_input_error) << r.output;
+  EXPECT_NE(r.output.find("the exact law misses the sweep's point"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(run.dir / "wrong-law.h5"));
+}
+
+}  // namespace
+}  // namespace dualcell
