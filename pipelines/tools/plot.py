@@ -88,6 +88,13 @@ def polar(law, outbase):
         if "cone" in g and int(g["cone/ok"][0]) == 1 and "cone/polar_deg" in g:
             cone = (list(g["cone/polar_deg"][:]), list(g["cone/polar_E_tension"][:]),
                     list(g["cone/polar_E_compression"][:]))
+        # The exact law's moduli (the cell condensed onto its interface rows) and the cone-wise
+        # law's error against it, as dualcell-fit measured them.
+        exact, cone_error = None, None
+        if "cone_check" in g:
+            exact = (list(g["cone_check/polar_deg"][:]), list(g["cone_check/polar_E_tension"][:]),
+                     list(g["cone_check/polar_E_compression"][:]))
+            cone_error = (float(g["cone_check/max_error"][0]), float(g["cone_check/rms_error"][0]))
         facets, swept = None, []
         if "onset" in g and int(g["onset"].attrs["linear"]) == 1:
             facets = g["onset/facets"][:]
@@ -117,12 +124,26 @@ def polar(law, outbase):
         cone_curves = (", \\\n  'cone_c.dat' using 1:2 with lines lw 1 dt 2 lc rgb '#8000c0' "
                        "title 'cone-wise law, compression', \\\n  'cone_t.dat' using 1:2 with lines lw 1 dt 2 "
                        "lc rgb '#009060' title 'cone-wise law, tension'")
-    polar_plot = ("set title 'Moduli by load direction θ'\nset polar\nset angles degrees\n"
+    # The exact law's E(θ) as solid lines (θ and θ + 180°: n⊗n repeats).
+    exact_curves = ""
+    if exact is not None:
+        polar_theta, polar_t, polar_c = exact
+        for name, values in (("exact_c.dat", polar_c), ("exact_t.dat", polar_t)):
+            data[name] = "".join("{:.10g} {:.10g}\n".format(t + shift, v) for shift in (0, 180)
+                                 for t, v in zip(polar_theta, values) if not math.isnan(v))
+        exact_curves = (", \\\n  'exact_c.dat' using 1:2 with lines lw 1 lc rgb '#8000c0' "
+                        "title 'exact law, compression', \\\n  'exact_t.dat' using 1:2 with lines lw 1 "
+                        "lc rgb '#009060' title 'exact law, tension'")
+    title = "Moduli by load direction θ"
+    if cone_error is not None:
+        title += "\\ncone-wise law against the exact law: stress error max {:.1f} %, rms {:.1f} %".format(
+            100 * cone_error[0], 100 * cone_error[1])
+    polar_plot = ('set title "' + title + '"\nset polar\nset angles degrees\n'
                   "set grid polar 30\nset size square\nunset border\nunset xtics\nunset ytics\nset rtics\n"
                   "set key below vertical maxrows 3 font ',9'\n"
                   "plot 'Ec.dat' using 1:2 with linespoints lw 2 pt 7 lc rgb '#8000c0' title 'E compression', \\\n"
                   "  'Et.dat' using 1:2 with linespoints lw 2 pt 5 lc rgb '#009060' title 'E tension'" + after_fuse
-                  + cone_curves + "\n")
+                  + cone_curves + exact_curves + "\n")
     if any(not math.isnan(v) for v in onset):
         # The onset of uniaxial tension and compression along θ, from the onset surface over
         # every θ (s* = 1/max_k g_k·N, N = ±n⊗n) and as the sweep's paths solved it.

@@ -1,6 +1,7 @@
 // The README's commands run as written: every indented command block that starts with a stage
 // (or `mpirun -np N` and a stage) is extracted from README.md and run, in the README's order, in
-// one folder holding the small files the commands name (scene.toml, beam.toml, structure.toml).
+// one folder holding the small files the commands name (scene.toml, beam.toml, structure.toml,
+// points.csv).
 // A synopsis is made runnable by dropping its optional [...] parts and filling its placeholders
 // (sxx,syy,sxy, N, FILE); a choice a|b|c runs once per alternative. Every command must exit 0,
 // so that an option renamed, a stage's order changed or a file name drifting in the README fails
@@ -18,8 +19,8 @@
 namespace dualcell {
 namespace {
 
-const char* stages[] = {"dualcell-mesh",   "dualcell-solve",     "dualcell-sweep", "dualcell-fit",
-                        "dualcell-export", "dualcell-structure", "dualcell-bench", "dualcell-stability"};
+const char* stages[] = {"dualcell-mesh",      "dualcell-solve", "dualcell-sweep",    "dualcell-fit", "dualcell-export",
+                        "dualcell-structure", "dualcell-law",   "dualcell-stability", "dualcell-bench"};
 
 // The first token naming a stage: "dualcell-solve", not "dualcell-solve:" (an output line).
 bool starts_with_stage(const std::string& line) {
@@ -121,6 +122,8 @@ TEST(Readme, EveryStageCommandRunsAsWritten) {
   dir.write("structure.toml",
             "[structure]\ncells = [4, 1]\nelements_per_cell = 1\n[edges.left]\ntype = \"fixed\"\n"
             "[edges.right]\ntype = \"traction\"\ntraction = [0, -0.001]\n");
+  // dualcell-law's points: one path of two states (small enough for --strain and --stress alike).
+  dir.write("points.csv", "path,a,b,c\np,0.001,0,0\np,0.002,-0.0005,0.0001\n");
   const bool have_mpi = testing::mpi_runs();
   int ran = 0;
   for (const std::string& written : commands) {

@@ -1,0 +1,78 @@
+#!/usr/bin/python3
+"""The laws of the pipelines' cells and their self-checks, from their law.h5 files.
+
+usage:
+  law_table.py OUT.md LAW.h5...     one row per law (the scene is the law's folder name)
+
+Per law: the exact law (the cell condensed onto its interface rows: rows, kB, seconds of the
+condensation), its replay of the sweep it came from (points, largest relative strain error,
+whether the broken bonds agree), and the compact cone-wise law against it over the dense set of
+directions (/law/cone_check: largest and rms relative stress error, the worst direction).
+Writes OUT.md and OUT.csv beside it, atomically.
+"""
+import csv
+import io
+import os
+
+import h5py
+
+import common
+
+COLUMNS = ["scene", "interface_rows", "condense_s", "kB", "replay_points", "replay_max", "breaks_agree",
+           "cone_directions", "cone_max", "cone_rms", "worst_sxx", "worst_syy", "worst_sxy"]
+
+
+def row(path):
+    scene = os.path.basename(os.path.dirname(os.path.abspath(path)))
+    with h5py.File(path, "r") as f:
+        g = f["law"]
+        if "cell" not in g:
+            return {"scene": scene, "interface_rows": "none: " + g.attrs["cell_note"]}
+        c = g["cell"]
+        n = len(c["pair"])
+        size = sum(c[k].size * 8 for k in ("S0", "Y", "H", "G")) + 4 * n * 8
+        r = {"scene": scene, "interface_rows": n, "condense_s": float(c["seconds"][0]), "kB": size / 1e3,
+             "replay_points": int(g["cell_replay/points"][0]), "replay_max": float(g["cell_replay/max_error"][0]),
+             "breaks_agree": "yes" if int(g["cell_replay/break_mismatches"][0]) == 0 else "no"}
+        if "cone_check" in g:
+            k = g["cone_check"]
+            worst = k["worst"][:]
+            r.update({"cone_directions": len(k["error"]), "cone_max": float(k["max_error"][0]),
+                      "cone_rms": float(k["rms_error"][0]), "worst_sxx": worst[0], "worst_syy": worst[1],
+                      "worst_sxy": worst[2]})
+        return r
+
+
+def markdown(rows):
+    lines = ["| scene | exact law: interface rows | condensation | replay of its sweep: points, max error | "
+             "breaks agree | cone-wise law against the exact law: directions, max, rms | worst direction "
+             "(σxx, σyy, σxy) |", "|---|---|---|---|---|---|---|"]
+    for r in rows:
+        if "replay_points" not in r:
+            lines.append(f"| {r['scene']} | {r['interface_rows']} | | | | | |")
+            continue
+        cone = worst = ""
+        if "cone_max" in r:
+            cone = f"{r['cone_directions']}, {100 * r['cone_max']:.1f} %, {100 * r['cone_rms']:.1f} %"
+            worst = f"({r['worst_sxx']:.2f}, {r['worst_syy']:.2f}, {r['worst_sxy']:.2f})"
+        lines.append(f"| {r['scene']} | {r['interface_rows']} | {r['condense_s']:.2f} s, {r['kB']:.0f} kB | "
+                     f"{r['replay_points']}, {r['replay_max']:.1e} | {r['breaks_agree']} | {cone} | {worst} |")
+    return "\n".join(lines) + "\n"
+
+
+def main(argv):
+    parser = common.Parser(description=__doc__)
+    parser.add_argument("out")
+    parser.add_argument("laws", nargs="+")
+    args = parser.parse_args(argv[1:])
+    rows = [row(p) for p in args.laws]
+    common.write_atomic(args.out, markdown(rows))
+    text = io.StringIO()
+    writer = csv.DictWriter(text, fieldnames=COLUMNS, extrasaction="ignore", lineterminator="\n")
+    writer.writeheader()
+    writer.writerows(rows)
+    common.write_atomic(os.path.splitext(args.out)[0] + ".csv", text.getvalue())
+
+
+if __name__ == "__main__":
+    common.main_guard(main)
