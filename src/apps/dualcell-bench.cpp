@@ -1,7 +1,7 @@
 // dualcell-bench: the performance tables and summary.json (study/bench.hpp): numerical
-// scalability, preconditioners, the linear-solve floor, threads, sweep steps, memory.
+// scalability, preconditioners, the linear-solve floor, threads, sweep steps, memory, the exact law.
 //
-//   dualcell-bench --out-dir pipelines/out/bench [--quick] [--floor-only] [--threads N]
+//   dualcell-bench --out-dir pipelines/out/bench [--quick] [--floor-only] [--exact-law-only] [--threads N]
 #include <cstdio>
 
 #include "apps/options.hpp"
@@ -18,11 +18,18 @@ int main(int argc, char** argv) {
   bool floor_only = false;
   app.add_flag("--floor-only", floor_only,
                "only the floor (contact solve against one CHOLMOD solve, p1 and p2): floor.md, floor.json");
+  bool exact_law_only = false;
+  app.add_flag("--exact-law-only", exact_law_only,
+               "only the exact law against the full solve of its cell: exact_law.md, exact_law.json");
   app.add_option("--threads", options.threads, "threads for the multi-threaded rows; 0 = OMP_NUM_THREADS or all cores")
       ->check(CLI::Range(0, 4096));
   if (const auto stop = dualcell::parse_options(app, argc, argv)) return *stop;
   return dualcell::run_stage("dualcell-bench", [&] {
-    std::fputs((floor_only ? dualcell::study::run_floor_only(options) : dualcell::study::run_bench(options)).c_str(),
+    using namespace dualcell::study;
+    std::fputs((floor_only       ? run_floor_only(options)
+                : exact_law_only ? run_exact_law_only(options)
+                                 : run_bench(options))
+                   .c_str(),
                stdout);
   });
 }

@@ -148,10 +148,15 @@ CellResponse CellEvaluator::at_stress(const Eigen::Vector3d& sigma, CellHistory&
   out.strain.head(m) = cell_.S0 * sigma.head(m) - cell_.Y.transpose() * out.forces / cell_.volume;
   // Compliance tangent dε̄/dσ̄ = S₀ − Yᵀ (dp/dσ̄)/|Ω| on the final active set; the stiffness
   // tangent is its inverse.
-  const Eigen::MatrixXd dp = stress_qp_.sensitivity(cell_.Y);
-  compliance.topLeftCorner(m, m) = cell_.S0 - cell_.Y.transpose() * dp / cell_.volume;
-  const Eigen::MatrixXd C = compliance.topLeftCorner(m, m).inverse();
-  out.tangent.topLeftCorner(m, m) = 0.5 * (C + C.transpose());
+  if (stress_tangent_of_ != stress_qp_.generation()) {
+    const Eigen::MatrixXd dp = stress_qp_.sensitivity(cell_.Y);
+    compliance.topLeftCorner(m, m) = cell_.S0 - cell_.Y.transpose() * dp / cell_.volume;
+    const Eigen::MatrixXd C = compliance.topLeftCorner(m, m).inverse();
+    stress_tangent_.setZero();
+    stress_tangent_.topLeftCorner(m, m) = 0.5 * (C + C.transpose());
+    stress_tangent_of_ = stress_qp_.generation();
+  }
+  out.tangent = stress_tangent_;
   if (m == 2) {
     out.strain(2) = nan;
     out.tangent.row(2).setConstant(nan);
@@ -186,10 +191,15 @@ CellResponse CellEvaluator::at_strain(const Eigen::Vector3d& strain, CellHistory
   out.stress.head(m) = z.head(m);
   out.strain.head(m) = strain.head(m);
   // dσ̄/dε̄: the σ̄ rows of dz/db for db = (|Ω| I, 0), symmetric as the KKT system is.
-  Eigen::MatrixXd db = Eigen::MatrixXd::Zero(m + n, m);
-  db.topRows(m) = cell_.volume * Eigen::MatrixXd::Identity(m, m);
-  const Eigen::MatrixXd dz = strain_qp_.sensitivity(db);
-  out.tangent.topLeftCorner(m, m) = 0.5 * (dz.topRows(m) + dz.topRows(m).transpose());
+  if (strain_tangent_of_ != strain_qp_.generation()) {
+    Eigen::MatrixXd db = Eigen::MatrixXd::Zero(m + n, m);
+    db.topRows(m) = cell_.volume * Eigen::MatrixXd::Identity(m, m);
+    const Eigen::MatrixXd dz = strain_qp_.sensitivity(db);
+    strain_tangent_.setZero();
+    strain_tangent_.topLeftCorner(m, m) = 0.5 * (dz.topRows(m) + dz.topRows(m).transpose());
+    strain_tangent_of_ = strain_qp_.generation();
+  }
+  out.tangent = strain_tangent_;
   if (m == 2) {
     out.strain(2) = nan;
     out.tangent.row(2).setConstant(nan);

@@ -110,6 +110,10 @@ class CellEvaluator {
   Eigen::VectorXd lower_, upper_, b_;    // the QP's bounds and linear term
   qp::DenseActiveSet stress_qp_, strain_qp_, onset_qp_;
   std::vector<qp::Bound> onset_active_;  // the warm start of the next onset
+  // The last tangents and the factorisation they came from: the same factorisation (the same
+  // free set) gives the same tangent, so a warm evaluation does not solve for it again.
+  Eigen::Matrix3d stress_tangent_, strain_tangent_;
+  long stress_tangent_of_ = -1, strain_tangent_of_ = -1;
 };
 
 }  // namespace dualcell::law

@@ -91,6 +91,7 @@ void DenseActiveSet::factorise(const Eigen::MatrixXd& A, const Eigen::MatrixXd& 
   n_ = n;
   n_c_ = n_c;
   factorised_ = true;
+  ++generation_;
 }
 
 void DenseActiveSet::lu_solve(Eigen::VectorXd& rhs) const {
@@ -105,13 +106,16 @@ void DenseActiveSet::lu_solve(Eigen::VectorXd& rhs) const {
 void DenseActiveSet::solve_subproblem(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const Eigen::MatrixXd& C,
                                       const Eigen::VectorXd& x, Eigen::VectorXd& x_free, Eigen::VectorXd& mu) const {
   const int n_F = static_cast<int>(free_.size()), r = static_cast<int>(kept_rows_.size());
-  // The held part of x: x_W (the free entries zero).
-  Eigen::VectorXd x_held = x;
-  for (int i : free_) x_held(i) = 0;
-  Eigen::VectorXd rhs(n_F + r);
-  const Eigen::VectorXd A_held = A * x_held;
-  for (int j = 0; j < n_F; ++j) rhs(j) = b(free_[j]) - A_held(free_[j]);
-  for (int q = 0; q < r; ++q) rhs(n_F + q) = -C.row(kept_rows_[q]).dot(x_held);
+  // The right-hand side b_F − A_FW x_W and −C_KW x_W over the held columns W only (A symmetric).
+  Eigen::VectorXd& rhs = rhs_;
+  rhs.resize(n_F + r);
+  for (int j = 0; j < n_F; ++j) rhs(j) = b(free_[j]);
+  rhs.tail(r).setZero();
+  for (Eigen::Index w = 0; w < x.size(); ++w) {
+    if (working_[w] == Bound::free || x(w) == 0) continue;
+    for (int j = 0; j < n_F; ++j) rhs(j) -= A(free_[j], w) * x(w);
+    for (int q = 0; q < r; ++q) rhs(n_F + q) -= C(kept_rows_[q], w) * x(w);
+  }
   lu_solve(rhs);
   x_free = rhs.head(n_F);
   mu = Eigen::VectorXd::Zero(C.rows());
@@ -208,8 +212,12 @@ DenseQpResult DenseActiveSet::solve(const Eigen::MatrixXd& A, const Eigen::Vecto
   }
 
   // The size of x that b asks for, ‖b‖/‖A‖, for a problem whose x is 0 so far.
-  const double b_scale =
-      b.lpNorm<Eigen::Infinity>() / std::max(A.cwiseAbs().maxCoeff(), std::numeric_limits<double>::min());
+  if (A.data() != A_max_of_ || A.size() != A_max_size_) {  // max |A_ij|, once per problem
+    A_max_ = A.size() > 0 ? A.cwiseAbs().maxCoeff() : 0.0;
+    A_max_of_ = A.data();
+    A_max_size_ = A.size();
+  }
+  const double b_scale = b.lpNorm<Eigen::Infinity>() / std::max(A_max_, std::numeric_limits<double>::min());
   const int max_iterations = 10 * static_cast<int>(n) + 50;
   while (out.iterations <= max_iterations) {
     if (!at_subproblem_solution) {
@@ -243,24 +251,23 @@ DenseQpResult DenseActiveSet::solve(const Eigen::MatrixXd& A, const Eigen::Vecto
       }
       at_subproblem_solution = true;
     }
-    // At the subproblem's solution: the multipliers of the held bounds.
-    out.nu = A * x - b;
-    if (C.rows() > 0) out.nu.noalias() += C.transpose() * mu;
-    // A multiplier counts as wrong only beyond the round-off of the terms that make it up.
-    const Eigen::VectorXd terms =
-        A.cwiseAbs() * x.cwiseAbs() + b.cwiseAbs() +
-        (C.rows() > 0 ? (C.cwiseAbs().transpose() * mu.cwiseAbs()).eval() : Eigen::VectorXd::Zero(n).eval());
+    // At the subproblem's solution: the multipliers of the held bounds (zero where free), each
+    // counted as wrong only beyond the round-off of the terms that make it up. Held variables
+    // only: n per held variable, nothing for a problem with none held.
+    out.nu.setZero(n);
     int release = -1;
     double worst = 0;
     for (Eigen::Index i = 0; i < n; ++i) {
+      if (working_[i] == Bound::free) continue;
+      double nu = A.col(i).dot(x) - b(i), terms = A.col(i).cwiseAbs().dot(x.cwiseAbs()) + std::abs(b(i));
+      if (C.rows() > 0) nu += C.col(i).dot(mu), terms += C.col(i).cwiseAbs().dot(mu.cwiseAbs());
+      out.nu(i) = nu;
       if (l(i) == u(i)) continue;  // a fixed variable: its multiplier has either sign
-      const double wrong = working_[i] == Bound::lower ? -out.nu(i) : working_[i] == Bound::upper ? out.nu(i) : 0.0;
-      const double relative = wrong / std::max(terms(i), std::numeric_limits<double>::min());
+      const double wrong = working_[i] == Bound::lower ? -nu : nu;
+      const double relative = wrong / std::max(terms, std::numeric_limits<double>::min());
       if (relative > multiplier_round_off && relative > worst) worst = relative, release = static_cast<int>(i);
     }
     if (release < 0) {
-      for (Eigen::Index i = 0; i < n; ++i)
-        if (working_[i] == Bound::free) out.nu(i) = 0;
       out.x = x;
       out.mu = mu;
       out.converged = true;
@@ -278,14 +285,16 @@ DenseQpResult DenseActiveSet::solve(const Eigen::MatrixXd& A, const Eigen::Vecto
 Eigen::MatrixXd DenseActiveSet::sensitivity(const Eigen::MatrixXd& db) const {
   Eigen::MatrixXd dx = Eigen::MatrixXd::Zero(db.rows(), db.cols());
   if (!factorised_) return dx;
-  const int n_F = static_cast<int>(free_.size()), r = static_cast<int>(kept_rows_.size());
-  Eigen::VectorXd rhs(n_F + r);
-  for (Eigen::Index c = 0; c < db.cols(); ++c) {
-    rhs.setZero();
-    for (int j = 0; j < n_F; ++j) rhs(j) = db(free_[j], c);
-    lu_solve(rhs);
-    for (int j = 0; j < n_F; ++j) dx(free_[j], c) = rhs(j);
-  }
+  const int n_F = static_cast<int>(free_.size()), r = static_cast<int>(kept_rows_.size()), k = n_F + r;
+  // All columns at once: the triangular solves with a block right-hand side.
+  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(k, db.cols());
+  for (int j = 0; j < n_F; ++j) rhs.row(j) = db.row(free_[j]);
+  for (int j = 0; j < k; ++j)
+    if (pivot_[j] != j) rhs.row(j).swap(rhs.row(pivot_[j]));
+  const auto K = kkt_.topLeftCorner(k, k);
+  K.triangularView<Eigen::UnitLower>().solveInPlace(rhs);
+  K.triangularView<Eigen::Upper>().solveInPlace(rhs);
+  for (int j = 0; j < n_F; ++j) dx.row(free_[j]) = rhs.row(j);
   return dx;
 }
 

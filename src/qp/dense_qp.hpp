@@ -34,7 +34,8 @@ enum class Bound : std::int8_t { free = 0, lower = -1, upper = 1 };
 
 struct DenseQpResult {
   Eigen::VectorXd x;
-  // Multipliers: A x − b + Cᵀμ = ν with ν_i ≥ 0 at a lower bound, ≤ 0 at an upper one, 0 where free.
+  // Multipliers: A x − b + Cᵀμ = ν with ν_i ≥ 0 at a lower bound, ≤ 0 at an upper one, 0 where
+  // free (computed for the held variables only; 0 where free by the subproblem).
   Eigen::VectorXd mu, nu;
   int iterations = 0;      // subproblems solved
   int factorisations = 0;  // of those, the ones that needed a new factorisation
@@ -54,6 +55,9 @@ class DenseActiveSet {
   // one column per column of db: what the tangent of a law needs.
   Eigen::MatrixXd sensitivity(const Eigen::MatrixXd& db) const;
   void reset() { factorised_ = false; }
+  // Counts the factorisations: sensitivity() gives the same answer while it stays the same
+  // (the caller may keep what it derived from it, e.g. a tangent).
+  long generation() const { return generation_; }
 
  private:
   // The KKT system of the free set: [A_FF C_Kᵀ; C_K 0], C_K the independent rows of C_F.
@@ -71,10 +75,15 @@ class DenseActiveSet {
   std::vector<int> free_, kept_rows_;
   Eigen::MatrixXd kkt_;  // LU factors in place (unit lower, upper)
   std::vector<int> pivot_;
+  mutable Eigen::VectorXd rhs_;  // the subproblem's right-hand side, kept between calls
+  double A_max_ = 0;             // max |A_ij| of the problem at A_max_of_
+  const double* A_max_of_ = nullptr;
+  Eigen::Index A_max_size_ = -1;
   const double* A_data_ = nullptr;
   const double* C_data_ = nullptr;
   Eigen::Index n_ = -1, n_c_ = -1;
   bool factorised_ = false;
+  long generation_ = 0;
 };
 
 }  // namespace dualcell::qp

@@ -16,5 +16,8 @@ std::string run_bench(const BenchOptions& options);
 // Only the floor (contact solve against one CHOLMOD solve, p1 and p2): floor.md and floor.json,
 // naming the BLAS the process loaded, so that runs on different BLAS libraries can be compared.
 std::string run_floor_only(const BenchOptions& options);
+// Only the exact law (one cell's condensed law per evaluation against its full solve):
+// exact_law.md and exact_law.json.
+std::string run_exact_law_only(const BenchOptions& options);
 
 }  // namespace dualcell::study

@@ -19,8 +19,9 @@
 namespace dualcell {
 namespace {
 
-const char* stages[] = {"dualcell-mesh",      "dualcell-solve", "dualcell-sweep",    "dualcell-fit", "dualcell-export",
-                        "dualcell-structure", "dualcell-law",   "dualcell-stability", "dualcell-bench"};
+const char* stages[] = {"dualcell-mesh", "dualcell-solve",     "dualcell-sweep",
+                        "dualcell-fit",  "dualcell-export",    "dualcell-structure",
+                        "dualcell-law",  "dualcell-stability", "dualcell-bench"};
 
 // The first token naming a stage: "dualcell-solve", not "dualcell-solve:" (an output line).
 bool starts_with_stage(const std::string& line) {

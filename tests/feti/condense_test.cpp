@@ -151,8 +151,14 @@ TEST(CondensedAdhesion, ThroughTheFuseAlongAPathAsTheCellDoes) {
         const Solution s = walk.solve(load);
         ASSERT_TRUE(s.converged());
         walk.accept(load, s);
+        law::CellHistory before = h;
         const law::CellResponse r = law.at_stress(load * N, h);
         ASSERT_TRUE(r.ok) << r.message;
+        // The evaluator keeps the tangent of its last factorisation: a fresh one from the same
+        // history gives the same tangent (no stale one across a change of the active set).
+        law::CellEvaluator fresh(cell);
+        const law::CellResponse again = fresh.at_stress(load * N, before);
+        EXPECT_LE((again.tangent - r.tangent).norm(), 1e-10 * r.tangent.norm()) << fraction;
         const Eigen::Vector3d expected = engineering(s.strain);
         EXPECT_LE((r.strain - expected).norm(), against_solver * expected.norm())
             << to_string(element) << " at " << fraction << " × onset along " << N.transpose();
