@@ -19,7 +19,13 @@ import h5py
 import common
 
 COLUMNS = ["scene", "interface_rows", "condense_s", "kB", "replay_points", "replay_max", "breaks_agree",
-           "cone_directions", "cone_max", "cone_rms", "worst_sxx", "worst_syy", "worst_sxy"]
+           "cone_directions", "cone_form", "cone_max", "cone_rms", "worst_sxx", "worst_syy", "worst_sxy",
+           "sweep_fit_max", "sweep_fit_rms"]
+
+
+def text(value):
+    """An HDF5 string attribute as str (h5py gives fixed-length strings as bytes)."""
+    return value.decode() if isinstance(value, bytes) else str(value)
 
 
 def row(path):
@@ -27,7 +33,7 @@ def row(path):
     with h5py.File(path, "r") as f:
         g = f["law"]
         if "cell" not in g:
-            return {"scene": scene, "interface_rows": "none: " + g.attrs["cell_note"]}
+            return {"scene": scene, "interface_rows": "none: " + text(g.attrs["cell_note"])}
         c = g["cell"]
         n = len(c["pair"])
         size = sum(c[k].size * 8 for k in ("S0", "Y", "H", "G")) + 4 * n * 8
@@ -37,7 +43,9 @@ def row(path):
         if "cone_check" in g:
             k = g["cone_check"]
             worst = k["worst"][:]
-            r.update({"cone_directions": len(k["error"]), "cone_max": float(k["max_error"][0]),
+            r.update({"cone_directions": len(k["error"]), "cone_form": text(g["cone"].attrs["form"]),
+                      "sweep_fit_max": float(k["sweep_fit_max_error"][0]),
+                      "sweep_fit_rms": float(k["sweep_fit_rms_error"][0]), "cone_max": float(k["max_error"][0]),
                       "cone_rms": float(k["rms_error"][0]), "worst_sxx": worst[0], "worst_syy": worst[1],
                       "worst_sxy": worst[2]})
         return r
@@ -45,18 +53,21 @@ def row(path):
 
 def markdown(rows):
     lines = ["| scene | exact law: interface rows | condensation | replay of its sweep: points, max error | "
-             "breaks agree | cone-wise law against the exact law: directions, max, rms | worst direction "
-             "(σxx, σyy, σxy) |", "|---|---|---|---|---|---|---|"]
+             "breaks agree | cone-wise law kept | against the exact law: directions, max, rms | worst direction "
+             "(σxx, σyy, σxy) | the form fitted to the sweep: max, rms |", "|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         if "replay_points" not in r:
-            lines.append(f"| {r['scene']} | {r['interface_rows']} | | | | | |")
+            lines.append(f"| {r['scene']} | {r['interface_rows']} | | | | | | | |")
             continue
-        cone = worst = ""
+        form = cone = worst = sweep_fit = ""
         if "cone_max" in r:
+            form = r["cone_form"]
             cone = f"{r['cone_directions']}, {100 * r['cone_max']:.1f} %, {100 * r['cone_rms']:.1f} %"
             worst = f"({r['worst_sxx']:.2f}, {r['worst_syy']:.2f}, {r['worst_sxy']:.2f})"
+            sweep_fit = f"{100 * r['sweep_fit_max']:.1f} %, {100 * r['sweep_fit_rms']:.1f} %"
         lines.append(f"| {r['scene']} | {r['interface_rows']} | {r['condense_s']:.2f} s, {r['kB']:.0f} kB | "
-                     f"{r['replay_points']}, {r['replay_max']:.1e} | {r['breaks_agree']} | {cone} | {worst} |")
+                     f"{r['replay_points']}, {r['replay_max']:.1e} | {r['breaks_agree']} | {form} | {cone} | {worst} | "
+                     f"{sweep_fit} |")
     return "\n".join(lines) + "\n"
 
 

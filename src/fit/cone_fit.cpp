@@ -11,6 +11,9 @@
 #include <memory>
 #include <numbers>
 
+#include "law/cone_check.hpp"
+#include "qp/dense_qp.hpp"
+
 namespace dualcell::fit {
 
 namespace {
@@ -172,11 +175,75 @@ Eigen::VectorXd nonnegative_least_squares(const Eigen::MatrixXd& A, const Eigen:
   return x;
 }
 
+// Fixed planes q_k: σ(ε) is linear in the unknowns (the six entries of a symmetric C_c and β_k),
+// so the fit is a least-squares problem with β ≥ 0: C_c eliminated by its QR projection, β by
+// nonnegative least squares, then C_c from β. Only the planes with β_k > 0 are kept (the
+// law::max_planes largest, refitted, where more are in use); a law whose C_c is not positive
+// definite is refused (+inf). Returns the cost Σ r_i².
+double fit_planes(const std::vector<ConePoint>& points, const std::vector<Eigen::Vector3d>& normals, law::ConeLaw& out,
+                  const Eigen::Matrix3d* fixed_C = nullptr) {
+  const int n_planes = static_cast<int>(normals.size());
+  // Unknowns: C_c entries (0,0), (0,1), (0,2), (1,1), (1,2), (2,2), then β_k.
+  constexpr int entries[6][2] = {{0, 0}, {0, 1}, {0, 2}, {1, 1}, {1, 2}, {2, 2}};
+  const Eigen::Index rows = 3 * static_cast<Eigen::Index>(points.size());
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(rows, 6 + n_planes);
+  Eigen::VectorXd b(rows);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const double w = 1 / points[i].stress.norm();
+    const Eigen::Vector3d& e = points[i].strain;
+    const Eigen::Index r = 3 * static_cast<Eigen::Index>(i);
+    for (int j = 0; j < 6; ++j) {
+      const int a = entries[j][0], c = entries[j][1];
+      A(r + a, j) += w * e(c);
+      if (a != c) A(r + c, j) += w * e(a);
+    }
+    for (int k = 0; k < n_planes; ++k) A.block<3, 1>(r, 6 + k) = w * std::max(normals[k].dot(e), 0.0) * normals[k];
+    b.segment<3>(r) = w * points[i].stress;
+  }
+  const Eigen::MatrixXd A_C = A.leftCols(6), A_beta = A.rightCols(n_planes);
+  Eigen::VectorXd beta, entry(6);
+  if (fixed_C) {
+    // Many planes: nonnegative least squares on the normal equations (n_planes² numbers, not
+    // rows × n_planes), by the exact active-set method starting with every β held at 0.
+    for (int j = 0; j < 6; ++j) entry(j) = (*fixed_C)(entries[j][0], entries[j][1]);
+    const Eigen::MatrixXd gram = A_beta.transpose() * A_beta;
+    const Eigen::VectorXd rhs = A_beta.transpose() * (b - A_C * entry);
+    std::vector<qp::Bound> active(n_planes, qp::Bound::lower);
+    qp::DenseActiveSet nnls;
+    const qp::DenseQpResult r =
+        nnls.solve(gram, rhs, Eigen::MatrixXd(0, n_planes), Eigen::VectorXd::Zero(n_planes),
+                   Eigen::VectorXd::Constant(n_planes, std::numeric_limits<double>::infinity()), active);
+    if (!r.converged) return std::numeric_limits<double>::infinity();
+    beta = r.x.cwiseMax(0.0);
+  } else {
+    const Eigen::HouseholderQR<Eigen::MatrixXd> qr(A_C);
+    const Eigen::MatrixXd Q = qr.householderQ() * Eigen::MatrixXd::Identity(rows, 6);
+    beta = nonnegative_least_squares(A_beta - Q * (Q.transpose() * A_beta), b - Q * (Q.transpose() * b));
+    entry = A_C.colPivHouseholderQr().solve(b - A_beta * beta);
+  }
+  // More planes in use than a law may have: the ones that add the most stiffness, refitted.
+  if ((beta.array() > 0).count() > law::max_planes) {
+    std::vector<int> order(n_planes);
+    for (int k = 0; k < n_planes; ++k) order[k] = k;
+    std::sort(order.begin(), order.end(), [&](int a, int c) { return beta(a) > beta(c); });
+    std::vector<Eigen::Vector3d> kept;
+    for (int k = 0; k < law::max_planes; ++k) kept.push_back(normals[order[k]]);
+    return fit_planes(points, kept, out, fixed_C);
+  }
+  law::ConeLaw law;
+  for (int j = 0; j < 6; ++j) law.C_c(entries[j][0], entries[j][1]) = law.C_c(entries[j][1], entries[j][0]) = entry(j);
+  law.q.clear();
+  law.beta.clear();
+  for (int k = 0; k < n_planes; ++k)
+    if (beta(k) > 0) law.q.push_back(normals[k]), law.beta.push_back(beta(k));
+  if (law.q.empty()) law.q = {normals[0]}, law.beta = {0.0};
+  if (!law::admissibility_problem(law).empty()) return std::numeric_limits<double>::infinity();
+  out = law;
+  return cost(points, law);
+}
+
 // The compression struts: planes q_k = −n_k⊗n_k/|n_k⊗n_k| (engineering shear: (cos², sin²,
-// cos·sin)) at θ_k = kπ/12. With the normals fixed, σ(ε) is linear in the unknowns (the six
-// entries of a symmetric C_c and β_k), so the fit is a least-squares problem with β ≥ 0: C_c
-// eliminated by its QR projection, β by nonnegative least squares, then C_c from β. A law whose
-// C_c is not positive definite is refused (+inf).
+// cos·sin)) at θ_k = kπ/12.
 double fit_struts(const std::vector<ConePoint>& points, law::ConeLaw& out) {
   constexpr int n_struts = 12;
   // Identifiable only with more equations than unknowns (6 + 12) from distinct strain
@@ -194,42 +261,66 @@ double fit_struts(const std::vector<ConePoint>& points, law::ConeLaw& out) {
     const double t = k * std::numbers::pi / n_struts, c = std::cos(t), s = std::sin(t);
     normals.push_back(-Eigen::Vector3d(c * c, s * s, c * s).normalized());
   }
-  // Unknowns: C_c entries (0,0), (0,1), (0,2), (1,1), (1,2), (2,2), then β_k.
-  constexpr int entries[6][2] = {{0, 0}, {0, 1}, {0, 2}, {1, 1}, {1, 2}, {2, 2}};
-  const Eigen::Index rows = 3 * static_cast<Eigen::Index>(points.size());
-  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(rows, 6 + n_struts);
-  Eigen::VectorXd b(rows);
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    const double w = 1 / points[i].stress.norm();
-    const Eigen::Vector3d& e = points[i].strain;
-    const Eigen::Index r = 3 * static_cast<Eigen::Index>(i);
-    for (int j = 0; j < 6; ++j) {
-      const int a = entries[j][0], c = entries[j][1];
-      A(r + a, j) += w * e(c);
-      if (a != c) A(r + c, j) += w * e(a);
-    }
-    for (int k = 0; k < n_struts; ++k) A.block<3, 1>(r, 6 + k) = w * std::max(normals[k].dot(e), 0.0) * normals[k];
-    b.segment<3>(r) = w * points[i].stress;
+  return fit_planes(points, normals, out);
+}
+
+// The residual of out.law per load direction of the points.
+void set_direction_residuals(const std::vector<ConePoint>& points, law::ConeFit& out) {
+  const int n_directions = static_cast<int>(out.direction_residual.size());
+  std::vector<double> sum(n_directions, 0.0);
+  std::vector<int> count(n_directions, 0);
+  for (const auto& p : points) {
+    if (p.direction < 0 || p.direction >= n_directions) continue;
+    sum[p.direction] += (law::evaluate(out.law, p.strain).stress - p.stress).squaredNorm() / p.stress.squaredNorm();
+    ++count[p.direction];
   }
-  const Eigen::MatrixXd A_C = A.leftCols(6), A_beta = A.rightCols(n_struts);
-  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(A_C);
-  const Eigen::MatrixXd Q = qr.householderQ() * Eigen::MatrixXd::Identity(rows, 6);
-  const Eigen::VectorXd beta =
-      nonnegative_least_squares(A_beta - Q * (Q.transpose() * A_beta), b - Q * (Q.transpose() * b));
-  const Eigen::VectorXd entry = A_C.colPivHouseholderQr().solve(b - A_beta * beta);
-  law::ConeLaw law;
-  for (int j = 0; j < 6; ++j) law.C_c(entries[j][0], entries[j][1]) = law.C_c(entries[j][1], entries[j][0]) = entry(j);
-  law.q.clear();
-  law.beta.clear();
-  for (int k = 0; k < n_struts; ++k)
-    if (beta(k) > 0) law.q.push_back(normals[k]), law.beta.push_back(beta(k));
-  if (law.q.empty()) law.q = {normals[0]}, law.beta = {0.0};
-  if (!law::admissibility_problem(law).empty()) return std::numeric_limits<double>::infinity();
-  out = law;
-  return cost(points, law);
+  for (int d = 0; d < n_directions; ++d)
+    if (count[d] > 0) out.direction_residual[d] = std::sqrt(sum[d] / count[d]);
 }
 
 }  // namespace
+
+law::ConeFit fit_cone_to_cell(const law::CondensedCell& cell, const std::vector<ConePoint>& points, int n_directions,
+                              int n) {
+  law::ConeFit out;
+  out.n_points = static_cast<int>(points.size());
+  out.direction_residual.assign(n_directions, std::numeric_limits<double>::quiet_NaN());
+  out.one_plane_residual = out.struts_residual = std::numeric_limits<double>::quiet_NaN();
+  out.form = "planes fitted to the exact law";
+  const law::CellSample sample = law::sample_cell(cell, n);
+  std::vector<ConePoint> exact;
+  for (std::size_t i = 0; i < sample.direction.size(); ++i)
+    if (sample.strain[i].allFinite()) exact.push_back({sample.strain[i], sample.stress[i], -1});
+  // Candidate planes: a Fibonacci set of unit strain directions.
+  std::vector<Eigen::Vector3d> normals;
+  constexpr int n_candidates = 240;
+  const double golden = std::numbers::pi * (3 - std::sqrt(5.0));
+  for (int k = 0; k < n_candidates; ++k) {
+    const double z = 1 - (2 * k + 1.0) / n_candidates, r = std::sqrt(1 - z * z);
+    normals.emplace_back(r * std::cos(k * golden), r * std::sin(k * golden), z);
+  }
+  // C_c the open cell's stiffness S₀⁻¹ (every gap open: the softest the cell can be), each plane
+  // adding stiffness where it opens: positive definite and convex by construction.
+  if (cell.n_macro != 3) {
+    out.message = "the cell carries no shear (symmetry boundary)";
+    return out;
+  }
+  const Eigen::Matrix3d C_open = Eigen::Matrix3d(cell.S0).inverse();
+  law::ConeLaw law;
+  const double c = fit_planes(exact, normals, law, &C_open);
+  if (!std::isfinite(c) || exact.empty()) {
+    out.message = "no admissible law fitted to the exact law";
+    return out;
+  }
+  out.law = law;
+  double sum = 0;
+  for (const auto& p : points)
+    sum += (law::evaluate(law, p.strain).stress - p.stress).squaredNorm() / p.stress.squaredNorm();
+  out.relative_residual = points.empty() ? std::numeric_limits<double>::quiet_NaN() : std::sqrt(sum / points.size());
+  set_direction_residuals(points, out);
+  out.ok = true;
+  return out;
+}
 
 law::ConeFit fit_cone(const std::vector<ConePoint>& points, int n_directions, const Eigen::Vector3d& guess) {
   law::ConeFit out;
@@ -257,15 +348,7 @@ law::ConeFit fit_cone(const std::vector<ConePoint>& points, int n_directions, co
   out.law = take_struts ? struts : one_plane;
   out.form = take_struts ? "compression struts" : "one plane";
   out.relative_residual = residual_of(take_struts ? struts_cost : one_plane_cost);
-  std::vector<double> sum(n_directions, 0.0);
-  std::vector<int> count(n_directions, 0);
-  for (const auto& p : points) {
-    if (p.direction < 0 || p.direction >= n_directions) continue;
-    sum[p.direction] += (law::evaluate(out.law, p.strain).stress - p.stress).squaredNorm() / p.stress.squaredNorm();
-    ++count[p.direction];
-  }
-  for (int d = 0; d < n_directions; ++d)
-    if (count[d] > 0) out.direction_residual[d] = std::sqrt(sum[d] / count[d]);
+  set_direction_residuals(points, out);
   out.ok = true;
   return out;
 }

@@ -327,7 +327,26 @@ law::Law fit_law(const std::vector<sweep::PathResult>& paths, const sweep::Sweep
   law.cell = header.cell;
   law.cell_note = header.cell_note;
   if (law.cell) law.cell_replay = replay_cell(*law.cell, paths, header.qp_tolerance);
-  if (law.cell && law.cone.ok) law.cone_check = law::check_cone_against_cell(law.cone.law, *law.cell);
+  // With the exact law: the compact law measured against it, fitted to it as well, and the one
+  // that misses it least (measured on directions other than those it was fitted to) kept.
+  if (law.cell) {
+    const law::CellSample sample = law::sample_cell(*law.cell, 1000);
+    if (law.cone.ok) law.cone_check = law::check_cone(law.cone.law, sample);
+    law::ConeCheck sweep_fit = law.cone_check;
+    law::ConeFit from_cell = fit_cone_to_cell(*law.cell, bonded, n_directions);
+    if (from_cell.ok) {
+      const law::ConeCheck check = law::check_cone(from_cell.law, sample);
+      if (!law.cone.ok || check.max_error < law.cone_check.max_error) {
+        from_cell.one_plane_residual = law.cone.one_plane_residual;  // the sweep's forms, as tried
+        from_cell.struts_residual = law.cone.struts_residual;
+        law.cone = from_cell;
+        law.cone_check = check;
+      }
+    }
+    law.cone_check.sweep_fit_max_error = sweep_fit.max_error;
+    law.cone_check.sweep_fit_rms_error = sweep_fit.rms_error;
+    if (!law.cone_check.stress.empty()) law::set_exact_polar(*law.cell, law.cone_check);
+  }
 
   law.constituents = header.constituents;
   law.provenance = header.provenance;

@@ -215,6 +215,8 @@ void write_law(const std::filesystem::path& file, const Law& law) {
       f.write(object("cone_check/error"), c.error, {c.error.size()});
       write_scalar(f, "cone_check/max_error", c.max_error);
       write_scalar(f, "cone_check/rms_error", c.rms_error);
+      write_scalar(f, "cone_check/sweep_fit_max_error", c.sweep_fit_max_error);
+      write_scalar(f, "cone_check/sweep_fit_rms_error", c.sweep_fit_rms_error);
       f.write(object("cone_check/worst"), std::vector<double>{c.worst(0), c.worst(1), c.worst(2)}, {3});
       f.write(object("cone_check/polar_deg"), c.polar_deg, {c.polar_deg.size()});
       f.write(object("cone_check/polar_E_tension"), c.polar_E_tension, {c.polar_deg.size()});
@@ -284,6 +286,8 @@ Law read_law(const std::filesystem::path& file) {
     c.error = r.doubles("cone_check/error", {K}, " like /law/cone_check/stress");
     c.max_error = r.scalar("cone_check/max_error");
     c.rms_error = r.scalar("cone_check/rms_error");
+    c.sweep_fit_max_error = r.scalar("cone_check/sweep_fit_max_error");
+    c.sweep_fit_rms_error = r.scalar("cone_check/sweep_fit_rms_error");
     const auto worst = r.doubles("cone_check/worst", {3});
     c.worst = {worst[0], worst[1], worst[2]};
     c.polar_deg = f.read_doubles(object("cone_check/polar_deg"), {any_extent}, "", &found);

@@ -37,41 +37,67 @@ std::vector<Eigen::Vector3d> ordered_circle(int n) {
 
 }  // namespace
 
-ConeCheck check_cone_against_cell(const ConeLaw& cone, const CondensedCell& cell, int n) {
-  ConeCheck check;
+CellSample sample_cell(const CondensedCell& cell, int n) {
+  CellSample sample;
   CellEvaluator evaluator(cell);
   const bool adhesion = cell.adhesion();
-  // The load of a direction: 1, or half the exact onset along it.
+  CellHistory history = evaluator.unloaded();
+  sample.direction = cell.n_macro == 3 ? ordered_sphere(n) : ordered_circle(std::max(180, n / 2));
+  for (const Eigen::Vector3d& N : sample.direction) {
+    double s = 1;
+    if (adhesion) {
+      const double onset = evaluator.onset(N);
+      if (std::isfinite(onset)) s = 0.5 * onset;
+    }
+    history.bonded = cell.bonded;  // each point from the intact cell; the active set stays as the warm start
+    const CellResponse r = evaluator.at_stress(s * N, history);
+    Eigen::Vector3d e = r.strain;
+    if (cell.n_macro == 2) e(2) = 0;
+    if (!r.ok || r.broken > 0) e.setConstant(std::numeric_limits<double>::quiet_NaN());
+    sample.strain.push_back(e);
+    sample.stress.push_back(s * N);
+  }
+  return sample;
+}
+
+ConeCheck check_cone(const ConeLaw& cone, const CellSample& sample) {
+  ConeCheck check;
+  check.stress = sample.direction;
+  double sum = 0;
+  int counted = 0;
+  for (std::size_t i = 0; i < sample.direction.size(); ++i) {
+    const double s = sample.stress[i].norm();
+    const double error = sample.strain[i].allFinite()
+                             ? (evaluate(cone, sample.strain[i]).stress - sample.stress[i]).norm() / s
+                             : std::numeric_limits<double>::quiet_NaN();
+    check.error.push_back(error);
+    if (!std::isfinite(error)) continue;
+    sum += error * error;
+    ++counted;
+    if (error > check.max_error) check.max_error = error, check.worst = sample.direction[i];
+  }
+  check.rms_error = counted > 0 ? std::sqrt(sum / counted) : std::numeric_limits<double>::quiet_NaN();
+  if (counted == 0) check.max_error = std::numeric_limits<double>::quiet_NaN();
+  return check;
+}
+
+void set_exact_polar(const CondensedCell& cell, ConeCheck& check) {
+  CellEvaluator evaluator(cell);
+  const bool adhesion = cell.adhesion();
+  CellHistory history = evaluator.unloaded();
   const auto load = [&](const Eigen::Vector3d& N) {
     if (!adhesion) return 1.0;
     const double onset = evaluator.onset(N);
     return std::isfinite(onset) ? 0.5 * onset : 1.0;
   };
-  CellHistory history = evaluator.unloaded();
   const auto exact_strain = [&](const Eigen::Vector3d& sigma, bool& ok) {
-    history.bonded = cell.bonded;  // each point from the intact cell; the active set stays as the warm start
+    history.bonded = cell.bonded;
     const CellResponse r = evaluator.at_stress(sigma, history);
     ok = r.ok && r.broken == 0;
     Eigen::Vector3d e = r.strain;
     if (cell.n_macro == 2) e(2) = 0;
     return e;
   };
-  check.stress = cell.n_macro == 3 ? ordered_sphere(n) : ordered_circle(std::max(180, n / 2));
-  double sum = 0;
-  int counted = 0;
-  for (const Eigen::Vector3d& N : check.stress) {
-    const double s = load(N);
-    bool ok = false;
-    const Eigen::Vector3d e = exact_strain(s * N, ok);
-    const double error = ok ? (evaluate(cone, e).stress - s * N).norm() / s : std::numeric_limits<double>::quiet_NaN();
-    check.error.push_back(error);
-    if (!std::isfinite(error)) continue;
-    sum += error * error;
-    ++counted;
-    if (error > check.max_error) check.max_error = error, check.worst = N;
-  }
-  check.rms_error = counted > 0 ? std::sqrt(sum / counted) : std::numeric_limits<double>::quiet_NaN();
-  if (counted == 0) check.max_error = std::numeric_limits<double>::quiet_NaN();
   // The exact law's apparent moduli around the circle.
   for (int deg = 0; deg < 180; ++deg) {
     const double t = deg * std::numbers::pi / 180, c = std::cos(t), si = std::sin(t);
@@ -86,6 +112,11 @@ ConeCheck check_cone_against_cell(const ConeLaw& cone, const CondensedCell& cell
       (sign > 0 ? check.polar_E_tension : check.polar_E_compression).push_back(E);
     }
   }
+}
+
+ConeCheck check_cone_against_cell(const ConeLaw& cone, const CondensedCell& cell, int n) {
+  ConeCheck check = check_cone(cone, sample_cell(cell, n));
+  set_exact_polar(cell, check);
   return check;
 }
 

@@ -10,6 +10,7 @@
 // ‖σ_cone(ε) − sN‖ / s — what a structure code with the compact law gets wrong at a strain the
 // cell really takes.
 #include <Eigen/Core>
+#include <limits>
 #include <vector>
 
 #include "law/condensed.hpp"
@@ -22,13 +23,30 @@ struct ConeCheck {
   std::vector<double> error;            // per direction
   double max_error = 0, rms_error = 0;
   Eigen::Vector3d worst = Eigen::Vector3d::Zero();  // the N of max_error
+  // The same for the law fitted to the sweep's points (fit/cone_fit.hpp, fit_cone), measured on the
+  // same directions, whichever law was kept (NaN where there was none).
+  double sweep_fit_max_error = std::numeric_limits<double>::quiet_NaN();
+  double sweep_fit_rms_error = std::numeric_limits<double>::quiet_NaN();
   // The exact law's apparent plane-strain moduli around the circle (uniaxial n⊗n, n =
   // (cos θ, sin θ), as law::apparent_modulus gives the compact law's), θ = 0, 1, …, 179°.
   std::vector<double> polar_deg, polar_E_tension, polar_E_compression;
 };
 
-// About `n` directions (n on the sphere; n/2, at least 180, on the circle without shear),
-// ordered along a path so that each evaluation warm-starts from its neighbour.
+// The exact law sampled at about `n` unit stress directions N (n on the sphere of (σxx, σyy,
+// √2σxy); n/2, at least 180, on the circle of (σxx, σyy) for a cell without shear), ordered
+// along rings so that each evaluation warm-starts from its neighbour, at the load s = 1 (½ s*(N)
+// with adhesion): the points (ε, σ = sN), each from the intact cell. A direction whose
+// evaluation fails or breaks a bond has a NaN strain.
+struct CellSample {
+  std::vector<Eigen::Vector3d> direction, strain, stress;
+};
+CellSample sample_cell(const CondensedCell& cell, int n);
+
+// The check over a sample of the exact law (sample_cell); polar_* are left empty.
+ConeCheck check_cone(const ConeLaw& cone, const CellSample& sample);
+// The exact law's apparent moduli for ConeCheck::polar_*.
+void set_exact_polar(const CondensedCell& cell, ConeCheck& check);
+// Both over sample_cell(cell, n).
 ConeCheck check_cone_against_cell(const ConeLaw& cone, const CondensedCell& cell, int n = 1000);
 
 }  // namespace dualcell::law
