@@ -136,11 +136,11 @@ def polar(law, outbase):
                         "lc rgb '#009060' title 'exact law, tension'")
     title = "Moduli by load direction θ"
     if cone_error is not None:
-        title += "\\ncone-wise law against the exact law: stress error max {:.1f} %, rms {:.1f} %".format(
+        title += "\\ncone-wise vs exact law: max {:.1f} %, rms {:.1f} %".format(
             100 * cone_error[0], 100 * cone_error[1])
     polar_plot = ('set title "' + title + '"\nset polar\nset angles degrees\n'
                   "set grid polar 30\nset size square\nunset border\nunset xtics\nunset ytics\nset rtics\n"
-                  "set key below vertical maxrows 3 font ',9'\n"
+                  "set key below vertical maxrows 4 font ',8'\n"
                   "plot 'Ec.dat' using 1:2 with linespoints lw 2 pt 7 lc rgb '#8000c0' title 'E compression', \\\n"
                   "  'Et.dat' using 1:2 with linespoints lw 2 pt 5 lc rgb '#009060' title 'E tension'" + after_fuse
                   + cone_curves + exact_curves + "\n")
