@@ -19,6 +19,13 @@ bool symmetric(const Eigen::MatrixXd& M) {
   return M.rows() == M.cols() && (M - M.transpose()).norm() <= 1e-12 * std::max(M.norm(), 1e-300);
 }
 
+// A cell without shear (the symmetry boundary): its γxy and the tangent's shear entries are NaN.
+void mark_no_shear(CellResponse& out) {
+  out.strain(2) = nan;
+  out.tangent.row(2).setConstant(nan);
+  out.tangent.col(2).setConstant(nan);
+}
+
 }  // namespace
 
 bool CondensedCell::adhesion() const {
@@ -157,11 +164,7 @@ CellResponse CellEvaluator::at_stress(const Eigen::Vector3d& sigma, CellHistory&
     stress_tangent_of_ = stress_qp_.generation();
   }
   out.tangent = stress_tangent_;
-  if (m == 2) {
-    out.strain(2) = nan;
-    out.tangent.row(2).setConstant(nan);
-    out.tangent.col(2).setConstant(nan);
-  }
+  if (m == 2) mark_no_shear(out);
   return out;
 }
 
@@ -200,11 +203,7 @@ CellResponse CellEvaluator::at_strain(const Eigen::Vector3d& strain, CellHistory
     strain_tangent_of_ = strain_qp_.generation();
   }
   out.tangent = strain_tangent_;
-  if (m == 2) {
-    out.strain(2) = nan;
-    out.tangent.row(2).setConstant(nan);
-    out.tangent.col(2).setConstant(nan);
-  }
+  if (m == 2) mark_no_shear(out);
   return out;
 }
 

@@ -114,10 +114,4 @@ void set_exact_polar(const CondensedCell& cell, ConeCheck& check) {
   }
 }
 
-ConeCheck check_cone_against_cell(const ConeLaw& cone, const CondensedCell& cell, int n) {
-  ConeCheck check = check_cone(cone, sample_cell(cell, n));
-  set_exact_polar(cell, check);
-  return check;
-}
-
 }  // namespace dualcell::law

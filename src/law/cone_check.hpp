@@ -46,7 +46,5 @@ CellSample sample_cell(const CondensedCell& cell, int n);
 ConeCheck check_cone(const ConeLaw& cone, const CellSample& sample);
 // The exact law's apparent moduli for ConeCheck::polar_*.
 void set_exact_polar(const CondensedCell& cell, ConeCheck& check);
-// Both over sample_cell(cell, n).
-ConeCheck check_cone_against_cell(const ConeLaw& cone, const CondensedCell& cell, int n = 1000);
 
 }  // namespace dualcell::law
