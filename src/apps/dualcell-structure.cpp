@@ -1,13 +1,14 @@
 // dualcell-structure: a structure of homogeneous cells with the fitted law.
 //
 // A rectangle of nx × ny cells (the fitted cell's size), each meshed with m × m squares of two
-// p1 or p2 triangles, every element with the cell's cone-wise law and the fuse: a cell whose
-// average stress leaves the onset surface switches to the law past the fuse, irreversibly.
+// p1 or p2 triangles, every element with the cell's exact law (every quadrature point a cell
+// with its own bond history) or its cone-wise law and the fuse: a cell whose average stress
+// leaves the onset surface switches to the law past the fuse, irreversibly.
 // Edge conditions, supports, point loads and load steps from structure.toml (keys: README.md,
 // "Stage: dualcell-structure"); Newton with a line search per step. Writes structure.h5 and
 // structure.xdmf (layout: README.md, "structure.h5").
 //
-//   dualcell-structure --config structure.toml --law law.h5 --out structure.h5
+//   dualcell-structure --config structure.toml --law law.h5 --out structure.h5 [--form cell|cone]
 #include <cstdio>
 
 #include "apps/options.hpp"
@@ -16,14 +17,18 @@
 
 int main(int argc, char** argv) {
   CLI::App app{
-      "dualcell-structure: solve a structure of homogeneous cells with the fitted cone-wise law and its fuse,\n"
-      "and write structure.h5 + structure.xdmf (layout: README.md, \"structure.h5\")."};
+      "dualcell-structure: solve a structure of homogeneous cells with the cell's exact law (or its cone-wise\n"
+      "law and fuse), and write structure.h5 + structure.xdmf (layout: README.md, \"structure.h5\")."};
   dualcell::stage::StructureOptions options;
   std::string config, law, out;
   bool quiet = false;
   app.add_option("--config", config, "structure scene (TOML)")->required();
   app.add_option("--law", law, "law.h5 written by dualcell-fit")->required();
   app.add_option("--out", out, "output HDF5 file (the XDMF is written beside it)")->required();
+  app.add_option("--form", options.form,
+                 "cell: the exact law (/law/cell, every quadrature point a cell with its bond history); cone: the "
+                 "cone-wise law with the fuse per cell; default: cell where law.h5 has it, else cone")
+      ->check(CLI::IsMember({"cell", "cone"}));
   app.add_flag("--quiet", quiet, "no progress and no summary");
   if (const auto stop = dualcell::parse_options(app, argc, argv)) return *stop;
 
@@ -50,15 +55,25 @@ int main(int argc, char** argv) {
     std::printf("dualcell-structure: %s -> %s: %d cells of size %g, %d nodes, %d triangles, %.2f s\n", config.c_str(),
                 out.c_str(), s.n_cells, s.cell_size, s.n_nodes, s.n_triangles, s.seconds);
     if (!s.fuse_note.empty()) std::printf("  %s\n", s.fuse_note.c_str());
-    std::printf("  first cell fuses at load factor %.6g\n", s.first_fuse_factor);
-    std::printf("  %8s %8s %8s %8s %8s %14s %14s %14s %14s\n", "factor", "newton", "rounds", "fused", "open", "energy",
-                "decrease", "watch ux", "watch uy");
+    const bool cell = s.law_form == "cell";
+    std::printf("  law: %s\n", cell ? "exact (/law/cell), every quadrature point a cell with its own bonds"
+                                    : "cone-wise (/law/cone), the fuse per cell");
+    std::printf("  first %s at load factor %.6g\n", cell ? "bond breaks" : "cell fuses", s.first_fuse_factor);
+    std::printf("  %8s %8s %8s %8s %8s %14s %14s %14s %14s\n", "factor", "newton", "rounds", cell ? "broke" : "fused",
+                "open", "energy", "decrease", "watch ux", "watch uy");
     for (const auto& r : s.steps)
       std::printf("  %8.4g %8d %8d %8d %8d %14.6e %14.6e %14.6e %14.6e%s\n", r.factor, r.newton_steps, r.fuse_rounds,
-                  r.newly_fused_cells, r.open_triangles, r.energy, r.energy_decrease, r.watch_displacement(0),
-                  r.watch_displacement(1), r.converged ? "" : "  NOT converged");
-    std::printf("  (open: triangles with a plane of the law open at the centroid, of %d)\n", s.n_triangles);
-    std::printf("  fused cells at the end: %d of %d\n", s.fused_cells, s.n_cells);
+                  cell ? r.newly_broken_points : r.newly_fused_cells, r.open_triangles, r.energy, r.energy_decrease,
+                  r.watch_displacement(0), r.watch_displacement(1), r.converged ? "" : "  NOT converged");
+    if (cell) {
+      std::printf(
+          "  (broke: quadrature points where a bond broke; open: triangles with an open gap at a point, of %d)\n",
+          s.n_triangles);
+      std::printf("  points with a broken bond at the end: %d of %d\n", s.broken_points, s.n_points);
+    } else {
+      std::printf("  (open: triangles with a plane of the law open at the centroid, of %d)\n", s.n_triangles);
+      std::printf("  fused cells at the end: %d of %d\n", s.fused_cells, s.n_cells);
+    }
   });
   return status != dualcell::exit_ok ? status : exit_code;
 }

@@ -21,7 +21,7 @@ std::string step_group(std::size_t k) {
 
 void write_structure(const std::filesystem::path& out, const structure::StructureMesh& mesh,
                      const std::vector<structure::StepResult>& steps, double first_fuse_factor,
-                     const Provenance& provenance) {
+                     const std::string& law_form, const Provenance& provenance) {
   const hsize_t N = static_cast<hsize_t>(mesh.nodes.rows()), T = static_cast<hsize_t>(mesh.triangles.rows());
   const hsize_t per = static_cast<hsize_t>(mesh.triangles.cols()), S = steps.size();
   const std::filesystem::path xdmf = xdmf_beside(out);
@@ -31,6 +31,7 @@ void write_structure(const std::filesystem::path& out, const structure::Structur
   {
     File f = File::create(out);
     write_provenance(f, structure_format, provenance);
+    f.write_attribute("/", "law_form", law_form);
     f.create_group("/mesh");
     std::vector<double> nodes;
     for (hsize_t i = 0; i < N; ++i) nodes.push_back(mesh.nodes(i, 0)), nodes.push_back(mesh.nodes(i, 1));
@@ -45,7 +46,7 @@ void write_structure(const std::filesystem::path& out, const structure::Structur
     // Per step: the report as columns, the fields in /steps/NNN.
     f.create_group("/steps");
     std::vector<double> factor, energy, decrease, residual, watch, reactions;
-    std::vector<std::int64_t> newton, rounds, fused, converged, open;
+    std::vector<std::int64_t> newton, rounds, fused, broken_points, converged, open;
     for (const auto& s : steps) {
       factor.push_back(s.factor), energy.push_back(s.energy), decrease.push_back(s.energy_decrease);
       residual.push_back(s.residual);
@@ -53,6 +54,7 @@ void write_structure(const std::filesystem::path& out, const structure::Structur
       for (const auto& R : s.reactions) reactions.push_back(R(0)), reactions.push_back(R(1));
       newton.push_back(s.newton_steps), rounds.push_back(s.fuse_rounds), fused.push_back(s.newly_fused_cells);
       open.push_back(s.open_triangles);
+      broken_points.push_back(s.newly_broken_points);
       converged.push_back(s.converged ? 1 : 0);
     }
     f.write("/steps/factor", factor, {S});
@@ -65,6 +67,7 @@ void write_structure(const std::filesystem::path& out, const structure::Structur
     f.write("/steps/newton_steps", newton, {S});
     f.write("/steps/fuse_rounds", rounds, {S});
     f.write("/steps/newly_fused_cells", fused, {S});
+    f.write("/steps/newly_broken_points", broken_points, {S});
     f.write("/steps/open_triangles", open, {S});
     f.write("/steps/converged", converged, {S});
     std::vector<XdmfGrid> grids;
@@ -80,6 +83,7 @@ void write_structure(const std::filesystem::path& out, const structure::Structur
       f.write(g + "/stress", stress, {T, 3});
       f.write(g + "/open", std::vector<std::int64_t>(s.open.begin(), s.open.end()), {T});
       f.write(g + "/fused", std::vector<std::int64_t>(s.fused.begin(), s.fused.end()), {T});
+      if (!s.broken.empty()) f.write(g + "/broken", std::vector<double>(s.broken.begin(), s.broken.end()), {T});
       XdmfGrid grid;
       grid.name = "step " + std::to_string(k) + " (factor " + std::to_string(s.factor) + ")";
       grid.nodes_dataset = "/mesh/nodes";
@@ -92,6 +96,7 @@ void write_structure(const std::filesystem::path& out, const structure::Structur
                      {"open", g + "/open", true, {T}, true},
                      {"fused", g + "/fused", true, {T}, true},
                      {"cell", "/mesh/cell", true, {T}, true}};
+      if (!s.broken.empty()) grid.fields.push_back({"broken", g + "/broken", true, {T}});
       grids.push_back(grid);
     }
     outputs.write(out, f.close_to_image());

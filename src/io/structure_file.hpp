@@ -3,6 +3,7 @@
 // structure of homogeneous cells and, per load step, displacements, element stresses, open
 // planes and fuse states, with the step's Newton report and reactions. Written atomically.
 #include <filesystem>
+#include <string>
 #include <vector>
 
 #include "core/provenance.hpp"
@@ -12,6 +13,6 @@ namespace dualcell::io {
 
 void write_structure(const std::filesystem::path& out, const structure::StructureMesh& mesh,
                      const std::vector<structure::StepResult>& steps, double first_fuse_factor,
-                     const Provenance& provenance);
+                     const std::string& law_form, const Provenance& provenance);
 
 }  // namespace dualcell::io

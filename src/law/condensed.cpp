@@ -82,7 +82,7 @@ CellEvaluator::CellEvaluator(const CondensedCell& cell) : cell_(cell) {
 
 CellHistory CellEvaluator::unloaded() const { return {cell_.bonded, {}}; }
 
-void CellEvaluator::set_bounds(const std::vector<std::uint8_t>& bonded, int offset) {
+void CellEvaluator::set_bounds(const std::vector<std::uint8_t>& bonded, int offset, bool lifted) {
   const int n = cell_.n_rows();
   lower_.resize(offset + n);
   upper_.resize(offset + n);
@@ -92,7 +92,23 @@ void CellEvaluator::set_bounds(const std::vector<std::uint8_t>& bonded, int offs
     const bool b = bonded[cell_.pair[r]] != 0;
     lower_(offset + r) = b ? cell_.lower_bonded(r) : cell_.lower_broken(r);
     upper_(offset + r) = b ? cell_.upper_bonded(r) : cell_.upper_broken(r);
+    // The strengths lifted: contact rows keep p_n ≥ 0, so the admissible set stays a cone.
+    if (lifted && b) {
+      if (lower_(offset + r) < 0) lower_(offset + r) = -inf;
+      if (upper_(offset + r) > 0) upper_(offset + r) = inf;
+    }
   }
+}
+
+double CellEvaluator::strength_use(const Eigen::VectorXd& forces, const std::vector<std::uint8_t>& bonded) const {
+  double use = 0;
+  for (int r = 0; r < cell_.n_rows(); ++r) {
+    if (!bonded[cell_.pair[r]]) continue;
+    const double p = forces(r), lo = cell_.lower_bonded(r), hi = cell_.upper_bonded(r);
+    if (p < 0 && lo < 0) use = std::max(use, p / lo);
+    if (p > 0 && hi > 0 && std::isfinite(hi)) use = std::max(use, p / hi);
+  }
+  return use;
 }
 
 void CellEvaluator::check_shear(const Eigen::Vector3d& v, CellResponse& out) const {
@@ -101,15 +117,17 @@ void CellEvaluator::check_shear(const Eigen::Vector3d& v, CellResponse& out) con
     out.message = "the cell has the symmetry boundary: it carries no shear (the third component must be 0)";
 }
 
-// Solve, break the bonded rows that end at their strength, solve again: the debond cascade.
-// `solve` runs one QP with the bounds of h.bonded and returns the forces p and the active set of
-// the rows (offset: the position of p in the QP's unknowns).
+// Solve, break the bonded rows that end at their strength, solve again: the debond cascade
+// (with `breaks`; otherwise one solve). `solve` runs one QP with the bounds of h.bonded and
+// returns the forces p and the active set of the rows (offset: the position of p in the QP's
+// unknowns).
 template <class Solve>
-CellResponse CellEvaluator::cascade(CellHistory& h, Solve&& solve) {
+CellResponse CellEvaluator::cascade(CellHistory& h, bool breaks, Solve&& solve) {
   CellResponse out;
   if (static_cast<int>(h.bonded.size()) != cell_.n_pairs) h = unloaded();
   for (int round = 0; round <= cell_.n_pairs; ++round) {
     if (!solve(out)) return out;
+    if (!breaks) break;
     std::vector<int> breaking;
     const int n = cell_.n_rows();
     for (int r = 0; r < n; ++r) {
@@ -126,6 +144,7 @@ CellResponse CellEvaluator::cascade(CellHistory& h, Solve&& solve) {
     }
   }
   for (int p = 0; p < cell_.n_pairs; ++p) out.broken += cell_.bonded[p] && !h.bonded[p];
+  out.strength_use = strength_use(out.forces, h.bonded);
   out.ok = true;
   return out;
 }
@@ -137,7 +156,7 @@ CellResponse CellEvaluator::at_stress(const Eigen::Vector3d& sigma, CellHistory&
   const int m = cell_.n_macro, n = cell_.n_rows();
   if (h.active.size() != static_cast<std::size_t>(n)) h.active.clear();
   Eigen::Matrix3d compliance = Eigen::Matrix3d::Zero();
-  out = cascade(h, [&](CellResponse& r) {
+  out = cascade(h, true, [&](CellResponse& r) {
     set_bounds(h.bonded, 0);
     b_ = cell_.Y * sigma.head(m);
     const qp::DenseQpResult qp = stress_qp_.solve(cell_.H, b_, C_stress_, lower_, upper_, h.active);
@@ -168,15 +187,15 @@ CellResponse CellEvaluator::at_stress(const Eigen::Vector3d& sigma, CellHistory&
   return out;
 }
 
-CellResponse CellEvaluator::at_strain(const Eigen::Vector3d& strain, CellHistory& h) {
+CellResponse CellEvaluator::at_strain(const Eigen::Vector3d& strain, CellHistory& h, Bonds bonds) {
   CellResponse out;
   check_shear(strain, out);
   if (!out.message.empty()) return out;
   const int m = cell_.n_macro, n = cell_.n_rows();
   if (h.active.size() != static_cast<std::size_t>(m + n)) h.active.clear();
   Eigen::VectorXd z;
-  out = cascade(h, [&](CellResponse& r) {
-    set_bounds(h.bonded, m);
+  out = cascade(h, bonds == Bonds::cascade, [&](CellResponse& r) {
+    set_bounds(h.bonded, m, bonds == Bonds::lifted);
     b_ = Eigen::VectorXd::Zero(m + n);
     b_.head(m) = cell_.volume * strain.head(m);
     const qp::DenseQpResult qp = strain_qp_.solve(energy_, b_, C_strain_, lower_, upper_, h.active);
@@ -193,6 +212,7 @@ CellResponse CellEvaluator::at_strain(const Eigen::Vector3d& strain, CellHistory
   if (!out.ok) return out;
   out.stress.head(m) = z.head(m);
   out.strain.head(m) = strain.head(m);
+  out.energy = strain.head(m).dot(z.head(m)) - 0.5 * z.dot(energy_ * z) / cell_.volume;
   // dσ̄/dε̄: the σ̄ rows of dz/db for db = (|Ω| I, 0), symmetric as the KKT system is.
   if (strain_tangent_of_ != strain_qp_.generation()) {
     Eigen::MatrixXd db = Eigen::MatrixXd::Zero(m + n, m);
@@ -208,27 +228,15 @@ CellResponse CellEvaluator::at_strain(const Eigen::Vector3d& strain, CellHistory
 }
 
 double CellEvaluator::onset(const Eigen::Vector3d& sigma) {
-  const int m = cell_.n_macro, n = cell_.n_rows();
+  const int m = cell_.n_macro;
   if (!cell_.adhesion()) return inf;
-  // The intact cell with the strengths lifted: contact rows keep p_n ≥ 0, so the admissible set
-  // stays a cone and p(sσ̄) = s p(σ̄) for s ≥ 0.
-  set_bounds(cell_.bonded, 0);
-  for (int r = 0; r < n; ++r) {
-    if (!cell_.bonded[cell_.pair[r]]) continue;
-    if (lower_(r) < 0) lower_(r) = -inf;
-    if (upper_(r) > 0) upper_(r) = inf;
-  }
+  // The intact cell with the strengths lifted: p(sσ̄) = s p(σ̄) for s ≥ 0.
+  set_bounds(cell_.bonded, 0, true);
   b_ = cell_.Y * sigma.head(m);
   const qp::DenseQpResult qp = onset_qp_.solve(cell_.H, b_, C_stress_, lower_, upper_, onset_active_);
   if (!qp.converged) return nan;
-  double s = inf;
-  for (int r = 0; r < n; ++r) {
-    if (!cell_.bonded[cell_.pair[r]]) continue;
-    const double p = qp.x(r);
-    if (p < 0 && cell_.lower_bonded(r) < 0) s = std::min(s, cell_.lower_bonded(r) / p);
-    if (p > 0 && cell_.upper_bonded(r) > 0) s = std::min(s, cell_.upper_bonded(r) / p);
-  }
-  return s;
+  const double use = strength_use(qp.x, cell_.bonded);
+  return use > 0 ? 1 / use : inf;
 }
 
 }  // namespace dualcell::law

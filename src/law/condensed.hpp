@@ -67,14 +67,27 @@ struct CellHistory {
   std::vector<qp::Bound> active;     // per unknown of the last QP (empty: none yet)
 };
 
+// What an evaluation does with the bonds: `cascade` breaks every bonded row that reaches its
+// strength and solves again (the history moves on); `held` keeps the bond state as it is, a
+// bonded row at its strength then carries its strength and no more (a trial state, e.g. a
+// Newton iterate of a structure, which must not break anything); `lifted` is the intact cell
+// with the strengths of its bonded rows removed (linear in the load: the onset's scaling).
+enum class Bonds { cascade, held, lifted };
+
 struct CellResponse {
   Eigen::Vector3d stress = Eigen::Vector3d::Zero();   // σ̄ (σxy = 0 with n_macro = 2)
   Eigen::Vector3d strain = Eigen::Vector3d::Zero();   // ε̄, engineering shear (γxy NaN with n_macro = 2)
   Eigen::Matrix3d tangent = Eigen::Matrix3d::Zero();  // dσ̄/dε̄, symmetric (shear NaN with n_macro = 2)
   Eigen::VectorXd forces;                             // p
-  int broken = 0;                                     // pairs broken after this evaluation
-  int newly_broken = 0;                               // of which broke in it
-  int iterations = 0;                                 // active-set subproblems, over all rounds
+  // Strain-driven: the strain energy per unit volume, W(ε̄) = ε̄·σ̄ − ½zᵀ𝓗z/|Ω| (the value of
+  // the QP, Legendre-transformed; ∂W/∂ε̄ = σ̄). 0 when stress-driven.
+  double energy = 0;
+  // The largest force of a bonded row over its strength (0 … 1; 1: at its strength), over the
+  // bonded rows of the history the evaluation ends with.
+  double strength_use = 0;
+  int broken = 0;        // pairs broken after this evaluation
+  int newly_broken = 0;  // of which broke in it
+  int iterations = 0;    // active-set subproblems, over all rounds
   int factorisations = 0;
   bool ok = false;
   std::string message;  // why not, when not ok
@@ -91,7 +104,7 @@ class CellEvaluator {
   // The response to a macro stress σ̄ (stress-driven) or a macro strain ε̄ (strain-driven,
   // engineering shear), from the history h, which is updated (breaks are irreversible).
   CellResponse at_stress(const Eigen::Vector3d& sigma, CellHistory& h);
-  CellResponse at_strain(const Eigen::Vector3d& strain, CellHistory& h);
+  CellResponse at_strain(const Eigen::Vector3d& strain, CellHistory& h, Bonds bonds = Bonds::cascade);
   // The load factor s* at which the first bond of the unloaded cell breaks under s·σ̄ (+inf
   // without adhesion or when no bond ever reaches its strength along σ̄): the bonded cell with
   // its strengths lifted is homogeneous of degree one in σ̄, so s* = min over bonded rows of
@@ -100,8 +113,9 @@ class CellEvaluator {
 
  private:
   template <class Solve>
-  CellResponse cascade(CellHistory& h, Solve&& solve);
-  void set_bounds(const std::vector<std::uint8_t>& bonded, int offset);
+  CellResponse cascade(CellHistory& h, bool breaks, Solve&& solve);
+  void set_bounds(const std::vector<std::uint8_t>& bonded, int offset, bool lifted = false);
+  double strength_use(const Eigen::VectorXd& forces, const std::vector<std::uint8_t>& bonded) const;
   void check_shear(const Eigen::Vector3d& v, CellResponse& out) const;
 
   const CondensedCell& cell_;

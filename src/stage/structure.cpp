@@ -14,22 +14,38 @@
 
 namespace dualcell::stage {
 
-structure::CellLaw cell_law(const std::filesystem::path& law_file, double& cell_size, std::string& note) {
+structure::CellLaw cell_law(const std::filesystem::path& law_file, std::string& form, double& cell_size,
+                            std::string& note) {
   const law::Law law = io::read_law(law_file);
-  if (!law.cone.ok)
-    throw InputError(law_file.string() + ": /law/cone: no fitted cone-wise law (" + law.cone.message +
-                     "): nothing a structure can use");
   cell_size = law.constituents.cell_size;
   if (!(cell_size >= min_structure_cell_size && cell_size <= max_structure_cell_size))
     throw InputError(law_file.string() + ": /law attribute cell_size = " + shortest(cell_size) +
                      ": a structure needs a cell size in [" + shortest(min_structure_cell_size) + ", " +
                      shortest(max_structure_cell_size) + "] (its positions are in that unit)");
+  if (form != "" && form != "cell" && form != "cone")
+    throw InputError("--form " + form + ": must be \"cell\" (the exact law) or \"cone\" (the cone-wise law)");
   structure::CellLaw cell;
+  if (form == "cell" && !law.cell)
+    throw InputError(law_file.string() + ": /law/cell: no exact law (" + law.cell_note + "): --form cell needs one");
+  if (form.empty()) {
+    form = law.cell ? "cell" : "cone";
+    if (!law.cell) note = "the cone-wise law: law.h5 has no exact law (" + law.cell_note + ")";
+  }
+  if (form == "cell") {
+    cell.cell = std::make_shared<const law::CondensedCell>(*law.cell);
+    if (!law.cell->adhesion()) note = "no bond breaks: the cell has no adhesion";
+    return cell;
+  }
+  if (!law.cone.ok)
+    throw InputError(law_file.string() + ": /law/cone: no fitted cone-wise law (" + law.cone.message +
+                     "): nothing a structure can use");
   cell.bonded = cell.debonded = law.cone.law;
+  const std::string prefix = note.empty() ? "" : note + "; ";
   if (!law.onset.linear) {
-    note = "cells do not fuse: the law has no onset surface (" + law.onset.message + ")";
+    note = prefix + "cells do not fuse: the law has no onset surface (" + law.onset.message + ")";
   } else if (!law.cone_after_fuse.ok) {
-    note = "cells do not fuse: the law has no cone-wise law past the fuse (" + law.cone_after_fuse.message + ")";
+    note =
+        prefix + "cells do not fuse: the law has no cone-wise law past the fuse (" + law.cone_after_fuse.message + ")";
   } else {
     cell.debonded = law.cone_after_fuse.law;
     cell.onset = law.onset;
@@ -44,7 +60,8 @@ StructureSummary run_structure(const StructureOptions& options) {
   io::check_outputs({options.out, io::xdmf_beside(options.out)}, {options.scene_file, options.law_file});
   StructureScene scene = load_structure_scene(options.scene_file);
   StructureSummary summary;
-  const structure::CellLaw law = cell_law(options.law_file, scene.cell_size, summary.fuse_note);
+  summary.law_form = options.form;
+  const structure::CellLaw law = cell_law(options.law_file, summary.law_form, scene.cell_size, summary.fuse_note);
   summary.cell_size = scene.cell_size;
   // Positions are in the law's unit (its cell size), so the check waits for it.
   if (const std::string free = free_rigid_motion(scene, scene.nx * scene.cell_size, scene.ny * scene.cell_size);
@@ -63,18 +80,21 @@ StructureSummary run_structure(const StructureOptions& options) {
     const auto& s = summary.steps.back();
     char line[200];
     std::snprintf(line, sizeof line,
-                  "step %zu/%zu factor %g: %d Newton steps, %d newly fused cells, %d/%d triangles open/closed, %s",
-                  k + 1, scene.factors.size(), s.factor, s.newton_steps, s.newly_fused_cells, s.open_triangles,
-                  s.closed_triangles, s.converged ? "converged" : "NOT converged");
+                  "step %zu/%zu factor %g: %d Newton steps, %d newly %s, %d/%d triangles open/closed, %s", k + 1,
+                  scene.factors.size(), s.factor, s.newton_steps,
+                  law.cell ? s.newly_broken_points : s.newly_fused_cells, law.cell ? "broken points" : "fused cells",
+                  s.open_triangles, s.closed_triangles, s.converged ? "converged" : "NOT converged");
     progress.message(line);
   }
   for (std::uint8_t f : structure.fused_cells()) summary.fused_cells += f;
+  summary.n_points = structure.n_points();
+  if (law.cell) summary.broken_points = structure.broken_points();
   Provenance provenance;
   provenance.scene_text = scene.text;
   provenance.scene_file = options.scene_file.string();
   provenance.law_file = options.law_file.string();
   provenance.law_hash = io::file_hash(options.law_file);
-  io::write_structure(options.out, mesh, summary.steps, summary.first_fuse_factor, provenance);
+  io::write_structure(options.out, mesh, summary.steps, summary.first_fuse_factor, summary.law_form, provenance);
   summary.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   return summary;
 }

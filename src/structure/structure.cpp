@@ -1,5 +1,7 @@
 #include "structure/structure.hpp"
 
+#include <omp.h>
+
 #include <Eigen/SparseCore>
 #include <algorithm>
 #include <cmath>
@@ -71,6 +73,17 @@ struct HomogenisedStructure::Impl {
   StructureMesh mesh;
   int n_dofs = 0, per = 3;
   std::vector<std::vector<Point>> points;  // per triangle
+  std::vector<int> first_point;            // per triangle: the index of its first point (T + 1 entries)
+  // The state of every point at the displacements last evaluated (evaluate_points), and with the
+  // exact law each point's bond history and, per thread, an evaluator.
+  std::vector<law::ConeState> state;
+  std::vector<law::CellHistory> history;
+  std::vector<double> strength_use;  // per point, exact law: CellResponse::strength_use
+  std::vector<std::unique_ptr<law::CellEvaluator>> evaluators;
+  int threads = 1;                            // the exact law's evaluators: one per OpenMP thread
+  law::Bonds trial_bonds = law::Bonds::held;  // what a Newton iterate does with the bonds
+  bool point_failed = false;                  // an exact-law evaluation failed (its QP)
+  std::string point_failure;
   std::vector<Eigen::MatrixXd> grad_s_centroid;
   std::vector<double> area;
   std::vector<int> free_index;      // per DOF: its index among the free DOFs, or −1
@@ -88,8 +101,19 @@ struct HomogenisedStructure::Impl {
 
   int dof(int triangle, int a) const { return 2 * mesh.triangles(triangle, a / 2) + a % 2; }
   const law::ConeLaw& law_of(int triangle) const { return cell_fused[mesh.cell[triangle]] ? law.debonded : law.bonded; }
+  bool exact() const { return law.cell != nullptr; }
+  Eigen::Vector3d strain_at(const Eigen::VectorXd& x, int t, const Point& p) const {
+    Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 12, 1> ue(2 * per);
+    for (int a = 0; a < 2 * per; ++a) ue(a) = x(dof(t, a));
+    return p.grad_s * ue;
+  }
 
   void setup();
+  // state[i] of every point at x (OpenMP over points: with the exact law each is a small QP).
+  // The exact law treats the bonds as `trial_bonds` says; a failed QP makes the energy NaN.
+  void evaluate_points(const Eigen::VectorXd& x);
+  // Exact law, at u: every point's debond cascade at its strain; the points where a bond broke.
+  int break_bonds();
   // Π(u), and with `with_tangent` also r_full = f_int − factor·f and K.
   double energy(const Eigen::VectorXd& x, double factor, bool with_gradient, bool with_tangent);
   void newton(double factor, StepResult& out);
@@ -99,33 +123,88 @@ struct HomogenisedStructure::Impl {
 
 std::vector<Eigen::Vector3d> HomogenisedStructure::Impl::cell_average_stress() const {
   std::vector<Eigen::Vector3d> cell_stress(cell_fused.size(), Eigen::Vector3d::Zero());
-  Eigen::VectorXd ue(2 * per);
-  for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t) {
-    for (int a = 0; a < 2 * per; ++a) ue(a) = u(dof(static_cast<int>(t), a));
-    for (const Point& p : points[t])
-      cell_stress[mesh.cell[t]] += p.weight * law::evaluate(law_of(static_cast<int>(t)), p.grad_s * ue).stress;
-  }
+  for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t)
+    for (std::size_t k = 0; k < points[t].size(); ++k)
+      cell_stress[mesh.cell[t]] += points[t][k].weight * state[first_point[t] + k].stress;
   for (auto& s : cell_stress) s /= scene.cell_size * scene.cell_size;
   return cell_stress;
 }
 
+void HomogenisedStructure::Impl::evaluate_points(const Eigen::VectorXd& x) {
+  const int T = static_cast<int>(mesh.triangles.rows());
+  point_failed = false;
+#pragma omp parallel for schedule(static) num_threads(threads) if (exact())
+  for (int t = 0; t < T; ++t)
+    for (std::size_t k = 0; k < points[t].size(); ++k) {
+      const int i = first_point[t] + static_cast<int>(k);
+      const Eigen::Vector3d strain = strain_at(x, t, points[t][k]);
+      if (!exact()) {
+        state[i] = law::evaluate(law_of(t), strain);
+        continue;
+      }
+      law::CellResponse r = evaluators[omp_get_thread_num()]->at_strain(strain, history[i], trial_bonds);
+      law::ConeState& s = state[i];
+      if (!r.ok) {
+        s.energy = std::numeric_limits<double>::quiet_NaN();
+#pragma omp critical(dualcell_structure_failure)
+        {
+          point_failed = true;
+          point_failure = r.message;
+        }
+        continue;
+      }
+      s.stress = r.stress;
+      s.tangent = r.tangent;
+      s.energy = r.energy;
+      strength_use[i] = r.strength_use;
+      s.open = 0;
+      for (int row = 0; row < law.cell->n_rows(); ++row) s.open += !law.cell->tangential[row] && r.forces(row) == 0;
+    }
+}
+
+int HomogenisedStructure::Impl::break_bonds() {
+  const int T = static_cast<int>(mesh.triangles.rows());
+  int broke = 0;
+#pragma omp parallel for schedule(static) num_threads(threads) reduction(+ : broke)
+  for (int t = 0; t < T; ++t)
+    for (std::size_t k = 0; k < points[t].size(); ++k) {
+      const int i = first_point[t] + static_cast<int>(k);
+      const law::CellResponse r =
+          evaluators[omp_get_thread_num()]->at_strain(strain_at(u, t, points[t][k]), history[i], law::Bonds::cascade);
+      broke += r.ok && r.newly_broken > 0;
+    }
+  return broke;
+}
+
 double HomogenisedStructure::first_fuse_factor() {
   Impl& s = *impl_;
-  if (!s.law.onset.linear) return std::numeric_limits<double>::infinity();
+  if (!s.exact() && !s.law.onset.linear) return std::numeric_limits<double>::infinity();
+  if (s.exact() && !s.law.cell->adhesion()) return std::numeric_limits<double>::infinity();
   // From the unloaded, unfused state: the bonded response to t·(loads, prescribed values) is t
-  // times the response at t = 1 (W is positively homogeneous of degree 2), and so is every
-  // cell's average stress, while φ is positively homogeneous of degree 1.
+  // times the response at t = 1 (W is positively homogeneous of degree 2; the exact law with its
+  // strengths lifted too), and so is every cell's average stress and every point's bond force,
+  // while φ and the strength use are positively homogeneous of degree 1.
   const Eigen::VectorXd u_kept = s.u;
   const std::vector<std::uint8_t> fused_kept = s.cell_fused;
+  const std::vector<law::CellHistory> history_kept = s.history;
   std::fill(s.cell_fused.begin(), s.cell_fused.end(), 0);
+  if (s.exact())
+    for (auto& h : s.history) h = s.evaluators[0]->unloaded();
+  s.trial_bonds = law::Bonds::lifted;
   s.u.setZero();
   StepResult probe;
   s.newton(1.0, probe);
+  s.trial_bonds = law::Bonds::held;
   double phi = 0;
-  for (const Eigen::Vector3d& sigma : s.cell_average_stress())
-    phi = std::max(phi, law::onset_measure(s.law.onset, sigma));
+  if (!s.exact()) {
+    for (const Eigen::Vector3d& sigma : s.cell_average_stress())
+      phi = std::max(phi, law::onset_measure(s.law.onset, sigma));
+  } else {
+    for (std::size_t i = 0; i < s.history.size(); ++i) phi = std::max(phi, s.strength_use[i]);
+  }
   s.u = u_kept;
   s.cell_fused = fused_kept;
+  s.history = history_kept;
   if (!probe.converged) return std::numeric_limits<double>::quiet_NaN();
   return phi > 0 ? 1 / phi : std::numeric_limits<double>::infinity();
 }
@@ -142,10 +221,33 @@ HomogenisedStructure::~HomogenisedStructure() = default;
 const StructureMesh& HomogenisedStructure::mesh() const { return impl_->mesh; }
 const std::vector<std::uint8_t>& HomogenisedStructure::fused_cells() const { return impl_->cell_fused; }
 
+int HomogenisedStructure::broken_points() const {
+  const Impl& s = *impl_;
+  int count = 0;
+  for (const law::CellHistory& h : s.history)
+    for (std::size_t pair = 0; pair < h.bonded.size(); ++pair)
+      if (s.law.cell->bonded[pair] && !h.bonded[pair]) {
+        ++count;
+        break;
+      }
+  return count;
+}
+
+int HomogenisedStructure::n_points() const { return impl_->first_point.back(); }
+
 void HomogenisedStructure::Impl::setup() {
-  for (const auto* l : {&law.bonded, &law.debonded}) {
-    const std::string problem = law::admissibility_problem(*l);
-    if (!problem.empty()) throw InputError("the cell law is not admissible: " + problem);
+  if (exact()) {
+    const std::string problem = law::consistency_problem(*law.cell);
+    if (!problem.empty()) throw InputError("the exact cell law is not usable: " + problem);
+    if (law.cell->n_macro != 3)
+      throw InputError(
+          "the exact cell law has no shear (its cell has the symmetry boundary): a structure needs all three "
+          "stresses; use the cone-wise law or a periodic or uniform cell");
+  } else {
+    for (const auto* l : {&law.bonded, &law.debonded}) {
+      const std::string problem = law::admissibility_problem(*l);
+      if (!problem.empty()) throw InputError("the cell law is not admissible: " + problem);
+    }
   }
   mesh = build_structure_mesh(scene);
   per = static_cast<int>(mesh.triangles.cols());
@@ -172,6 +274,16 @@ void HomogenisedStructure::Impl::setup() {
       }
     }
     area[t] = fem::element_area(x);
+  }
+  first_point.assign(T + 1, 0);
+  for (Eigen::Index t = 0; t < T; ++t) first_point[t + 1] = first_point[t] + static_cast<int>(points[t].size());
+  const int n_points = first_point[T];
+  state.assign(n_points, law::ConeState{});
+  if (exact()) {
+    threads = omp_get_max_threads();
+    for (int k = 0; k < threads; ++k) evaluators.push_back(std::make_unique<law::CellEvaluator>(*law.cell));
+    history.assign(n_points, evaluators[0]->unloaded());
+    strength_use.assign(n_points, 0.0);
   }
 
   // Constraints: edges (fixed, roller, displacement), then point supports (fem::held_components).
@@ -261,21 +373,21 @@ void HomogenisedStructure::Impl::setup() {
 
 double HomogenisedStructure::Impl::energy(const Eigen::VectorXd& x, double factor, bool with_gradient,
                                           bool with_tangent) {
+  evaluate_points(x);
   double Pi = -factor * f.dot(x);
   if (with_gradient) f_int.setZero();
   if (with_tangent) std::fill(K.valuePtr(), K.valuePtr() + K.nonZeros(), 0.0);
   const int n = 2 * per;
-  Eigen::VectorXd ue(n);
   Eigen::MatrixXd Ke(n, n);
+  Eigen::VectorXd fe(n);
   for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t) {
-    for (int a = 0; a < n; ++a) ue(a) = x(dof(static_cast<int>(t), a));
-    const law::ConeLaw& l = law_of(static_cast<int>(t));
     if (with_tangent) Ke.setZero();
-    for (const Point& p : points[t]) {
-      const law::ConeState s = law::evaluate(l, p.grad_s * ue);
+    for (std::size_t k = 0; k < points[t].size(); ++k) {
+      const Point& p = points[t][k];
+      const law::ConeState& s = state[first_point[t] + k];
       Pi += p.weight * s.energy;
       if (with_gradient) {
-        const Eigen::VectorXd fe = p.weight * (p.grad_s.transpose() * s.stress);
+        fe.noalias() = p.weight * (p.grad_s.transpose() * s.stress);
         for (int a = 0; a < n; ++a) f_int(dof(static_cast<int>(t), a)) += fe(a);
       }
       if (with_tangent) Ke.noalias() += p.weight * (p.grad_s.transpose() * s.tangent * p.grad_s);
@@ -377,17 +489,24 @@ StepResult HomogenisedStructure::solve_step(double factor) {
   for (;;) {
     s.newton(factor, out);
     if (!out.converged) break;
-    // The fuse: cells whose average stress leaves the onset surface switch, irreversibly.
-    if (!s.law.onset.linear) break;
-    const std::vector<Eigen::Vector3d> cell_stress = s.cell_average_stress();
     int fused_now = 0;
-    for (std::size_t c = 0; c < s.cell_fused.size(); ++c)
-      if (!s.cell_fused[c] && law::onset_measure(s.law.onset, cell_stress[c]) >= 1) {
-        s.cell_fused[c] = 1;
-        ++fused_now;
-      }
+    if (s.exact()) {
+      // The fuse per point: each point's debond cascade at its converged strain.
+      if (!s.law.cell->adhesion()) break;
+      fused_now = s.break_bonds();
+      out.newly_broken_points += fused_now;
+    } else {
+      // The fuse: cells whose average stress leaves the onset surface switch, irreversibly.
+      if (!s.law.onset.linear) break;
+      const std::vector<Eigen::Vector3d> cell_stress = s.cell_average_stress();
+      for (std::size_t c = 0; c < s.cell_fused.size(); ++c)
+        if (!s.cell_fused[c] && law::onset_measure(s.law.onset, cell_stress[c]) >= 1) {
+          s.cell_fused[c] = 1;
+          ++fused_now;
+        }
+      out.newly_fused_cells += fused_now;
+    }
     if (fused_now == 0) break;
-    out.newly_fused_cells += fused_now;
     if (++out.fuse_rounds > s.scene.max_fuse_rounds) {
       out.converged = false;
       break;
@@ -395,24 +514,40 @@ StepResult HomogenisedStructure::solve_step(double factor) {
   }
   out.energy_decrease = before - out.energy;
 
-  // The state: displacements, element stresses and open planes, fuses, reactions.
+  // The state: displacements, element stresses and open planes (gaps), fuses, reactions.
+  s.energy(s.u, factor, true, false);
   out.u = s.u;
   const Eigen::Index T = s.mesh.triangles.rows();
   out.stress.resize(T, 3);
   out.open.resize(T);
   out.fused.resize(T);
-  Eigen::VectorXd ue(2 * s.per);
+  if (s.exact()) out.broken.assign(T, 0.0f);
   for (Eigen::Index t = 0; t < T; ++t) {
-    for (int a = 0; a < 2 * s.per; ++a) ue(a) = s.u(s.dof(static_cast<int>(t), a));
-    const law::ConeLaw& l = s.law_of(static_cast<int>(t));
     Eigen::Vector3d integral = Eigen::Vector3d::Zero();
-    for (const Point& p : s.points[t]) integral += p.weight * law::evaluate(l, p.grad_s * ue).stress;
+    std::uint32_t open = 0;
+    int broken = 0;
+    for (std::size_t k = 0; k < s.points[t].size(); ++k) {
+      const int i = s.first_point[t] + static_cast<int>(k);
+      integral += s.points[t][k].weight * s.state[i].stress;
+      open = std::max(open, s.state[i].open);
+      if (s.exact())
+        for (std::size_t pair = 0; pair < s.history[i].bonded.size(); ++pair)
+          broken += s.law.cell->bonded[pair] && !s.history[i].bonded[pair];
+    }
     out.stress.row(t) = integral.transpose() / s.area[t];
-    out.open[t] = law::evaluate(l, s.grad_s_centroid[t] * ue).open;
+    if (s.exact()) {
+      out.open[t] = open;
+      out.fused[t] = broken > 0;
+      if (s.law.cell->n_pairs > 0)
+        out.broken[t] = static_cast<float>(broken) / static_cast<float>(s.law.cell->n_pairs * s.points[t].size());
+    } else {
+      Eigen::VectorXd ue(2 * s.per);
+      for (int a = 0; a < 2 * s.per; ++a) ue(a) = s.u(s.dof(static_cast<int>(t), a));
+      out.open[t] = law::evaluate(s.law_of(static_cast<int>(t)), s.grad_s_centroid[t] * ue).open;
+      out.fused[t] = s.cell_fused[s.mesh.cell[t]];
+    }
     (out.open[t] ? out.open_triangles : out.closed_triangles) += 1;
-    out.fused[t] = s.cell_fused[s.mesh.cell[t]];
   }
-  s.energy(s.u, factor, true, false);
   for (auto& r : out.reactions) r.setZero();
   for (int d = 0; d < s.n_dofs; ++d)
     if (s.constrained_by[d] >= 0) out.reactions[s.constrained_by[d]](d % 2) += s.r_full(d);

@@ -1,8 +1,13 @@
 #pragma once
 // A structure of homogeneous cells (docs/method.md §15): a rectangle of nx × ny cells of the
 // fitted cell, each meshed with m × m squares of two triangles (p1 or p2), every element with
-// the cone-wise law of its cell (law/cone.hpp) and the fuse: a cell whose average stress leaves
-// the onset surface (law/onset.hpp) switches to the law past the fuse, irreversibly.
+// one of two laws of its cell:
+// - the cone-wise law (law/cone.hpp) and the fuse: a cell whose average stress leaves the onset
+//   surface (law/onset.hpp) switches to the law past the fuse, irreversibly;
+// - the exact law (law/condensed.hpp): every quadrature point is a cell of its own, with its
+//   bond history; a Newton iterate holds every point's bonds (Bonds::held), and once a step has
+//   converged each point runs its debond cascade at its strain; where a bond broke, the step is
+//   solved again, until nothing more breaks (the fuse per point).
 //
 // The energy Π(u) = Σ_e ∫ W(ε(u)) dA − fᵀu is convex and piecewise quadratic in the free
 // displacements, so Newton's method with the one-sided tangent K_T = Σ ∫ ∇ˢᵀ C(ε) ∇ˢ dA and a
@@ -25,6 +30,7 @@
 
 #include "core/progress.hpp"
 #include "core/structure_scene.hpp"
+#include "law/condensed.hpp"
 #include "law/cone.hpp"
 #include "law/onset.hpp"
 
@@ -49,18 +55,23 @@ struct StructureMesh {
 StructureMesh build_structure_mesh(const StructureScene& scene);
 
 // The cell law: the cone-wise law while bonded, the law past the fuse, and the onset surface
-// that switches one to the other (not linear: cells never fuse).
+// that switches one to the other (not linear: cells never fuse); or, when `cell` is set, the
+// exact law, which carries its own bonds and replaces all three.
 struct CellLaw {
   law::ConeLaw bonded, debonded;
   law::OnsetSurface onset;
+  std::shared_ptr<const law::CondensedCell> cell;
 };
 
 struct StepResult {
   double factor = 0;
   Eigen::VectorXd u;                                // 2 per node
   Eigen::Matrix<double, Eigen::Dynamic, 3> stress;  // per triangle, area average (σxx, σyy, σxy)
-  std::vector<std::uint32_t> open;                  // per triangle: the law's open planes at its centroid
-  std::vector<std::uint8_t> fused;                  // per triangle: its cell has fused
+  // per triangle: the law's open planes at its centroid (bits); exact law: the most open gaps
+  // (normal rows at force 0) of its points
+  std::vector<std::uint32_t> open;
+  std::vector<std::uint8_t> fused;  // per triangle: its cell has fused (exact law: a point of it has a broken bond)
+  std::vector<float> broken;        // per triangle, exact law: broken pairs over all pairs, mean of its points
   // The force the constraints exert on the structure, per edge (edge_names) and for the point
   // supports last; a DOF held by two edges (a corner) counts for the first in that order.
   std::array<Eigen::Vector2d, 5> reactions;
@@ -68,8 +79,10 @@ struct StepResult {
   int newton_steps = 0;  // all fuse rounds of the step
   int fuse_rounds = 0;   // re-solves after new fuses
   int newly_fused_cells = 0;
+  int newly_broken_points = 0;  // exact law: quadrature points where a bond broke in this step
   // Triangles on each side of the cone at their centroid: some plane open (the stiffer side of
-  // that plane), or every plane closed (C_c).
+  // that plane), or every plane closed (C_c). Exact law: some interface row of a point of the
+  // triangle has an open gap (normal force 0), or none has.
   int open_triangles = 0, closed_triangles = 0;
   double energy = 0;           // Π at the solution
   double energy_decrease = 0;  // Π at the start of the step minus Π at its end
@@ -86,10 +99,15 @@ class HomogenisedStructure {
   // t*: the load factor at which the first cell leaves the onset surface, from the unfused,
   // unloaded state (exact: one solve at t = 1, every cell's stress then scales with t). +inf
   // when no cell ever fuses along the load (or the law has no onset surface); NaN when that
-  // solve did not converge. The structure's state is left as it was.
+  // solve did not converge. The structure's state is left as it was. Exact law: the first
+  // bond of any point reaches its strength, from one solve at t = 1 with the strengths lifted
+  // (Bonds::lifted: the intact cells are linear in the load, so every force scales with t).
   double first_fuse_factor();
   const StructureMesh& mesh() const;
   const std::vector<std::uint8_t>& fused_cells() const;
+  // Exact law: the quadrature points with a broken bond, of n_points().
+  int broken_points() const;
+  int n_points() const;
   // Shows every Newton iteration (its residual against the tolerance) while a step works; it
   // must outlive the structure's use of it.
   void set_progress(Progress* progress);

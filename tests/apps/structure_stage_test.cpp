@@ -40,37 +40,52 @@ const std::string cantilever =
     "[edges.right]\ntype = \"traction\"\ntraction = [0, -0.02]\n[steps]\nfactors = [0.25, 1.0, 0.25]\n"
     "[output]\nwatch = [8, 0]\n";
 
+// Both laws: the cone-wise law with the fuse per cell, and the exact law (the default where
+// law.h5 has one) with every quadrature point's bonds.
 TEST(StructureStage, CantileverPastTheFuseWritesTheDocumentedLayout) {
   testing::ScratchDir dir;
   const auto law = make_law(dir);
   const auto scene = dir.write("beam.toml", cantilever);
-  const auto r = run_command(bin("dualcell-structure") + " --config " + scene.string() + " --law " + law.string() +
-                             " --out " + (dir / "structure.h5").string());
-  ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("fused cells at the end"), std::string::npos) << r.output;
-  const io::File f = io::File::open_read(dir / "structure.h5");
-  EXPECT_EQ(f.read_string_attribute("/", "format"), "dualcell structure 1");
-  EXPECT_EQ(f.shape("/mesh/nodes")[1], 2u);
-  EXPECT_EQ(f.shape("/mesh/triangles"), (std::vector<hsize_t>{8 * 2 * 2 * 2 * 2, 6}));
-  EXPECT_EQ(f.shape("/steps/factor"), (std::vector<hsize_t>{3}));
-  EXPECT_EQ(f.shape("/steps/reactions"), (std::vector<hsize_t>{3, 10}));
-  EXPECT_EQ(f.shape("/steps/open_triangles"), (std::vector<hsize_t>{3}));
-  for (const char* name : {"displacement", "stress", "open", "fused"})
-    EXPECT_TRUE(f.exists(std::string("/steps/001/") + name)) << name;
-  const auto converged = f.read_ints("/steps/converged", {3});
-  for (auto c : converged) EXPECT_EQ(c, 1);
-  // The cells near the root fuse at the full load and stay fused when it falls again.
-  const auto fused_full = f.read_ints("/steps/001/fused", {io::any_extent});
-  const auto fused_after = f.read_ints("/steps/002/fused", {io::any_extent});
-  EXPECT_GT(std::count(fused_full.begin(), fused_full.end(), 1), 0);
-  EXPECT_EQ(fused_full, fused_after);
-  // Reactions balance the end shear (0.02 over a depth of 2 cells): ΣR_y = 0.04 × factor.
-  const auto R = f.read_doubles("/steps/reactions", {3, 10});
-  double Ry = 0;
-  for (int e = 0; e < 5; ++e) Ry += R[10 * 1 + 2 * e + 1];
-  EXPECT_NEAR(Ry, 0.04, 1e-10);
-  EXPECT_TRUE(std::filesystem::exists(dir / "structure.xdmf"));
-  EXPECT_EQ(run_command("h5dump -H " + (dir / "structure.h5").string() + " > /dev/null").exit_code, 0);
+  for (const std::string form : {"cone", "cell", ""}) {
+    SCOPED_TRACE("--form " + form);
+    const bool cell = form != "cone";
+    const auto r = run_command(bin("dualcell-structure") + " --config " + scene.string() + " --law " + law.string() +
+                               " --out " + (dir / "structure.h5").string() + (form.empty() ? "" : " --form " + form));
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find(cell ? "points with a broken bond at the end" : "fused cells at the end"),
+              std::string::npos)
+        << r.output;
+    const io::File f = io::File::open_read(dir / "structure.h5");
+    EXPECT_EQ(f.read_string_attribute("/", "format"), "dualcell structure 1");
+    EXPECT_EQ(f.read_string_attribute("/", "law_form"), cell ? "cell" : "cone");
+    EXPECT_EQ(f.shape("/mesh/nodes")[1], 2u);
+    EXPECT_EQ(f.shape("/mesh/triangles"), (std::vector<hsize_t>{8 * 2 * 2 * 2 * 2, 6}));
+    EXPECT_EQ(f.shape("/steps/factor"), (std::vector<hsize_t>{3}));
+    EXPECT_EQ(f.shape("/steps/reactions"), (std::vector<hsize_t>{3, 10}));
+    EXPECT_EQ(f.shape("/steps/open_triangles"), (std::vector<hsize_t>{3}));
+    for (const char* name : {"displacement", "stress", "open", "fused"})
+      EXPECT_TRUE(f.exists(std::string("/steps/001/") + name)) << name;
+    EXPECT_EQ(f.exists("/steps/001/broken"), cell);
+    const auto converged = f.read_ints("/steps/converged", {3});
+    for (auto c : converged) EXPECT_EQ(c, 1);
+    // The cells near the root fuse (the exact law: points break) at the full load and stay so
+    // when it falls again.
+    const auto fused_full = f.read_ints("/steps/001/fused", {io::any_extent});
+    const auto fused_after = f.read_ints("/steps/002/fused", {io::any_extent});
+    EXPECT_GT(std::count(fused_full.begin(), fused_full.end(), 1), 0);
+    EXPECT_EQ(fused_full, fused_after);
+    const auto broken_points = f.read_ints("/steps/newly_broken_points", {3});
+    const auto fused_cells = f.read_ints("/steps/newly_fused_cells", {3});
+    EXPECT_EQ(broken_points[0] + broken_points[1] > 0, cell);
+    EXPECT_EQ(fused_cells[0] + fused_cells[1] > 0, !cell);
+    // Reactions balance the end shear (0.02 over a depth of 2 cells): ΣR_y = 0.04 × factor.
+    const auto R = f.read_doubles("/steps/reactions", {3, 10});
+    double Ry = 0;
+    for (int e = 0; e < 5; ++e) Ry += R[10 * 1 + 2 * e + 1];
+    EXPECT_NEAR(Ry, 0.04, 1e-10);
+    EXPECT_TRUE(std::filesystem::exists(dir / "structure.xdmf"));
+    EXPECT_EQ(run_command("h5dump -H " + (dir / "structure.h5").string() + " > /dev/null").exit_code, 0);
+  }
 }
 
 TEST(StructureStage, RefusalsAreOneLineAndWriteNothing) {
