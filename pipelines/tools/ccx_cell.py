@@ -112,9 +112,9 @@ class Mesh:
             self.degree = int(g.attrs["degree"])
             self.cell_size = float(g.attrs["cell_size"])
             element = g.attrs.get("element", "p1")
-            self.order = element.decode() if isinstance(element, bytes) else str(element)
-            self.scene = _text(f.attrs.get("scene", ""))
-            self.material = _text(f.attrs.get("material", ""))
+            self.order = common.text(element)
+            self.scene = common.text(f.attrs.get("scene", ""))
+            self.material = common.text(f.attrs.get("material", ""))
         if self.nodes.ndim != 2 or self.nodes.shape[1] != 2:
             raise ValueError(f"{path}: /mesh/nodes has shape {self.nodes.shape}, expected N×2")
         width = triangles.shape[1] if triangles.ndim == 2 else 0
@@ -176,10 +176,6 @@ def _find(rep, i):
         rep[i] = rep[rep[i]]
         i = rep[i]
     return i
-
-
-def _text(value):
-    return value.decode() if isinstance(value, bytes) else str(value)
 
 
 def scene_materials(mesh):

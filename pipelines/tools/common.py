@@ -52,6 +52,11 @@ class CommandFailed(RuntimeError):
         self.done = done
 
 
+def text(value):
+    """An HDF5 string attribute as str (h5py gives fixed-length strings as bytes)."""
+    return value.decode() if isinstance(value, bytes) else str(value)
+
+
 def run(command, env=None, check=True, **options):
     """Runs `command` (a list of words) and returns (its subprocess.CompletedProcess, its wall
     seconds by time.perf_counter). Its stdout and stderr are captured as text; `options` go to

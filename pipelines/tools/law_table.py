@@ -23,17 +23,12 @@ COLUMNS = ["scene", "interface_rows", "condense_s", "kB", "replay_points", "repl
            "sweep_fit_max", "sweep_fit_rms"]
 
 
-def text(value):
-    """An HDF5 string attribute as str (h5py gives fixed-length strings as bytes)."""
-    return value.decode() if isinstance(value, bytes) else str(value)
-
-
 def row(path):
     scene = os.path.basename(os.path.dirname(os.path.abspath(path)))
     with h5py.File(path, "r") as f:
         g = f["law"]
         if "cell" not in g:
-            return {"scene": scene, "interface_rows": "none: " + text(g.attrs["cell_note"])}
+            return {"scene": scene, "interface_rows": "none: " + common.text(g.attrs["cell_note"])}
         c = g["cell"]
         n = len(c["pair"])
         size = sum(c[k].size * 8 for k in ("S0", "Y", "H", "G")) + 4 * n * 8
@@ -43,7 +38,7 @@ def row(path):
         if "cone_check" in g:
             k = g["cone_check"]
             worst = k["worst"][:]
-            r.update({"cone_directions": len(k["error"]), "cone_form": text(g["cone"].attrs["form"]),
+            r.update({"cone_directions": len(k["error"]), "cone_form": common.text(g["cone"].attrs["form"]),
                       "sweep_fit_max": float(k["sweep_fit_max_error"][0]),
                       "sweep_fit_rms": float(k["sweep_fit_rms_error"][0]), "cone_max": float(k["max_error"][0]),
                       "cone_rms": float(k["rms_error"][0]), "worst_sxx": worst[0], "worst_syy": worst[1],

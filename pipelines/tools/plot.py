@@ -272,6 +272,9 @@ def structure(h5, outbase):
         factor, watch = f["/steps/factor"][:], f["/steps/watch_displacement"][:]
         last = sorted(k for k in f["/steps"].keys() if k.isdigit())[-1]
         u, stress, fused = f[f"/steps/{last}/displacement"][:], f[f"/steps/{last}/stress"][:], f[f"/steps/{last}/fused"][:]
+        # The exact law marks the triangles whose bonds (of their cell, or of a point) broke.
+        unit = common.text(f.attrs["bond_unit"]) if common.text(f.attrs.get("law_form", "")) == "cell" else None
+    outlined = {None: "fused cells", "cell": "cells with broken bonds", "point": "cells with a broken point"}[unit]
     size = max(nodes[:, 0].max() - nodes[:, 0].min(), nodes[:, 1].max() - nodes[:, 1].min())
     largest = abs(u).max()
     scale = 0.1 * size / largest if largest > 0 else 1.0
@@ -289,7 +292,7 @@ def structure(h5, outbase):
             "steps.dat": "0 0 0\n" + "".join(f"{w[0]:.10g} {w[1]:.10g} {t:.10g}\n" for w, t in zip(watch, factor))}
     script = ("set multiplot layout 2,1\n"
               f"set title 'Structure at load factor {factor[-1]:.4g}: σxx per element, displacements × {scale:.3g}; "
-              f"{n_fused} fused cells outlined'\n"
+              f"{n_fused} {outlined} outlined'\n"
               "set size ratio -1\nunset key\nset palette defined (-1 '#2040c0', 0 '#f0f0f0', 1 '#c02020')\n"
               "stats 'faces.dat' using 3 nooutput\nlim = (abs(STATS_min) > abs(STATS_max) ? abs(STATS_min) : abs(STATS_max))\n"
               "set cbrange [-lim:lim]\nset cblabel 'σxx'\n"

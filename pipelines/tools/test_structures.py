@@ -42,6 +42,22 @@ class Scenes(unittest.TestCase):
                                       capture_output=True, text=True)
                 self.assertEqual(done.returncode, 0, done.stderr)
 
+    def test_the_fuse_case_steps_both_beams_past_the_break_with_adhesion(self):
+        cell = os.path.join(HERE, "..", "scenes", "structure-cell-adhesion.toml")
+        with tempfile.TemporaryDirectory() as out:
+            structures.scenes(cell, "adhesion", "fuse", 2, out)
+            scenes = {}
+            for name in ("resolved", "structure"):
+                with open(os.path.join(out, f"{name}.toml"), "rb") as f:
+                    scenes[name] = tomllib.load(f)
+            for scene in scenes.values():
+                self.assertEqual(scene["steps"]["factors"], structures.FUSE_STEPS)
+                self.assertEqual(scene["edges"]["left"]["type"], "fixed")  # the cantilever
+            self.assertGreater(scenes["resolved"]["interface"]["normal_strength"], 0)
+            # Without adhesion there is nothing to break: refused.
+            with self.assertRaises(SystemExit):
+                structures.scenes(CELL, "contact", "fuse", 2, out)
+
 
 if __name__ == "__main__":
     if len(sys.argv) < 2:

@@ -23,7 +23,7 @@ def read_solution(path):
         strain = f["/macro/strain"][:]
         stress = f["/macro/stress"][:]
         return {
-            "status": s["status"].decode() if isinstance(s["status"], bytes) else str(s["status"]),
+            "status": common.text(s["status"]),
             "dim_u": int(s["dim_u"]), "dim_lambda": int(s["dim_lambda"]),
             "outer": int(s["outer_iterations"]), "applications": int(s["operator_applications"]),
             "steps": int(s["cg_steps"]) + int(s["expansion_steps"]) + int(s["proportioning_steps"]),

@@ -56,20 +56,21 @@ int main(int argc, char** argv) {
                 out.c_str(), s.n_cells, s.cell_size, s.n_nodes, s.n_triangles, s.seconds);
     if (!s.fuse_note.empty()) std::printf("  %s\n", s.fuse_note.c_str());
     const bool cell = s.law_form == "cell";
-    std::printf("  law: %s\n", cell ? "exact (/law/cell), every quadrature point a cell with its own bonds"
-                                    : "cone-wise (/law/cone), the fuse per cell");
+    if (cell)
+      std::printf("  law: exact (/law/cell) at every quadrature point, the bonds of its %s\n", s.bond_unit.c_str());
+    else
+      std::printf("  law: cone-wise (/law/cone), the fuse per cell\n");
     std::printf("  first %s at load factor %.6g\n", cell ? "bond breaks" : "cell fuses", s.first_fuse_factor);
     std::printf("  %8s %8s %8s %8s %8s %14s %14s %14s %14s\n", "factor", "newton", "rounds", cell ? "broke" : "fused",
                 "open", "energy", "decrease", "watch ux", "watch uy");
     for (const auto& r : s.steps)
       std::printf("  %8.4g %8d %8d %8d %8d %14.6e %14.6e %14.6e %14.6e%s\n", r.factor, r.newton_steps, r.fuse_rounds,
-                  cell ? r.newly_broken_points : r.newly_fused_cells, r.open_triangles, r.energy, r.energy_decrease,
+                  cell ? r.newly_broken_units : r.newly_fused_cells, r.open_triangles, r.energy, r.energy_decrease,
                   r.watch_displacement(0), r.watch_displacement(1), r.converged ? "" : "  NOT converged");
     if (cell) {
-      std::printf(
-          "  (broke: quadrature points where a bond broke; open: triangles with an open gap at a point, of %d)\n",
-          s.n_triangles);
-      std::printf("  points with a broken bond at the end: %d of %d\n", s.broken_points, s.n_points);
+      std::printf("  (broke: %ss where a bond broke; open: triangles with an open gap at a point, of %d)\n",
+                  s.bond_unit.c_str(), s.n_triangles);
+      std::printf("  %ss with a broken bond at the end: %d of %d\n", s.bond_unit.c_str(), s.broken_units, s.n_units);
     } else {
       std::printf("  (open: triangles with a plane of the law open at the centroid, of %d)\n", s.n_triangles);
       std::printf("  fused cells at the end: %d of %d\n", s.fused_cells, s.n_cells);

@@ -42,6 +42,8 @@ StructureScene parse_structure_scene(std::string_view text, const std::filesyste
     scene.ny = static_cast<int>(cells[1]);
     scene.elements_per_cell = count(st, "elements_per_cell", 2, 1, 64);
     scene.element = st.string("element", "p2", {"p1", "p2"}) == "p1" ? Element::p1 : Element::p2;
+    scene.bond_unit = st.string("bonds", "cell", {"cell", "point"}) == "cell" ? StructureScene::BondUnit::cell
+                                                                              : StructureScene::BondUnit::point;
     // The same bound as a cell scene's mesh: (nx·m·k + 1)(ny·m·k + 1) nodes for m elements per
     // cell of order k, checked before anything is allocated.
     const double k = element_order(scene.element), m = scene.elements_per_cell;

@@ -21,7 +21,7 @@ std::string step_group(std::size_t k) {
 
 void write_structure(const std::filesystem::path& out, const structure::StructureMesh& mesh,
                      const std::vector<structure::StepResult>& steps, double first_fuse_factor,
-                     const std::string& law_form, const Provenance& provenance) {
+                     const std::string& law_form, const std::string& bond_unit, const Provenance& provenance) {
   const hsize_t N = static_cast<hsize_t>(mesh.nodes.rows()), T = static_cast<hsize_t>(mesh.triangles.rows());
   const hsize_t per = static_cast<hsize_t>(mesh.triangles.cols()), S = steps.size();
   const std::filesystem::path xdmf = xdmf_beside(out);
@@ -32,6 +32,7 @@ void write_structure(const std::filesystem::path& out, const structure::Structur
     File f = File::create(out);
     write_provenance(f, structure_format, provenance);
     f.write_attribute("/", "law_form", law_form);
+    if (!bond_unit.empty()) f.write_attribute("/", "bond_unit", bond_unit);
     f.create_group("/mesh");
     std::vector<double> nodes;
     for (hsize_t i = 0; i < N; ++i) nodes.push_back(mesh.nodes(i, 0)), nodes.push_back(mesh.nodes(i, 1));
@@ -54,7 +55,7 @@ void write_structure(const std::filesystem::path& out, const structure::Structur
       for (const auto& R : s.reactions) reactions.push_back(R(0)), reactions.push_back(R(1));
       newton.push_back(s.newton_steps), rounds.push_back(s.fuse_rounds), fused.push_back(s.newly_fused_cells);
       open.push_back(s.open_triangles);
-      broken_points.push_back(s.newly_broken_points);
+      broken_points.push_back(s.newly_broken_units);
       converged.push_back(s.converged ? 1 : 0);
     }
     f.write("/steps/factor", factor, {S});
@@ -67,7 +68,7 @@ void write_structure(const std::filesystem::path& out, const structure::Structur
     f.write("/steps/newton_steps", newton, {S});
     f.write("/steps/fuse_rounds", rounds, {S});
     f.write("/steps/newly_fused_cells", fused, {S});
-    f.write("/steps/newly_broken_points", broken_points, {S});
+    f.write("/steps/newly_broken", broken_points, {S});
     f.write("/steps/open_triangles", open, {S});
     f.write("/steps/converged", converged, {S});
     std::vector<XdmfGrid> grids;

@@ -13,6 +13,6 @@ namespace dualcell::io {
 
 void write_structure(const std::filesystem::path& out, const structure::StructureMesh& mesh,
                      const std::vector<structure::StepResult>& steps, double first_fuse_factor,
-                     const std::string& law_form, const Provenance& provenance);
+                     const std::string& law_form, const std::string& bond_unit, const Provenance& provenance);
 
 }  // namespace dualcell::io

@@ -81,20 +81,24 @@ StructureSummary run_structure(const StructureOptions& options) {
     char line[200];
     std::snprintf(line, sizeof line,
                   "step %zu/%zu factor %g: %d Newton steps, %d newly %s, %d/%d triangles open/closed, %s", k + 1,
-                  scene.factors.size(), s.factor, s.newton_steps,
-                  law.cell ? s.newly_broken_points : s.newly_fused_cells, law.cell ? "broken points" : "fused cells",
+                  scene.factors.size(), s.factor, s.newton_steps, law.cell ? s.newly_broken_units : s.newly_fused_cells,
+                  !law.cell                                           ? "fused cells"
+                  : scene.bond_unit == StructureScene::BondUnit::cell ? "broken cells"
+                                                                      : "broken points",
                   s.open_triangles, s.closed_triangles, s.converged ? "converged" : "NOT converged");
     progress.message(line);
   }
   for (std::uint8_t f : structure.fused_cells()) summary.fused_cells += f;
-  summary.n_points = structure.n_points();
-  if (law.cell) summary.broken_points = structure.broken_points();
+  summary.n_units = structure.n_units();
+  if (law.cell) summary.broken_units = structure.broken_units();
+  summary.bond_unit = scene.bond_unit == StructureScene::BondUnit::cell ? "cell" : "point";
   Provenance provenance;
   provenance.scene_text = scene.text;
   provenance.scene_file = options.scene_file.string();
   provenance.law_file = options.law_file.string();
   provenance.law_hash = io::file_hash(options.law_file);
-  io::write_structure(options.out, mesh, summary.steps, summary.first_fuse_factor, summary.law_form, provenance);
+  io::write_structure(options.out, mesh, summary.steps, summary.first_fuse_factor, summary.law_form,
+                      law.cell ? summary.bond_unit : std::string(), provenance);
   summary.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   return summary;
 }

@@ -19,8 +19,9 @@ struct StructureOptions {
 struct StructureSummary {
   std::vector<structure::StepResult> steps;
   int n_nodes = 0, n_triangles = 0, fused_cells = 0, n_cells = 0;
-  std::string law_form;                 // "cell" or "cone": the law used
-  int broken_points = 0, n_points = 0;  // exact law: points with a broken bond at the end, of all
+  std::string law_form;               // "cell" or "cone": the law used
+  int broken_units = 0, n_units = 0;  // exact law: units with a broken bond at the end, of all
+  std::string bond_unit;              // exact law: "cell" or "point" (StructureScene::bond_unit)
   double cell_size = 0, seconds = 0;
   double first_fuse_factor = 0;  // structure::HomogenisedStructure::first_fuse_factor
   std::string fuse_note;         // why cells cannot fuse, when they cannot

@@ -77,7 +77,9 @@ struct HomogenisedStructure::Impl {
   // The state of every point at the displacements last evaluated (evaluate_points), and with the
   // exact law each point's bond history and, per thread, an evaluator.
   std::vector<law::ConeState> state;
-  std::vector<law::CellHistory> history;
+  std::vector<law::CellHistory> history;       // per point
+  std::vector<law::CellHistory> cell_history;  // per cell, when the bonds are the cell's (bond_unit)
+  std::vector<std::vector<int>> cell_triangles;
   std::vector<double> strength_use;  // per point, exact law: CellResponse::strength_use
   std::vector<std::unique_ptr<law::CellEvaluator>> evaluators;
   int threads = 1;                            // the exact law's evaluators: one per OpenMP thread
@@ -102,6 +104,16 @@ struct HomogenisedStructure::Impl {
   int dof(int triangle, int a) const { return 2 * mesh.triangles(triangle, a / 2) + a % 2; }
   const law::ConeLaw& law_of(int triangle) const { return cell_fused[mesh.cell[triangle]] ? law.debonded : law.bonded; }
   bool exact() const { return law.cell != nullptr; }
+  bool per_cell() const { return scene.bond_unit == StructureScene::BondUnit::cell; }
+  const std::vector<law::CellHistory>& unit_history() const { return per_cell() ? cell_history : history; }
+  // The mean strain over cell c at u (its points' weights).
+  Eigen::Vector3d cell_strain(int c) const {
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    double weight = 0;
+    for (int t : cell_triangles[c])
+      for (const Point& p : points[t]) sum += p.weight * strain_at(u, t, p), weight += p.weight;
+    return sum / weight;
+  }
   Eigen::Vector3d strain_at(const Eigen::VectorXd& x, int t, const Point& p) const {
     Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 12, 1> ue(2 * per);
     for (int a = 0; a < 2 * per; ++a) ue(a) = x(dof(t, a));
@@ -112,7 +124,8 @@ struct HomogenisedStructure::Impl {
   // state[i] of every point at x (OpenMP over points: with the exact law each is a small QP).
   // The exact law treats the bonds as `trial_bonds` says; a failed QP makes the energy NaN.
   void evaluate_points(const Eigen::VectorXd& x);
-  // Exact law, at u: every point's debond cascade at its strain; the points where a bond broke.
+  // Exact law, at u: every unit's debond cascade at its strain (a point's, or a cell's mean); the
+  // units where a bond broke (a cell's points then take its bonds).
   int break_bonds();
   // Π(u), and with `with_tangent` also r_full = f_int − factor·f and K.
   double energy(const Eigen::VectorXd& x, double factor, bool with_gradient, bool with_tangent);
@@ -163,8 +176,21 @@ void HomogenisedStructure::Impl::evaluate_points(const Eigen::VectorXd& x) {
 }
 
 int HomogenisedStructure::Impl::break_bonds() {
-  const int T = static_cast<int>(mesh.triangles.rows());
   int broke = 0;
+  if (per_cell()) {
+    const int C = static_cast<int>(cell_history.size());
+#pragma omp parallel for schedule(static) num_threads(threads) reduction(+ : broke)
+    for (int c = 0; c < C; ++c) {
+      const law::CellResponse r =
+          evaluators[omp_get_thread_num()]->at_strain(cell_strain(c), cell_history[c], law::Bonds::cascade);
+      if (!r.ok || r.newly_broken == 0) continue;
+      ++broke;
+      for (int t : cell_triangles[c])
+        for (int i = first_point[t]; i < first_point[t + 1]; ++i) history[i].bonded = cell_history[c].bonded;
+    }
+    return broke;
+  }
+  const int T = static_cast<int>(mesh.triangles.rows());
 #pragma omp parallel for schedule(static) num_threads(threads) reduction(+ : broke)
   for (int t = 0; t < T; ++t)
     for (std::size_t k = 0; k < points[t].size(); ++k) {
@@ -186,10 +212,12 @@ double HomogenisedStructure::first_fuse_factor() {
   // while φ and the strength use are positively homogeneous of degree 1.
   const Eigen::VectorXd u_kept = s.u;
   const std::vector<std::uint8_t> fused_kept = s.cell_fused;
-  const std::vector<law::CellHistory> history_kept = s.history;
+  const std::vector<law::CellHistory> history_kept = s.history, cell_history_kept = s.cell_history;
   std::fill(s.cell_fused.begin(), s.cell_fused.end(), 0);
-  if (s.exact())
+  if (s.exact()) {
     for (auto& h : s.history) h = s.evaluators[0]->unloaded();
+    for (auto& h : s.cell_history) h = s.evaluators[0]->unloaded();
+  }
   s.trial_bonds = law::Bonds::lifted;
   s.u.setZero();
   StepResult probe;
@@ -199,12 +227,19 @@ double HomogenisedStructure::first_fuse_factor() {
   if (!s.exact()) {
     for (const Eigen::Vector3d& sigma : s.cell_average_stress())
       phi = std::max(phi, law::onset_measure(s.law.onset, sigma));
+  } else if (s.per_cell()) {
+    for (std::size_t c = 0; c < s.cell_history.size(); ++c) {
+      law::CellHistory h = s.evaluators[0]->unloaded();
+      phi = std::max(
+          phi, s.evaluators[0]->at_strain(s.cell_strain(static_cast<int>(c)), h, law::Bonds::lifted).strength_use);
+    }
   } else {
     for (std::size_t i = 0; i < s.history.size(); ++i) phi = std::max(phi, s.strength_use[i]);
   }
   s.u = u_kept;
   s.cell_fused = fused_kept;
   s.history = history_kept;
+  s.cell_history = cell_history_kept;
   if (!probe.converged) return std::numeric_limits<double>::quiet_NaN();
   return phi > 0 ? 1 / phi : std::numeric_limits<double>::infinity();
 }
@@ -221,10 +256,10 @@ HomogenisedStructure::~HomogenisedStructure() = default;
 const StructureMesh& HomogenisedStructure::mesh() const { return impl_->mesh; }
 const std::vector<std::uint8_t>& HomogenisedStructure::fused_cells() const { return impl_->cell_fused; }
 
-int HomogenisedStructure::broken_points() const {
+int HomogenisedStructure::broken_units() const {
   const Impl& s = *impl_;
   int count = 0;
-  for (const law::CellHistory& h : s.history)
+  for (const law::CellHistory& h : s.unit_history())
     for (std::size_t pair = 0; pair < h.bonded.size(); ++pair)
       if (s.law.cell->bonded[pair] && !h.bonded[pair]) {
         ++count;
@@ -233,7 +268,9 @@ int HomogenisedStructure::broken_points() const {
   return count;
 }
 
-int HomogenisedStructure::n_points() const { return impl_->first_point.back(); }
+int HomogenisedStructure::n_units() const {
+  return impl_->per_cell() ? static_cast<int>(impl_->cell_fused.size()) : impl_->first_point.back();
+}
 
 void HomogenisedStructure::Impl::setup() {
   if (exact()) {
@@ -275,6 +312,8 @@ void HomogenisedStructure::Impl::setup() {
     }
     area[t] = fem::element_area(x);
   }
+  cell_triangles.assign(cell_fused.size(), {});
+  for (Eigen::Index t = 0; t < T; ++t) cell_triangles[mesh.cell[t]].push_back(static_cast<int>(t));
   first_point.assign(T + 1, 0);
   for (Eigen::Index t = 0; t < T; ++t) first_point[t + 1] = first_point[t] + static_cast<int>(points[t].size());
   const int n_points = first_point[T];
@@ -283,6 +322,7 @@ void HomogenisedStructure::Impl::setup() {
     threads = omp_get_max_threads();
     for (int k = 0; k < threads; ++k) evaluators.push_back(std::make_unique<law::CellEvaluator>(*law.cell));
     history.assign(n_points, evaluators[0]->unloaded());
+    if (per_cell()) cell_history.assign(cell_fused.size(), evaluators[0]->unloaded());
     strength_use.assign(n_points, 0.0);
   }
 
@@ -494,7 +534,7 @@ StepResult HomogenisedStructure::solve_step(double factor) {
       // The fuse per point: each point's debond cascade at its converged strain.
       if (!s.law.cell->adhesion()) break;
       fused_now = s.break_bonds();
-      out.newly_broken_points += fused_now;
+      out.newly_broken_units += fused_now;
     } else {
       // The fuse: cells whose average stress leaves the onset surface switch, irreversibly.
       if (!s.law.onset.linear) break;

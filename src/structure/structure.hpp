@@ -4,10 +4,11 @@
 // one of two laws of its cell:
 // - the cone-wise law (law/cone.hpp) and the fuse: a cell whose average stress leaves the onset
 //   surface (law/onset.hpp) switches to the law past the fuse, irreversibly;
-// - the exact law (law/condensed.hpp): every quadrature point is a cell of its own, with its
-//   bond history; a Newton iterate holds every point's bonds (Bonds::held), and once a step has
-//   converged each point runs its debond cascade at its strain; where a bond broke, the step is
-//   solved again, until nothing more breaks (the fuse per point).
+// - the exact law (law/condensed.hpp) at every quadrature point, with the bond history of its
+//   cell (StructureScene::bond_unit: the cell's debond cascade runs at its mean strain) or of
+//   the point itself; a Newton iterate holds every bond state (Bonds::held), and once a step has
+//   converged each unit runs its debond cascade; where a bond broke, the step is solved again,
+//   until nothing more breaks.
 //
 // The energy Π(u) = Σ_e ∫ W(ε(u)) dA − fᵀu is convex and piecewise quadratic in the free
 // displacements, so Newton's method with the one-sided tangent K_T = Σ ∫ ∇ˢᵀ C(ε) ∇ˢ dA and a
@@ -79,7 +80,7 @@ struct StepResult {
   int newton_steps = 0;  // all fuse rounds of the step
   int fuse_rounds = 0;   // re-solves after new fuses
   int newly_fused_cells = 0;
-  int newly_broken_points = 0;  // exact law: quadrature points where a bond broke in this step
+  int newly_broken_units = 0;  // exact law: units (cells or points, StructureScene::bond_unit) where a bond broke
   // Triangles on each side of the cone at their centroid: some plane open (the stiffer side of
   // that plane), or every plane closed (C_c). Exact law: some interface row of a point of the
   // triangle has an open gap (normal force 0), or none has.
@@ -105,9 +106,10 @@ class HomogenisedStructure {
   double first_fuse_factor();
   const StructureMesh& mesh() const;
   const std::vector<std::uint8_t>& fused_cells() const;
-  // Exact law: the quadrature points with a broken bond, of n_points().
-  int broken_points() const;
-  int n_points() const;
+  // Exact law: the units (cells or quadrature points, StructureScene::bond_unit) with a broken
+  // bond, of n_units().
+  int broken_units() const;
+  int n_units() const;
   // Shows every Newton iteration (its residual against the tolerance) while a step works; it
   // must outlive the structure's use of it.
   void set_progress(Progress* progress);

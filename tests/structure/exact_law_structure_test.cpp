@@ -40,8 +40,9 @@ std::shared_ptr<const law::CondensedCell> cell_law(double strength) {
 
 // A bar of 3 × 1 cells under a uniform traction t_x at its right end: the left end a roller,
 // the corner (0, 0) held in y. Its stress is uniform, σ̄ = (t_x, 0, 0), and so is its strain.
-StructureScene bar(double traction) {
+StructureScene bar(double traction, StructureScene::BondUnit unit = StructureScene::BondUnit::cell) {
   StructureScene s;
+  s.bond_unit = unit;
   s.nx = 3, s.ny = 1, s.elements_per_cell = 1, s.element = Element::p2;
   s.cell_size = 1;
   s.edges[0].kind = EdgeKind::roller;
@@ -65,7 +66,7 @@ TEST(ExactLawStructure, UniformStressGivesTheCellsStrainInTensionAndCompression)
     EXPECT_TRUE(std::isinf(structure.first_fuse_factor()));
     const StepResult r = structure.solve_step(1.0);
     ASSERT_TRUE(r.converged);
-    EXPECT_EQ(r.newly_broken_points, 0);
+    EXPECT_EQ(r.newly_broken_units, 0);
     law::CellHistory h = cell.unloaded();
     const law::CellResponse expected = cell.at_stress({t, 0, 0}, h);
     ASSERT_TRUE(expected.ok) << expected.message;
@@ -79,47 +80,52 @@ TEST(ExactLawStructure, UniformStressGivesTheCellsStrainInTensionAndCompression)
   EXPECT_GT(modulus[0], 1.2 * modulus[1]);
 }
 
+// Both bond units (a cell's mean strain is its points' strain here: the field is uniform).
 TEST(ExactLawStructure, FirstBreakAndPastItAsTheCellUnderTheSameStress) {
   CellLaw law;
   law.cell = cell_law(0.01);
   ASSERT_TRUE(law.cell->adhesion());
   law::CellEvaluator cell(*law.cell);
   const double t = 1e-2;
-  HomogenisedStructure structure(bar(t), law);
-  // Every point carries σ̄ = factor·(t, 0, 0): the first bond breaks at the cell's onset.
-  const double onset = cell.onset({t, 0, 0});
-  ASSERT_TRUE(std::isfinite(onset));
-  EXPECT_NEAR(structure.first_fuse_factor(), onset, against_newton * onset);
+  for (const auto unit : {StructureScene::BondUnit::cell, StructureScene::BondUnit::point}) {
+    SCOPED_TRACE(unit == StructureScene::BondUnit::cell ? "bonds per cell" : "bonds per point");
+    HomogenisedStructure structure(bar(t, unit), law);
+    EXPECT_EQ(structure.n_units(), unit == StructureScene::BondUnit::cell ? 3 : 3 * 2 * 6);
+    // Every point carries σ̄ = factor·(t, 0, 0): the first bond breaks at the cell's onset.
+    const double onset = cell.onset({t, 0, 0});
+    ASSERT_TRUE(std::isfinite(onset));
+    EXPECT_NEAR(structure.first_fuse_factor(), onset, against_newton * onset);
 
-  const StepResult below = structure.solve_step(0.8 * onset);
-  ASSERT_TRUE(below.converged);
-  EXPECT_EQ(below.newly_broken_points, 0);
-  law::CellHistory h = cell.unloaded();
-  law::CellResponse expected = cell.at_stress({0.8 * onset * t, 0, 0}, h);
-  EXPECT_LE((bar_strain(below) - expected.strain.head<2>()).norm(), against_newton * expected.strain.norm());
+    const StepResult below = structure.solve_step(0.8 * onset);
+    ASSERT_TRUE(below.converged);
+    EXPECT_EQ(below.newly_broken_units, 0);
+    law::CellHistory h = cell.unloaded();
+    law::CellResponse expected = cell.at_stress({0.8 * onset * t, 0, 0}, h);
+    EXPECT_LE((bar_strain(below) - expected.strain.head<2>()).norm(), against_newton * expected.strain.norm());
 
-  // Past the first break every point breaks; the bar ends where the stress-driven cell's cascade
-  // ends (no bonded row at its strength, equilibrium at σ̄), with the same broken bonds.
-  const StepResult past = structure.solve_step(1.3 * onset);
-  ASSERT_TRUE(past.converged);
-  EXPECT_EQ(past.newly_broken_points, structure.n_points());
-  expected = cell.at_stress({1.3 * onset * t, 0, 0}, h);
-  ASSERT_TRUE(expected.ok) << expected.message;
-  ASSERT_GT(expected.broken, 0);
-  EXPECT_LE((bar_strain(past) - expected.strain.head<2>()).norm(), against_newton * expected.strain.norm());
-  for (float b : past.broken) EXPECT_FLOAT_EQ(b, static_cast<float>(expected.broken) / law.cell->n_pairs);
+    // Past the first break every unit breaks; the bar ends where the stress-driven cell's
+    // cascade ends (no bonded row at its strength, equilibrium at σ̄), with the same broken bonds.
+    const StepResult past = structure.solve_step(1.3 * onset);
+    ASSERT_TRUE(past.converged);
+    EXPECT_EQ(past.newly_broken_units, structure.n_units());
+    expected = cell.at_stress({1.3 * onset * t, 0, 0}, h);
+    ASSERT_TRUE(expected.ok) << expected.message;
+    ASSERT_GT(expected.broken, 0);
+    EXPECT_LE((bar_strain(past) - expected.strain.head<2>()).norm(), against_newton * expected.strain.norm());
+    for (float b : past.broken) EXPECT_FLOAT_EQ(b, static_cast<float>(expected.broken) / law.cell->n_pairs);
 
-  // Unloaded to below the onset the broken bonds stay broken: softer than the intact bar.
-  const StepResult back = structure.solve_step(0.8 * onset);
-  ASSERT_TRUE(back.converged);
-  EXPECT_EQ(back.newly_broken_points, 0);
-  EXPECT_EQ(structure.broken_points(), structure.n_points());
-  EXPECT_GT(bar_strain(back)(0), 1.05 * bar_strain(below)(0));
-  expected = cell.at_stress({0.8 * onset * t, 0, 0}, h);
-  EXPECT_LE((bar_strain(back) - expected.strain.head<2>()).norm(), against_newton * expected.strain.norm());
-  // t* is measured from the intact state and leaves the structure's state alone.
-  EXPECT_NEAR(structure.first_fuse_factor(), onset, against_newton * onset);
-  EXPECT_EQ(structure.broken_points(), structure.n_points());
+    // Unloaded to below the onset the broken bonds stay broken: softer than the intact bar.
+    const StepResult back = structure.solve_step(0.8 * onset);
+    ASSERT_TRUE(back.converged);
+    EXPECT_EQ(back.newly_broken_units, 0);
+    EXPECT_EQ(structure.broken_units(), structure.n_units());
+    EXPECT_GT(bar_strain(back)(0), 1.05 * bar_strain(below)(0));
+    expected = cell.at_stress({0.8 * onset * t, 0, 0}, h);
+    EXPECT_LE((bar_strain(back) - expected.strain.head<2>()).norm(), against_newton * expected.strain.norm());
+    // t* is measured from the intact state and leaves the structure's state alone.
+    EXPECT_NEAR(structure.first_fuse_factor(), onset, against_newton * onset);
+    EXPECT_EQ(structure.broken_units(), structure.n_units());
+  }
 }
 
 // W(ε̄) is the energy the structure minimises: its central difference along random directions
