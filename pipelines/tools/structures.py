@@ -5,7 +5,8 @@
 usage:
   structures.py scenes CELL_SCENE BOND KIND H OUTDIR
       writes OUTDIR/resolved.toml and OUTDIR/structure.toml: the same beam, edge conditions and
-      load, once with every cell resolved as in CELL_SCENE and once of homogeneous cells.
+      load, once with every cell resolved as in CELL_SCENE and once of homogeneous cells (and
+      OUTDIR/structure-point.toml, that with the exact law's bonds per quadrature point).
       KIND: bending (a moment at the free end; the left end a roller, one point held in y),
       cantilever (end shear, left end fixed), threepoint (supports at the lower corners, a point
       load at the top midspan), fuse (the cantilever in steps FUSE_STEPS, well past its first
@@ -18,7 +19,8 @@ usage:
       models, cone-wise and exact law, against the resolved one, first break against first fuse,
       time ratio).
   structures.py fuse OUTROOT CASE...
-      CASE = adhesion/fuse-H<H>: the tip deflection per step of the three models:
+      CASE = adhesion/fuse-H<H>: the tip deflection per step of the models (resolved, cone-wise
+      law, exact law with the bonds per cell, and per point where structure-point.h5 exists):
       OUTROOT/fuse.csv, fuse.md (per H the largest error over the steps past the first break, and
       the first break) and fuse.{png,svg} (load against deflection).
   structures.py plot OUTROOT
@@ -105,6 +107,9 @@ def scenes(cell_scene, bond, kind, H, outdir):
                  f"[structure]\ncells = [{L}, {H}]\nelements_per_cell = 2\nelement = \"p2\"\n" + edges + factors)
     common.write_atomic(os.path.join(outdir, "resolved.toml"), resolved)
     common.write_atomic(os.path.join(outdir, "structure.toml"), structure)
+    # The same with the exact law's bonds per quadrature point instead of per cell.
+    common.write_atomic(os.path.join(outdir, "structure-point.toml"),
+                        structure.replace("element = \"p2\"\n", "element = \"p2\"\nbonds = \"point\"\n", 1))
 
 
 def line_fit(y, ux):
@@ -241,33 +246,36 @@ def fuse(outroot, cases):
     rows, summary, data, plots = [], [], {}, []
     for colour, case in enumerate(sorted(cases, key=lambda c: int(c.rsplit("-H", 1)[1])), start=1):
         H = int(case.rsplit("-H", 1)[1])
-        m = {name: read_model(os.path.join(outroot, case, file), "cantilever") for name, file in MODELS}
+        m = {name: read_model(os.path.join(outroot, case, file), "cantilever")
+             for name, file in MODELS + (("point", "structure-point.h5"),)}
         res = m["resolved"]
         if not all(len(m[k]["factors"]) == len(res["factors"]) for k in m):
             sys.exit(f"structures.py: {case}: the models have different load steps")
         first = res["first"]
-        worst = {"cone": 0.0, "cell": 0.0}
+        worst = {"cone": 0.0, "cell": 0.0, "point": 0.0}
         past = False
         lines = ""
         for k, t in enumerate(res["factors"]):
             past = past or t > first
             row = {"H": H, "step": k, "factor": float(t), "past_first_break": int(past)}
-            for name in ("resolved", "cone", "cell"):
+            for name in ("resolved", "cone", "cell", "point"):
                 row[name] = float(m[name]["deflection"][k])
-            for name in ("cone", "cell"):
+            for name in ("cone", "cell", "point"):
                 row[f"{name}_error"] = relative(row[name], row["resolved"])
                 if past:
                     worst[name] = max(worst[name], abs(row[f"{name}_error"]))
             rows.append(row)
-            lines += f"{row['resolved']} {row['cone']} {row['cell']} {t}\n"
+            lines += f"{row['resolved']} {row['cone']} {row['cell']} {t} {row['point']}\n"
         summary.append({"H": H, "first_resolved": first, "first_cone": m["cone"]["first"],
-                        "first_cell": m["cell"]["first"], "worst_cone": worst["cone"], "worst_cell": worst["cell"],
+                        "first_cell": m["cell"]["first"], "first_point": m["point"]["first"],
+                        "worst_cone": worst["cone"], "worst_cell": worst["cell"], "worst_point": worst["point"],
                         "converged": min(m[k]["converged"] for k in m)})
         name = f"fuse_H{H}.dat"
         data[name] = lines
         plots.append(f"'{name}' using 1:4 with linespoints pt 7 dt 1 lc {colour} title 'H = {H}: resolved'")
         plots.append(f"'{name}' using 3:4 with linespoints pt 5 dt 2 lc {colour} title 'H = {H}: exact law'")
         plots.append(f"'{name}' using 2:4 with linespoints pt 4 dt 3 lc {colour} title 'H = {H}: cone-wise law'")
+        plots.append(f"'{name}' using 5:4 with linespoints pt 6 dt 4 lc {colour} title 'H = {H}: exact law, bonds per point'")
 
     def write_csv(path):
         with open(path, "w", newline="") as f:
@@ -283,11 +291,15 @@ def fuse(outroot, cases):
           "each model and the largest relative error of the tip deflection over the steps from the",
           "resolved first break on (fuse.csv has every step).",
           "",
-          "| H | first break res. | first fuse cone | first break exact | max error past it: cone | exact law |",
-          "|---|---|---|---|---|---|"]
+          "Exact law: bonds per cell (the default) and per quadrature point (`bonds = \"point\"`).",
+          "",
+          "| H | first break res. | first fuse cone | first break exact, per cell | per point | "
+          "max error past it: cone | exact, per cell | per point |",
+          "|---|---|---|---|---|---|---|---|"]
     for r in summary:
         md.append(f"| {r['H']} | {g(r['first_resolved'])} | {g(r['first_cone'])} | {g(r['first_cell'])} | "
-                  f"{100 * r['worst_cone']:.1f} % | {100 * r['worst_cell']:.1f} % |" +
+                  f"{g(r['first_point'])} | {100 * r['worst_cone']:.1f} % | {100 * r['worst_cell']:.1f} % | "
+                  f"{100 * r['worst_point']:.1f} % |" +
                   ("" if r["converged"] else " NOT converged"))
     common.write_atomic(os.path.join(outroot, "fuse.md"), "\n".join(md) + "\n")
     script = ("set title 'Cantilevers of depth H cells past the first break: resolved and homogenised'\n"

@@ -20,11 +20,10 @@ int main(int argc, char** argv) {
   std::string law_file, format, out, name = "DUALCELL";
   bool quiet = false;
   app.add_option("--law", law_file, "law.h5 written by dualcell-fit")->required();
-  app.add_option(
-         "--format", format,
-         "json: every object of law.h5 (NaN as null); csv: one row per direction; calculix: *MATERIAL "
-         "cards for plane-strain elements (material axes x, y, z = fibre); umat: the cone-wise law with the fuse as "
-         "*MATERIAL ABAQUS_<name>, *USER MATERIAL constants of src/umat/dualcell_umat.c")
+  app.add_option("--format", format,
+                 "json: every object of law.h5 (NaN as null); csv: one row per direction; calculix: *MATERIAL "
+                 "cards for plane-strain elements (material axes x, y, z = fibre); umat: the law (--form) as *MATERIAL "
+                 "ABAQUS_<name>, *USER MATERIAL constants of src/umat/dualcell_umat.c")
       ->required()
       ->check(CLI::IsMember({"json", "csv", "calculix", "umat"}));
   app.add_option("--out", out, "output file, written atomically")->required();
@@ -39,6 +38,15 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1e300));
   app.add_flag("--force", force, "umat: write the cone-wise law whatever its measured error");
+  std::string form;
+  int cell_id = 1;
+  app.add_option("--form", form,
+                 "umat: cell, the exact law (its cell in dualcell-cell-<id>.txt beside --out), or cone, the cone-wise "
+                 "law with the fuse; default: cell where law.h5 has it")
+      ->check(CLI::IsMember({"cell", "cone"}));
+  app.add_option("--cell-id", cell_id, "umat --form cell: the id that names the cell's file (dualcell-cell-<id>.txt)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 999999));
   app.add_flag("--quiet", quiet, "do not print what was written");
   if (const auto stop = dualcell::parse_options(app, argc, argv)) return *stop;
 
@@ -51,6 +59,8 @@ int main(int argc, char** argv) {
     options.name = name;
     options.max_law_error = max_law_error;
     options.force = force;
+    options.form = form;
+    options.cell_id = cell_id;
     const std::string written = stage::export_law(options);
     if (!quiet) std::printf("dualcell-export: %s -> %s (%s)\n", law_file.c_str(), out.c_str(), written.c_str());
   });

@@ -294,4 +294,37 @@ std::string law_umat(const Law& law, const std::string& name, const std::string&
   return out;
 }
 
+std::string umat_cell_file(int id) { return "dualcell-cell-" + std::to_string(id) + ".txt"; }
+
+std::string law_umat_cell(const Law& law, const std::string& name, int id, const std::string& source) {
+  check_name(name);
+  if (!law.cell)
+    throw InputError(source + ": /law/cell: no exact law (" + one_line(law.cell_note) +
+                     "): --form cell needs one (--form cone writes the cone-wise law)");
+  if (law.cell->n_macro != 3)
+    throw InputError(source +
+                     ": /law/cell: the cell has the symmetry boundary and carries no shear: a material "
+                     "point needs all three stresses (--form cone writes the cone-wise law)");
+  check_constituents(law, source);
+  const OutOfPlane z = rule_of_mixtures(law);
+  const law::CondensedCell& cell = *law.cell;
+  const int depvar = 1 + cell.n_pairs + cell.n_macro + cell.n_rows();
+  std::string out = card_header(law, source, "exact law of the cell as a user material");
+  out +=
+      "** For a code built with dualcell's umat (src/umat/dualcell_umat.c; CalculiX: make -C pipelines ccx-umat).\n"
+      "** Plane strain in the x-y plane (CPE*): the cell condensed onto its " +
+      std::to_string(cell.n_rows()) + " interface rows, read from\n** " + umat_cell_file(id) +
+      " (in $DUALCELL_CELL_DIR or the working directory); out of plane decoupled:\n"
+      "** E33, G13, G23 (rule of mixtures). Each material point carries its bonds (state variables 2 to " +
+      std::to_string(1 + cell.n_pairs) +
+      ",\n** 1 where a pair broke) and the warm start of its QP (src/umat/cell_umat.h).\n"
+      "** Constants: layout 2, law id, E33, G13, G23.\n";
+  out += "*MATERIAL, NAME=ABAQUS_" + name + "\n";
+  out += "*USER MATERIAL, CONSTANTS=5\n";
+  out += card_number(2) + ", " + card_number(id) + ", " + card_number(z.E3) + ", " + card_number(z.G_longitudinal) +
+         ", " + card_number(z.G_longitudinal) + "\n";
+  out += "*DEPVAR\n" + std::to_string(depvar) + "\n";
+  return out;
+}
+
 }  // namespace dualcell::io

@@ -33,5 +33,10 @@ std::vector<double> umat_constants(const law::Law& law, const std::string& file)
 // The *MATERIAL card ABAQUS_<name> (*USER MATERIAL with umat_constants, *DEPVAR 1) with comment
 // lines stating the layout, axes, units and provenance.
 std::string law_umat(const law::Law& law, const std::string& name, const std::string& source);
+// The exact law for the same umat (layout 2): the card ABAQUS_<name> with constants 2, `id`,
+// E33, G13, G23 and *DEPVAR 1 + pairs + 3 + rows (src/umat/cell_umat.h); the cell itself goes to
+// the file umat_cell_file(id) beside the card (law/cell_text.hpp). Refuses a law without one.
+std::string law_umat_cell(const law::Law& law, const std::string& name, int id, const std::string& source);
+std::string umat_cell_file(int id);
 
 }  // namespace dualcell::io

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <map>
 #include <optional>
+#include <sstream>
 
 #include "core/error.hpp"
 #include "core/text.hpp"
@@ -14,6 +15,7 @@
 #include "io/law_file.hpp"
 #include "io/points_csv.hpp"
 #include "io/sweep_file.hpp"
+#include "law/cell_text.hpp"
 
 namespace dualcell::stage {
 
@@ -57,8 +59,29 @@ std::string describe(const law::Law& law, io::ExportFormat format, const std::st
 }  // namespace
 
 std::string export_law(const ExportOptions& options) {
+  if (!options.form.empty() && options.format != io::ExportFormat::umat)
+    throw InputError("--form " + options.form + ": only for --format umat (the other formats carry the fitted laws)");
+  if (options.form != "" && options.form != "cell" && options.form != "cone")
+    throw InputError("--form " + options.form + ": must be \"cell\" (the exact law) or \"cone\"");
   io::check_outputs({options.out}, {options.law_file});
   const law::Law law = io::read_law(options.law_file);
+  const std::string form = options.form.empty() ? (law.cell ? "cell" : "cone") : options.form;
+  if (options.format == io::ExportFormat::umat && form == "cell") {
+    // Two files, committed together: the card and the cell it names.
+    const std::filesystem::path cell_file = options.out.parent_path() / io::umat_cell_file(options.cell_id);
+    io::check_outputs({options.out, cell_file}, {options.law_file});
+    const std::string card = io::law_umat_cell(law, options.name, options.cell_id, options.law_file.string());
+    std::ostringstream cell_text;
+    law::write_cell_text(cell_text, *law.cell);
+    io::AtomicOutputs outputs;
+    outputs.add(options.out);
+    outputs.add(cell_file);
+    outputs.write(options.out, card);
+    outputs.write(cell_file, cell_text.str());
+    outputs.commit();
+    return "user material ABAQUS_" + options.name + " for dualcell's umat, the exact law (" +
+           std::to_string(law.cell->n_rows()) + " interface rows) in " + cell_file.string();
+  }
   std::string text;
   switch (options.format) {
     case io::ExportFormat::json:

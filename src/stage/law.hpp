@@ -24,6 +24,10 @@ struct ExportOptions {
   // than this (the largest relative stress error of /law/cone_check), unless forced.
   double max_law_error = 0.02;
   bool force = false;
+  // umat: "cell" (the exact law, its cell in io::umat_cell_file(cell_id) beside `out`), "cone",
+  // or "" for the exact law where law.h5 has one.
+  std::string form;
+  int cell_id = 1;
 };
 
 // Reads law_file, converts, writes `out` atomically (nothing is left behind on any error) and

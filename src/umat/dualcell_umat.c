@@ -1,6 +1,7 @@
-/* The cone-wise cell law with the fuse as an Abaqus-style user material (umat), for CalculiX
- * (materials named ABAQUS...) and other codes with the same interface (docs/method.md §14, §15;
- * README, "The law in CalculiX").
+/* The cell law as an Abaqus-style user material (umat), for CalculiX (materials named
+ * ABAQUS...) and other codes with the same interface (docs/method.md §14, §15, §16a; README,
+ * "The law in CalculiX"): the cone-wise law with the fuse (layout 1), or the exact law of the
+ * cell (layout 2, cell_umat.h).
  *
  * In the plane of the cells (strain ε = (ε11, ε22, γ12), engineering shear) the stress is
  *   σ(ε) = C_c ε + Σ_k β_k ⟨q_k·ε⟩₊ q_k,   tangent C_c + Σ_k β_k H(q_k·ε) q_k q_kᵀ,
@@ -11,6 +12,10 @@
  * elements keep ε33 = γ13 = γ23 = 0, where the in-plane law holds exactly.
  *
  * Constants (*USER MATERIAL, CONSTANTS = n, written by dualcell-export --format umat):
+ * layout 2, the exact law: 1: 2   2: id, the law's file dualcell-cell-<id>.txt (cell_umat.h)
+ *   3–5: E33, G13, G23; the state variables as cell_umat.h says (the debond cascade of the
+ *   material point, kept by the code for converged increments only).
+ * layout 1, the cone-wise law:
  *   1: layout version (1)       2: K_b, planes of the bonded law     3: K_a, planes past the fuse
  *   4: F, onset facets (0: no fuse)   5–7: E33, G13, G23
  *   then the bonded law: C_c row by row (9), then per plane q1, q2, q3, β (4 K_b);
@@ -19,6 +24,8 @@
  * ntens must be 6 (CalculiX passes 6 for every element, 2D ones included).
  */
 #include <stddef.h>
+
+#include "cell_umat.h"
 
 enum { max_planes = 32 };
 
@@ -67,37 +74,46 @@ void umat_(double* stress, double* statev, double* ddsdde, double* sse, double* 
   (void)dfgrd0, (void)dfgrd1, (void)noel, (void)npt, (void)layer, (void)kspt, (void)kstep, (void)kinc;
   (void)cmname_length;
   const int n = *ntens;
-  const int Kb = (int)props[1], Ka = (int)props[2], F = (int)props[3];
-  const int needed = 7 + 9 + 4 * Kb + (Ka > 0 ? 9 + 4 * Ka : 0) + 3 * F;
-  if (n != 6 || props[0] != 1 || Kb < 1 || Kb > max_planes || Ka < 0 || Ka > max_planes || F < 0 ||
-      *nprops < needed || *nstatv < 1) {
-    *pnewdt = 0.25; /* a wrong card: ask for a smaller increment, which fails the analysis visibly */
-    return;
-  }
-  const double E33 = props[4], G13 = props[5], G23 = props[6];
-  const cone_law bonded = {props + 7, props + 16, Kb};
-  const double* after_start = props + 16 + 4 * Kb;
-  const cone_law after = {after_start, after_start + 9, Ka};
-  const double* facets = after_start + (Ka > 0 ? 9 + 4 * Ka : 0);
-
   double e6[6];
   for (int i = 0; i < 6; ++i) e6[i] = stran[i] + dstran[i];
   const double e[3] = {e6[0], e6[1], e6[3]}; /* ε11, ε22, γ12 */
-  double s[3], D[3][3];
-  int fused = statev[0] >= 0.5 && Ka > 0;
-  double W = cone_evaluate(fused ? &after : &bonded, e, s, D);
-  if (!fused && Ka > 0 && F > 0) {
-    double phi = 0;
-    for (int f = 0; f < F; ++f) {
-      const double g = facets[3 * f] * s[0] + facets[3 * f + 1] * s[1] + facets[3 * f + 2] * s[2];
-      if (g > phi) phi = g;
+  double s[3], D[3][3], W, E33, G13, G23;
+  if (n == 6 && props[0] == 2 && *nprops >= 5) {
+    E33 = props[2], G13 = props[3], G23 = props[4];
+    double D9[9];
+    if (dualcell_cell_law((int)props[1], e, statev, *nstatv, s, D9, &W) != 0) {
+      *pnewdt = 0.25; /* no law or a failed QP: ask for a smaller increment, which fails visibly */
+      return;
     }
-    if (phi >= 1) {
-      fused = 1;
-      W = cone_evaluate(&after, e, s, D);
+    for (int i = 0; i < 9; ++i) D[i / 3][i % 3] = D9[i];
+  } else {
+    const int Kb = (int)props[1], Ka = (int)props[2], F = (int)props[3];
+    const int needed = 7 + 9 + 4 * Kb + (Ka > 0 ? 9 + 4 * Ka : 0) + 3 * F;
+    if (n != 6 || props[0] != 1 || Kb < 1 || Kb > max_planes || Ka < 0 || Ka > max_planes || F < 0 ||
+        *nprops < needed || *nstatv < 1) {
+      *pnewdt = 0.25; /* a wrong card: ask for a smaller increment, which fails the analysis visibly */
+      return;
     }
+    E33 = props[4], G13 = props[5], G23 = props[6];
+    const cone_law bonded = {props + 7, props + 16, Kb};
+    const double* after_start = props + 16 + 4 * Kb;
+    const cone_law after = {after_start, after_start + 9, Ka};
+    const double* facets = after_start + (Ka > 0 ? 9 + 4 * Ka : 0);
+    int fused = statev[0] >= 0.5 && Ka > 0;
+    W = cone_evaluate(fused ? &after : &bonded, e, s, D);
+    if (!fused && Ka > 0 && F > 0) {
+      double phi = 0;
+      for (int f = 0; f < F; ++f) {
+        const double g = facets[3 * f] * s[0] + facets[3 * f + 1] * s[1] + facets[3 * f + 2] * s[2];
+        if (g > phi) phi = g;
+      }
+      if (phi >= 1) {
+        fused = 1;
+        W = cone_evaluate(&after, e, s, D);
+      }
+    }
+    statev[0] = fused;
   }
-  statev[0] = fused;
 
   const int in_plane[3] = {0, 1, 3};
   for (int i = 0; i < 36; ++i) ddsdde[i] = 0;

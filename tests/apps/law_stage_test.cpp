@@ -155,7 +155,7 @@ TEST(LawStage, ExportRefusesACompactLawThatMissesTheExactOne) {
   ASSERT_FALSE(law.cone_check.stress.empty());
   ASSERT_GT(law.cone_check.max_error, 0.02) << "this cell's cone-wise law misses by more than 2 %";
   const std::string export_umat =
-      bin("dualcell-export") + " --law " + q(run.law) + " --format umat --out " + q(run.dir / "u.inp");
+      bin("dualcell-export") + " --law " + q(run.law) + " --format umat --form cone --out " + q(run.dir / "u.inp");
   const auto refused = run_command(export_umat);
   EXPECT_EQ(refused.exit_code, exit_input_error);
   EXPECT_NE(refused.output.find("the cone-wise law misses the exact law by"), std::string::npos) << refused.output;

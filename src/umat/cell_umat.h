@@ -1,0 +1,33 @@
+/* The exact law of a cell (law/condensed.hpp) for the user material (dualcell_umat.c), callable
+ * from C. The law comes from a text file (law/cell_text.hpp) that `dualcell-export --format umat
+ * --form cell` writes: dualcell-cell-<id>.txt, in the folder $DUALCELL_CELL_DIR or else the
+ * working directory. It is read once per process; each thread has its own evaluator.
+ *
+ * State variables of a material point (all 0 for the unloaded cell, as the codes start them):
+ *   1: the number of broken pairs;  2 … 1 + P: 1 where pair k is broken (P pairs);
+ *   then m + n entries: the active set of the last evaluation (−1 lower, 0 free, 1 upper), the
+ *   warm start of the next (m = 3 macro stresses, n interface rows).
+ */
+#ifndef DUALCELL_CELL_UMAT_H
+#define DUALCELL_CELL_UMAT_H
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* The number of state variables law `id` needs, or −1 when its file cannot be read (the reason
+ * on stderr, once). */
+int dualcell_cell_statev(int id);
+
+/* The law `id` at the in-plane strain e = (ε11, ε22, γ12) from the state `statev` (nstatv
+ * entries), which is updated: the debond cascade of the point at e (bonds break within 1e-7 of
+ * their strength and never heal). Writes σ = (σ11, σ22, σ12), the tangent D = dσ/dε row by row
+ * and the strain energy per unit volume W. Returns 0, or 1 when the file cannot be read, the
+ * state is too short or the cell's QP fails (the reason on stderr, once per law). */
+int dualcell_cell_law(int id, const double e[3], double* statev, int nstatv, double s[3], double D[9], double* W);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

@@ -1,0 +1,157 @@
+// The exact law in the user material (layout 2, src/umat/cell_umat.h) against the library's
+// own evaluation (law::CellEvaluator) along a loading path through the debond cascade, with the
+// state variables carried from call to call as a code carries them over converged increments;
+// the text file that carries the cell, bit for bit; and the refusals.
+#include <gtest/gtest.h>
+
+#include <cstddef>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include "feti/condense.hpp"
+#include "feti/solver.hpp"
+#include "io/law_export.hpp"
+#include "law/cell_text.hpp"
+#include "mesh/mesh.hpp"
+#include "test_util.hpp"
+
+extern "C" void umat_(double* stress, double* statev, double* ddsdde, double* sse, double* spd, double* scd,
+                      double* rpl, double* ddsddt, double* drplde, double* drpldt, const double* stran,
+                      const double* dstran, const double* time, const double* dtime, const double* temp,
+                      const double* dtemp, const double* predef, const double* dpred, const char* cmname,
+                      const int* ndi, const int* nshr, const int* ntens, const int* nstatv, const double* props,
+                      const int* nprops, const double* coords, const double* drot, double* pnewdt, const double* celent,
+                      const double* dfgrd0, const double* dfgrd1, const int* noel, const int* npt, const int* layer,
+                      const int* kspt, const int* kstep, const int* kinc, std::size_t cmname_length);
+
+namespace dualcell::law {
+namespace {
+
+// A periodic p1 cell with adhesion (16 pairs, 32 rows).
+CondensedCell adhesive_cell() {
+  Scene s = parse_scene(testing::scene_text(1, 1, 2, 0.3), "test.toml");
+  s.geometry.element = Element::p1;
+  s.fibre = {30.0, 0.22};
+  s.matrix = {1.0, 0.35};
+  s.load.boundary = Boundary::periodic;
+  s.interface.normal_strength = 0.01;
+  s.interface.tangential_strength = 0.01;
+  const mesh::Mesh mesh = mesh::build_mesh(s.geometry);
+  feti::ContactSolver solver(mesh, s);
+  return feti::condense(solver.setup());
+}
+
+struct Call {
+  Eigen::Vector3d stress;
+  Eigen::Matrix3d tangent;
+  double energy, pnewdt;
+  double sigma33;
+};
+
+// One umat call at the plane strain (ε11, ε22, γ12) with ε33 = 1e-4, the state `statev` in and out.
+Call call(const std::vector<double>& props, const Eigen::Vector3d& e, std::vector<double>& statev) {
+  double stress[6] = {}, ddsdde[36], sse = 0, spd = 0, scd = 0, rpl = 0, ddsddt[6], drplde[6];
+  double drpldt = 0, time[2] = {}, dtime = 1, temp = 0, dtemp = 0, predef = 0, dpred = 0, coords[3] = {}, drot[9] = {};
+  double pnewdt = 1, celent = 1, dfgrd0[9] = {}, dfgrd1[9] = {};
+  const double stran[6] = {0.5 * e(0), 0.5 * e(1), 0, 0.5 * e(2), 0, 0};
+  const double dstran[6] = {0.5 * e(0), 0.5 * e(1), 1e-4, 0.5 * e(2), 0, 0};
+  const int ndi = 3, nshr = 3, ntens = 6, nstatv = static_cast<int>(statev.size());
+  const int nprops = static_cast<int>(props.size()), noel = 1, npt = 1, layer = 1, kspt = 1, kstep = 1, kinc = 1;
+  umat_(stress, statev.data(), ddsdde, &sse, &spd, &scd, &rpl, ddsddt, drplde, &drpldt, stran, dstran, time, &dtime,
+        &temp, &dtemp, &predef, &dpred, "ABAQUS_CELL", &ndi, &nshr, &ntens, &nstatv, props.data(), &nprops, coords,
+        drot, &pnewdt, &celent, dfgrd0, dfgrd1, &noel, &npt, &layer, &kspt, &kstep, &kinc, 11);
+  Call c;
+  const int in_plane[3] = {0, 1, 3};
+  for (int i = 0; i < 3; ++i) {
+    c.stress(i) = stress[in_plane[i]];
+    for (int j = 0; j < 3; ++j) c.tangent(i, j) = ddsdde[in_plane[i] + 6 * in_plane[j]];
+  }
+  c.energy = sse, c.pnewdt = pnewdt, c.sigma33 = stress[2];
+  return c;
+}
+
+TEST(CellUmat, TheCellTextGivesTheSameCellBitForBit) {
+  const CondensedCell cell = adhesive_cell();
+  std::ostringstream out;
+  write_cell_text(out, cell);
+  std::istringstream in(out.str());
+  std::string error;
+  const CondensedCell back = read_cell_text(in, error);
+  ASSERT_EQ(error, "");
+  EXPECT_EQ(back.S0, cell.S0);
+  EXPECT_EQ(back.Y, cell.Y);
+  EXPECT_EQ(back.H, cell.H);
+  EXPECT_EQ(back.G, cell.G);
+  EXPECT_EQ(back.lower_bonded, cell.lower_bonded);
+  EXPECT_EQ(back.upper_broken, cell.upper_broken);  // +inf where a broken normal row is unbounded
+  EXPECT_EQ(back.pair, cell.pair);
+  EXPECT_EQ(back.tangential, cell.tangential);
+  EXPECT_EQ(back.bonded, cell.bonded);
+  EXPECT_EQ(back.volume, cell.volume);
+  // A cut file and a wrong number are refused with the keyword.
+  const std::string text = out.str();
+  std::istringstream cut(text.substr(0, text.find("\nH ")));
+  read_cell_text(cut, error);
+  EXPECT_NE(error.find("'H'"), std::string::npos) << error;
+  std::string wrong = text;
+  wrong[wrong.find("volume ") + 7] = 'x';
+  std::istringstream bad(wrong);
+  error.clear();
+  read_cell_text(bad, error);
+  EXPECT_NE(error.find("volume"), std::string::npos) << error;
+}
+
+TEST(CellUmat, EqualsTheLibraryAlongAPathThroughTheCascade) {
+  testing::ScratchDir dir;
+  setenv("DUALCELL_CELL_DIR", dir.path().c_str(), 1);
+  const CondensedCell cell = adhesive_cell();
+  std::ofstream(dir / io::umat_cell_file(7001)) << [&] {
+    std::ostringstream out;
+    write_cell_text(out, cell);
+    return out.str();
+  }();
+  // The card's constants, as dualcell-export writes them.
+  Law law;
+  law.constituents = {30.0, 0.22, 1.0, 0.35, 0.28, 1.0};
+  law.cell = cell;
+  const std::string card = io::law_umat_cell(law, "CELL", 7001, "law.h5");
+  const std::string depvar = std::string("*DEPVAR\n").append(std::to_string(1 + cell.n_pairs + 3 + cell.n_rows()));
+  ASSERT_NE(card.find(depvar), std::string::npos) << card;
+  const OutOfPlane z = rule_of_mixtures(law);
+  const std::vector<double> props = {2, 7001, z.E3, z.G_longitudinal, z.G_longitudinal};
+  std::vector<double> statev(1 + cell.n_pairs + 3 + cell.n_rows(), 0.0);
+
+  CellEvaluator library(cell);
+  CellHistory h = library.unloaded();
+  const Eigen::Vector3d direction(1.0, 0.2, 0.3);
+  int broken_seen = 0;
+  for (const double scale : {1e-3, 5e-3, 1e-2, 2e-2, 4e-2, 1e-2, 0.0}) {
+    const Eigen::Vector3d e = scale * direction;
+    const Call c = call(props, e, statev);
+    const CellResponse r = library.at_strain(e, h);
+    ASSERT_TRUE(r.ok) << r.message;
+    ASSERT_EQ(c.pnewdt, 1) << scale;
+    // The same QP from the same warm start: round-off apart.
+    EXPECT_LE((c.stress - r.stress).norm(), 1e-12 * std::max(r.stress.norm(), 1e-300)) << scale;
+    EXPECT_LE((c.tangent - r.tangent).norm(), 1e-12 * r.tangent.norm()) << scale;
+    EXPECT_NEAR(c.energy, r.energy + 0.5 * z.E3 * 1e-8, 1e-12 * std::max(c.energy, 1e-300)) << scale;
+    EXPECT_NEAR(c.sigma33, z.E3 * 1e-4, 1e-15);
+    EXPECT_EQ(statev[0], r.broken) << scale;
+    int flags = 0;
+    for (int p = 0; p < cell.n_pairs; ++p) flags += statev[1 + p] >= 0.5;
+    EXPECT_EQ(flags, r.broken);
+    broken_seen = std::max(broken_seen, r.broken);
+  }
+  EXPECT_GT(broken_seen, 0) << "the path must reach past the first break";
+  EXPECT_EQ(statev[0], broken_seen) << "bonds never heal";
+
+  // A law whose file is missing, and a state too short: a smaller increment asked, nothing else.
+  std::vector<double> state(statev.size(), 0.0);
+  EXPECT_EQ(call({2, 7002, 1, 1, 1}, direction * 1e-3, state).pnewdt, 0.25);
+  std::vector<double> short_state(3, 0.0);
+  EXPECT_EQ(call(props, direction * 1e-3, short_state).pnewdt, 0.25);
+}
+
+}  // namespace
+}  // namespace dualcell::law
