@@ -180,8 +180,8 @@ Eigen::VectorXd nonnegative_least_squares(const Eigen::MatrixXd& A, const Eigen:
 // nonnegative least squares, then C_c from β. Only the planes with β_k > 0 are kept (the
 // law::max_planes largest, refitted, where more are in use); a law whose C_c is not positive
 // definite is refused (+inf). Returns the cost Σ r_i².
-double fit_planes(const std::vector<ConePoint>& points, const std::vector<Eigen::Vector3d>& normals, law::ConeLaw& out,
-                  const Eigen::Matrix3d* fixed_C = nullptr) {
+double fit_planes(const std::vector<ConePoint>& points, const std::vector<Eigen::Vector3d>& normals,
+                  law::ConeLaw& out) {
   const int n_planes = static_cast<int>(normals.size());
   // Unknowns: C_c entries (0,0), (0,1), (0,2), (1,1), (1,2), (2,2), then β_k.
   constexpr int entries[6][2] = {{0, 0}, {0, 1}, {0, 2}, {1, 1}, {1, 2}, {2, 2}};
@@ -202,25 +202,10 @@ double fit_planes(const std::vector<ConePoint>& points, const std::vector<Eigen:
   }
   const Eigen::MatrixXd A_C = A.leftCols(6), A_beta = A.rightCols(n_planes);
   Eigen::VectorXd beta, entry(6);
-  if (fixed_C) {
-    // Many planes: nonnegative least squares on the normal equations (n_planes² numbers, not
-    // rows × n_planes), by the exact active-set method starting with every β held at 0.
-    for (int j = 0; j < 6; ++j) entry(j) = (*fixed_C)(entries[j][0], entries[j][1]);
-    const Eigen::MatrixXd gram = A_beta.transpose() * A_beta;
-    const Eigen::VectorXd rhs = A_beta.transpose() * (b - A_C * entry);
-    std::vector<qp::Bound> active(n_planes, qp::Bound::lower);
-    qp::DenseActiveSet nnls;
-    const qp::DenseQpResult r =
-        nnls.solve(gram, rhs, Eigen::MatrixXd(0, n_planes), Eigen::VectorXd::Zero(n_planes),
-                   Eigen::VectorXd::Constant(n_planes, std::numeric_limits<double>::infinity()), active);
-    if (!r.converged) return std::numeric_limits<double>::infinity();
-    beta = r.x.cwiseMax(0.0);
-  } else {
-    const Eigen::HouseholderQR<Eigen::MatrixXd> qr(A_C);
-    const Eigen::MatrixXd Q = qr.householderQ() * Eigen::MatrixXd::Identity(rows, 6);
-    beta = nonnegative_least_squares(A_beta - Q * (Q.transpose() * A_beta), b - Q * (Q.transpose() * b));
-    entry = A_C.colPivHouseholderQr().solve(b - A_beta * beta);
-  }
+  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(A_C);
+  const Eigen::MatrixXd Q = qr.householderQ() * Eigen::MatrixXd::Identity(rows, 6);
+  beta = nonnegative_least_squares(A_beta - Q * (Q.transpose() * A_beta), b - Q * (Q.transpose() * b));
+  entry = A_C.colPivHouseholderQr().solve(b - A_beta * beta);
   // More planes in use than a law may have: the ones that add the most stiffness, refitted.
   if ((beta.array() > 0).count() > law::max_planes) {
     std::vector<int> order(n_planes);
@@ -228,7 +213,7 @@ double fit_planes(const std::vector<ConePoint>& points, const std::vector<Eigen:
     std::sort(order.begin(), order.end(), [&](int a, int c) { return beta(a) > beta(c); });
     std::vector<Eigen::Vector3d> kept;
     for (int k = 0; k < law::max_planes; ++k) kept.push_back(normals[order[k]]);
-    return fit_planes(points, kept, out, fixed_C);
+    return fit_planes(points, kept, out);
   }
   law::ConeLaw law;
   for (int j = 0; j < 6; ++j) law.C_c(entries[j][0], entries[j][1]) = law.C_c(entries[j][1], entries[j][0]) = entry(j);
@@ -280,34 +265,146 @@ void set_direction_residuals(const std::vector<ConePoint>& points, law::ConeFit&
 
 }  // namespace
 
+namespace {
+
+// The symmetries of a cell that its exact law shows, among the eight of the square (reflections
+// x → −x and y → −y, which flip γxy and σxy, and the swap x ↔ y, with their products), as
+// matrices on (εxx, εyy, γxy) that act on (σxx, σyy, σxy) the same way. One is kept when the law
+// maps every sampled state onto its image: ε̄(Rσ̄) = R ε̄(σ̄) to 1e-8 (the QP's round-off is
+// 1e-11; a cell off its symmetry, an off-centre fibre or a 2 × 1 block, misses by far more).
+std::vector<Eigen::Matrix3d> cell_symmetries(const law::CondensedCell& cell, const law::CellSample& sample) {
+  Eigen::Matrix3d flip = Eigen::Vector3d(1, 1, -1).asDiagonal(), swap;
+  swap << 0, 1, 0, 1, 0, 0, 0, 0, 1;
+  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+  const Eigen::Matrix3d candidates[] = {
+      flip, swap, swap * flip, flip * swap, swap * flip * swap, flip * swap * flip, swap * flip * swap * flip};
+  std::vector<Eigen::Matrix3d> group = {I};
+  law::CellEvaluator law(cell);
+  for (const Eigen::Matrix3d& R : candidates) {
+    bool holds = true;
+    for (std::size_t i = 0; holds && i < sample.stress.size();
+         i += std::max<std::size_t>(1, sample.stress.size() / 24)) {
+      law::CellHistory h = law.unloaded();
+      const law::CellResponse r = law.at_stress(R * sample.stress[i], h);
+      holds = r.ok && (r.strain - R * sample.strain[i]).norm() <= 1e-8 * sample.strain[i].norm();
+    }
+    if (!holds) continue;
+    bool known = false;
+    for (const auto& G : group) known = known || (G - R).norm() < 1e-12;
+    if (!known) group.push_back(R);
+  }
+  return group;
+}
+
+// σ(ε) = C ε + Σ_orbits β_o Σ_{q ∈ o} ⟨q·ε⟩₊ q with C fixed and β ≥ 0: one β per orbit of
+// planes under the cell's symmetries, so that the law has them too. Nonnegative least squares on
+// the normal equations (orbits² numbers, not rows × orbits) by the exact active-set method, each
+// row weighted by 1/|σ_i|. Where the orbits in use have more than law::max_planes planes, the
+// orbits that add the most stiffness are kept and refitted. Returns the cost Σ r_i², +inf when
+// the method fails.
+double fit_plane_orbits(const std::vector<ConePoint>& points, const std::vector<std::vector<Eigen::Vector3d>>& orbits,
+                        const Eigen::Matrix3d& C, law::ConeLaw& out) {
+  const int n_orbits = static_cast<int>(orbits.size());
+  const Eigen::Index rows = 3 * static_cast<Eigen::Index>(points.size());
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(rows, n_orbits);
+  Eigen::VectorXd b(rows);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const double w = 1 / points[i].stress.norm();
+    const Eigen::Vector3d& e = points[i].strain;
+    const Eigen::Index r = 3 * static_cast<Eigen::Index>(i);
+    for (int o = 0; o < n_orbits; ++o)
+      for (const Eigen::Vector3d& q : orbits[o]) A.block<3, 1>(r, o) += w * std::max(q.dot(e), 0.0) * q;
+    b.segment<3>(r) = w * (points[i].stress - C * e);
+  }
+  const Eigen::MatrixXd gram = A.transpose() * A;
+  const Eigen::VectorXd rhs = A.transpose() * b;
+  std::vector<qp::Bound> active(n_orbits, qp::Bound::lower);
+  qp::DenseActiveSet nnls;
+  const qp::DenseQpResult r =
+      nnls.solve(gram, rhs, Eigen::MatrixXd(0, n_orbits), Eigen::VectorXd::Zero(n_orbits),
+                 Eigen::VectorXd::Constant(n_orbits, std::numeric_limits<double>::infinity()), active);
+  if (!r.converged) return std::numeric_limits<double>::infinity();
+  const Eigen::VectorXd beta = r.x.cwiseMax(0.0);
+  std::size_t planes = 0;
+  for (int o = 0; o < n_orbits; ++o) planes += beta(o) > 0 ? orbits[o].size() : 0;
+  if (planes > static_cast<std::size_t>(law::max_planes)) {
+    std::vector<int> order(n_orbits);
+    for (int o = 0; o < n_orbits; ++o) order[o] = o;
+    std::sort(order.begin(), order.end(), [&](int a, int c) { return beta(a) > beta(c); });
+    std::vector<std::vector<Eigen::Vector3d>> kept;
+    std::size_t count = 0;
+    for (int o : order) {
+      if (!(beta(o) > 0) || count + orbits[o].size() > static_cast<std::size_t>(law::max_planes)) continue;
+      kept.push_back(orbits[o]);
+      count += orbits[o].size();
+    }
+    return fit_plane_orbits(points, kept, C, out);
+  }
+  law::ConeLaw law;
+  law.C_c = C;
+  law.q.clear();
+  law.beta.clear();
+  for (int o = 0; o < n_orbits; ++o)
+    if (beta(o) > 0)
+      for (const Eigen::Vector3d& q : orbits[o]) law.q.push_back(q), law.beta.push_back(beta(o));
+  if (law.q.empty()) law.q = {orbits.empty() ? Eigen::Vector3d::UnitX() : orbits[0][0]}, law.beta = {0.0};
+  if (!law::admissibility_problem(law).empty()) return std::numeric_limits<double>::infinity();
+  double cost = 0;
+  for (const auto& p : points)
+    cost += (law::evaluate(law, p.strain).stress - p.stress).squaredNorm() / p.stress.squaredNorm();
+  out = law;
+  return cost;
+}
+
+}  // namespace
+
 law::ConeFit fit_cone_to_cell(const law::CondensedCell& cell, const std::vector<ConePoint>& points, int n_directions,
                               int n) {
   law::ConeFit out;
   out.n_points = static_cast<int>(points.size());
   out.direction_residual.assign(n_directions, std::numeric_limits<double>::quiet_NaN());
   out.one_plane_residual = out.struts_residual = std::numeric_limits<double>::quiet_NaN();
-  out.form = "planes fitted to the exact law";
   const law::CellSample sample = law::sample_cell(cell, n);
-  std::vector<ConePoint> exact;
-  for (std::size_t i = 0; i < sample.direction.size(); ++i)
-    if (sample.strain[i].allFinite()) exact.push_back({sample.strain[i], sample.stress[i], -1});
-  // Candidate planes: a Fibonacci set of unit strain directions.
-  std::vector<Eigen::Vector3d> normals;
-  constexpr int n_candidates = 240;
-  const double golden = std::numbers::pi * (3 - std::sqrt(5.0));
-  for (int k = 0; k < n_candidates; ++k) {
-    const double z = 1 - (2 * k + 1.0) / n_candidates, r = std::sqrt(1 - z * z);
-    normals.emplace_back(r * std::cos(k * golden), r * std::sin(k * golden), z);
-  }
-  // C_c the open cell's stiffness S₀⁻¹ (every gap open: the softest the cell can be), each plane
-  // adding stiffness where it opens: positive definite and convex by construction.
   if (cell.n_macro != 3) {
     out.message = "the cell carries no shear (symmetry boundary)";
     return out;
   }
+  // The sample and its images under the cell's symmetries (measured on the law itself).
+  const std::vector<Eigen::Matrix3d> group = cell_symmetries(cell, sample);
+  std::vector<ConePoint> exact;
+  for (std::size_t i = 0; i < sample.direction.size(); ++i)
+    if (sample.strain[i].allFinite())
+      for (const Eigen::Matrix3d& R : group) exact.push_back({R * sample.strain[i], R * sample.stress[i], -1});
+  // Candidate planes: a Fibonacci set of unit strain directions, each with its orbit under the
+  // symmetries (a candidate already in an orbit adds nothing).
+  std::vector<std::vector<Eigen::Vector3d>> orbits;
+  constexpr int n_candidates = 240;
+  const double golden = std::numbers::pi * (3 - std::sqrt(5.0));
+  const auto known = [&](const Eigen::Vector3d& q) {
+    for (const auto& orbit : orbits)
+      for (const Eigen::Vector3d& p : orbit)
+        if ((p - q).norm() < 1e-9) return true;
+    return false;
+  };
+  for (int k = 0; k < n_candidates; ++k) {
+    const double z = 1 - (2 * k + 1.0) / n_candidates, r = std::sqrt(1 - z * z);
+    const Eigen::Vector3d q(r * std::cos(k * golden), r * std::sin(k * golden), z);
+    if (known(q)) continue;
+    std::vector<Eigen::Vector3d> orbit;
+    for (const Eigen::Matrix3d& R : group) {
+      const Eigen::Vector3d image = R * q;
+      bool seen = false;
+      for (const Eigen::Vector3d& p : orbit) seen = seen || (p - image).norm() < 1e-9;
+      if (!seen) orbit.push_back(image);
+    }
+    orbits.push_back(orbit);
+  }
+  // C_c the open cell's stiffness S₀⁻¹ (every gap open: the softest the cell can be), each plane
+  // adding stiffness where it opens: positive definite and convex by construction.
   const Eigen::Matrix3d C_open = Eigen::Matrix3d(cell.S0).inverse();
   law::ConeLaw law;
-  const double c = fit_planes(exact, normals, law, &C_open);
+  const double c = fit_plane_orbits(exact, orbits, 0.5 * (C_open + C_open.transpose()), law);
+  out.form = "planes fitted to the exact law, " + std::to_string(group.size()) + " symmetries of the cell";
   if (!std::isfinite(c) || exact.empty()) {
     out.message = "no admissible law fitted to the exact law";
     return out;

@@ -33,11 +33,14 @@ law::ConeFit fit_cone(const std::vector<ConePoint>& points, int n_directions,
 // The cone-wise law fitted to the exact law (law/condensed.hpp) instead of the sweep: sampled at
 // n stress directions over the whole sphere (law::sample_cell; a different set from the check's),
 // with C_c the open cell's stiffness S₀⁻¹ (every interface row removed: the softest state), fixed
-// candidate planes q_k at 120 directions spread over the unit sphere of strains and β ≥ 0 by
+// candidate planes q_k at 240 directions spread over the unit sphere of strains and β ≥ 0 by
 // nonnegative least squares: positive definite and convex by construction, linear in β. The
-// planes with the largest β are kept, at most law::max_planes, and refitted. Its residuals
-// (relative_residual, direction_residual) are over the sweep's `points`, as fit_cone's are;
-// form "planes fitted to the exact law". Not ok where no admissible law results.
+// cell's symmetries among the square's eight are measured on the exact law; the sample is
+// augmented by its images and the planes of one orbit share their β, so the law has the cell's
+// symmetries exactly. The orbits with the largest β are kept, at most law::max_planes planes,
+// and refitted. Its residuals (relative_residual, direction_residual) are over the sweep's
+// `points`, as fit_cone's are; form "planes fitted to the exact law, N symmetries of the cell".
+// Not ok where no admissible law results.
 law::ConeFit fit_cone_to_cell(const law::CondensedCell& cell, const std::vector<ConePoint>& points, int n_directions,
                               int n = 800);
 
