@@ -286,10 +286,15 @@ std::string law_umat(const Law& law, const std::string& name, const std::string&
          " planes past the fuse, F = " + formatted("%.0f", k[3]) +
          " facets, E33, G13, G23;\n"
          "** then C_c (row by row) and c1, c2, c3, beta per plane, bonded then past the fuse; then the facets.\n";
+  // CalculiX reads CONSTANTS/8 + 1 lines (a temperature after the last constant), so a count
+  // that is a multiple of 8 would need a line Abaqus does not expect: one trailing 0 (which the
+  // umat ignores) keeps both readers happy.
+  std::vector<double> padded = k;
+  if (padded.size() % 8 == 0) padded.push_back(0.0);
   out += "*MATERIAL, NAME=ABAQUS_" + name + "\n";
-  out += "*USER MATERIAL, CONSTANTS=" + std::to_string(k.size()) + "\n";
-  for (std::size_t i = 0; i < k.size(); ++i)
-    out += card_number(k[i]) + (i + 1 == k.size() ? "\n" : (i % 8 == 7 ? ",\n" : ", "));
+  out += "*USER MATERIAL, CONSTANTS=" + std::to_string(padded.size()) + "\n";
+  for (std::size_t i = 0; i < padded.size(); ++i)
+    out += card_number(padded[i]) + (i + 1 == padded.size() ? "\n" : (i % 8 == 7 ? ",\n" : ", "));
   out += "*DEPVAR\n1\n";
   return out;
 }

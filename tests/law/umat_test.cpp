@@ -4,6 +4,7 @@
 // surface it takes the law past the fuse, and a fused point stays fused.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstddef>
 #include <random>
 
@@ -119,6 +120,25 @@ TEST(Umat, WithoutALawPastTheFusePointsStayBonded) {
   const Call c = call(props, e, 0);
   EXPECT_EQ(c.state, 0.0);
   EXPECT_LE((c.stress - evaluate(law.cone.law, e).stress).norm(), 1e-13 * c.stress.norm());
+}
+
+// CalculiX reads CONSTANTS/8 + 1 lines of a *USER MATERIAL: a card of 32 planes has 7 + 9 + 128
+// = 144 constants, a multiple of 8, and is padded with one trailing 0 so that its last line is
+// complete for both CalculiX and Abaqus; the umat reads the same law from the padded constants.
+TEST(Umat, ACardWhoseConstantsFillTheirLinesIsPadded) {
+  Law law = test_law();
+  law.cone_after_fuse.ok = false;
+  law.cone.law.q.assign(32, Eigen::Vector3d(-1, 0, 0));
+  law.cone.law.beta.assign(32, 0.1);
+  ASSERT_EQ(umat_constants(law, "test").size(), 144u);
+  const std::string card = law_umat(law, "PADDED", "test");
+  EXPECT_NE(card.find("CONSTANTS=145"), std::string::npos) << card;
+  const std::string values = card.substr(card.find("CONSTANTS=145") + 14);
+  EXPECT_EQ(std::count(values.begin(), values.begin() + values.find("*DEPVAR"), '\n'), 19);
+  std::vector<double> props = umat_constants(law, "test");
+  props.push_back(0.0);
+  const Eigen::Vector3d e(1e-3, -2e-3, 5e-4);
+  EXPECT_LE((call(props, e, 0).stress - evaluate(law.cone.law, e).stress).norm(), 1e-13 * e.norm() * 20);
 }
 
 }  // namespace
