@@ -31,7 +31,7 @@ def row(path):
             return {"scene": scene, "interface_rows": "none: " + common.text(g.attrs["cell_note"])}
         c = g["cell"]
         n = len(c["pair"])
-        size = sum(c[k].size * 8 for k in ("S0", "Y", "H", "G")) + 4 * n * 8
+        size = int(c["bytes"][0])
         r = {"scene": scene, "interface_rows": n, "condense_s": float(c["seconds"][0]), "kB": size / 1e3,
              "replay_points": int(g["cell_replay/points"][0]), "replay_max": float(g["cell_replay/max_error"][0]),
              "breaks_agree": "yes" if int(g["cell_replay/break_mismatches"][0]) == 0 else "no"}

@@ -42,6 +42,7 @@ void write_condensed(File& f, const std::string& group, const law::CondensedCell
   scalar("reciprocity_error", cell.reciprocity_error);
   scalar("seconds", cell.seconds);
   count("operator_applications", cell.operator_applications);
+  count("bytes", static_cast<std::int64_t>(cell.bytes()));
   f.write(group + "/S0", row_major(cell.S0), {m, m});
   f.write(group + "/Y", row_major(cell.Y), {n, m});
   f.write(group + "/H", row_major(cell.H), {n, n});
