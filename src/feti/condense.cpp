@@ -29,6 +29,85 @@ std::vector<int> all(Eigen::Index n) {
   return v;
 }
 
+// F = B K⁺ Bᵀ formed explicitly, one application per column.
+Eigen::MatrixXd explicit_F(const DualProblem& dual, int m) {
+  Eigen::MatrixXd F(m, m);
+  Eigen::VectorXd unit = Eigen::VectorXd::Zero(m), column(m);
+  for (int j = 0; j < m; ++j) {
+    unit(j) = 1;
+    dual.apply_F(unit, column);
+    F.col(j) = column;
+    unit(j) = 0;
+  }
+  return F;
+}
+
+// The macro load per unit stress component k: the load f_k, the dual right-hand sides d_k and
+// e_k of §6.
+struct MacroLoad {
+  std::vector<Eigen::VectorXd> f;
+  Eigen::MatrixXd D, e;  // columns k
+};
+
+MacroLoad macro_load(const FetiSetup& setup, const DualProblem& dual, int n_macro) {
+  MacroLoad load;
+  load.f.resize(n_macro);
+  load.D.resize(dual.constraints().n_rows(), n_macro);
+  load.e.resize(dual.G().rows(), n_macro);
+  for (int k = 0; k < n_macro; ++k) {
+    const Eigen::Vector3d unit = Eigen::Vector3d::Unit(k);
+    load.f[k] = setup.load(unit);
+    load.D.col(k) = dual.d(load.f[k], setup.load_factor(unit));
+    load.e.col(k) = dual.e(load.f[k]);
+  }
+  return load;
+}
+
+// ε̄ = W u (engineering shear) as coefficients: per component k, on λ (−B K⁺ wₖ), on α (R̂ᵀwₖ)
+// and on σ̄ (wₖᵀK⁺f).
+struct StrainMap {
+  Eigen::MatrixXd lambda, alpha, sigma;
+};
+
+StrainMap strain_map(const FetiSetup& setup, const DualProblem& dual, const MacroLoad& load, int n_macro) {
+  const int m = dual.constraints().n_rows();
+  Eigen::MatrixXd W = boundary_strain_matrix(setup.mesh(), setup.n_dofs());
+  W.row(2) *= 2;
+  StrainMap T{Eigen::MatrixXd(n_macro, m), Eigen::MatrixXd(n_macro, dual.G().rows()),
+              Eigen::MatrixXd(n_macro, n_macro)};
+  const Eigen::VectorXd no_lambda = Eigen::VectorXd::Zero(m);
+  for (int k = 0; k < n_macro; ++k) {
+    const Eigen::VectorXd w = W.row(k).transpose();
+    const Eigen::VectorXd v = dual.K_plus_residual(w, no_lambda);
+    T.lambda.row(k) = -dual.d(w, 0.0).transpose();
+    T.alpha.row(k) = dual.e(w).transpose();
+    for (int j = 0; j < n_macro; ++j) T.sigma(k, j) = v.dot(load.f[j]);
+  }
+  return T;
+}
+
+// The interface rows' bounds and kinds, in physical units (forces, not the weighted rows).
+void set_rows(law::CondensedCell& cell, const Constraints& con, const std::vector<int>& I) {
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  const int nI = static_cast<int>(I.size());
+  cell.pair.resize(nI);
+  cell.tangential.resize(nI);
+  cell.lower_bonded.resize(nI);
+  cell.upper_bonded.resize(nI);
+  cell.lower_broken.resize(nI);
+  cell.upper_broken.resize(nI);
+  for (int i = 0; i < nI; ++i) {
+    const int r = I[i];
+    const double w = con.weight(r);
+    cell.pair[i] = con.pair[r];
+    cell.tangential[i] = con.kind[r] == RowKind::tangential;
+    cell.lower_bonded(i) = con.lower(r) * w;
+    cell.upper_bonded(i) = con.upper(r) * w;
+    cell.lower_broken(i) = 0;
+    cell.upper_broken(i) = cell.tangential[i] ? 0 : inf;
+  }
+}
+
 }  // namespace
 
 law::CondensedCell condense(const FetiSetup& setup, int max_rows) {
@@ -51,19 +130,8 @@ law::CondensedCell condense(const FetiSetup& setup, int max_rows) {
   std::vector<int> I, E;
   for (int r = 0; r < m; ++r) (is_interface(con.kind[r]) ? I : E).push_back(r);
 
-  // F, one column per application.
   law::CondensedCell cell;
-  Eigen::MatrixXd F(m, m);
-  {
-    Eigen::VectorXd unit = Eigen::VectorXd::Zero(m), column(m);
-    for (int j = 0; j < m; ++j) {
-      unit(j) = 1;
-      dual.apply_F(unit, column);
-      F.col(j) = column;
-      unit(j) = 0;
-    }
-    cell.operator_applications = m;
-  }
+  const Eigen::MatrixXd F = explicit_F(dual, m);
   const Eigen::MatrixXd G = Eigen::MatrixXd(dual.G());
   // The modes the other rows see (M: the matrix, the macro DOFs), and those only interface rows
   // see (N: the fibres).
@@ -73,34 +141,14 @@ law::CondensedCell condense(const FetiSetup& setup, int max_rows) {
     for (int r : E) seen = seen || G(g, r) != 0;
     (seen ? M : N).push_back(static_cast<int>(g));
   }
-
-  // The macro load: f, d and e per unit stress component.
-  std::vector<Eigen::VectorXd> f(n_macro);
-  Eigen::MatrixXd D(m, n_macro), e(G.rows(), n_macro);
-  for (int k = 0; k < n_macro; ++k) {
-    const Eigen::Vector3d unit = Eigen::Vector3d::Unit(k);
-    f[k] = setup.load(unit);
-    D.col(k) = dual.d(f[k], setup.load_factor(unit));
-    e.col(k) = dual.e(f[k]);
-  }
+  const MacroLoad load = macro_load(setup, dual, n_macro);
+  const Eigen::MatrixXd& D = load.D;
+  const Eigen::MatrixXd& e = load.e;
   for (int g : N)
     if (e.row(g).norm() > 1e-12 * std::max(e.norm(), 1e-300))
       throw InputError("a macro stress loads a body held only by interface rows: this cell has no condensed law");
-
-  // ε̄ = W u (engineering shear): per component k, its coefficients on λ (−B K⁺ wₖ), on α (R̂ᵀwₖ)
-  // and on σ̄ (wₖᵀK⁺f).
-  Eigen::MatrixXd W = boundary_strain_matrix(mesh, setup.n_dofs());
-  W.row(2) *= 2;
-  Eigen::MatrixXd T_lambda(n_macro, m), T_alpha(n_macro, G.rows()), T_sigma(n_macro, n_macro);
-  const Eigen::VectorXd no_lambda = Eigen::VectorXd::Zero(m);
-  for (int k = 0; k < n_macro; ++k) {
-    const Eigen::VectorXd w = W.row(k).transpose();
-    const Eigen::VectorXd v = dual.K_plus_residual(w, no_lambda);
-    T_lambda.row(k) = -dual.d(w, 0.0).transpose();
-    T_alpha.row(k) = dual.e(w).transpose();
-    for (int j = 0; j < n_macro; ++j) T_sigma(k, j) = v.dot(f[j]);
-  }
-  cell.operator_applications += 2 * n_macro;
+  const StrainMap T = strain_map(setup, dual, load, n_macro);
+  cell.operator_applications = m + 2 * n_macro;
 
   // Eliminate λ_E and α_M.
   const int mE = static_cast<int>(E.size()), nM = static_cast<int>(M.size()), nI = static_cast<int>(I.size());
@@ -122,9 +170,9 @@ law::CondensedCell condense(const FetiSetup& setup, int max_rows) {
   Eigen::MatrixXd H = pick(F, I, I) + F_IE * X_pE + G_MI.transpose() * X_pM;
   Eigen::MatrixXd Y = pick(D, I, all(n_macro)) - F_IE * X_sE - G_MI.transpose() * X_sM;
   Eigen::MatrixXd E_p =
-      pick(T_lambda, all(n_macro), I) + pick(T_lambda, all(n_macro), E) * X_pE - pick(T_alpha, all(n_macro), M) * X_pM;
-  Eigen::MatrixXd S0 = T_sigma + pick(T_lambda, all(n_macro), E) * X_sE - pick(T_alpha, all(n_macro), M) * X_sM;
-  if (!N.empty() && pick(T_alpha, all(n_macro), N).norm() > 1e-10 * T_alpha.norm())
+      pick(T.lambda, all(n_macro), I) + pick(T.lambda, all(n_macro), E) * X_pE - pick(T.alpha, all(n_macro), M) * X_pM;
+  Eigen::MatrixXd S0 = T.sigma + pick(T.lambda, all(n_macro), E) * X_sE - pick(T.alpha, all(n_macro), M) * X_sM;
+  if (!N.empty() && pick(T.alpha, all(n_macro), N).norm() > 1e-10 * T.alpha.norm())
     throw InputError("a body held only by interface rows moves the cell's boundary: this cell has no condensed law");
 
   // Physical interface forces p = w λ_scaled: H, Y, E_p and G scaled by 1/w.
@@ -146,26 +194,9 @@ law::CondensedCell condense(const FetiSetup& setup, int max_rows) {
   cell.H = 0.5 * (H + H.transpose());
   cell.Y = 0.5 * (Y - volume * E_p.transpose());
   cell.G = pick(G, N, I) * inverse_weight.asDiagonal();
-
-  constexpr double inf = std::numeric_limits<double>::infinity();
   cell.n_pairs = static_cast<int>(mesh.interface_pairs.size());
   cell.bonded = intact;
-  cell.pair.resize(nI);
-  cell.tangential.resize(nI);
-  cell.lower_bonded.resize(nI);
-  cell.upper_bonded.resize(nI);
-  cell.lower_broken.resize(nI);
-  cell.upper_broken.resize(nI);
-  for (int i = 0; i < nI; ++i) {
-    const int r = I[i];
-    const double w = con.weight(r);
-    cell.pair[i] = con.pair[r];
-    cell.tangential[i] = con.kind[r] == RowKind::tangential;
-    cell.lower_bonded(i) = con.lower(r) * w;
-    cell.upper_bonded(i) = con.upper(r) * w;
-    cell.lower_broken(i) = 0;
-    cell.upper_broken(i) = cell.tangential[i] ? 0 : inf;
-  }
+  set_rows(cell, con, I);
   cell.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return cell;
 }
