@@ -224,6 +224,90 @@ law::CellReplay replay_cell(const law::CondensedCell& cell, const std::vector<sw
   return replay;
 }
 
+namespace {
+
+// The moduli, Poisson ratios and fuse figures of one uniaxial direction θ from its paths.
+law::DirectionLaw fit_direction(const std::vector<sweep::PathResult>& paths, double theta) {
+  law::DirectionLaw d;
+  d.direction_deg = theta;
+  d.E_tension = d.E_tension_se = d.E_tension_r2 = nan;
+  d.E_compression = d.E_compression_se = d.E_compression_r2 = nan;
+  d.nu_tension = d.nu_tension_se = d.nu_compression = d.nu_compression_se = nan;
+  d.onset_stress = d.fuse_stress = d.fuse_stress_after = d.fuse_strain_jump = d.fuse_strain_ratio = nan;
+  d.E_after_fuse = d.E_after_fuse_se = nan;
+  for (const auto& p : paths) {
+    if (p.spec.direction_deg != theta) continue;
+    if (!(p.spec.sign > 0)) {
+      fit_path(p, d.E_compression, d.E_compression_se, d.E_compression_r2, d.n_compression, d.nu_compression,
+               d.nu_compression_se);
+      continue;
+    }
+    fit_path(p, d.E_tension, d.E_tension_se, d.E_tension_r2, d.n_tension, d.nu_tension, d.nu_tension_se);
+    if (!p.fuse) continue;
+    // The tension fuse: the largest jump of the path.
+    const auto& f = *p.fuse;
+    const double before = nn_tt(theta, f.strain_before).first, after = nn_tt(theta, f.strain_after).first;
+    d.onset_stress = f.onset_load;
+    d.fuse_stress = f.load_before;
+    d.fuse_stress_after = f.load_after;
+    d.fuse_strain_jump = after - before;
+    d.fuse_strain_ratio = before != 0 ? after / before : nan;
+    std::vector<double> e_nn, load;
+    for (const auto& s : p.steps)
+      if (s.load >= f.load_after && s.converged) {
+        e_nn.push_back(nn_tt(theta, s.strain).first);
+        load.push_back(s.load);
+      }
+    const LineFit tangent = with_intercept(e_nn, load);
+    d.E_after_fuse = tangent.slope;
+    d.E_after_fuse_se = tangent.slope_se;
+  }
+  return d;
+}
+
+// Cone-wise linear form (§14): is the stiffness jump C_t − C_c rank-one? Sets the ratio of its
+// second to its largest eigenvalue, the normal and β of the largest.
+void rank_one_test(law::Law& law) {
+  law.cone_rank_one_ratio = nan;
+  if (!law.tension.symmetric_positive_definite || !law.compression.symmetric_positive_definite) return;
+  const Eigen::Matrix3d dC = law.tension.S.inverse() - law.compression.S.inverse();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(dC);
+  int first = 0;
+  for (int j = 1; j < 3; ++j)
+    if (std::abs(eig.eigenvalues()(j)) > std::abs(eig.eigenvalues()(first))) first = j;
+  double second = 0;
+  for (int j = 0; j < 3; ++j)
+    if (j != first) second = std::max(second, std::abs(eig.eigenvalues()(j)));
+  const double largest = std::abs(eig.eigenvalues()(first));
+  law.cone_rank_one_ratio = largest > 0 ? second / largest : nan;
+  law.cone_normal = eig.eigenvectors().col(first);
+  law.cone_beta = eig.eigenvalues()(first);
+  law.cone_wise_linear = law.cone_rank_one_ratio < 0.05;
+}
+
+// With the exact law: the compact law measured against it, fitted to it as well, and the one
+// that misses it least (measured on directions other than those it was fitted to) kept.
+void check_against_cell(law::Law& law, const std::vector<ConePoint>& bonded, int n_directions) {
+  const law::CellSample sample = law::sample_cell(*law.cell, 1000);
+  if (law.cone.ok) law.cone_check = law::check_cone(law.cone.law, sample);
+  const law::ConeCheck sweep_fit = law.cone_check;
+  law::ConeFit from_cell = fit_cone_to_cell(*law.cell, bonded, n_directions);
+  if (from_cell.ok) {
+    const law::ConeCheck check = law::check_cone(from_cell.law, sample);
+    if (!law.cone.ok || check.max_error < law.cone_check.max_error) {
+      from_cell.one_plane_residual = law.cone.one_plane_residual;  // the sweep's forms, as tried
+      from_cell.struts_residual = law.cone.struts_residual;
+      law.cone = from_cell;
+      law.cone_check = check;
+    }
+  }
+  law.cone_check.sweep_fit_max_error = sweep_fit.max_error;
+  law.cone_check.sweep_fit_rms_error = sweep_fit.rms_error;
+  if (!law.cone_check.stress.empty()) law::set_exact_polar(*law.cell, law.cone_check);
+}
+
+}  // namespace
+
 law::Law fit_law(const std::vector<sweep::PathResult>& paths, const sweep::SweepHeader& header) {
   law::Law law;
   std::vector<double> directions;
@@ -233,65 +317,10 @@ law::Law fit_law(const std::vector<sweep::PathResult>& paths, const sweep::Sweep
   directions.erase(std::unique(directions.begin(), directions.end()), directions.end());
   if (directions.empty())
     throw InputError("the sweep has no uniaxial path (every path's direction_deg is NaN): no direction to fit");
-
-  for (double theta : directions) {
-    law::DirectionLaw d;
-    d.direction_deg = theta;
-    d.E_tension = d.E_tension_se = d.E_tension_r2 = nan;
-    d.E_compression = d.E_compression_se = d.E_compression_r2 = nan;
-    d.nu_tension = d.nu_tension_se = d.nu_compression = d.nu_compression_se = nan;
-    d.onset_stress = d.fuse_stress = d.fuse_stress_after = d.fuse_strain_jump = d.fuse_strain_ratio = nan;
-    d.E_after_fuse = d.E_after_fuse_se = nan;
-    for (const auto& p : paths) {
-      if (p.spec.direction_deg != theta) continue;
-      if (p.spec.sign > 0) {
-        fit_path(p, d.E_tension, d.E_tension_se, d.E_tension_r2, d.n_tension, d.nu_tension, d.nu_tension_se);
-        // The tension fuse: the largest jump of the path.
-        if (p.fuse) {
-          const auto& f = *p.fuse;
-          const double before = nn_tt(theta, f.strain_before).first, after = nn_tt(theta, f.strain_after).first;
-          d.onset_stress = f.onset_load;
-          d.fuse_stress = f.load_before;
-          d.fuse_stress_after = f.load_after;
-          d.fuse_strain_jump = after - before;
-          d.fuse_strain_ratio = before != 0 ? after / before : nan;
-          std::vector<double> e_nn, load;
-          for (const auto& s : p.steps)
-            if (s.load >= f.load_after && s.converged) {
-              e_nn.push_back(nn_tt(theta, s.strain).first);
-              load.push_back(s.load);
-            }
-          const LineFit tangent = with_intercept(e_nn, load);
-          d.E_after_fuse = tangent.slope;
-          d.E_after_fuse_se = tangent.slope_se;
-        }
-      } else {
-        fit_path(p, d.E_compression, d.E_compression_se, d.E_compression_r2, d.n_compression, d.nu_compression,
-                 d.nu_compression_se);
-      }
-    }
-    law.directions.push_back(d);
-  }
+  for (double theta : directions) law.directions.push_back(fit_direction(paths, theta));
   law.tension = fit_compliance(paths, +1, directions);
   law.compression = fit_compliance(paths, -1, directions);
-
-  // Cone-wise linear form: is the stiffness jump rank-one?
-  law.cone_rank_one_ratio = nan;
-  if (law.tension.symmetric_positive_definite && law.compression.symmetric_positive_definite) {
-    const Eigen::Matrix3d dC = law.tension.S.inverse() - law.compression.S.inverse();
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(dC);
-    int first = 0;
-    for (int j = 1; j < 3; ++j)
-      if (std::abs(eig.eigenvalues()(j)) > std::abs(eig.eigenvalues()(first))) first = j;
-    double second = 0;
-    for (int j = 0; j < 3; ++j)
-      if (j != first) second = std::max(second, std::abs(eig.eigenvalues()(j)));
-    const double largest = std::abs(eig.eigenvalues()(first));
-    law.cone_rank_one_ratio = largest > 0 ? second / largest : nan;
-    law.cone_normal = eig.eigenvectors().col(first);
-    law.cone_beta = eig.eigenvalues()(first);
-    law.cone_wise_linear = law.cone_rank_one_ratio < 0.05;
-  }
+  rank_one_test(law);
 
   // The cone-wise law over every point before any break, and over the points past each path's
   // largest jump (law/cone.hpp): engineering shear, per-direction residuals by the direction's
@@ -326,28 +355,10 @@ law::Law fit_law(const std::vector<sweep::PathResult>& paths, const sweep::Sweep
 
   law.cell = header.cell;
   law.cell_note = header.cell_note;
-  if (law.cell) law.cell_replay = replay_cell(*law.cell, paths, header.qp_tolerance);
-  // With the exact law: the compact law measured against it, fitted to it as well, and the one
-  // that misses it least (measured on directions other than those it was fitted to) kept.
   if (law.cell) {
-    const law::CellSample sample = law::sample_cell(*law.cell, 1000);
-    if (law.cone.ok) law.cone_check = law::check_cone(law.cone.law, sample);
-    law::ConeCheck sweep_fit = law.cone_check;
-    law::ConeFit from_cell = fit_cone_to_cell(*law.cell, bonded, n_directions);
-    if (from_cell.ok) {
-      const law::ConeCheck check = law::check_cone(from_cell.law, sample);
-      if (!law.cone.ok || check.max_error < law.cone_check.max_error) {
-        from_cell.one_plane_residual = law.cone.one_plane_residual;  // the sweep's forms, as tried
-        from_cell.struts_residual = law.cone.struts_residual;
-        law.cone = from_cell;
-        law.cone_check = check;
-      }
-    }
-    law.cone_check.sweep_fit_max_error = sweep_fit.max_error;
-    law.cone_check.sweep_fit_rms_error = sweep_fit.rms_error;
-    if (!law.cone_check.stress.empty()) law::set_exact_polar(*law.cell, law.cone_check);
+    law.cell_replay = replay_cell(*law.cell, paths, header.qp_tolerance);
+    check_against_cell(law, bonded, n_directions);
   }
-
   law.constituents = header.constituents;
   law.provenance = header.provenance;
   law.provenance.code_version = code_version;  // the fit's
