@@ -90,6 +90,36 @@ std::vector<sweep::PathResult> collect_paths(const SweepOptions& options, const 
   return results;
 }
 
+// The progress line of a step: the path, step, load, broken bonds and the time left. Work done:
+// finished paths' steps plus this path's share by load (bisection steps for the fuse are not in
+// the schedule, so counting steps would run ahead).
+std::string step_progress(const sweep::PathSpec& p, std::size_t n_paths, int step, const sweep::Step& s,
+                          long done_steps, long total_steps, double elapsed) {
+  const double finished = done_steps + p.loads.size() * std::abs(s.load / p.loads.back());
+  const double left = finished > 0 ? elapsed * (total_steps - finished) / finished : 0;
+  char text[200];
+  std::snprintf(text, sizeof text, "path %d/%zu (%s) step %d load %.4g broken %ld, %s, ~%s left", p.index + 1, n_paths,
+                path_label(p).c_str(), step + 1, s.load, s.broken_bonds, seconds_text(elapsed).c_str(),
+                seconds_text(left).c_str());
+  return text;
+}
+
+// What the summary says of the written sweep: paths, fuses, unconverged steps, the exact law.
+void summarise(SweepSummary& summary, const std::vector<sweep::PathResult>& results, const sweep::SweepHeader& header) {
+  summary.written = true;
+  summary.paths = static_cast<int>(results.size());
+  for (const auto& r : results) {
+    summary.fuses += r.fuse.has_value();
+    for (const auto& st : r.steps) summary.unconverged_steps += !st.converged;
+  }
+  if (header.cell) {
+    summary.cell_rows = header.cell->n_rows();
+    summary.cell_bytes = static_cast<double>(header.cell->bytes());
+    summary.cell_seconds = header.cell->seconds;
+  }
+  summary.cell_note = header.cell_note;
+}
+
 }  // namespace
 
 SweepSummary run_sweep(const SweepOptions& options) {
@@ -142,18 +172,8 @@ SweepSummary run_sweep(const SweepOptions& options) {
       }
       const auto on_step = [&](const sweep::PathSpec& p, int step, const sweep::Step& s) {
         if (par::rank() == 0) next_path.serve();  // after every step: the others' next path
-        progress.update([&] {
-          // Work done: finished paths' steps plus this path's share by load (bisection steps
-          // for the fuse are not in the schedule, so counting steps would run ahead).
-          const double elapsed = progress.seconds();
-          const double finished = done_steps + p.loads.size() * std::abs(s.load / p.loads.back());
-          const double left = finished > 0 ? elapsed * (total_steps - finished) / finished : 0;
-          char text[200];
-          std::snprintf(text, sizeof text, "path %d/%zu (%s) step %d load %.4g broken %ld, %s, ~%s left", p.index + 1,
-                        specs.size(), path_label(p).c_str(), step + 1, s.load, s.broken_bonds,
-                        seconds_text(elapsed).c_str(), seconds_text(left).c_str());
-          return std::string(text);
-        });
+        progress.update(
+            [&] { return step_progress(p, specs.size(), step, s, done_steps, total_steps, progress.seconds()); });
       };
       sweep::PathResult result = sweep::run_path(solver, spec, scene.sweep.fuse_tolerance, on_step);
       if (!leader) continue;
@@ -179,19 +199,8 @@ SweepSummary run_sweep(const SweepOptions& options) {
   if (par::rank() != 0) return summary;
   const std::vector<sweep::PathResult> results = collect_paths(options, specs, computed_here, header);
   io::write_sweep(options.out, results, header);
-  summary.written = true;
-  summary.paths = static_cast<int>(results.size());
-  for (const auto& r : results) {
-    summary.fuses += r.fuse.has_value();
-    for (const auto& st : r.steps) summary.unconverged_steps += !st.converged;
-  }
+  summarise(summary, results, header);
   summary.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
-  if (header.cell) {
-    summary.cell_rows = header.cell->n_rows();
-    summary.cell_bytes = static_cast<double>(header.cell->bytes());
-    summary.cell_seconds = header.cell->seconds;
-  }
-  summary.cell_note = header.cell_note;
   return summary;
 }
 
