@@ -88,6 +88,77 @@ ExportFormat parse_export_format(const std::string& text) {
   throw InputError("--format " + text + ": expected json, csv, calculix or umat");
 }
 
+namespace {
+
+// A matrix as an array of rows (any size; NaN and ±inf as null).
+std::string json_rows(const Eigen::MatrixXd& M) {
+  std::vector<std::string> rows;
+  for (Eigen::Index i = 0; i < M.rows(); ++i) {
+    std::vector<double> row(static_cast<std::size_t>(M.cols()));
+    for (Eigen::Index j = 0; j < M.cols(); ++j) row[static_cast<std::size_t>(j)] = M(i, j);
+    rows.push_back(json_array(row));
+  }
+  return json_list(rows);
+}
+
+template <class T>
+std::string json_ints(const std::vector<T>& v) {
+  std::vector<std::string> items;
+  for (const T& x : v) items.push_back(std::to_string(static_cast<long>(x)));
+  return json_list(items);
+}
+
+std::string json_vector(const Eigen::VectorXd& v) {
+  return json_array(std::vector<double>(v.data(), v.data() + v.size()));
+}
+
+// The exact law (/law/cell) and its checks (/law/cell_replay, /law/cone_check), as nested
+// objects with the names of law.h5; the bounds' ±inf (an unbounded row) as null.
+void add_exact_law(JsonObject& o, const Law& law) {
+  o.add_text("cell_note", law.cell_note);
+  if (!law.cell) return;
+  const law::CondensedCell& c = *law.cell;
+  o.add("cell", JsonObject()
+                    .add("n_macro", std::to_string(c.n_macro))
+                    .add("n_pairs", std::to_string(c.n_pairs))
+                    .add("volume", json_number(c.volume))
+                    .add("S0", json_rows(c.S0))
+                    .add("Y", json_rows(c.Y))
+                    .add("H", json_rows(c.H))
+                    .add("G", json_rows(c.G))
+                    .add("tangential", json_ints(c.tangential))
+                    .add("pair", json_ints(c.pair))
+                    .add("lower_bonded", json_vector(c.lower_bonded))
+                    .add("upper_bonded", json_vector(c.upper_bonded))
+                    .add("lower_broken", json_vector(c.lower_broken))
+                    .add("upper_broken", json_vector(c.upper_broken))
+                    .add("bonded", json_ints(c.bonded))
+                    .add("reciprocity_error", json_number(c.reciprocity_error))
+                    .add("bytes", std::to_string(c.bytes()))
+                    .str(4));
+  const law::CellReplay& r = law.cell_replay;
+  o.add("cell_replay", JsonObject()
+                           .add("points", std::to_string(r.points))
+                           .add("max_error", json_number(r.max_error))
+                           .add("rms_error", json_number(r.rms_error))
+                           .add("limit", json_number(r.limit))
+                           .add("worst_path", std::to_string(r.worst_path))
+                           .add("worst_step", std::to_string(r.worst_step))
+                           .add("break_mismatches", std::to_string(r.break_mismatches))
+                           .str(4));
+  const law::ConeCheck& k = law.cone_check;
+  o.add("cone_check", JsonObject()
+                          .add("directions", std::to_string(k.stress.size()))
+                          .add("max_error", json_number(k.max_error))
+                          .add("rms_error", json_number(k.rms_error))
+                          .add("worst", json_array(std::vector<double>{k.worst(0), k.worst(1), k.worst(2)}))
+                          .add("sweep_fit_max_error", json_number(k.sweep_fit_max_error))
+                          .add("sweep_fit_rms_error", json_number(k.sweep_fit_rms_error))
+                          .str(4));
+}
+
+}  // namespace
+
 std::string law_json(const Law& law) {
   JsonObject o;
   o.add_text("format", format_name);
@@ -175,6 +246,7 @@ std::string law_json(const Law& law) {
         .add("onset", json_array(onset.path_onset))
         .add("sweep_onset", json_array(onset.path_sweep_onset));
   o.add("onset", surface.str(4));
+  add_exact_law(o, law);
   return o.str() + "\n";
 }
 

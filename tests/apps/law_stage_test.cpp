@@ -165,6 +165,33 @@ TEST(LawStage, ExportRefusesACompactLawThatMissesTheExactOne) {
   EXPECT_EQ(run_command(export_umat + " --max-law-error 0.99").exit_code, exit_ok);
 }
 
+// The JSON export carries the exact law and its checks, the same numbers as law.h5 (17 digits);
+// an unbounded row's bound is null.
+TEST(LawStage, TheJsonExportCarriesTheExactLaw) {
+  StagesRun run(contact_scene);
+  const law::Law law = io::read_law(run.law);
+  ASSERT_TRUE(law.cell.has_value());
+  const auto r =
+      run_command(bin("dualcell-export") + " --law " + q(run.law) + " --format json --out " + q(run.dir / "law.json"));
+  ASSERT_EQ(r.exit_code, exit_ok) << r.output;
+  const law::CondensedCell& c = *law.cell;
+  std::ostringstream script;
+  script.precision(17);
+  script << "import json, sys\n"
+         << "d = json.load(open(sys.argv[1]))\n"
+         << "c = d['cell']\n"
+         << "assert len(c['H']) == " << c.n_rows() << " and len(c['H'][0]) == " << c.n_rows() << "\n"
+         << "assert c['H'][1][2] == " << c.H(1, 2) << " and c['S0'][0][1] == " << c.S0(0, 1) << "\n"
+         << "assert c['Y'][3][2] == " << c.Y(3, 2) << " and c['n_pairs'] == " << c.n_pairs << "\n"
+         << "assert None in c['upper_broken'] and c['lower_broken'][0] == 0\n"
+         << "assert d['cell_replay']['points'] == " << law.cell_replay.points << "\n"
+         << "assert d['cone_check']['directions'] == " << law.cone_check.stress.size() << "\n"
+         << "assert d['cone_check']['max_error'] == " << law.cone_check.max_error << "\n";
+  std::ofstream(run.dir / "check.py") << script.str();
+  const auto checked = run_command("/usr/bin/python3 " + q(run.dir / "check.py") + " " + q(run.dir / "law.json"));
+  EXPECT_EQ(checked.exit_code, 0) << checked.output << script.str();
+}
+
 // A condensation that does not give back the sweep is refused by the fit, and nothing is written.
 TEST(LawStage, FitRefusesAnExactLawThatMissesItsSweep) {
   StagesRun run(contact_scene);
