@@ -72,6 +72,7 @@ struct HomogenisedStructure::Impl {
   CellLaw law;
   StructureMesh mesh;
   int n_dofs = 0, per = 3;
+  int n_free = 0;                          // DOFs not held by an edge or support
   std::vector<std::vector<Point>> points;  // per triangle
   std::vector<int> first_point;            // per triangle: the index of its first point (T + 1 entries)
   // The state of every point at the displacements last evaluated (evaluate_points), and with the
@@ -121,6 +122,13 @@ struct HomogenisedStructure::Impl {
   }
 
   void setup();
+  // The steps of setup: the law refused when unusable; quadrature, constraints, loads at factor
+  // 1 and the tangent's pattern.
+  void check_law() const;
+  void set_quadrature();
+  void set_constraints();
+  void set_loads();
+  void set_pattern();
   // state[i] of every point at x (OpenMP over points: with the exact law each is a small QP).
   // The exact law treats the bonds as `trial_bonds` says; a failed QP makes the energy NaN.
   void evaluate_points(const Eigen::VectorXd& x);
@@ -272,7 +280,7 @@ int HomogenisedStructure::n_units() const {
   return impl_->per_cell() ? static_cast<int>(impl_->cell_fused.size()) : impl_->first_point.back();
 }
 
-void HomogenisedStructure::Impl::setup() {
+void HomogenisedStructure::Impl::check_law() const {
   if (exact()) {
     const std::string problem = law::consistency_problem(*law.cell);
     if (!problem.empty()) throw InputError("the exact cell law is not usable: " + problem);
@@ -286,14 +294,13 @@ void HomogenisedStructure::Impl::setup() {
       if (!problem.empty()) throw InputError("the cell law is not admissible: " + problem);
     }
   }
-  mesh = build_structure_mesh(scene);
-  per = static_cast<int>(mesh.triangles.cols());
-  const Eigen::Index n_nodes = mesh.nodes.rows();
-  n_dofs = 2 * static_cast<int>(n_nodes);
-  const Eigen::Index T = mesh.triangles.rows();
-  cell_fused.assign(static_cast<std::size_t>(scene.nx) * scene.ny, 0);
+}
 
-  // Quadrature: p1 constant strain, one point; p2 the 6-point degree-4 rule.
+// Quadrature: per triangle its points, centroid matrix and area; the points' state and, with
+// the exact law, their histories and the evaluators.
+void HomogenisedStructure::Impl::set_quadrature() {
+  const Eigen::Index T = mesh.triangles.rows();
+  // p1 constant strain, one point; p2 the 6-point degree-4 rule.
   points.resize(T);
   grad_s_centroid.resize(T);
   area.resize(T);
@@ -325,7 +332,9 @@ void HomogenisedStructure::Impl::setup() {
     if (per_cell()) cell_history.assign(cell_fused.size(), evaluators[0]->unloaded());
     strength_use.assign(n_points, 0.0);
   }
+}
 
+void HomogenisedStructure::Impl::set_constraints() {
   // Constraints: edges (fixed, roller, displacement), then point supports (fem::held_components).
   constrained_by.assign(n_dofs, -1);
   prescribed = Eigen::VectorXd::Zero(n_dofs);
@@ -341,10 +350,12 @@ void HomogenisedStructure::Impl::setup() {
     prescribed(2 * h.point + h.component) = h.value;
   }
   free_index.assign(n_dofs, -1);
-  int n_free = 0;
+  n_free = 0;
   for (int d = 0; d < n_dofs; ++d)
     if (constrained_by[d] < 0) free_index[d] = n_free++;
+}
 
+void HomogenisedStructure::Impl::set_loads() {
   // Loads at factor 1: edge tractions (linear from start to end, fem::add_edge_traction per
   // element edge, q + 1 nodes each), point loads.
   f = Eigen::VectorXd::Zero(n_dofs);
@@ -376,7 +387,10 @@ void HomogenisedStructure::Impl::setup() {
                        ": no node there (nodes lie on a grid of step cell_size/(elements_per_cell·order))");
     f.segment<2>(2 * node) += p.force;
   }
+}
 
+void HomogenisedStructure::Impl::set_pattern() {
+  const Eigen::Index T = mesh.triangles.rows();
   // The tangent's pattern, once.
   std::vector<Eigen::Triplet<double, int>> entries;
   for (Eigen::Index t = 0; t < T; ++t)
@@ -409,6 +423,20 @@ void HomogenisedStructure::Impl::setup() {
   u = Eigen::VectorXd::Zero(n_dofs);
   r_full.resize(n_dofs);
   f_int.resize(n_dofs);
+}
+
+void HomogenisedStructure::Impl::setup() {
+  check_law();
+  mesh = build_structure_mesh(scene);
+  per = static_cast<int>(mesh.triangles.cols());
+  const Eigen::Index n_nodes = mesh.nodes.rows();
+  n_dofs = 2 * static_cast<int>(n_nodes);
+  cell_fused.assign(static_cast<std::size_t>(scene.nx) * scene.ny, 0);
+
+  set_quadrature();
+  set_constraints();
+  set_loads();
+  set_pattern();
 }
 
 double HomogenisedStructure::Impl::energy(const Eigen::VectorXd& x, double factor, bool with_gradient,
@@ -444,7 +472,6 @@ double HomogenisedStructure::Impl::energy(const Eigen::VectorXd& x, double facto
 }
 
 void HomogenisedStructure::Impl::newton(double factor, StepResult& out) {
-  const int n_free = static_cast<int>(K.rows());
   Eigen::VectorXd r(n_free), delta(n_free);
   for (int d = 0; d < n_dofs; ++d)
     if (constrained_by[d] >= 0) u(d) = factor * prescribed(d);
