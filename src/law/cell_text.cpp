@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <istream>
+#include <limits>
 #include <ostream>
 
 namespace dualcell::law {
@@ -72,8 +73,11 @@ bool read_list(std::istream& in, const char* key, Eigen::Index n, std::vector<T>
   if (!read_values(in, key, values.data(), n, error)) return false;
   v.resize(static_cast<std::size_t>(n));
   for (Eigen::Index i = 0; i < n; ++i) {
-    if (values(i) != std::floor(values(i)) || std::abs(values(i)) > 1e9) {
-      error = std::string(key) + ": " + number(values(i)) + " is not an integer";
+    const double lo = static_cast<double>(std::numeric_limits<T>::min());
+    const double hi = static_cast<double>(std::numeric_limits<T>::max());
+    if (values(i) != std::floor(values(i)) || !(values(i) >= lo && values(i) <= hi)) {
+      error = std::string(key) + ": " + number(values(i)) + " is not an integer in [" + number(lo) + ", " + number(hi) +
+              "]";
       return false;
     }
     v[static_cast<std::size_t>(i)] = static_cast<T>(values(i));
