@@ -140,6 +140,54 @@ class RowBuilder {
   std::vector<double> lower_, upper_, weight_, c_;
 };
 
+constexpr double unbounded = std::numeric_limits<double>::infinity();
+
+// The periodic boundary (docs/method.md §12): u(x + Δx) − u(x) = H Δx with
+// H = [[εxx, γ/2], [γ/2, εyy]] (symmetric: no rigid rotation), the macro DOFs from `macro` on.
+// Left–right for every point; bottom–top for all but the right end, whose corner is already
+// tied through the other three corners; then the block's translation held at one corner.
+void add_periodic_rows(RowBuilder& rows, const mesh::Mesh& mesh, NodeClasses& classes,
+                       const std::vector<int>& bottom_points, int macro, double w_pair, double w_single) {
+  const double inf = unbounded;
+  const double Lx = mesh.block_width(), Ly = mesh.block_height();
+  const auto left = side_points(mesh, mesh::left, classes), right = side_points(mesh, mesh::right, classes);
+  const auto top = side_points(mesh, mesh::top, classes);
+  for (std::size_t i = 0; i < left.size(); ++i) {
+    const int l = left[i], r = right[i];
+    rows.add(RowKind::periodic, -1, {{2 * r, 1.0}, {2 * l, -1.0}, {macro + 0, -Lx}}, -inf, inf, w_pair);
+    rows.add(RowKind::periodic, -1, {{2 * r + 1, 1.0}, {2 * l + 1, -1.0}, {macro + 2, -Lx / 2}}, -inf, inf, w_pair);
+  }
+  for (std::size_t i = 0; i + 1 < bottom_points.size(); ++i) {
+    const int b = bottom_points[i], t = top[i];
+    rows.add(RowKind::periodic, -1, {{2 * t, 1.0}, {2 * b, -1.0}, {macro + 2, -Ly / 2}}, -inf, inf, w_pair);
+    rows.add(RowKind::periodic, -1, {{2 * t + 1, 1.0}, {2 * b + 1, -1.0}, {macro + 1, -Ly}}, -inf, inf, w_pair);
+  }
+  const int a = bottom_points.front();
+  rows.add(RowKind::dirichlet, -1, {{2 * a, 1.0}}, -inf, inf, w_single);
+  rows.add(RowKind::dirichlet, -1, {{2 * a + 1, 1.0}}, -inf, inf, w_single);
+}
+
+// Interface rows, pair by pair: normal, then tangential while bonded with shear strength; the
+// bonded bounds are the strengths times the pair's length.
+void add_interface_rows(RowBuilder& rows, const mesh::Mesh& mesh, const Scene& scene, const BondState& bonds,
+                        double w_interface) {
+  const double inf = unbounded;
+  const std::vector<double> length = interface_lengths(mesh);
+  const double sn = scene.interface.normal_strength, st = scene.interface.tangential_strength;
+  for (int p = 0; p < static_cast<int>(mesh.interface_pairs.size()); ++p) {
+    const auto [f, m] = mesh.interface_pairs[p];
+    const Eigen::Vector2d n = interface_normal(mesh, p);
+    const bool bonded = bonds[p] != 0;
+    rows.add(RowKind::normal, p, {{2 * f, n.x()}, {2 * f + 1, n.y()}, {2 * m, -n.x()}, {2 * m + 1, -n.y()}},
+             bonded ? -sn * length[p] : 0.0, inf, w_interface);
+    if (bonded && st > 0) {
+      const Eigen::Vector2d t(-n.y(), n.x());
+      rows.add(RowKind::tangential, p, {{2 * f, t.x()}, {2 * f + 1, t.y()}, {2 * m, -t.x()}, {2 * m + 1, -t.y()}},
+               -st * length[p], st * length[p], w_interface);
+    }
+  }
+}
+
 }  // namespace
 
 Constraints build_constraints(const mesh::Mesh& mesh, const Scene& scene, const BondState& bonds) {
@@ -184,31 +232,9 @@ Constraints build_constraints(const mesh::Mesh& mesh, const Scene& scene, const 
       rows.add(RowKind::dirichlet, -1, {{2 * b + 1, 1.0}}, -inf, inf, w_single);
       break;
     }
-    case Boundary::periodic: {
-      // u(x + Δx) − u(x) = H Δx with H = [[εxx, γ/2], [γ/2, εyy]] (symmetric: no rigid
-      // rotation). Left–right for every point; bottom–top for all but the right end, whose
-      // corner is already tied through the other three corners.
-      const double Lx = mesh.block_width(), Ly = mesh.block_height();
-      const auto left = side_points(mesh, mesh::left, classes), right = side_points(mesh, mesh::right, classes);
-      const auto top = side_points(mesh, mesh::top, classes);
-      for (std::size_t i = 0; i < left.size(); ++i) {
-        const int l = left[i], r = right[i];
-        rows.add(RowKind::periodic, -1, {{2 * r, 1.0}, {2 * l, -1.0}, {macro + 0, -Lx}}, -inf, inf, w_matrix_pair);
-        rows.add(RowKind::periodic, -1, {{2 * r + 1, 1.0}, {2 * l + 1, -1.0}, {macro + 2, -Lx / 2}}, -inf, inf,
-                 w_matrix_pair);
-      }
-      for (std::size_t i = 0; i + 1 < bottom_points.size(); ++i) {
-        const int b = bottom_points[i], t = top[i];
-        rows.add(RowKind::periodic, -1, {{2 * t, 1.0}, {2 * b, -1.0}, {macro + 2, -Ly / 2}}, -inf, inf, w_matrix_pair);
-        rows.add(RowKind::periodic, -1, {{2 * t + 1, 1.0}, {2 * b + 1, -1.0}, {macro + 1, -Ly}}, -inf, inf,
-                 w_matrix_pair);
-      }
-      // Translation of the whole block.
-      const int a = bottom_points.front();
-      rows.add(RowKind::dirichlet, -1, {{2 * a, 1.0}}, -inf, inf, w_single);
-      rows.add(RowKind::dirichlet, -1, {{2 * a + 1, 1.0}}, -inf, inf, w_single);
+    case Boundary::periodic:
+      add_periodic_rows(rows, mesh, classes, bottom_points, macro, w_matrix_pair, w_single);
       break;
-    }
     case Boundary::edges: {
       // Per edge (core/edge_loads.hpp), once per physical point and component: a point held by
       // two edges (a corner) or a support as well keeps the first row only, so that B has full
@@ -225,21 +251,7 @@ Constraints build_constraints(const mesh::Mesh& mesh, const Scene& scene, const 
     }
   }
 
-  // Interface rows, pair by pair: normal, then tangential while bonded with shear strength.
-  const std::vector<double> length = interface_lengths(mesh);
-  const double sn = scene.interface.normal_strength, st = scene.interface.tangential_strength;
-  for (int p = 0; p < static_cast<int>(mesh.interface_pairs.size()); ++p) {
-    const auto [f, m] = mesh.interface_pairs[p];
-    const Eigen::Vector2d n = interface_normal(mesh, p);
-    const bool bonded = bonds[p] != 0;
-    rows.add(RowKind::normal, p, {{2 * f, n.x()}, {2 * f + 1, n.y()}, {2 * m, -n.x()}, {2 * m + 1, -n.y()}},
-             bonded ? -sn * length[p] : 0.0, inf, w_interface);
-    if (bonded && st > 0) {
-      const Eigen::Vector2d t(-n.y(), n.x());
-      rows.add(RowKind::tangential, p, {{2 * f, t.x()}, {2 * f + 1, t.y()}, {2 * m, -t.x()}, {2 * m + 1, -t.y()}},
-               -st * length[p], st * length[p], w_interface);
-    }
-  }
+  add_interface_rows(rows, mesh, scene, bonds, w_interface);
   rows.finish(dim_u + out.n_macro_dofs);
   return out;
 }
