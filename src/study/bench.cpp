@@ -385,23 +385,14 @@ std::string run_floor_only(const BenchOptions& options) {
   return floor.md;
 }
 
-std::string run_bench(const BenchOptions& options) {
-  const bool quick = options.quick;
-  const int all = options.threads > 0 ? options.threads : omp_get_max_threads();
-  std::filesystem::create_directories(options.out_dir);
-  io::AtomicOutputs outputs;
-  const auto md_file = options.out_dir / "bench.md", json_file = options.out_dir / "summary.json";
-  outputs.add(md_file);
-  outputs.add(json_file);
-  std::ostringstream md;
-  JsonObject json;
-  std::vector<std::string> scalability_json, preconditioners_json;
-  md << "# dualcell benchmark\n\nCompression along x, no adhesion, symmetry boundary, E_f/E_m = 100, r = 0.3, "
-        "tolerance 1e-8. Seconds are wall time on this machine in this run. Iteration counts do not depend on "
-        "the thread count; the scalability rows run on one thread.\n\n";
-  auto progress = [](const char* what) { std::fprintf(stderr, "dualcell-bench: %s\n", what); };
+namespace {
 
-  // Numerical scalability: block size and degree, for every preconditioner.
+// One line on stderr: which part of the benchmark runs.
+void progress(const char* what) { std::fprintf(stderr, "dualcell-bench: %s\n", what); }
+
+// The numerical scalability sections: block size and degree, for every preconditioner.
+void scalability(bool quick, std::ostringstream& md, JsonObject& json) {
+  std::vector<std::string> scalability_json, preconditioners_json;
   const std::vector<int> blocks = quick ? std::vector<int>{1, 2, 4} : std::vector<int>{1, 2, 4, 8, 16, 32};
   const int max_degree = quick ? 3 : 8;
   std::ostringstream summary_md;
@@ -447,19 +438,12 @@ std::string run_bench(const BenchOptions& options) {
       .add("degree_exponent", json_number(exponent_none))
       .add("blocks_ratio_largest_to_2x2", json_number(blocks_ratio_none))
       .add("preconditioners", json_list(preconditioners_json));
+}
 
-  // Floor and memory, on all threads.
-  progress("floor");
-  const Floor floor = run_floor(all, quick);
-  const double bytes_per_dof = floor.bytes_per_dof;
-  md << floor.md << "\n## Where the time goes (seconds per phase)\n\n" << phase_header;
-  for (const Run& r : floor.runs)
-    md << phase_row(format("%d×%d, k=%d %s", r.cells, r.cells, r.degree, to_string(r.element)).c_str(), r);
-  const std::vector<std::string>& floor_json = floor.json;
-
-  // Threads: the ~1e5 case on one thread against all.
+// Threads: the case tn × tn, degree tk on one thread against `all`; its phase rows close the
+// floor's table.
+void threads_section(int tn, int tk, int all, std::ostringstream& md, JsonObject& json) {
   progress("threads");
-  const auto [tn, tk] = quick ? std::pair<int, int>{4, 2} : std::pair<int, int>{16, 3};
   const Run one = contact(tn, tk, 1);
   const Run many = contact(tn, tk, all);
   if (many.threads != all) progress("threads: the case is below the size from which threads spread");
@@ -475,17 +459,17 @@ std::string run_bench(const BenchOptions& options) {
      << speedup << " (setup " << one.setup_seconds / many.setup_seconds << ", solve "
      << one.solve_seconds / many.solve_seconds << "). Largest relative difference between the two: λ "
      << lambda_difference << ", u " << u_difference << " (target: ≤ 1e-14).\n\n";
-  json.add("bytes_per_dof", json_number(bytes_per_dof));
-  json.add("floor", json_list(floor_json))
-      .add("threads", JsonObject()
+  json.add("threads", JsonObject()
                           .add("count", std::to_string(many.threads))
                           .add("speedup", json_number(speedup))
                           .add("max_relative_difference_lambda", json_number(lambda_difference))
                           .add("max_relative_difference_u", json_number(u_difference))
                           .str(4));
+}
 
-  // Progress on stderr costs nothing: the same solve with a live progress line and without,
-  // alternated three times, the fastest of each compared (docs: README, "Progress").
+// Progress on stderr costs nothing: the same solve with a live progress line and without,
+// alternated three times, the fastest of each compared (docs: README, "Progress").
+void progress_section(int tn, int tk, std::ostringstream& md, JsonObject& json) {
   progress("progress line");
   double with_line = 1e300, without_line = 1e300;
   long applications_with = 0, applications_without = 0;
@@ -510,7 +494,39 @@ std::string run_bench(const BenchOptions& options) {
                            .add("applications_with", std::to_string(applications_with))
                            .add("applications_without", std::to_string(applications_without))
                            .str(4));
+}
 
+}  // namespace
+
+std::string run_bench(const BenchOptions& options) {
+  const bool quick = options.quick;
+  const int all = options.threads > 0 ? options.threads : omp_get_max_threads();
+  std::filesystem::create_directories(options.out_dir);
+  io::AtomicOutputs outputs;
+  const auto md_file = options.out_dir / "bench.md", json_file = options.out_dir / "summary.json";
+  outputs.add(md_file);
+  outputs.add(json_file);
+  std::ostringstream md;
+  JsonObject json;
+  md << "# dualcell benchmark\n\nCompression along x, no adhesion, symmetry boundary, E_f/E_m = 100, r = 0.3, "
+        "tolerance 1e-8. Seconds are wall time on this machine in this run. Iteration counts do not depend on "
+        "the thread count; the scalability rows run on one thread.\n\n";
+  scalability(quick, md, json);
+  // Floor and memory, on all threads.
+  progress("floor");
+  const Floor floor = run_floor(all, quick);
+  const double bytes_per_dof = floor.bytes_per_dof;
+  md << floor.md << "\n## Where the time goes (seconds per phase)\n\n" << phase_header;
+  for (const Run& r : floor.runs)
+    md << phase_row(format("%d×%d, k=%d %s", r.cells, r.cells, r.degree, to_string(r.element)).c_str(), r);
+  const std::vector<std::string>& floor_json = floor.json;
+
+  // The ~1e5 case for the threads and the progress line.
+  const auto [tn, tk] = quick ? std::pair<int, int>{4, 2} : std::pair<int, int>{16, 3};
+  json.add("bytes_per_dof", json_number(bytes_per_dof));
+  json.add("floor", json_list(floor_json));
+  threads_section(tn, tk, all, md, json);
+  progress_section(tn, tk, md, json);
   sweep_step(quick, all, md, json);
   exact_law(md, json);
   outputs.write(md_file, md.str());
