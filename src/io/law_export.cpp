@@ -157,6 +157,44 @@ void add_exact_law(JsonObject& o, const Law& law) {
                           .str(4));
 }
 
+// The onset surface (/law/onset) as a JSON object: facets and their pairs, and the check
+// against each path's own onset.
+std::string onset_json(const OnsetSurface& onset) {
+  const auto rows = [](const auto& row, std::size_t n) {
+    std::vector<std::string> items;
+    for (std::size_t k = 0; k < n; ++k) items.push_back(json_array(row(k)));
+    return json_list(items);
+  };
+  const auto ints = [](const std::vector<int>& v) {
+    std::vector<std::string> items;
+    for (int x : v) items.push_back(std::to_string(x));
+    return json_list(items);
+  };
+  JsonObject surface;
+  surface.add("linear", onset.linear ? "1" : "0").add_text("message", onset.message);
+  if (onset.linear)
+    surface
+        .add("facets", rows(
+                           [&](std::size_t k) {
+                             const auto g = onset.facets.row(static_cast<Eigen::Index>(k));
+                             return std::vector<double>{g(0), g(1), g(2)};
+                           },
+                           onset.pair.size()))
+        .add("pair", ints(onset.pair))
+        .add("tangential", ints(onset.tangential));
+  if (!onset.path_stress.empty())
+    surface
+        .add("path_stress", rows(
+                                [&](std::size_t k) {
+                                  const Eigen::Vector3d& N = onset.path_stress[k];
+                                  return std::vector<double>{N(0), N(1), N(2)};
+                                },
+                                onset.path_stress.size()))
+        .add("onset", json_array(onset.path_onset))
+        .add("sweep_onset", json_array(onset.path_sweep_onset));
+  return surface.str(4);
+}
+
 }  // namespace
 
 std::string law_json(const Law& law) {
@@ -212,40 +250,7 @@ std::string law_json(const Law& law) {
                       .add_text("message", fit.message)
                       .str(4));
   }
-  const OnsetSurface& onset = law.onset;
-  const auto rows = [](const auto& row, std::size_t n) {
-    std::vector<std::string> items;
-    for (std::size_t k = 0; k < n; ++k) items.push_back(json_array(row(k)));
-    return json_list(items);
-  };
-  const auto ints = [](const std::vector<int>& v) {
-    std::vector<std::string> items;
-    for (int x : v) items.push_back(std::to_string(x));
-    return json_list(items);
-  };
-  JsonObject surface;
-  surface.add("linear", onset.linear ? "1" : "0").add_text("message", onset.message);
-  if (onset.linear)
-    surface
-        .add("facets", rows(
-                           [&](std::size_t k) {
-                             const auto g = onset.facets.row(static_cast<Eigen::Index>(k));
-                             return std::vector<double>{g(0), g(1), g(2)};
-                           },
-                           onset.pair.size()))
-        .add("pair", ints(onset.pair))
-        .add("tangential", ints(onset.tangential));
-  if (!onset.path_stress.empty())
-    surface
-        .add("path_stress", rows(
-                                [&](std::size_t k) {
-                                  const Eigen::Vector3d& N = onset.path_stress[k];
-                                  return std::vector<double>{N(0), N(1), N(2)};
-                                },
-                                onset.path_stress.size()))
-        .add("onset", json_array(onset.path_onset))
-        .add("sweep_onset", json_array(onset.path_sweep_onset));
-  o.add("onset", surface.str(4));
+  o.add("onset", onset_json(law.onset));
   add_exact_law(o, law);
   return o.str() + "\n";
 }
