@@ -170,6 +170,17 @@ def per_model(kind, nodes, u, t, watch):
 QUANTITY = {"bending": "end rotation", "cantilever": "tip deflection", "threepoint": "midspan deflection"}
 
 
+def write_rows_csv(path, rows):
+    """rows (dicts with the same keys) as a CSV with a header, floats to 9 digits, atomically."""
+    def write(temporary):
+        with open(temporary, "w", newline="") as f:
+            w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
+            w.writeheader()
+            for r in rows:
+                w.writerow({k: (f"{v:.9g}" if isinstance(v, float) else v) for k, v in r.items()})
+    common.write_atomic(path, write)
+
+
 def relative(a, b):
     return (a - b) / b if math.isfinite(b) and b != 0 else float("nan")
 
@@ -195,15 +206,7 @@ def table(outroot, cases):
             "seconds_exact": cell["seconds"], "time_ratio": res["seconds"] / cone["seconds"],
             "time_ratio_exact": res["seconds"] / cell["seconds"]})
     rows.sort(key=lambda r: (r["bond"], r["kind"], r["H"]))
-    fields = list(rows[0].keys())
-
-    def write_csv(path):
-        with open(path, "w", newline="") as f:
-            w = csv.DictWriter(f, fieldnames=fields)
-            w.writeheader()
-            for r in rows:
-                w.writerow({k: (f"{v:.9g}" if isinstance(v, float) else v) for k, v in r.items()})
-    common.write_atomic(os.path.join(outroot, "table.csv"), write_csv)
+    write_rows_csv(os.path.join(outroot, "table.csv"), rows)
 
     md = ["# Homogenised cells against the resolved structure",
           "",
@@ -281,13 +284,7 @@ def fuse(outroot, cases):
         plots.append(f"'{name}' using 2:4 with linespoints pt 4 dt 3 lc {colour} title 'H = {H}: cone-wise law'")
         plots.append(f"'{name}' using 5:4 with linespoints pt 6 dt 4 lc {colour} title 'H = {H}: exact law, bonds per point'")
 
-    def write_csv(path):
-        with open(path, "w", newline="") as f:
-            w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
-            w.writeheader()
-            for r in rows:
-                w.writerow({k: (f"{v:.9g}" if isinstance(v, float) else v) for k, v in r.items()})
-    common.write_atomic(os.path.join(outroot, "fuse.csv"), write_csv)
+    write_rows_csv(os.path.join(outroot, "fuse.csv"), rows)
     md = ["# The cantilever past the first break: load against tip deflection",
           "",
           f"Cantilevers of depth H cells and length 8H (adhesion), the end shear in steps {FUSE_STEPS} (load",

@@ -43,7 +43,11 @@ int main(int argc, char** argv) {
     // A step that did not converge (or whose energy is not finite) is in structure.h5, marked
     // in /steps/converged; the stage says so once and exits with the not-converged code.
     int failed = 0;
-    for (const auto& r : s.steps) failed += !r.converged;
+    for (const auto& r : s.steps) {
+      failed += !r.converged;
+      if (!r.message.empty())
+        std::fprintf(stderr, "dualcell-structure: load factor %g: %s\n", r.factor, r.message.c_str());
+    }
     if (failed > 0) {
       exit_code = exit_not_converged;
       std::fprintf(stderr,

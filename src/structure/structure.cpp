@@ -85,7 +85,9 @@ struct HomogenisedStructure::Impl {
   std::vector<std::unique_ptr<law::CellEvaluator>> evaluators;
   int threads = 1;                            // the exact law's evaluators: one per OpenMP thread
   law::Bonds trial_bonds = law::Bonds::held;  // what a Newton iterate does with the bonds
-  bool point_failed = false;                  // an exact-law evaluation failed (its QP)
+  // An exact-law evaluation failed (its QP) in the step being solved, and why: the step is then
+  // not converged and says so (StepResult::message).
+  bool point_failed = false;
   std::string point_failure;
   std::vector<Eigen::MatrixXd> grad_s_centroid;
   std::vector<double> area;
@@ -135,6 +137,13 @@ struct HomogenisedStructure::Impl {
   // Exact law, at u: every unit's debond cascade at its strain (a point's, or a cell's mean); the
   // units where a bond broke (a cell's points then take its bonds).
   int break_bonds();
+  void note_failure(const law::CellResponse& r) {
+#pragma omp critical(dualcell_structure_failure)
+    {
+      point_failed = true;
+      point_failure = r.message;
+    }
+  }
   // Π(u), and with `with_tangent` also r_full = f_int − factor·f and K.
   double energy(const Eigen::VectorXd& x, double factor, bool with_gradient, bool with_tangent);
   void newton(double factor, StepResult& out);
@@ -153,7 +162,6 @@ std::vector<Eigen::Vector3d> HomogenisedStructure::Impl::cell_average_stress() c
 
 void HomogenisedStructure::Impl::evaluate_points(const Eigen::VectorXd& x) {
   const int T = static_cast<int>(mesh.triangles.rows());
-  point_failed = false;
 #pragma omp parallel for schedule(static) num_threads(threads) if (exact())
   for (int t = 0; t < T; ++t)
     for (std::size_t k = 0; k < points[t].size(); ++k) {
@@ -167,11 +175,7 @@ void HomogenisedStructure::Impl::evaluate_points(const Eigen::VectorXd& x) {
       law::ConeState& s = state[i];
       if (!r.ok) {
         s.energy = std::numeric_limits<double>::quiet_NaN();
-#pragma omp critical(dualcell_structure_failure)
-        {
-          point_failed = true;
-          point_failure = r.message;
-        }
+        note_failure(r);
         continue;
       }
       s.stress = r.stress;
@@ -191,6 +195,7 @@ int HomogenisedStructure::Impl::break_bonds() {
     for (int c = 0; c < C; ++c) {
       const law::CellResponse r =
           evaluators[omp_get_thread_num()]->at_strain(cell_strain(c), cell_history[c], law::Bonds::cascade);
+      if (!r.ok) note_failure(r);
       if (!r.ok || r.newly_broken == 0) continue;
       ++broke;
       for (int t : cell_triangles[c])
@@ -205,6 +210,7 @@ int HomogenisedStructure::Impl::break_bonds() {
       const int i = first_point[t] + static_cast<int>(k);
       const law::CellResponse r =
           evaluators[omp_get_thread_num()]->at_strain(strain_at(u, t, points[t][k]), history[i], law::Bonds::cascade);
+      if (!r.ok) note_failure(r);
       broke += r.ok && r.newly_broken > 0;
     }
   return broke;
@@ -552,6 +558,7 @@ StepResult HomogenisedStructure::solve_step(double factor) {
   Impl& s = *impl_;
   StepResult out;
   out.factor = factor;
+  s.point_failed = false;
   const double before = s.energy(s.u, factor, false, false);
   for (;;) {
     s.newton(factor, out);
@@ -578,6 +585,10 @@ StepResult HomogenisedStructure::solve_step(double factor) {
       out.converged = false;
       break;
     }
+  }
+  if (s.point_failed) {
+    out.converged = false;
+    out.message = "the exact law failed at a quadrature point: " + s.point_failure;
   }
   out.energy_decrease = before - out.energy;
 

@@ -89,6 +89,7 @@ struct StepResult {
   double energy_decrease = 0;  // Π at the start of the step minus Π at its end
   double residual = 0;         // ‖r‖ / scale at the end
   bool converged = false;
+  std::string message;  // why not converged, when a law evaluation failed (empty otherwise)
 };
 
 class HomogenisedStructure {
