@@ -90,6 +90,33 @@ std::string key_text(const toml::key& key, const std::vector<std::string>& lines
   return written.empty() ? k : written;
 }
 
+// A value printed by us, not by toml++: its printer converts log10 of a float to an integer to
+// size the output, undefined for inf and nan (found by the fuzzer, `make -C pipelines fuzz`).
+std::string printed(const toml::node& node) {
+  if (const auto* array = node.as_array()) {
+    std::string s = "[";
+    for (std::size_t i = 0; i < array->size(); ++i) {
+      if (i > 0) s += ", ";
+      s += printed((*array)[i]);
+      if (s.size() > 80) break;  // clipped anyway
+    }
+    return s + "]";
+  }
+  if (const auto* table = node.as_table()) {
+    std::string s = "{";
+    for (const auto& [key, value] : *table) {
+      if (s.size() > 1) s += ", ";
+      s.append(key.str()).append(" = ").append(printed(value));
+      if (s.size() > 80) break;
+    }
+    return s + "}";
+  }
+  if (const auto x = node.value<double>(); x && node.is_floating_point()) return shortest(*x);
+  std::ostringstream s;
+  node.visit([&](const auto& value) { s << value; });
+  return s.str();
+}
+
 // The value as the user wrote it (from the source text), so messages quote "0.7", not
 // "0.69999999999999996"; falls back to toml++'s printing for values spanning lines.
 std::string show(const toml::node& node, const std::vector<std::string>& lines) {
@@ -100,9 +127,7 @@ std::string show(const toml::node& node, const std::vector<std::string>& lines) 
     const std::size_t begin = byte_of_column(line, region.begin.column), end = byte_of_column(line, region.end.column);
     if (end <= line.size() && end > begin) return clipped(line.substr(begin, end - begin));
   }
-  std::ostringstream s;
-  node.visit([&](const auto& value) { s << value; });
-  return clipped(s.str());
+  return clipped(printed(node));
 }
 
 std::vector<std::string> split_lines(std::string_view text) {

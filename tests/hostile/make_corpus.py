@@ -276,6 +276,8 @@ def build_scene_cases():
         ("stress-direction-inf", scene(tail="[load]\nboundary = \"periodic\"\n[sweep]\nstress_directions = [[inf, 0, 0]]\n"),
          "[sweep] stress_directions"),
         ("body-force-inf", scene(tail="[load]\nbody_force = [inf, 0]\n"), "body_force = [inf, 0]: out of range"),
+        # over two lines the message prints the value itself, not the source text (fuzzer finding)
+        ("body-force-inf-two-lines", scene(tail="[load]\nbody_force = [inf,3\n]\n"), "body_force = [inf, 3]: out of range"),
         ("strength-nan", scene(tail="[interface]\ntangential_strength = nan\n"), "tangential_strength = nan: out of range"),
         ("E-exponent-overflow", scene(fibre={"E": "1e400"}), "TOML syntax error"),
         ("radius-exponent-underflow", scene(geometry={"fibre_radius": "1e-400"}), "[geometry] fibre_radius"),
