@@ -22,6 +22,18 @@ const char* to_string(Preconditioner p) {
   return "?";
 }
 
+const char* to_string(DualOperator o) {
+  switch (o) {
+    case DualOperator::automatic:
+      return "auto";
+    case DualOperator::implicit:
+      return "implicit";
+    case DualOperator::explicit_:
+      return "explicit";
+  }
+  return "?";
+}
+
 const char* to_string(Element e) { return e == Element::p1 ? "p1" : "p2"; }
 
 const char* to_string(Boundary b) {
@@ -258,7 +270,7 @@ std::string solver_options_text(const Scene& scene) {
     << "; max_operator_applications=" << s.max_operator_applications << "; rho_factor=" << s.rho_factor
     << "; rho_growth=" << s.rho_growth << "; rho_patience=" << s.rho_patience << "; Gamma=" << s.Gamma
     << "; max_debond_rounds=" << s.max_debond_rounds << "; preconditioner=" << to_string(s.preconditioner)
-    << "; fuse_tolerance=" << scene.sweep.fuse_tolerance;
+    << "; dual_operator=" << to_string(s.dual_operator) << "; fuse_tolerance=" << scene.sweep.fuse_tolerance;
   return o.str();
 }
 

@@ -78,6 +78,13 @@ struct SweepSettings {
 enum class Preconditioner { none, lumped, dirichlet };
 const char* to_string(Preconditioner p);
 
+// How each subdomain applies its part of F = Σ B_s K_s⁺ B_sᵀ (docs/method.md §6a): implicit, two
+// sparse triangular sweeps with the factor of K_s per application; explicit, one dense product
+// with F_s = B_s K_s⁺ B_sᵀ, formed once from the factor's trailing block (the boundary's Schur
+// complement); auto, per subdomain, by the cost model in feti/operator_cost.hpp.
+enum class DualOperator { automatic, implicit, explicit_ };
+const char* to_string(DualOperator o);
+
 struct SolverSettings {
   double tolerance = 1e-8;                  // relative KKT tolerance of the dual QP
   int max_outer_iterations = 200;           // SMALBE outer iterations
@@ -88,6 +95,7 @@ struct SolverSettings {
   double Gamma = 1.0;                       // MPRGP proportioning parameter
   int max_debond_rounds = 1000;             // break / re-solve rounds per load (docs/method.md §11)
   Preconditioner preconditioner = Preconditioner::none;
+  DualOperator dual_operator = DualOperator::automatic;
 };
 
 struct WrittenKey {

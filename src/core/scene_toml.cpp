@@ -204,6 +204,10 @@ void read_sweep_and_solver(SceneReading& r) {
   so.preconditioner = preconditioner == "lumped"      ? Preconditioner::lumped
                       : preconditioner == "dirichlet" ? Preconditioner::dirichlet
                                                       : Preconditioner::none;
+  const std::string dual_operator = sv.string("dual_operator", "auto", {"auto", "implicit", "explicit"});
+  so.dual_operator = dual_operator == "implicit"   ? DualOperator::implicit
+                     : dual_operator == "explicit" ? DualOperator::explicit_
+                                                   : DualOperator::automatic;
   sv.finish();
 }
 

@@ -2,8 +2,9 @@
 // The exact law of a cell (law/condensed.hpp): the cell condensed onto its interface rows
 // (docs/method.md §16a), from the FETI data of its mesh and materials.
 //
-// The dual operator F = B K⁺ Bᵀ is formed explicitly, one column per application (the factors
-// of the setup reused), with G and the macro load's d and e. The rows E that are not interface
+// The dual operator F = B K⁺ Bᵀ is formed explicitly from the subdomains' blocks F_s (the same
+// blocks as the explicit dual operator, DualProblem::explicit_F), with G and the macro load's d
+// and e. The rows E that are not interface
 // rows (glue, periodic, Dirichlet) and the rigid modes M they see are eliminated from the
 // stationarity conditions of the dual problem,
 //

@@ -8,6 +8,31 @@
 
 namespace dualcell::feti {
 
+namespace {
+
+// F_s = B_s K⁺ B_sᵀ = B_b K⁺(b, b) B_bᵀ, B_b the columns of B_s on the boundary DOFs b (every
+// DOF a row touches is one: FetiSetup::set_boundaries). Sparse times dense times sparse: a few
+// operations per entry of F_s, whatever bond state chose the rows.
+Eigen::MatrixXd local_F(const Eigen::SparseMatrix<double, Eigen::RowMajor>& B, const FloatingSubdomain& sub) {
+  std::vector<int> position(sub.n_dofs, -1);
+  for (std::size_t k = 0; k < sub.boundary_dofs.size(); ++k) position[sub.boundary_dofs[k]] = static_cast<int>(k);
+  std::vector<Eigen::Triplet<double>> entries;
+  for (int r = 0; r < B.outerSize(); ++r)
+    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(B, r); it; ++it) {
+      if (position[it.col()] < 0)
+        throw std::logic_error("explicit dual operator: a row touches an interior DOF of subdomain " +
+                               std::to_string(sub.index));
+      entries.emplace_back(r, position[it.col()], it.value());
+    }
+  Eigen::SparseMatrix<double, Eigen::RowMajor> B_b(B.rows(), static_cast<Eigen::Index>(sub.boundary_dofs.size()));
+  B_b.setFromTriplets(entries.begin(), entries.end());
+  const Eigen::MatrixXd BK = B_b * sub.K_plus_bb;
+  Eigen::MatrixXd F = BK * B_b.transpose();
+  return 0.5 * (F + F.transpose());  // symmetric to the last bit, as the QP's CG assumes
+}
+
+}  // namespace
+
 DualProblem::DualProblem(const FetiSetup& setup, Constraints constraints)
     : setup_(setup), constraints_(std::move(constraints)) {
   const auto& subs = setup.subdomains();
@@ -54,6 +79,7 @@ DualProblem::DualProblem(const FetiSetup& setup, Constraints constraints)
         if (M(k, j) != 0) G_triplets.emplace_back(G_rows + j, local.rows[k], M(k, j));
     G_rows += static_cast<int>(M.cols());
     if (!setup.owns(s)) continue;  // no scratch where another rank applies K⁺
+    if (subs[s].explicit_operator) local.F = local_F(local.B, subs[s]);
     local.lambda_local.resize(n_local);
     local.z.resize(n_local);
     local.y.resize(subs[s].n_dofs);
@@ -156,6 +182,10 @@ void DualProblem::apply_F(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
     const Local& local = locals_[s];
     if (local.rows.empty()) return;
     for (std::size_t k = 0; k < local.rows.size(); ++k) local.lambda_local(k) = x(local.rows[k]);
+    if (subs[s].explicit_operator) {
+      local.z.noalias() = local.F * local.lambda_local;
+      return;
+    }
     local.y.noalias() = local.B.transpose() * local.lambda_local;
     subs[s].apply_K_plus(local.y, local.x, local.K_plus_scratch);
     local.z.noalias() = local.B * local.x;
@@ -281,6 +311,54 @@ Eigen::VectorXd DualProblem::coarse_solve(const Eigen::VectorXd& r) const {
   Eigen::VectorXd alpha_hat;
   GGt_.solve(G_scratch_, alpha_hat);
   return alpha_hat;
+}
+
+Eigen::MatrixXd DualProblem::explicit_F() const {
+  const auto& subs = setup_.subdomains();
+  const par::Group& group = setup_.group();
+  // This rank's F_s, column-major one after another in subdomain order.
+  std::vector<double> mine;
+  for (int s = setup_.owned_begin(); s < setup_.owned_end(); ++s) {
+    const Local& local = locals_[s];
+    const auto n = static_cast<Eigen::Index>(local.rows.size());
+    if (subs[s].is_macro || n == 0) continue;
+    Eigen::MatrixXd F_s = local.F;
+    if (!subs[s].explicit_operator) {
+      F_s.resize(n, n);
+      Eigen::VectorXd unit = Eigen::VectorXd::Zero(n);
+      for (Eigen::Index j = 0; j < n; ++j) {
+        unit(j) = 1;
+        local.y.noalias() = local.B.transpose() * unit;
+        subs[s].apply_K_plus(local.y, local.x, local.K_plus_scratch);
+        F_s.col(j).noalias() = local.B * local.x;
+        unit(j) = 0;
+      }
+    }
+    mine.insert(mine.end(), F_s.data(), F_s.data() + F_s.size());
+  }
+  std::vector<double> all = mine;
+  if (group.size() > 1) {
+    const std::vector<double> sizes = group.gather(std::vector<double>{static_cast<double>(mine.size())});
+    std::vector<int> counts(sizes.size()), displs(sizes.size(), 0);
+    for (std::size_t p = 0; p < sizes.size(); ++p) {
+      counts[p] = static_cast<int>(sizes[p]);
+      if (p > 0) displs[p] = displs[p - 1] + counts[p - 1];
+    }
+    all.resize(static_cast<std::size_t>(displs.back() + counts.back()));
+    group.gather(mine.data(), all.data(), counts, displs);
+  }
+  const int m = n_rows();
+  Eigen::MatrixXd F = Eigen::MatrixXd::Zero(m, m);
+  std::size_t at = 0;
+  for (std::size_t s = 0; s < locals_.size(); ++s) {
+    const Local& local = locals_[s];
+    const std::size_t n = local.rows.size();
+    if (subs[s].is_macro || n == 0) continue;
+    for (std::size_t j = 0; j < n; ++j)
+      for (std::size_t i = 0; i < n; ++i) F(local.rows[i], local.rows[j]) += all[at + j * n + i];
+    at += n * n;
+  }
+  return F;
 }
 
 Eigen::VectorXd DualProblem::K_plus_residual(const Eigen::VectorXd& f, const Eigen::VectorXd& lambda) const {

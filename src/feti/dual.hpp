@@ -46,6 +46,9 @@ class DualProblem {
     Eigen::MatrixXd R_hat;                           // n_dofs × r_i
     Eigen::MatrixXd V;                               // 3 × r_i: R_hat = R V
     int G_offset = 0;                                // first row of G for this subdomain
+    // F_s = B_s K_s⁺ B_sᵀ (rows × rows, dense) where the subdomain applies F explicitly
+    // (FloatingSubdomain::explicit_operator), formed from K⁺(b, b); empty where implicit.
+    Eigen::MatrixXd F;
     // Preconditioner row factors δ_ri / w_r² (see apply_preconditioner); empty without one.
     Eigen::VectorXd preconditioner_scale;
     // Where each of `rows` is summed in this rank's part of the exchange (owned subdomains only).
@@ -62,8 +65,9 @@ class DualProblem {
   int n_G_rows() const { return static_cast<int>(G_.rows()); }
   const Eigen::SparseMatrix<double, Eigen::RowMajor>& G() const { return G_; }
 
-  // y = F x (one application: a K⁺ solve per subdomain, spread over setup().threads(); the
-  // local results are summed in subdomain order, so y does not depend on the thread count).
+  // y = F x (one application: per subdomain a K⁺ solve, or a dense product with F_s where
+  // explicit, spread over setup().threads(); the local results are summed in subdomain order,
+  // so y does not depend on the thread count).
   void apply_F(const Eigen::VectorXd& x, Eigen::VectorXd& y) const;
   // y = M⁻¹ x, the scene's preconditioner of F (SolverSettings::preconditioner, not none):
   //   M⁻¹ = Σ_i W⁻¹D_iW⁻¹ B_i T_i B_iᵀ W⁻¹D_iW⁻¹,  T_i = K_i (lumped) or S_i (Dirichlet),
@@ -94,6 +98,10 @@ class DualProblem {
   Eigen::VectorXd lambda_0(const Eigen::VectorXd& e) const;
   // (GGᵀ)⁻¹ G r: the coarse solve, e.g. α = (GGᵀ)⁻¹G(Fλ − d − m) from the SMALBE multiplier m.
   Eigen::VectorXd coarse_solve(const Eigen::VectorXd& r) const;
+  // F = B K⁺ Bᵀ, dense (n_rows² doubles: for the condensed cell, not for the QP), on every rank:
+  // Σ_s of the F_s, each formed by its owner (Local::F where explicit, one K⁺ solve per row
+  // where not) and summed in subdomain order.
+  Eigen::MatrixXd explicit_F() const;
   // x_i = K_i⁺ (f_i − B_iᵀλ) for every subdomain, into a global vector.
   Eigen::VectorXd K_plus_residual(const Eigen::VectorXd& f, const Eigen::VectorXd& lambda) const;
 

@@ -44,12 +44,19 @@ std::size_t FloatingSubdomain::bytes() const {
   std::size_t total = sparse(K) + static_cast<std::size_t>(R.size()) * sizeof(double);
   if (K_plus) total += K_plus->bytes();
   if (K_ii_inverse) total += K_ii_inverse->bytes();
+  total += static_cast<std::size_t>(K_plus_bb.size()) * sizeof(double);
   return total;
 }
 
 int FetiSetup::owned_dofs() const {
   int n = 0;
   for (int s = owned_begin_; s < owned_end_; ++s) n += subdomains_[s].n_dofs;
+  return n;
+}
+
+int FetiSetup::owned_explicit() const {
+  int n = 0;
+  for (int s = owned_begin_; s < owned_end_; ++s) n += subdomains_[s].explicit_operator ? 1 : 0;
   return n;
 }
 
@@ -68,7 +75,7 @@ void FloatingSubdomain::apply_K_plus(const Eigen::VectorXd& y, Eigen::VectorXd& 
 }
 
 FetiSetup::FetiSetup(const mesh::Mesh& mesh, const Scene& scene, int threads, int min_dofs_per_thread, par::Group group,
-                     Progress* progress)
+                     Progress* progress, double expected_qps)
     : mesh_(mesh), scene_(scene), group_(std::move(group)), threads_(threads > 0 ? threads : omp_get_max_threads()) {
   validate(scene_);  // scenes built in code are checked like scenes read from a file
   const auto phase = [&](const char* name) {
@@ -129,41 +136,76 @@ FetiSetup::FetiSetup(const mesh::Mesh& mesh, const Scene& scene, int threads, in
     for (int d = 0; d < sub.n_dofs; ++d) subdomain_of_dof_[sub.dof_begin + d] = sub.index;
   seconds_assembly = seconds_since(t0);
 
+  const DualOperator dual_operator = scene.solver.dual_operator;
+  const bool dirichlet = scene.solver.preconditioner == Preconditioner::dirichlet;
+  if (dirichlet || dual_operator != DualOperator::implicit) set_boundaries();
+
   // K⁺ once per mesh and material: the factorisations every load case reuses. Subdomains are
   // small (hundreds to a few thousand DOFs), where a simplicial factor is as fast as a
   // supernodal one and needs no BLAS; K⁺ is then applied with plain triangular sweeps. AMD
   // only: the factorisations run concurrently, and METIS's random state is not known to be
-  // thread-safe.
+  // thread-safe. (A supernodal factor's many small BLAS calls were measured slower here, and
+  // erratic: OpenBLAS's threads yielding on a shared machine.)
   const linalg::CholmodOptions subdomain_factor_options{linalg::FactorKind::simplicial, linalg::Ordering::amd};
   const auto t1 = Clock::now();
   phase("factorisation");
+  const bool all_explicit = dual_operator == DualOperator::explicit_;
+  const auto factorise = [&](FloatingSubdomain& sub, bool boundary_last) {
+    const std::span<const Eigen::Index> last =
+        boundary_last ? std::span<const Eigen::Index>(sub.boundary_dofs) : std::span<const Eigen::Index>();
+    sub.K_plus = std::make_unique<linalg::FixingNodeInverse>(sub.K, sub.fixing_dofs, subdomain_factor_options, last);
+  };
   for_each_subdomain([&](int s) {
     FloatingSubdomain& sub = subdomains_[s];
-    if (!sub.is_macro)
-      sub.K_plus = std::make_unique<linalg::FixingNodeInverse>(sub.K, sub.fixing_dofs, subdomain_factor_options);
-  });
-  if (scene.solver.preconditioner == Preconditioner::dirichlet) {
-    // The nodes B touches with intact bonds (breaks remove rows, never columns), both
-    // components: a free or loaded edge stays interior, where S_i must not clamp it.
-    const Constraints rows = build_constraints(mesh, scene, intact_bonds(mesh, scene.interface));
-    std::vector<char> on_boundary(mesh.nodes.size(), 0);
-    for (int r = 0; r < rows.B.outerSize(); ++r)
-      for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(rows.B, r); it; ++it)
-        if (it.col() < mesh.dim_u()) on_boundary[it.col() / 2] = 1;  // not the macro DOFs
-    for_each_subdomain([&](int s) {
-      FloatingSubdomain& sub = subdomains_[s];
-      if (sub.is_macro) return;
-      const mesh::Subdomain& ms = mesh.subdomains[s];
-      for (int v = ms.node_begin; v < ms.node_end; ++v)
-        if (on_boundary[v]) {
-          sub.boundary_dofs.push_back(2 * (v - ms.node_begin));
-          sub.boundary_dofs.push_back(2 * (v - ms.node_begin) + 1);
-        }
+    if (sub.is_macro) return;
+    factorise(sub, all_explicit);
+    if (dirichlet)
       sub.K_ii_inverse =
           std::make_unique<linalg::FixingNodeInverse>(sub.K, sub.boundary_dofs, subdomain_factor_options);
-    });
-  }
+  });
   seconds_factorisation = seconds_since(t1);
+
+  // The explicit operators where they pay (everywhere, or nowhere, as the scene says): the
+  // factor again with the boundary DOFs last (already so with "explicit"), then K⁺(b, b).
+  if (dual_operator == DualOperator::implicit) return;
+  const auto t2 = Clock::now();
+  phase("explicit dual operators");
+  for_each_subdomain([&](int s) {
+    FloatingSubdomain& sub = subdomains_[s];
+    if (sub.is_macro) return;
+    sub.cost = OperatorCost::of(*sub.K_plus, sub.n_rows, static_cast<Eigen::Index>(sub.boundary_dofs.size()));
+    sub.explicit_operator = all_explicit || sub.cost.explicit_pays(expected_qps);
+    if (!sub.explicit_operator) return;
+    if (!all_explicit) factorise(sub, true);
+    sub.K_plus_bb = sub.K_plus->last_block_inverse();
+  });
+  seconds_explicit = seconds_since(t2);
+  for (double n : group_.gather(std::vector<double>{static_cast<double>(owned_explicit())}))
+    explicit_subdomains_ += static_cast<int>(n);
+}
+
+void FetiSetup::set_boundaries() {
+  // The nodes B touches with intact bonds (breaks remove rows, never columns), both
+  // components: a free or loaded edge stays interior, where S_i must not clamp it.
+  const Constraints rows = build_constraints(mesh_, scene_, intact_bonds(mesh_, scene_.interface));
+  std::vector<char> on_boundary(mesh_.nodes.size(), 0);
+  std::vector<int> last_row(subdomains_.size(), -1);
+  for (int r = 0; r < rows.B.outerSize(); ++r)
+    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(rows.B, r); it; ++it) {
+      FloatingSubdomain& sub = subdomains_[subdomain_of_dof_[it.col()]];
+      if (last_row[sub.index] != r) ++sub.n_rows, last_row[sub.index] = r;
+      if (it.col() < mesh_.dim_u()) on_boundary[it.col() / 2] = 1;  // not the macro DOFs
+    }
+  for_each_subdomain([&](int s) {
+    FloatingSubdomain& sub = subdomains_[s];
+    if (sub.is_macro) return;
+    const mesh::Subdomain& ms = mesh_.subdomains[s];
+    for (int v = ms.node_begin; v < ms.node_end; ++v)
+      if (on_boundary[v]) {
+        sub.boundary_dofs.push_back(2 * (v - ms.node_begin));
+        sub.boundary_dofs.push_back(2 * (v - ms.node_begin) + 1);
+      }
+  });
 }
 
 Eigen::VectorXd FetiSetup::load(const Eigen::Vector3d& sigma) const {

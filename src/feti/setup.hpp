@@ -22,6 +22,7 @@
 
 #include "core/progress.hpp"
 #include "core/scene.hpp"
+#include "feti/operator_cost.hpp"
 #include "linalg/fixing_node_inverse.hpp"
 #include "mesh/mesh.hpp"
 #include "par/parallel.hpp"
@@ -39,9 +40,17 @@ struct FloatingSubdomain {
   Eigen::MatrixXd R;
   std::unique_ptr<linalg::FixingNodeInverse> K_plus;  // null for the macro subdomain
   std::vector<Eigen::Index> fixing_dofs;              // the 3 DOFs removed to make K regular
-  // The Dirichlet preconditioner only (S_i = K_bb − K_bi K_ii⁻¹ K_ib): the DOFs of the nodes
-  // that rows of B touch (both components) and K_ii⁻¹ as the pseudo-inverse fixing exactly them.
+  // The DOFs of the nodes that rows of B touch with intact bonds (both components; breaks remove
+  // rows, never columns), sorted: for the explicit operator and the Dirichlet preconditioner.
   std::vector<Eigen::Index> boundary_dofs;
+  int n_rows = 0;  // rows of B that touch it with intact bonds
+  // The explicit dual operator (docs/method.md §6a): K⁺(b, b) on boundary_dofs, dense, from
+  // which each bond state's F_s = B_s K⁺ B_sᵀ is formed (DualProblem); empty where implicit.
+  bool explicit_operator = false;
+  Eigen::MatrixXd K_plus_bb;
+  OperatorCost cost;  // of both operators, as the choice saw them
+  // The Dirichlet preconditioner only (S_i = K_bb − K_bi K_ii⁻¹ K_ib): K_ii⁻¹ as the
+  // pseudo-inverse fixing exactly boundary_dofs.
   std::unique_ptr<linalg::FixingNodeInverse> K_ii_inverse;
   // Bytes of K, R and the factors held for this subdomain (0 where another rank owns it).
   std::size_t bytes() const;
@@ -60,8 +69,11 @@ class FetiSetup {
   // group: the ranks that share this solve (default: this process alone). Every subdomain's R
   // and place are known on every rank; K, K⁺ and the preconditioner's factor only on its owner.
   // progress, when given, shows the phase (assembly, factorisation) while the setup works.
+  // expected_qps: how many QPs the caller will solve with this setup (a sweep: its paths times
+  // their loads), for the choice of dual operator per subdomain ([solver] dual_operator = "auto").
   FetiSetup(const mesh::Mesh& mesh, const Scene& scene, int threads = 1,
-            int min_dofs_per_thread = default_min_dofs_per_thread, par::Group group = {}, Progress* progress = nullptr);
+            int min_dofs_per_thread = default_min_dofs_per_thread, par::Group group = {}, Progress* progress = nullptr,
+            double expected_qps = 1);
 
   const mesh::Mesh& mesh() const { return mesh_; }
   const Scene& scene() const { return scene_; }
@@ -118,9 +130,17 @@ class FetiSetup {
     }
     if (failure) std::rethrow_exception(failure);
   }
-  double seconds_assembly = 0, seconds_factorisation = 0;
+  // How many of this rank's subdomains apply F explicitly, and of all ranks'; the subdomains
+  // with a stiffness (all but the macro one).
+  int owned_explicit() const;
+  int explicit_subdomains() const { return explicit_subdomains_; }
+  int n_stiff_subdomains() const { return static_cast<int>(mesh_.subdomains.size()); }
+  double seconds_assembly = 0, seconds_factorisation = 0, seconds_explicit = 0;
 
  private:
+  // FloatingSubdomain::boundary_dofs and n_rows from the rows of the intact bonds.
+  void set_boundaries();
+
   const mesh::Mesh& mesh_;
   Scene scene_;
   std::vector<FloatingSubdomain> subdomains_;
@@ -130,6 +150,7 @@ class FetiSetup {
   int owned_begin_ = 0, owned_end_ = 0;
   int n_dofs_ = 0;
   int threads_ = 1;
+  int explicit_subdomains_ = 0;
   bool parallel_ = false;
 };
 

@@ -52,6 +52,15 @@ class ProjectedPlusShiftedQ {
   Eigen::VectorXd Qx_, Px_, TPx_, QTPx_;
 };
 
+// ‖PFP‖ by qp::estimate_norm (20 applications from a fixed start vector): part of building a
+// problem, so that it is a function of the problem alone and no QP's count depends on which
+// came first.
+double estimate_norm_PFP(const DualProblem& dual) {
+  const int m = dual.constraints().n_rows();
+  ProjectedPlusShiftedQ PFP(dual, &DualProblem::apply_F, m);
+  return qp::estimate_norm([&](const Eigen::VectorXd& x, Eigen::VectorXd& y) { PFP(x, 0.0, y); }, m);
+}
+
 // Relative distance within which a bonded multiplier counts as "at its strength": far below
 // any load step a sweep resolves (1e-3), far above the QP's round-off at the bound (MPRGP puts
 // components exactly on the bound).
@@ -82,17 +91,21 @@ constexpr double primal_check_floor = 1e-6;
 }  // namespace
 
 ContactSolver::ContactSolver(const mesh::Mesh& mesh, const Scene& scene, int threads, int min_dofs_per_thread,
-                             par::Group group, Progress* progress)
-    : setup_(mesh, scene, threads, min_dofs_per_thread, std::move(group), progress), progress_(progress) {}
+                             par::Group group, Progress* progress, double expected_qps)
+    : setup_(mesh, scene, threads, min_dofs_per_thread, std::move(group), progress, expected_qps),
+      progress_(progress) {}
 
-const DualProblem& ContactSolver::problem(const BondState& bonds) {
-  if (!problem_ || bonds != problem_bonds_) {
-    problem_ = std::make_unique<DualProblem>(setup_, build_constraints(setup_.mesh(), setup_.scene(), bonds));
-    problem_bonds_ = bonds;
-    norm_PFP_ = 0;
+ContactSolver::Cached& ContactSolver::cached(const BondState& bonds) {
+  Cached& c = bonds == intact() ? intact_ : other_;
+  if (!c.dual || bonds != c.bonds) {
+    c.dual = std::make_unique<DualProblem>(setup_, build_constraints(setup_.mesh(), setup_.scene(), bonds));
+    c.bonds = bonds;
+    c.norm_PFP = estimate_norm_PFP(*c.dual);
   }
-  return *problem_;
+  return c;
 }
+
+const DualProblem& ContactSolver::problem(const BondState& bonds) { return *cached(bonds).dual; }
 
 Solution ContactSolver::solve_fixed(const Eigen::Vector3d& sigma, const BondState& bonds,
                                     const Eigen::VectorXd* warm_lambda, const Eigen::VectorXd* warm_multiplier) {
@@ -104,19 +117,21 @@ Solution ContactSolver::solve_fixed(const Eigen::Vector3d& sigma, const BondStat
     throw InputError("bond state has " + std::to_string(bonds.size()) + " entries, the mesh " +
                      std::to_string(setup_.mesh().interface_pairs.size()) + " interface pairs");
   const auto t0 = Clock::now();
-  const bool rebuilt = !problem_ || bonds != problem_bonds_;
+  const Cached& before = bonds == intact() ? intact_ : other_;
+  const bool rebuilt = !before.dual || bonds != before.bonds;
   if (rebuilt && progress_)
     progress_->update([&] { return "dual setup (B, G, GGᵀ), " + seconds_text(progress_->seconds()); });
-  const DualProblem& dual = problem(bonds);
+  Cached& c = cached(bonds);
+  const DualProblem& dual = *c.dual;
   const double dual_setup = rebuilt ? seconds_since(t0) : 0.0;
-  Solution out = solve_problem(dual, norm_PFP_, sigma, warm_lambda, warm_multiplier);
+  Solution out = solve_problem(dual, c.norm_PFP, sigma, warm_lambda, warm_multiplier);
   // A well-posed problem must not end in "failed": when the QP converged but the recovered
   // primal solution misses its check (a stiffness contrast amplifies the dual residual in u),
   // the dual tolerance does not give the accuracy this problem needs. Tighten it a decade at a
   // time and go on from the multipliers reached, down to min_qp_tolerance.
   while (out.qp_converged() && !out.primal_ok && out.qp_tolerance > min_qp_tolerance) {
     const double tighter = std::max(out.qp_tolerance / 10, min_qp_tolerance);
-    Solution next = solve_problem(dual, norm_PFP_, sigma, &out.lambda, &out.multiplier, tighter);
+    Solution next = solve_problem(dual, c.norm_PFP, sigma, &out.lambda, &out.multiplier, tighter);
     next.add_work(out);
     ++next.tightenings;
     out = std::move(next);
@@ -126,7 +141,7 @@ Solution ContactSolver::solve_fixed(const Eigen::Vector3d& sigma, const BondStat
   return out;
 }
 
-Solution ContactSolver::solve_problem(const DualProblem& dual, double& norm_PFP, const Eigen::Vector3d& sigma,
+Solution ContactSolver::solve_problem(const DualProblem& dual, double norm_PFP, const Eigen::Vector3d& sigma,
                                       const Eigen::VectorXd* warm_lambda, const Eigen::VectorXd* warm_multiplier,
                                       double qp_tolerance) {
   Solution out;
@@ -134,6 +149,9 @@ Solution ContactSolver::solve_problem(const DualProblem& dual, double& norm_PFP,
   out.sigma = sigma;
   out.seconds.assembly = setup_.seconds_assembly;
   out.seconds.factorisation = setup_.seconds_factorisation;
+  out.seconds.explicit_operators = setup_.seconds_explicit;
+  out.subdomains = setup_.n_stiff_subdomains();
+  out.explicit_subdomains = setup_.explicit_subdomains();
   const Constraints& con = dual.constraints();
   const int m = con.n_rows();
   out.n_rows = m;
@@ -154,11 +172,7 @@ Solution ContactSolver::solve_problem(const DualProblem& dual, double& norm_PFP,
   ProjectedPlusShiftedQ A_plus_shifted_Q(dual, &DualProblem::apply_F, m);
   const qp::LinearOperator A = [&](const Eigen::VectorXd& x, Eigen::VectorXd& y) { A_plus_shifted_Q(x, 0.0, y); };
   const qp::LinearOperator Q = [&](const Eigen::VectorXd& x, Eigen::VectorXd& y) { dual.apply_Q(x, y); };
-  long extra_applications = 1;  // Fλ₀
-  if (norm_PFP == 0) {
-    norm_PFP = qp::estimate_norm(A, m);
-    extra_applications += 20;
-  }
+  const long extra_applications = 1;  // Fλ₀
 
   const Eigen::VectorXd lower = con.lower - lambda0, upper = con.upper - lambda0;
   // The QP's unknown: λ − λ₀ (scaled rows), zero or the caller's warm start.
@@ -465,7 +479,7 @@ Solution ContactSolver::solve(const Eigen::Vector3d& sigma, const BondState& bon
     // all without adhesion.
     std::vector<int> breaking;
     if (adhesion && s.qp_converged()) {
-      const Constraints& con = problem_->constraints();
+      const Constraints& con = problem(current).constraints();
       for (int r = 0; r < con.n_rows(); ++r) {
         if (con.kind[r] != RowKind::normal && con.kind[r] != RowKind::tangential) continue;
         if (!current[con.pair[r]]) continue;
@@ -487,7 +501,7 @@ Solution ContactSolver::solve(const Eigen::Vector3d& sigma, const BondState& bon
       break;
     }
     // Carry the multipliers of the rows that stay over to the next problem as a warm start.
-    const Constraints& old = problem_->constraints();
+    const Constraints& old = problem(current).constraints();
     for (int p : breaking) {
       newly_broken += current[p] ? 1 : 0;
       current[p] = 0;
@@ -537,19 +551,26 @@ Constraints lifted_bonded(const mesh::Mesh& mesh, const Scene& scene, const Bond
 
 }  // namespace
 
+ContactSolver::Lifted& ContactSolver::lifted() {
+  if (!lifted_.dual) {
+    Constraints con =
+        lifted_bonded(setup_.mesh(), setup_.scene(), intact(), lifted_.lower, lifted_.upper, lifted_.linear);
+    lifted_.dual = std::make_unique<DualProblem>(setup_, std::move(con));
+    lifted_.norm_PFP = estimate_norm_PFP(*lifted_.dual);
+  }
+  return lifted_;
+}
+
 double ContactSolver::debond_onset(const Eigen::Vector3d& sigma, std::vector<int>* critical) {
   if (critical) critical->clear();
   if (!setup_.scene().interface.has_adhesion()) return std::numeric_limits<double>::infinity();
-  Eigen::VectorXd lower, upper;
-  bool linear;
-  Constraints con = lifted_bonded(setup_.mesh(), setup_.scene(), intact(), lower, upper, linear);
-  const DualProblem lifted(setup_, std::move(con));
-  double norm = 0;
-  const Solution s = solve_problem(lifted, norm, sigma, nullptr, nullptr,
+  Lifted& lifted = this->lifted();
+  const Eigen::VectorXd &lower = lifted.lower, &upper = lifted.upper;
+  const Solution s = solve_problem(*lifted.dual, lifted.norm_PFP, sigma, nullptr, nullptr,
                                    std::min(onset_qp_tolerance, setup_.scene().solver.tolerance));
   if (!s.converged()) return std::numeric_limits<double>::quiet_NaN();
   // The load factor at which row r reaches its bound (+inf where it never does along σ̄).
-  const Constraints& c = lifted.constraints();
+  const Constraints& c = lifted.dual->constraints();
   const auto reach = [&](int r) {
     const double lambda = s.lambda(r) / c.weight(r);
     if (lambda < 0 && std::isfinite(lower(r)) && lower(r) < 0) return lower(r) / lambda;
@@ -575,27 +596,24 @@ law::OnsetSurface ContactSolver::onset_surface() {
     out.message = "no adhesion: nothing to break";
     return out;
   }
-  Eigen::VectorXd lower, upper;
-  bool linear;
-  Constraints con = lifted_bonded(setup_.mesh(), setup_.scene(), intact(), lower, upper, linear);
   if (setup_.scene().load.boundary == Boundary::edges) {
     out.message = "the edges boundary has one load pattern, not a macro stress: its onset is debond_onset";
     return out;
   }
-  if (!linear) {
+  Lifted& lifted = this->lifted();
+  const Eigen::VectorXd &lower = lifted.lower, &upper = lifted.upper;
+  if (!lifted.linear) {
     out.message =
         "normal rows without normal strength stay contact rows: the bonded response is not linear, "
         "so the onset set is no polytope (use the onset per direction)";
     return out;
   }
-  const DualProblem lifted(setup_, std::move(con));
-  const Constraints& c = lifted.constraints();
+  const Constraints& c = lifted.dual->constraints();
   // Row forces per unit stress: column j = λ(e_j) in force units.
   const int n_unit = setup_.scene().load.boundary == Boundary::symmetry ? 2 : 3;
   Eigen::MatrixXd a = Eigen::MatrixXd::Zero(c.n_rows(), 3);
-  double norm = 0;
   for (int j = 0; j < n_unit; ++j) {
-    const Solution s = solve_problem(lifted, norm, Eigen::Vector3d::Unit(j), nullptr, nullptr,
+    const Solution s = solve_problem(*lifted.dual, lifted.norm_PFP, Eigen::Vector3d::Unit(j), nullptr, nullptr,
                                      std::min(onset_qp_tolerance, setup_.scene().solver.tolerance));
     if (!s.converged()) {
       out.message = "the unit solve " + std::to_string(j) + " did not converge: " + s.qp.message;

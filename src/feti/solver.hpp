@@ -37,6 +37,7 @@ struct KktReport {
 
 struct Timings {
   double assembly = 0, factorisation = 0;  // once per solver (setup)
+  double explicit_operators = 0;           // K⁺(b, b) of the explicit subdomains, once per solver
   double dual_setup = 0;                   // B, G, GGᵀ for the bond states used
   double qp = 0, recovery = 0;
   // Inside qp: the applications of F, of the projector Q (coarse problem) and of the
@@ -73,6 +74,7 @@ struct Solution {
   long newly_broken = 0;                               // bonds broken by this solve's debonding loop
   long debond_rounds = 0;                              // QP solves in the debonding loop
   long n_rows = 0;                                     // dim λ of the last QP
+  int subdomains = 0, explicit_subdomains = 0;         // (not the macro one) and how many apply F explicitly
   qp::Result qp;                                       // of the last QP
   // The QPs' counters over all QPs of this solve; operator_applications also counts the F
   // applications outside them (Fλ₀, the norm estimate), preconditioner_applications the M⁻¹ ones.
@@ -105,10 +107,10 @@ class ContactSolver {
   // (FetiSetup); every call below is then collective over the group, and every rank gets the
   // whole Solution.
   // progress, when given, shows the phase and every SMALBE outer iteration while it works (it
-  // must outlive the solver).
+  // must outlive the solver). expected_qps: how many QPs the caller will solve (FetiSetup).
   ContactSolver(const mesh::Mesh& mesh, const Scene& scene, int threads = 1,
                 int min_dofs_per_thread = FetiSetup::default_min_dofs_per_thread, par::Group group = {},
-                Progress* progress = nullptr);
+                Progress* progress = nullptr, double expected_qps = 1);
   // The cached dual problem refers to setup_: not copyable, not movable.
   ContactSolver(const ContactSolver&) = delete;
   ContactSolver& operator=(const ContactSolver&) = delete;
@@ -140,11 +142,15 @@ class ContactSolver {
   // normal row has no normal strength and stays a contact row.
   law::OnsetSurface onset_surface();
 
-  // Drops the cached dual problem (and its norm estimate), so that what follows does not
-  // depend on what was solved before: a resumed sweep then repeats an uninterrupted one.
+  // The dual problems are cached: the intact bond state's, the last other one's and the onset's
+  // (bonds lifted), each with its ‖PFP‖ estimate. Each is a function of its bond state alone
+  // (the estimate starts from a fixed vector), so a path solved from the cache gives the bits
+  // of one solved from scratch, and a resumed sweep repeats an uninterrupted one; a sweep's
+  // paths then cost their QPs. forget_dual drops them (to time a cold solve).
   void forget_dual() {
-    problem_.reset();
-    norm_PFP_ = 0;
+    intact_ = {};
+    other_ = {};
+    lifted_ = {};
   }
 
   const FetiSetup& setup() const { return setup_; }
@@ -154,7 +160,7 @@ class ContactSolver {
  private:
   // One QP at the dual tolerance `qp_tolerance` (the scene's when ≤ 0); the primal check always
   // uses the scene's tolerance.
-  Solution solve_problem(const DualProblem& problem, double& norm_PFP, const Eigen::Vector3d& sigma,
+  Solution solve_problem(const DualProblem& problem, double norm_PFP, const Eigen::Vector3d& sigma,
                          const Eigen::VectorXd* warm_lambda, const Eigen::VectorXd* warm_multiplier = nullptr,
                          double qp_tolerance = 0);
   void recover(const DualProblem& problem, const Eigen::VectorXd& f, const Eigen::VectorXd& d,
@@ -162,11 +168,24 @@ class ContactSolver {
   void report(const DualProblem& problem, const Eigen::VectorXd& f, const Eigen::VectorXd& lambda_scaled,
               Solution& out) const;
 
+  struct Cached {
+    std::unique_ptr<DualProblem> dual;
+    BondState bonds;
+    double norm_PFP = 0;  // ‖PFP‖ of dual, estimated when it is built
+  };
+  Cached& cached(const BondState& bonds);
+  // The bonded problem with the strengths lifted (debond_onset, onset_surface) and the bounds it
+  // lifted; linear: whether every bonded row has a normal strength (lifted_bonded).
+  struct Lifted : Cached {
+    Eigen::VectorXd lower, upper;
+    bool linear = false;
+  };
+  Lifted& lifted();
+
   FetiSetup setup_;
   Progress* progress_ = nullptr;
-  std::unique_ptr<DualProblem> problem_;
-  BondState problem_bonds_;
-  double norm_PFP_ = 0;  // ‖PFP‖ of problem_, estimated once per problem
+  Cached intact_, other_;
+  Lifted lifted_;
 };
 
 }  // namespace dualcell::feti

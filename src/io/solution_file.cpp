@@ -89,6 +89,9 @@ void write_solution(const std::filesystem::path& h5, const mesh::Mesh& mesh, con
     for (const auto& field : solver_seconds_fields)
       f.write_attribute("/solver", field.attribute, s.seconds.*field.seconds);
     f.write_attribute("/solver", "preconditioner", std::string(to_string(scene.solver.preconditioner)));
+    f.write_attribute("/solver", "dual_operator", std::string(to_string(scene.solver.dual_operator)));
+    f.write_attribute("/solver", "subdomains", std::int64_t{s.subdomains});
+    f.write_attribute("/solver", "explicit_subdomains", std::int64_t{s.explicit_subdomains});
     f.write_attribute("/solver", "tolerance", scene.solver.tolerance);
     f.write_attribute("/solver", "qp_tolerance", s.qp_tolerance);
     f.create_group("/kkt");

@@ -42,6 +42,7 @@ struct SolverSecondsField {
 inline constexpr SolverSecondsField solver_seconds_fields[] = {
     {"seconds_assembly", &feti::Timings::assembly},
     {"seconds_factorisation", &feti::Timings::factorisation},
+    {"seconds_explicit_operators", &feti::Timings::explicit_operators},
     {"seconds_dual_setup", &feti::Timings::dual_setup},
     {"seconds_qp", &feti::Timings::qp},
     {"seconds_recovery", &feti::Timings::recovery},

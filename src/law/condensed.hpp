@@ -45,7 +45,8 @@ struct CondensedCell {
   std::vector<std::uint8_t> bonded;  // the bond state of the unloaded cell, per pair
 
   // What the condensation measured: the asymmetry of 𝓗 before it was symmetrised (reciprocity,
-  // relative), its seconds, and the operator applications it took.
+  // relative), its seconds, and the applications of B K⁺ it took (F itself is summed from the
+  // subdomains' blocks F_s, DualProblem::explicit_F).
   double reciprocity_error = 0;
   double seconds = 0;
   long operator_applications = 0;

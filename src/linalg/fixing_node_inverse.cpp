@@ -26,7 +26,7 @@ std::vector<Eigen::Index> sorted_fixed_dofs(Eigen::Index n, std::span<const Eige
 }  // namespace
 
 FixingNodeInverse::FixingNodeInverse(const SparseMatrix& K, std::span<const Eigen::Index> fixed_dofs,
-                                     const CholmodOptions& options) {
+                                     const CholmodOptions& options, std::span<const Eigen::Index> last_dofs) {
   const Eigen::Index n = K.rows();
   if (K.rows() != K.cols())
     setup_error(n, "K is not square (" + std::to_string(K.rows()) + "x" + std::to_string(K.cols()) + ")");
@@ -86,13 +86,74 @@ FixingNodeInverse::FixingNodeInverse(const SparseMatrix& K, std::span<const Eige
     outer[c + 1] = pos;
   }
 
+  // The last DOFs in K_rr's numbering (fixed ones have none).
+  last_.assign(last_dofs.begin(), last_dofs.end());
+  std::vector<int> last_free;
+  {
+    std::vector<char> seen(static_cast<std::size_t>(n), 0);
+    for (Eigen::Index d : last_) {
+      if (d < 0 || d >= n || seen[d]) setup_error(n, "last DOF " + std::to_string(d) + " out of range or repeated");
+      seen[d] = 1;
+      if (new_index[d] >= 0) last_free.push_back(new_index[d]);
+    }
+  }
   SparseCholesky chol(options);  // released at the end: L_ is all that is kept
-  chol.compute(Krr);
+  chol.compute(Krr, last_free);
   SparseCholesky::TriangularFactor factor = chol.triangular_factor();
   L_ = std::move(factor.L);
   gather_.resize(static_cast<std::size_t>(nr));
   for (Eigen::Index k = 0; k < nr; ++k)
     gather_[static_cast<std::size_t>(k)] = free[static_cast<std::size_t>(factor.perm[static_cast<std::size_t>(k)])];
+  // The ordering must have put them last (CAMD's constraint): last_block_inverse relies on it.
+  const auto nb = static_cast<Eigen::Index>(last_free.size());
+  std::vector<char> is_last(static_cast<std::size_t>(n), 0);
+  for (Eigen::Index d : last_) is_last[d] = 1;
+  for (Eigen::Index k = nr - nb; k < nr; ++k)
+    if (!is_last[gather_[static_cast<std::size_t>(k)]])
+      throw CholeskyError(CholeskyStatus::invalid_input, CholeskyPhase::analyze, n_,
+                          "the constrained ordering did not put the last DOFs last");
+}
+
+double FixingNodeInverse::factor_flops() const noexcept {
+  double flops = 0;
+  for (Eigen::Index j = 0; j < L_.outerSize(); ++j) {
+    const double c = L_.outerIndexPtr()[j + 1] - L_.outerIndexPtr()[j];
+    flops += c * c;
+  }
+  return flops;
+}
+
+Eigen::MatrixXd FixingNodeInverse::last_block_inverse() const {
+  const auto nr = static_cast<Eigen::Index>(gather_.size());
+  Eigen::Index nb = 0;
+  for (Eigen::Index d : last_) nb += std::binary_search(fixed_.begin(), fixed_.end(), d) ? 0 : 1;
+  // L_bb, dense: the trailing nb columns of L, rows from nr − nb on (L is lower: nothing above).
+  Eigen::MatrixXd L_bb = Eigen::MatrixXd::Zero(nb, nb);
+  for (Eigen::Index j = nr - nb; j < nr; ++j)
+    for (SparseMatrix::InnerIterator it(L_, j); it; ++it) L_bb(it.row() - (nr - nb), j - (nr - nb)) = it.value();
+  // L_bb⁻¹ by a blocked triangular solve with the identity, then S_bb⁻¹ = L_bb⁻ᵀ L_bb⁻¹ into the
+  // lower triangle, mirrored. Eigen's own kernels, not a threaded BLAS (dpotri on OpenBLAS was
+  // 3× faster but its bits change with OpenBLAS's thread count, and so would the solution's
+  // with the number of ranks sharing a machine).
+  Eigen::MatrixXd L_inverse = Eigen::MatrixXd::Identity(nb, nb);
+  L_bb.triangularView<Eigen::Lower>().solveInPlace(L_inverse);
+  Eigen::MatrixXd S_inverse = Eigen::MatrixXd::Zero(nb, nb);
+  S_inverse.selfadjointView<Eigen::Lower>().rankUpdate(L_inverse.transpose());
+  S_inverse.triangularView<Eigen::StrictlyUpper>() = S_inverse.transpose();
+  // Back to last_'s order: position in the factor of each DOF.
+  std::vector<Eigen::Index> position(static_cast<std::size_t>(n_), -1);
+  for (Eigen::Index k = nr - nb; k < nr; ++k) position[gather_[static_cast<std::size_t>(k)]] = k - (nr - nb);
+  const auto m = static_cast<Eigen::Index>(last_.size());
+  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(m, m);
+  for (Eigen::Index j = 0; j < m; ++j) {
+    const Eigen::Index pj = position[last_[j]];
+    if (pj < 0) continue;  // fixed
+    for (Eigen::Index i = 0; i < m; ++i) {
+      const Eigen::Index pi = position[last_[i]];
+      if (pi >= 0) out(i, j) = S_inverse(pi, pj);
+    }
+  }
+  return out;
 }
 
 void FixingNodeInverse::apply(const Eigen::VectorXd& f, Eigen::VectorXd& x, Eigen::VectorXd& scratch) const {

@@ -33,12 +33,25 @@ class FixingNodeInverse {
   // fixed_dofs: distinct indices in [0, n), any order. Throws CholeskyError (setup phase for
   // bad DOF lists; analyze/factorize phases from CHOLMOD, e.g. not_positive_definite when the
   // fixed DOFs leave K_rr indefinite).
-  FixingNodeInverse(const SparseMatrix& K, std::span<const Eigen::Index> fixed_dofs,
-                    const CholmodOptions& options = {});
+  //
+  // last_dofs: distinct DOFs (fixed ones allowed) that the factor orders after all others, so
+  // that the trailing block L_bb of L is the factor of their Schur complement S_bb and
+  // K⁺(b, b) = S_bb⁻¹ = L_bb⁻ᵀ L_bb⁻¹ (last_block_inverse). Empty: the options' ordering.
+  FixingNodeInverse(const SparseMatrix& K, std::span<const Eigen::Index> fixed_dofs, const CholmodOptions& options = {},
+                    std::span<const Eigen::Index> last_dofs = {});
 
   // x = K⁺ f (zeros at the fixed DOFs). x must have size n(), scratch n() − fixed DOFs; f and x
   // may be the same object.
   void apply(const Eigen::VectorXd& f, Eigen::VectorXd& x, Eigen::VectorXd& scratch) const;
+
+  // K⁺(b, b), dense and symmetric, b the constructor's last_dofs in their given order (zero rows
+  // and columns at fixed DOFs): one dense triangular inverse of L_bb, no solve with all of L.
+  Eigen::MatrixXd last_block_inverse() const;
+  const std::vector<Eigen::Index>& last_dofs() const noexcept { return last_; }
+  // Nonzeros of L (the work of one sweep), and Σ_j nnz(L(:, j))², the multiply-adds of the
+  // factorisation that made it (the work of making it again).
+  Eigen::Index factor_nonzeros() const noexcept { return L_.nonZeros(); }
+  double factor_flops() const noexcept;
 
   Eigen::Index n() const noexcept { return n_; }
   // Size of the scratch apply() needs: n() minus the fixed DOFs.
@@ -47,12 +60,13 @@ class FixingNodeInverse {
   std::size_t bytes() const noexcept {
     return static_cast<std::size_t>(L_.nonZeros()) * (sizeof(double) + sizeof(SparseMatrix::StorageIndex)) +
            static_cast<std::size_t>(L_.outerSize() + 1) * sizeof(SparseMatrix::StorageIndex) +
-           (gather_.size() + fixed_.size()) * sizeof(Eigen::Index);
+           (gather_.size() + fixed_.size() + last_.size()) * sizeof(Eigen::Index);
   }
 
  private:
   Eigen::Index n_ = 0;
   std::vector<Eigen::Index> fixed_;  // sorted
+  std::vector<Eigen::Index> last_;   // as given
   // K_rr = Pᵀ L Lᵀ P as a plain CSC factor; gather_[k] = the DOF of K at position k of P K_rr Pᵀ.
   SparseMatrix L_;
   std::vector<Eigen::Index> gather_;

@@ -396,7 +396,7 @@ void SparseCholesky::check_lower_storage(const SparseMatrix& A, CholeskyPhase ph
                         "lower triangle is read (pass full or lower storage)");
 }
 
-void SparseCholesky::analyze(const SparseMatrix& pattern) {
+void SparseCholesky::analyze(const SparseMatrix& pattern, std::span<const int> last) {
   constexpr auto phase = CholeskyPhase::analyze;
   require_common(phase);
   if (pattern.rows() != pattern.cols()) {
@@ -411,6 +411,12 @@ void SparseCholesky::analyze(const SparseMatrix& pattern) {
     last_status_ = CholeskyStatus::invalid_input;
     throw;
   }
+  for (int j : last)
+    if (j < 0 || j >= pattern.rows()) {
+      last_status_ = CholeskyStatus::invalid_input;
+      throw CholeskyError(CholeskyStatus::invalid_input, phase, pattern.rows(),
+                          "column " + std::to_string(j) + " to order last is out of range");
+    }
   release();
   last_status_ = CholeskyStatus::ok;
   last_message_.clear();
@@ -435,9 +441,28 @@ void SparseCholesky::analyze(const SparseMatrix& pattern) {
 
   cholmod_sparse A = lower_view(pattern);
   cholmod_common* c = common_.get();
-  common_.begin_call();
-  cholmod_factor* L = cholmod_analyze(&A, c);
-  const int raw = common_.end_call();
+  cholmod_factor* L = nullptr;
+  int raw = CHOLMOD_OK;
+  if (last.empty()) {
+    common_.begin_call();
+    L = cholmod_analyze(&A, c);
+    raw = common_.end_call();
+  } else {
+    // CAMD with two constraint sets (0 first, 1 last), then that order as given: no other
+    // ordering tried and no postorder, which could move a `last` column forward.
+    std::vector<int> member(static_cast<std::size_t>(n_), 0), perm(static_cast<std::size_t>(n_));
+    for (int j : last) member[static_cast<std::size_t>(j)] = 1;
+    const int nmethods = c->nmethods, ordering = c->method[0].ordering, postorder = c->postorder;
+    common_.begin_call();
+    if (cholmod_camd(&A, nullptr, 0, member.data(), perm.data(), c)) {
+      c->nmethods = 1;
+      c->method[0].ordering = CHOLMOD_GIVEN;
+      c->postorder = 0;
+      L = cholmod_analyze_p(&A, perm.data(), nullptr, 0, c);
+      c->nmethods = nmethods, c->method[0].ordering = ordering, c->postorder = postorder;
+    }
+    raw = common_.end_call();
+  }
   if (L == nullptr || raw < CHOLMOD_OK) {
     if (L != nullptr) cholmod_free_factor(&L, c);
     throw_cholmod(phase, raw, "cholmod_analyze");
@@ -568,8 +593,8 @@ SparseCholesky::TriangularFactor SparseCholesky::triangular_factor() {
   return out;
 }
 
-CholeskyStatus SparseCholesky::compute(const SparseMatrix& matrix) {
-  analyze(matrix);
+CholeskyStatus SparseCholesky::compute(const SparseMatrix& matrix, std::span<const int> last) {
+  analyze(matrix, last);
   return factorize(matrix);
 }
 

@@ -241,14 +241,16 @@ class SparseCholesky {
   // Symbolic analysis (fill-reducing ordering, supernodes).  Only the
   // pattern of `pattern` is used.  Discards any previous factor (after the
   // argument checks have passed).
-  void analyze(const SparseMatrix& pattern);
+  // last: columns to order after all others (CAMD within each part, no postorder), so that
+  // the trailing block of L is the factor of their Schur complement; empty: the options' ordering.
+  void analyze(const SparseMatrix& pattern, std::span<const int> last = {});
 
   // Numeric factorization; requires analyze().  Returns ok or
   // numerical_warning, throws CholeskyError otherwise.
   CholeskyStatus factorize(const SparseMatrix& matrix);
 
   // analyze(matrix) followed by factorize(matrix).
-  CholeskyStatus compute(const SparseMatrix& matrix);
+  CholeskyStatus compute(const SparseMatrix& matrix, std::span<const int> last = {});
 
   // x = A^{-1} b.  Requires a successful factorize(); b.size() == n().
   void solve(const Eigen::VectorXd& b, Eigen::VectorXd& x);

@@ -80,7 +80,7 @@ io::RankEntry rank_entry(const feti::ContactSolver& solver, const feti::Timings&
   e.dofs = setup.owned_dofs();
   e.subdomain_bytes = static_cast<std::int64_t>(setup.owned_bytes());
   e.peak_rss_bytes = static_cast<std::int64_t>(par::peak_rss_bytes());
-  e.seconds_setup = setup.seconds_assembly + setup.seconds_factorisation;
+  e.seconds_setup = setup.seconds_assembly + setup.seconds_factorisation + setup.seconds_explicit;
   e.seconds_apply = t.qp_F + t.qp_preconditioner - t.qp_communication;
   e.seconds_communication = t.qp_communication;
   e.exchanges = t.exchanges;
@@ -179,6 +179,8 @@ void print_solve_summary(const SolveOptions& options, const SolveOutcome& outcom
   }
   std::printf("  boundary %s, adhesion %s, dim u %d, dim lambda %ld\n", to_string(scene.load.boundary),
               scene.interface.has_adhesion() ? "yes" : "no", outcome.dim_u, s.n_rows);
+  std::printf("  dual operator %s: explicit in %d of %d subdomains\n", to_string(scene.solver.dual_operator),
+              s.explicit_subdomains, s.subdomains);
   std::printf(
       "  status %s: %ld outer iterations, %ld operator applications (%ld CG, %ld expansion, %ld proportioning)\n",
       qp::to_string(s.qp.status), s.counters.outer_iterations, s.counters.operator_applications, s.counters.cg_steps,
@@ -200,10 +202,10 @@ void print_solve_summary(const SolveOptions& options, const SolveOutcome& outcom
       s.kkt.relative_projected_gradient, s.kkt.relative_equality_residual, s.kkt.bound_violation, s.kkt.complementarity,
       s.kkt.max_penetration, s.kkt.max_glue_jump, s.kkt.relative_equilibrium);
   std::printf(
-      "  seconds: assembly %.3f, factorisation %.3f, dual setup %.3f, QP %.3f (F %.3f, Q %.3f, M^-1 %.3f), "
-      "recovery %.3f; %d thread(s)\n",
-      s.seconds.assembly, s.seconds.factorisation, s.seconds.dual_setup, s.seconds.qp, s.seconds.qp_F, s.seconds.qp_Q,
-      s.seconds.qp_preconditioner, s.seconds.recovery, outcome.threads_used);
+      "  seconds: assembly %.3f, factorisation %.3f, explicit F_s %.3f, dual setup %.3f, QP %.3f (F %.3f, Q %.3f, "
+      "M^-1 %.3f), recovery %.3f; %d thread(s)\n",
+      s.seconds.assembly, s.seconds.factorisation, s.seconds.explicit_operators, s.seconds.dual_setup, s.seconds.qp,
+      s.seconds.qp_F, s.seconds.qp_Q, s.seconds.qp_preconditioner, s.seconds.recovery, outcome.threads_used);
   if (scene.solver.preconditioner != Preconditioner::none)
     std::printf("  preconditioner %s: %ld applications\n", to_string(scene.solver.preconditioner),
                 s.counters.preconditioner_applications);

@@ -133,11 +133,16 @@ SweepSummary run_sweep(const SweepOptions& options) {
   const int ranks = par::size();
   const par::Group group = par::Group::world().split(par::rank() / std::max(1, options.ranks_per_path));
   const bool leader = group.rank() == 0;
-  feti::ContactSolver solver(in.mesh, scene, options.threads, feti::FetiSetup::default_min_dofs_per_thread, group);
+  // The QPs this group will solve, for the choice of dual operator: its share of the paths'
+  // loads (bisections of a fuse and debond rounds come on top; the estimate errs low).
+  double loads = 0;
+  for (const sweep::PathSpec& spec : specs) loads += static_cast<double>(spec.loads.size());
+  const int groups = std::max(1, ranks / std::max(1, options.ranks_per_path));
+  feti::ContactSolver solver(in.mesh, scene, options.threads, feti::FetiSetup::default_min_dofs_per_thread, group,
+                             nullptr, std::max(1.0, loads / groups));
   // Three unit solves with every bond lifted; the sweep's own onsets are checked against it in
   // the fit. Nothing to compute without adhesion. Every rank has it (the journal's header).
   header.onset = solver.onset_surface();
-  solver.forget_dual();
   // The exact law, from the same factorisation: built by the group of rank 0, which writes sweep.h5.
   if (par::rank() < std::max(1, options.ranks_per_path)) {
     try {

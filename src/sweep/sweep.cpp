@@ -145,7 +145,6 @@ PathResult run_path(feti::ContactSolver& solver, const PathSpec& spec, double fu
   using Clock = std::chrono::steady_clock;
   PathResult result;
   result.spec = spec;
-  solver.forget_dual();
   const feti::BondState intact = solver.intact();
   const bool adhesion = solver.setup().scene().interface.has_adhesion();
 

@@ -122,6 +122,22 @@ TEST_F(SolveMpi, AnyNumberOfRanksGivesTheSerialSolutionWithTheSameIterations) {
   }
 }
 
+// The explicit dual operator on every subdomain: each rank forms F_s of the subdomains it owns
+// (their K⁺(b, b) never leaves it), and 2 ranks give the serial solution and counts.
+TEST_F(SolveMpi, ExplicitOperatorsOnTwoRanksGiveTheSerialSolution) {
+  std::string scene = debonding_block;
+  scene.replace(scene.find("[solver]\n"), 9, "[solver]\ndual_operator = \"explicit\"\n");
+  prepare(scene, debonding_stress);
+  const io::File serial = io::File::open_read(dir_ / "serial.h5");
+  ASSERT_EQ(serial.read_int_attribute_value("/solver", "explicit_subdomains"),
+            serial.read_int_attribute_value("/solver", "subdomains"));
+  const auto r = run_command(solve_command(mpiexec(2)) + (dir_ / "2-ranks.h5").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(compare_with_serial("2-ranks.h5", {"/solution/u", "/interface/lambda", "/macro/strain"}), "");
+  EXPECT_EQ(io::File::open_read(dir_ / "2-ranks.h5").read_int_attribute_value("/solver", "explicit_subdomains"),
+            serial.read_int_attribute_value("/solver", "explicit_subdomains"));
+}
+
 // A resolved structure (boundary = "edges"): load steps with the bond history, on 2 ranks.
 TEST_F(SolveMpi, AResolvedStructureOnTwoRanksGivesTheSerialSteps) {
   prepare(testing::scene_text(4, 1, 2, 0.3,

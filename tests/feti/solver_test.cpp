@@ -39,6 +39,63 @@ Scene ContactSolverOrders::make_scene(int ex, int ey, int degree, Boundary bound
 
 double relative_difference(const Eigen::VectorXd& a, const Eigen::VectorXd& b) { return (a - b).norm() / b.norm(); }
 
+// The explicit dual operator (F_s = B_s K⁺(b, b) B_sᵀ, docs/method.md §6a) is the implicit one
+// formed once: F x agrees with the two sweeps per subdomain to round-off, and a solve with
+// either gives the same answer to the QP's tolerance, on every boundary, with contact and with
+// adhesion (whose breaks change the rows F_s is formed for). Tolerances: F to 1e-11 (two
+// factorisations of one K_rr in two orderings, κ(K_rr) ~ 1e3–1e4 here, times ε); the solutions
+// to 1e-7, the dual tolerance 1e-10 amplified by cond(PFP) ≲ 1e2 with room, as above.
+TEST_P(ContactSolverOrders, ExplicitDualOperatorEqualsImplicit) {
+  for (Boundary boundary : {Boundary::symmetry, Boundary::traction, Boundary::periodic}) {
+    for (double strength : {0.0, 0.05}) {
+      Scene implicit = make_scene(2, 2, 2, boundary, 20.0, 1.0, strength);
+      implicit.solver.dual_operator = DualOperator::implicit;
+      Scene explicit_ = implicit;
+      explicit_.solver.dual_operator = DualOperator::explicit_;
+      const mesh::Mesh m = mesh::build_mesh(implicit.geometry);
+      ContactSolver a(m, implicit), b(m, explicit_);
+      EXPECT_EQ(a.setup().explicit_subdomains(), 0);
+      EXPECT_EQ(b.setup().explicit_subdomains(), a.setup().n_stiff_subdomains());
+      const DualProblem &Fa = a.problem(a.intact()), &Fb = b.problem(b.intact());
+      ASSERT_EQ(Fa.n_rows(), Fb.n_rows());
+      Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(Fa.n_rows(), -1.0, 2.0).array().sin();
+      Eigen::VectorXd ya(Fa.n_rows()), yb(Fb.n_rows());
+      Fa.apply_F(x, ya);
+      Fb.apply_F(x, yb);
+      EXPECT_LE(relative_difference(yb, ya), 1e-11) << to_string(boundary);
+      EXPECT_LE((Fb.explicit_F() - Fa.explicit_F()).norm(), 1e-11 * Fa.explicit_F().norm()) << to_string(boundary);
+      const Eigen::Vector3d sigma =
+          boundary == Boundary::symmetry ? Eigen::Vector3d(0.3, -0.2, 0) : Eigen::Vector3d(0.3, -0.2, 0.1);
+      const Solution sa = a.solve(sigma, a.intact()), sb = b.solve(sigma, b.intact());
+      ASSERT_TRUE(sa.converged() && sb.converged()) << to_string(boundary) << " " << sb.qp.message;
+      EXPECT_EQ(sa.bonds, sb.bonds) << to_string(boundary);
+      EXPECT_LE(relative_difference(sb.u, sa.u), 1e-7) << to_string(boundary) << ", strength " << strength;
+      EXPECT_LE(relative_difference(sb.lambda, sa.lambda), 1e-7) << to_string(boundary) << ", strength " << strength;
+      if (strength > 0 && boundary != Boundary::symmetry) {
+        EXPECT_GT(sa.newly_broken, 0) << "the load must break bonds";
+      }
+    }
+  }
+}
+
+// "auto" forms the explicit operator where the cost model says it pays: nowhere for no QP at
+// all, everywhere for a long sweep of these small subdomains (their interface is large against
+// their interior, so the dense product is far cheaper than the sweeps).
+TEST_P(ContactSolverOrders, AutomaticDualOperatorFollowsTheCostModel) {
+  const Scene scene = make_scene(2, 2, 3, Boundary::periodic, 20.0, 1.0, 0.0);
+  ASSERT_EQ(scene.solver.dual_operator, DualOperator::automatic);
+  const mesh::Mesh m = mesh::build_mesh(scene.geometry);
+  const ContactSolver none(m, scene, 1, FetiSetup::default_min_dofs_per_thread, {}, nullptr, 0.0);
+  const ContactSolver many(m, scene, 1, FetiSetup::default_min_dofs_per_thread, {}, nullptr, 1e4);
+  EXPECT_EQ(none.setup().explicit_subdomains(), 0);
+  EXPECT_EQ(many.setup().explicit_subdomains(), many.setup().n_stiff_subdomains());
+  for (const FloatingSubdomain& sub : many.setup().subdomains()) {
+    if (sub.is_macro) continue;
+    EXPECT_LT(sub.cost.explicit_apply, sub.cost.implicit_apply) << "subdomain " << sub.index;
+    EXPECT_EQ(sub.K_plus_bb.rows(), static_cast<Eigen::Index>(sub.boundary_dofs.size()));
+  }
+}
+
 // Bonded interfaces (strengths so large that nothing breaks): the dual solution equals the
 // primal solve of the same mesh as one body. Tolerance 1e-8: the QP stops at a relative
 // projected gradient of 1e-10, and the dual error is amplified by at most cond(PFP|ker G)

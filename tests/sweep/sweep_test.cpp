@@ -78,9 +78,12 @@ TEST_P(SweepOrders, WithoutAdhesionLinearBimodularAndDirectional) {
     }
     // The warm start (λ and SMALBE's multiplier scaled to the new load) is the exact answer of
     // a positively homogeneous step: a check of the gradient, not a new solve (measured 2).
-    for (std::size_t k = 1; k < r.steps.size(); ++k)
+    // The first step is a cold QP (measured 6–100 applications; the norm estimate of ‖PFP‖ is
+    // part of building the cached problem, counted in no step), every later one costs less.
+    for (std::size_t k = 1; k < r.steps.size(); ++k) {
       EXPECT_LE(r.steps[k].operator_applications, 10) << "step " << k << " of path " << i;
-    EXPECT_GT(r.steps[0].operator_applications, 20);
+      EXPECT_LT(r.steps[k].operator_applications, r.steps[0].operator_applications) << "step " << k << " of path " << i;
+    }
   }
   // Stiff fibres: softer in tension than in compression, in every direction.
   for (int d = 0; d < 3; ++d) EXPECT_LT(E[2 * d] * 1.2, E[2 * d + 1]) << "direction " << d;
