@@ -1,7 +1,8 @@
 // dualcell-bench: the performance tables and summary.json (study/bench.hpp): numerical
 // scalability, preconditioners, the linear-solve floor, threads, sweep steps, memory, the exact law.
 //
-//   dualcell-bench --out-dir pipelines/out/bench [--quick] [--floor-only] [--exact-law-only] [--threads N]
+//   dualcell-bench --out-dir pipelines/out/bench [--quick] [--floor-only] [--exact-law-only] [--operators-only]
+//   [--threads N]
 #include <cstdio>
 
 #include "apps/options.hpp"
@@ -21,6 +22,10 @@ int main(int argc, char** argv) {
   bool exact_law_only = false;
   app.add_flag("--exact-law-only", exact_law_only,
                "only the exact law against the full solve of its cell: exact_law.md, exact_law.json");
+  bool operators_only = false;
+  app.add_flag("--operators-only", operators_only,
+               "only the dual operators (cost model against the clock, one solve with each): operators.md, "
+               "operators.json");
   app.add_option("--threads", options.threads, "threads for the multi-threaded rows; 0 = OMP_NUM_THREADS or all cores")
       ->check(CLI::Range(0, 4096));
   if (const auto stop = dualcell::parse_options(app, argc, argv)) return *stop;
@@ -28,6 +33,7 @@ int main(int argc, char** argv) {
     using namespace dualcell::study;
     std::fputs((floor_only       ? run_floor_only(options)
                 : exact_law_only ? run_exact_law_only(options)
+                : operators_only ? run_operators_only(options)
                                  : run_bench(options))
                    .c_str(),
                stdout);

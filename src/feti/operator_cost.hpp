@@ -28,7 +28,7 @@ struct OperatorCost {
   // Seconds per nonzero of L per application (both sweeps with the gather and scatter), per
   // entry of F_s per dense product, per multiply-add of the simplicial factorisation, and per
   // flop of the dense inverse.
-  static constexpr double c_sweep = 1.5e-9, c_gemv = 0.13e-9, c_factor = 1.4e-9, c_dense = 0.5e-9;
+  static constexpr double c_sweep = 1.4e-9, c_gemv = 0.1e-9, c_factor = 0.7e-9, c_dense = 0.4e-9;
   // Applications of F per QP (with the norm estimate of a cold problem): one solve of the bench's
   // cells takes 150–260, a sweep's paths from the cached problem fewer.
   static constexpr double applications_per_qp = 200;

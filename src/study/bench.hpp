@@ -19,5 +19,8 @@ std::string run_floor_only(const BenchOptions& options);
 // Only the exact law (one cell's condensed law per evaluation against its full solve):
 // exact_law.md and exact_law.json.
 std::string run_exact_law_only(const BenchOptions& options);
+// Only the dual operators (the cost model against the clock per subdomain, one solve with each
+// operator): operators.md and operators.json.
+std::string run_operators_only(const BenchOptions& options);
 
 }  // namespace dualcell::study
