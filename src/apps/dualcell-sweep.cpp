@@ -43,6 +43,9 @@ int main(int argc, char** argv) {
         if (!quiet && s.written)
           std::printf("dualcell-sweep: %d paths -> %s (%d with a fuse, %d steps not converged, %d resumed), %.2f s\n",
                       s.paths, options.out.c_str(), s.fuses, s.unconverged_steps, s.resumed, s.seconds);
+        if (!quiet && s.written)
+          std::printf("dualcell-sweep: dual operator %s: explicit in %d of %d subdomains\n", s.dual_operator.c_str(),
+                      s.explicit_subdomains, s.subdomains);
         if (!quiet && s.written && s.cell_rows > 0)
           std::printf("dualcell-sweep: exact law: the cell condensed onto %d interface rows, %.0f kB, in %.2f s\n",
                       s.cell_rows, s.cell_bytes / 1e3, s.cell_seconds);

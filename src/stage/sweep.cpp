@@ -206,6 +206,9 @@ SweepSummary run_sweep(const SweepOptions& options) {
   io::write_sweep(options.out, results, header);
   summarise(summary, results, header);
   summary.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  summary.dual_operator = to_string(scene.solver.dual_operator);
+  summary.subdomains = solver.setup().n_stiff_subdomains();
+  summary.explicit_subdomains = solver.setup().explicit_subdomains();
   return summary;
 }
 

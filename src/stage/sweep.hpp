@@ -28,6 +28,10 @@ struct SweepSummary {
   int cell_rows = 0;
   double cell_bytes = 0, cell_seconds = 0;
   std::string cell_note;
+  // The scene's [solver] dual_operator and how many of the subdomains it made explicit for this
+  // sweep (the solver of rank 0's group).
+  std::string dual_operator;
+  int subdomains = 0, explicit_subdomains = 0;
 };
 
 SweepSummary run_sweep(const SweepOptions& options);
