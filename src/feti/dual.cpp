@@ -8,31 +8,6 @@
 
 namespace dualcell::feti {
 
-namespace {
-
-// F_s = B_s K⁺ B_sᵀ = B_b K⁺(b, b) B_bᵀ, B_b the columns of B_s on the boundary DOFs b (every
-// DOF a row touches is one: FetiSetup::set_boundaries). Sparse times dense times sparse: a few
-// operations per entry of F_s, whatever bond state chose the rows.
-Eigen::MatrixXd local_F(const Eigen::SparseMatrix<double, Eigen::RowMajor>& B, const FloatingSubdomain& sub) {
-  std::vector<int> position(sub.n_dofs, -1);
-  for (std::size_t k = 0; k < sub.boundary_dofs.size(); ++k) position[sub.boundary_dofs[k]] = static_cast<int>(k);
-  std::vector<Eigen::Triplet<double>> entries;
-  for (int r = 0; r < B.outerSize(); ++r)
-    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(B, r); it; ++it) {
-      if (position[it.col()] < 0)
-        throw std::logic_error("explicit dual operator: a row touches an interior DOF of subdomain " +
-                               std::to_string(sub.index));
-      entries.emplace_back(r, position[it.col()], it.value());
-    }
-  Eigen::SparseMatrix<double, Eigen::RowMajor> B_b(B.rows(), static_cast<Eigen::Index>(sub.boundary_dofs.size()));
-  B_b.setFromTriplets(entries.begin(), entries.end());
-  const Eigen::MatrixXd BK = B_b * sub.K_plus_bb;
-  Eigen::MatrixXd F = BK * B_b.transpose();
-  return 0.5 * (F + F.transpose());  // symmetric to the last bit, as the QP's CG assumes
-}
-
-}  // namespace
-
 DualProblem::DualProblem(const FetiSetup& setup, Constraints constraints)
     : setup_(setup), constraints_(std::move(constraints)) {
   const auto& subs = setup.subdomains();
@@ -40,16 +15,11 @@ DualProblem::DualProblem(const FetiSetup& setup, Constraints constraints)
   locals_.resize(n_subdomains);
 
   // Split B by subdomain: which rows touch it, and the local block.
-  const auto& B = constraints_.B;
-  std::vector<std::vector<Eigen::Triplet<double>>> triplets(n_subdomains);
-  for (int r = 0; r < B.rows(); ++r)
-    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(B, r); it; ++it) {
-      const int s = setup.subdomain_of_dof(static_cast<int>(it.col()));
-      Local& local = locals_[s];
-      if (local.rows.empty() || local.rows.back() != r) local.rows.push_back(r);
-      triplets[s].emplace_back(static_cast<int>(local.rows.size()) - 1, static_cast<int>(it.col()) - subs[s].dof_begin,
-                               it.value());
-    }
+  std::vector<FetiSetup::LocalRows> split = setup.split_rows(constraints_.B);
+  for (int s = 0; s < n_subdomains; ++s) {
+    locals_[s].rows = std::move(split[s].rows);
+    locals_[s].B = std::move(split[s].B);
+  }
 
   // R̂_i: the rigid modes that B_i sees. The Gram matrix (B_i R_i)ᵀ(B_i R_i) is 3×3; its
   // eigenvectors with eigenvalues above round-off span what the constraints control.
@@ -58,8 +28,6 @@ DualProblem::DualProblem(const FetiSetup& setup, Constraints constraints)
   for (int s = 0; s < n_subdomains; ++s) {
     Local& local = locals_[s];
     const int n_local = static_cast<int>(local.rows.size());
-    local.B.resize(n_local, subs[s].n_dofs);
-    local.B.setFromTriplets(triplets[s].begin(), triplets[s].end());
     const Eigen::MatrixXd BR = local.B * subs[s].R;
     const Eigen::Matrix3d gram = BR.transpose() * BR;
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(gram);
@@ -79,7 +47,18 @@ DualProblem::DualProblem(const FetiSetup& setup, Constraints constraints)
         if (M(k, j) != 0) G_triplets.emplace_back(G_rows + j, local.rows[k], M(k, j));
     G_rows += static_cast<int>(M.cols());
     if (!setup.owns(s)) continue;  // no scratch where another rank applies K⁺
-    if (subs[s].explicit_operator) local.F = local_F(local.B, subs[s]);
+    if (subs[s].explicit_operator) {
+      if (subs[s].F_intact.size() > 0) {
+        // No adhesion: these are the intact rows the setup formed F_s for.
+        if (subs[s].F_intact.rows() != n_local)
+          throw std::logic_error("explicit dual operator: subdomain " + std::to_string(s) +
+                                 " has other rows than the intact ones of its F_s");
+        local.F = &subs[s].F_intact;
+      } else {
+        local.F_own = subs[s].F_of(local.B);
+        local.F = &local.F_own;
+      }
+    }
     local.lambda_local.resize(n_local);
     local.z.resize(n_local);
     local.y.resize(subs[s].n_dofs);
@@ -183,7 +162,7 @@ void DualProblem::apply_F(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
     if (local.rows.empty()) return;
     for (std::size_t k = 0; k < local.rows.size(); ++k) local.lambda_local(k) = x(local.rows[k]);
     if (subs[s].explicit_operator) {
-      local.z.noalias() = local.F * local.lambda_local;
+      local.z.noalias() = *local.F * local.lambda_local;
       return;
     }
     local.y.noalias() = local.B.transpose() * local.lambda_local;
@@ -322,7 +301,8 @@ Eigen::MatrixXd DualProblem::explicit_F() const {
     const Local& local = locals_[s];
     const auto n = static_cast<Eigen::Index>(local.rows.size());
     if (subs[s].is_macro || n == 0) continue;
-    Eigen::MatrixXd F_s = local.F;
+    Eigen::MatrixXd F_s;
+    if (subs[s].explicit_operator) F_s = *local.F;
     if (!subs[s].explicit_operator) {
       F_s.resize(n, n);
       Eigen::VectorXd unit = Eigen::VectorXd::Zero(n);

@@ -47,8 +47,10 @@ class DualProblem {
     Eigen::MatrixXd V;                               // 3 × r_i: R_hat = R V
     int G_offset = 0;                                // first row of G for this subdomain
     // F_s = B_s K_s⁺ B_sᵀ (rows × rows, dense) where the subdomain applies F explicitly
-    // (FloatingSubdomain::explicit_operator), formed from K⁺(b, b); empty where implicit.
-    Eigen::MatrixXd F;
+    // (FloatingSubdomain::explicit_operator): the setup's F_intact without adhesion, else formed
+    // here from K⁺(b, b) into F_own; null where implicit.
+    const Eigen::MatrixXd* F = nullptr;
+    Eigen::MatrixXd F_own;
     // Preconditioner row factors δ_ri / w_r² (see apply_preconditioner); empty without one.
     Eigen::VectorXd preconditioner_scale;
     // Where each of `rows` is summed in this rank's part of the exchange (owned subdomains only).

@@ -44,7 +44,7 @@ std::size_t FloatingSubdomain::bytes() const {
   std::size_t total = sparse(K) + static_cast<std::size_t>(R.size()) * sizeof(double);
   if (K_plus) total += K_plus->bytes();
   if (K_ii_inverse) total += K_ii_inverse->bytes();
-  total += static_cast<std::size_t>(K_plus_bb.size()) * sizeof(double);
+  total += static_cast<std::size_t>(K_plus_bb.size() + F_intact.size()) * sizeof(double);
   return total;
 }
 
@@ -138,7 +138,8 @@ FetiSetup::FetiSetup(const mesh::Mesh& mesh, const Scene& scene, int threads, in
 
   const DualOperator dual_operator = scene.solver.dual_operator;
   const bool dirichlet = scene.solver.preconditioner == Preconditioner::dirichlet;
-  if (dirichlet || dual_operator != DualOperator::implicit) set_boundaries();
+  Eigen::SparseMatrix<double, Eigen::RowMajor> intact_B;
+  if (dirichlet || dual_operator != DualOperator::implicit) intact_B = set_boundaries();
 
   // K⁺ once per mesh and material: the factorisations every load case reuses. Subdomains are
   // small (hundreds to a few thousand DOFs), where a simplicial factor is as fast as a
@@ -170,6 +171,8 @@ FetiSetup::FetiSetup(const mesh::Mesh& mesh, const Scene& scene, int threads, in
   if (dual_operator == DualOperator::implicit) return;
   const auto t2 = Clock::now();
   phase("explicit dual operators");
+  const bool fixed_rows = !scene.interface.has_adhesion();
+  const std::vector<LocalRows> intact_rows = fixed_rows ? split_rows(intact_B) : std::vector<LocalRows>();
   for_each_subdomain([&](int s) {
     FloatingSubdomain& sub = subdomains_[s];
     if (sub.is_macro) return;
@@ -178,13 +181,54 @@ FetiSetup::FetiSetup(const mesh::Mesh& mesh, const Scene& scene, int threads, in
     if (!sub.explicit_operator) return;
     if (!all_explicit) factorise(sub, true);
     sub.K_plus_bb = sub.K_plus->last_block_inverse();
+    if (fixed_rows) {
+      sub.F_intact = sub.F_of(intact_rows[s].B);
+      sub.K_plus_bb = Eigen::MatrixXd();
+    }
   });
   seconds_explicit = seconds_since(t2);
   for (double n : group_.gather(std::vector<double>{static_cast<double>(owned_explicit())}))
     explicit_subdomains_ += static_cast<int>(n);
 }
 
-void FetiSetup::set_boundaries() {
+std::vector<FetiSetup::LocalRows> FetiSetup::split_rows(const Eigen::SparseMatrix<double, Eigen::RowMajor>& B) const {
+  std::vector<LocalRows> out(subdomains_.size());
+  std::vector<std::vector<Eigen::Triplet<double>>> triplets(subdomains_.size());
+  for (int r = 0; r < B.rows(); ++r)
+    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(B, r); it; ++it) {
+      const int s = subdomain_of_dof_[it.col()];
+      LocalRows& local = out[s];
+      if (local.rows.empty() || local.rows.back() != r) local.rows.push_back(r);
+      triplets[s].emplace_back(static_cast<int>(local.rows.size()) - 1,
+                               static_cast<int>(it.col()) - subdomains_[s].dof_begin, it.value());
+    }
+  for (std::size_t s = 0; s < out.size(); ++s) {
+    out[s].B.resize(static_cast<Eigen::Index>(out[s].rows.size()), subdomains_[s].n_dofs);
+    out[s].B.setFromTriplets(triplets[s].begin(), triplets[s].end());
+  }
+  return out;
+}
+
+Eigen::MatrixXd FloatingSubdomain::F_of(const Eigen::SparseMatrix<double, Eigen::RowMajor>& B_s) const {
+  // Every DOF a row touches is a boundary DOF (FetiSetup::set_boundaries): B_b is B_s on them.
+  std::vector<int> position(n_dofs, -1);
+  for (std::size_t k = 0; k < boundary_dofs.size(); ++k) position[boundary_dofs[k]] = static_cast<int>(k);
+  std::vector<Eigen::Triplet<double>> entries;
+  for (int r = 0; r < B_s.outerSize(); ++r)
+    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(B_s, r); it; ++it) {
+      if (position[it.col()] < 0)
+        throw std::logic_error("explicit dual operator: a row touches an interior DOF of subdomain " +
+                               std::to_string(index));
+      entries.emplace_back(r, position[it.col()], it.value());
+    }
+  Eigen::SparseMatrix<double, Eigen::RowMajor> B_b(B_s.rows(), static_cast<Eigen::Index>(boundary_dofs.size()));
+  B_b.setFromTriplets(entries.begin(), entries.end());
+  const Eigen::MatrixXd BK = B_b * K_plus_bb;
+  const Eigen::MatrixXd F = BK * B_b.transpose();
+  return 0.5 * (F + F.transpose());  // symmetric to the last bit, as the QP's CG assumes
+}
+
+Eigen::SparseMatrix<double, Eigen::RowMajor> FetiSetup::set_boundaries() {
   // The nodes B touches with intact bonds (breaks remove rows, never columns), both
   // components: a free or loaded edge stays interior, where S_i must not clamp it.
   const Constraints rows = build_constraints(mesh_, scene_, intact_bonds(mesh_, scene_.interface));
@@ -206,6 +250,7 @@ void FetiSetup::set_boundaries() {
         sub.boundary_dofs.push_back(2 * (v - ms.node_begin) + 1);
       }
   });
+  return rows.B;
 }
 
 Eigen::VectorXd FetiSetup::load(const Eigen::Vector3d& sigma) const {

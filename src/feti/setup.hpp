@@ -46,8 +46,13 @@ struct FloatingSubdomain {
   int n_rows = 0;  // rows of B that touch it with intact bonds
   // The explicit dual operator (docs/method.md §6a): K⁺(b, b) on boundary_dofs, dense, from
   // which each bond state's F_s = B_s K⁺ B_sᵀ is formed (DualProblem); empty where implicit.
+  // Without adhesion no bond ever breaks and every problem has the intact rows: their F_s is
+  // formed here once (F_intact) and K⁺(b, b) released, which takes the explicit memory from b²
+  // to n_rows² doubles.
   bool explicit_operator = false;
-  Eigen::MatrixXd K_plus_bb;
+  Eigen::MatrixXd K_plus_bb, F_intact;
+  // F_s = B_s K⁺ B_sᵀ = B_b K⁺(b, b) B_bᵀ from K_plus_bb, for the rows B_s (local columns).
+  Eigen::MatrixXd F_of(const Eigen::SparseMatrix<double, Eigen::RowMajor>& B_s) const;
   OperatorCost cost;  // of both operators, as the choice saw them
   // The Dirichlet preconditioner only (S_i = K_bb − K_bi K_ii⁻¹ K_ib): K_ii⁻¹ as the
   // pseudo-inverse fixing exactly boundary_dofs.
@@ -130,6 +135,14 @@ class FetiSetup {
     }
     if (failure) std::rethrow_exception(failure);
   }
+  // The rows of B (any constraint set over these DOFs) that touch each subdomain, ascending, and
+  // their block on its DOFs (local columns): B_s of F = Σ B_s K_s⁺ B_sᵀ.
+  struct LocalRows {
+    std::vector<int> rows;
+    Eigen::SparseMatrix<double, Eigen::RowMajor> B;
+  };
+  std::vector<LocalRows> split_rows(const Eigen::SparseMatrix<double, Eigen::RowMajor>& B) const;
+
   // How many of this rank's subdomains apply F explicitly, and of all ranks'; the subdomains
   // with a stiffness (all but the macro one).
   int owned_explicit() const;
@@ -138,8 +151,8 @@ class FetiSetup {
   double seconds_assembly = 0, seconds_factorisation = 0, seconds_explicit = 0;
 
  private:
-  // FloatingSubdomain::boundary_dofs and n_rows from the rows of the intact bonds.
-  void set_boundaries();
+  // FloatingSubdomain::boundary_dofs and n_rows from the rows of the intact bonds (returned).
+  Eigen::SparseMatrix<double, Eigen::RowMajor> set_boundaries();
 
   const mesh::Mesh& mesh_;
   Scene scene_;

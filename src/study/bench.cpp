@@ -436,7 +436,7 @@ void dual_operators(std::ostringstream& md, JsonObject& json) {
       Eigen::VectorXd y = Eigen::VectorXd::LinSpaced(sub.n_dofs, -1, 1), x(sub.n_dofs),
                       scratch(sub.K_plus->scratch_size());
       const double t_implicit = median_seconds(50, [&] { sub.K_plus->apply(y, x, scratch); });
-      const Eigen::MatrixXd& F = dual.locals()[sub.index].F;
+      const Eigen::MatrixXd& F = *dual.locals()[sub.index].F;
       Eigen::VectorXd l = Eigen::VectorXd::LinSpaced(F.rows(), -1, 1), z(F.rows());
       const double t_explicit = median_seconds(50, [&] { z.noalias() = F * l; });
       const auto t0 = Clock::now();
