@@ -302,8 +302,9 @@ Eigen::MatrixXd DualProblem::explicit_F() const {
     const auto n = static_cast<Eigen::Index>(local.rows.size());
     if (subs[s].is_macro || n == 0) continue;
     Eigen::MatrixXd F_s;
-    if (subs[s].explicit_operator) F_s = *local.F;
-    if (!subs[s].explicit_operator) {
+    if (subs[s].explicit_operator) {
+      F_s = *local.F;
+    } else {
       F_s.resize(n, n);
       Eigen::VectorXd unit = Eigen::VectorXd::Zero(n);
       for (Eigen::Index j = 0; j < n; ++j) {

@@ -47,7 +47,6 @@ class FixingNodeInverse {
   // K⁺(b, b), dense and symmetric, b the constructor's last_dofs in their given order (zero rows
   // and columns at fixed DOFs): one dense triangular inverse of L_bb, no solve with all of L.
   Eigen::MatrixXd last_block_inverse() const;
-  const std::vector<Eigen::Index>& last_dofs() const noexcept { return last_; }
   // Nonzeros of L (the work of one sweep), and Σ_j nnz(L(:, j))², the multiply-adds of the
   // factorisation that made it (the work of making it again).
   Eigen::Index factor_nonzeros() const noexcept { return L_.nonZeros(); }

@@ -493,36 +493,36 @@ void dual_operators(std::ostringstream& md, JsonObject& json) {
 
 }  // namespace
 
-std::string run_operators_only(const BenchOptions& options) {
+namespace {
+
+// One section of the benchmark alone: <name>.md and <name>.json in the output folder, written
+// together or not at all.
+template <class Section>
+std::string run_section_only(const BenchOptions& options, const std::string& name, const std::string& title,
+                             Section&& section) {
   std::filesystem::create_directories(options.out_dir);
   io::AtomicOutputs outputs;
-  const auto md_file = options.out_dir / "operators.md", json_file = options.out_dir / "operators.json";
+  const auto md_file = options.out_dir / (name + ".md"), json_file = options.out_dir / (name + ".json");
   outputs.add(md_file);
   outputs.add(json_file);
   std::ostringstream md;
   JsonObject json;
-  md << "# dualcell benchmark: dual operators\n";
-  dual_operators(md, json);
+  md << title;
+  section(md, json);
   outputs.write(md_file, md.str());
   outputs.write(json_file, json.str() + "\n");
   outputs.commit();
   return md.str();
 }
 
+}  // namespace
+
+std::string run_operators_only(const BenchOptions& options) {
+  return run_section_only(options, "operators", "# dualcell benchmark: dual operators\n", dual_operators);
+}
+
 std::string run_exact_law_only(const BenchOptions& options) {
-  std::filesystem::create_directories(options.out_dir);
-  io::AtomicOutputs outputs;
-  const auto md_file = options.out_dir / "exact_law.md", json_file = options.out_dir / "exact_law.json";
-  outputs.add(md_file);
-  outputs.add(json_file);
-  std::ostringstream md;
-  JsonObject json;
-  exact_law(md, json);
-  dual_operators(md, json);
-  outputs.write(md_file, md.str());
-  outputs.write(json_file, json.str() + "\n");
-  outputs.commit();
-  return md.str();
+  return run_section_only(options, "exact_law", "", exact_law);
 }
 
 std::string run_floor_only(const BenchOptions& options) {
@@ -684,6 +684,7 @@ std::string run_bench(const BenchOptions& options) {
   progress_section(tn, tk, md, json);
   sweep_step(quick, all, md, json);
   exact_law(md, json);
+  dual_operators(md, json);
   outputs.write(md_file, md.str());
   outputs.write(json_file, json.str() + "\n");
   outputs.commit();
