@@ -7,8 +7,9 @@ usage:
 Per law: the exact law (the cell condensed onto its interface rows: rows, kB, seconds of the
 condensation), its replay of the sweep it came from (points, largest relative strain error,
 whether the broken bonds agree), and the compact cone-wise law against it over the dense set of
-directions (/law/cone_check: largest and rms relative stress error, the worst direction).
-Writes OUT.md and OUT.csv beside it, atomically.
+directions (/law/cone_check: largest and rms relative stress error, the worst direction); with
+adhesion a second table, the compact law past the fuse against the exact law past the fuse
+(/law/cone_after_fuse_check). Writes OUT.md and OUT.csv beside it, atomically.
 """
 import csv
 import io
@@ -20,7 +21,8 @@ import common
 
 COLUMNS = ["scene", "interface_rows", "condense_s", "kB", "replay_points", "replay_max", "breaks_agree",
            "cone_directions", "cone_form", "cone_max", "cone_rms", "worst_sxx", "worst_syy", "worst_sxy",
-           "sweep_fit_max", "sweep_fit_rms"]
+           "sweep_fit_max", "sweep_fit_rms", "fuse_directions", "fuse_form", "fuse_max", "fuse_rms",
+           "fuse_worst_sxx", "fuse_worst_syy", "fuse_worst_sxy", "fuse_sweep_fit_max", "fuse_sweep_fit_rms"]
 
 
 def row(path):
@@ -43,6 +45,14 @@ def row(path):
                       "sweep_fit_rms": float(k["sweep_fit_rms_error"][0]), "cone_max": float(k["max_error"][0]),
                       "cone_rms": float(k["rms_error"][0]), "worst_sxx": worst[0], "worst_syy": worst[1],
                       "worst_sxy": worst[2]})
+        if "cone_after_fuse_check" in g:
+            k = g["cone_after_fuse_check"]
+            worst = k["worst"][:]
+            r.update({"fuse_directions": len(k["error"]), "fuse_form": common.text(g["cone_after_fuse"].attrs["form"]),
+                      "fuse_max": float(k["max_error"][0]), "fuse_rms": float(k["rms_error"][0]),
+                      "fuse_worst_sxx": worst[0], "fuse_worst_syy": worst[1], "fuse_worst_sxy": worst[2],
+                      "fuse_sweep_fit_max": float(k["sweep_fit_max_error"][0]),
+                      "fuse_sweep_fit_rms": float(k["sweep_fit_rms_error"][0])})
         return r
 
 
@@ -63,6 +73,16 @@ def markdown(rows):
         lines.append(f"| {r['scene']} | {r['interface_rows']} | {r['condense_s']:.2f} s, {r['kB']:.0f} kB | "
                      f"{r['replay_points']}, {r['replay_max']:.1e} | {r['breaks_agree']} | {form} | {cone} | {worst} | "
                      f"{sweep_fit} |")
+    fused = [r for r in rows if "fuse_max" in r]
+    if fused:
+        lines += ["", "Past the fuse (each direction loaded through its cascade to twice its onset):", "",
+                  "| scene | cone-wise law after the fuse kept | against the exact law: directions, max, rms | worst "
+                  "direction (σxx, σyy, σxy) | the form fitted to the sweep: max, rms |", "|---|---|---|---|---|"]
+        for r in fused:
+            lines.append(f"| {r['scene']} | {r['fuse_form']} | {r['fuse_directions']}, {100 * r['fuse_max']:.1f} %, "
+                         f"{100 * r['fuse_rms']:.1f} % | ({r['fuse_worst_sxx']:.2f}, {r['fuse_worst_syy']:.2f}, "
+                         f"{r['fuse_worst_sxy']:.2f}) | {100 * r['fuse_sweep_fit_max']:.1f} %, "
+                         f"{100 * r['fuse_sweep_fit_rms']:.1f} % |")
     return "\n".join(lines) + "\n"
 
 

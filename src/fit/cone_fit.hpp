@@ -40,8 +40,10 @@ law::ConeFit fit_cone(const std::vector<ConePoint>& points, int n_directions,
 // symmetries exactly. The orbits with the largest β are kept, at most law::max_planes planes,
 // and refitted. Its residuals (relative_residual, direction_residual) are over the sweep's
 // `points`, as fit_cone's are; form "planes fitted to the exact law, N symmetries of the cell".
-// Not ok where no admissible law results.
+// Not ok where no admissible law results. `past_fuse`: the same fitted to the exact law past the
+// fuse (law::sample_cell_past_fuse), for Law::cone_after_fuse.
+enum class Fitted { bonded, past_fuse };
 law::ConeFit fit_cone_to_cell(const law::CondensedCell& cell, const std::vector<ConePoint>& points, int n_directions,
-                              int n = 800);
+                              Fitted fitted = Fitted::bonded, int n = 800);
 
 }  // namespace dualcell::fit

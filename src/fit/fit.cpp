@@ -285,25 +285,40 @@ void rank_one_test(law::Law& law) {
   law.cone_wise_linear = law.cone_rank_one_ratio < 0.05;
 }
 
-// With the exact law: the compact law measured against it, fitted to it as well, and the one
-// that misses it least (measured on directions other than those it was fitted to) kept.
-void check_against_cell(law::Law& law, const std::vector<ConePoint>& bonded, int n_directions) {
-  const law::CellSample sample = law::sample_cell(*law.cell, 1000);
-  if (law.cone.ok) law.cone_check = law::check_cone(law.cone.law, sample);
-  const law::ConeCheck sweep_fit = law.cone_check;
-  law::ConeFit from_cell = fit_cone_to_cell(*law.cell, bonded, n_directions);
-  if (from_cell.ok) {
-    const law::ConeCheck check = law::check_cone(from_cell.law, sample);
-    if (!law.cone.ok || check.max_error < law.cone_check.max_error) {
-      from_cell.one_plane_residual = law.cone.one_plane_residual;  // the sweep's forms, as tried
-      from_cell.struts_residual = law.cone.struts_residual;
-      law.cone = from_cell;
-      law.cone_check = check;
+// With the exact law: the compact laws measured against it, fitted to it as well, and for each
+// the one that misses it least (measured on directions other than those it was fitted to) kept;
+// the law past the fuse likewise against the exact law past the fuse (with adhesion).
+void check_against_cell(law::Law& law, const std::vector<ConePoint>& bonded, const std::vector<ConePoint>& debonded,
+                        int n_directions) {
+  const auto keep_better = [&](law::ConeFit& cone, law::ConeCheck& kept, const law::CellSample& sample,
+                               law::ConeFit from_cell) {
+    if (cone.ok) kept = law::check_cone(cone.law, sample);
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const double sweep_fit_max = cone.ok ? kept.max_error : nan, sweep_fit_rms = cone.ok ? kept.rms_error : nan;
+    if (from_cell.ok) {
+      const law::ConeCheck check = law::check_cone(from_cell.law, sample);
+      if (!cone.ok || check.max_error < kept.max_error) {
+        from_cell.one_plane_residual = cone.one_plane_residual;  // the sweep's forms, as tried
+        from_cell.struts_residual = cone.struts_residual;
+        cone = from_cell;
+        kept = check;
+      }
     }
-  }
-  law.cone_check.sweep_fit_max_error = sweep_fit.max_error;
-  law.cone_check.sweep_fit_rms_error = sweep_fit.rms_error;
-  if (!law.cone_check.stress.empty()) law::set_exact_polar(*law.cell, law.cone_check);
+    kept.sweep_fit_max_error = sweep_fit_max;
+    kept.sweep_fit_rms_error = sweep_fit_rms;
+  };
+  const law::CondensedCell& cell = *law.cell;
+  keep_better(law.cone, law.cone_check, law::sample_cell(cell, 1000),
+              fit_cone_to_cell(cell, bonded, n_directions, Fitted::bonded));
+  if (!law.cone_check.stress.empty()) law::set_exact_polar(cell, law.cone_check);
+  // Past the fuse each direction runs its cascade, tens of factorisations (0.03 s at 256 rows):
+  // fewer directions: about 280 to check and 250 others to fit (15 and 14 rings: no direction in
+  // common; with the symmetry images 1000 points to fit).
+  constexpr int check_directions = 300, fit_directions = 250;
+  if (cell.adhesion() && law.cone_after_fuse.ok)
+    keep_better(law.cone_after_fuse, law.cone_after_fuse_check,
+                law::sample_cell_past_fuse(cell, check_directions, law::past_fuse_load_ratio),
+                fit_cone_to_cell(cell, debonded, n_directions, Fitted::past_fuse, fit_directions));
 }
 
 }  // namespace
@@ -357,7 +372,7 @@ law::Law fit_law(const std::vector<sweep::PathResult>& paths, const sweep::Sweep
   law.cell_note = header.cell_note;
   if (law.cell) {
     law.cell_replay = replay_cell(*law.cell, paths, header.qp_tolerance);
-    check_against_cell(law, bonded, n_directions);
+    check_against_cell(law, bonded, debonded, n_directions);
   }
   law.constituents = header.constituents;
   law.provenance = header.provenance;

@@ -112,7 +112,8 @@ std::string json_vector(const Eigen::VectorXd& v) {
   return json_array(std::vector<double>(v.data(), v.data() + v.size()));
 }
 
-// The exact law (/law/cell) and its checks (/law/cell_replay, /law/cone_check), as nested
+// The exact law (/law/cell) and its checks (/law/cell_replay, /law/cone_check,
+// /law/cone_after_fuse_check), as nested
 // objects with the names of law.h5; the bounds' ±inf (an unbounded row) as null.
 void add_exact_law(JsonObject& o, const Law& law) {
   o.add_text("cell_note", law.cell_note);
@@ -146,15 +147,19 @@ void add_exact_law(JsonObject& o, const Law& law) {
                            .add("worst_step", std::to_string(r.worst_step))
                            .add("break_mismatches", std::to_string(r.break_mismatches))
                            .str(4));
-  const law::ConeCheck& k = law.cone_check;
-  o.add("cone_check", JsonObject()
-                          .add("directions", std::to_string(k.stress.size()))
-                          .add("max_error", json_number(k.max_error))
-                          .add("rms_error", json_number(k.rms_error))
-                          .add("worst", json_array(std::vector<double>{k.worst(0), k.worst(1), k.worst(2)}))
-                          .add("sweep_fit_max_error", json_number(k.sweep_fit_max_error))
-                          .add("sweep_fit_rms_error", json_number(k.sweep_fit_rms_error))
+  const auto check_json = [](const law::ConeCheck& k) {
+    return JsonObject()
+        .add("directions", std::to_string(k.stress.size()))
+        .add("max_error", json_number(k.max_error))
+        .add("rms_error", json_number(k.rms_error))
+        .add("worst", json_array(std::vector<double>{k.worst(0), k.worst(1), k.worst(2)}));
+  };
+  o.add("cone_check", check_json(law.cone_check)
+                          .add("sweep_fit_max_error", json_number(law.cone_check.sweep_fit_max_error))
+                          .add("sweep_fit_rms_error", json_number(law.cone_check.sweep_fit_rms_error))
                           .str(4));
+  if (!law.cone_after_fuse_check.stress.empty())
+    o.add("cone_after_fuse_check", check_json(law.cone_after_fuse_check).str(4));
 }
 
 // The onset surface (/law/onset) as a JSON object: facets and their pairs, and the check

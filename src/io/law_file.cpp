@@ -162,6 +162,47 @@ law::ConeFit read_cone(const File& f, const Reader& r, const std::string& name, 
   return fit;
 }
 
+// /law/<name>/: a compact law against the exact one (law/cone_check.hpp): stress (K×3 unit
+// directions), error (K), max_error, rms_error, worst (3), the same of the form fitted to the
+// sweep (sweep_fit_*); for /law/cone_check also the exact law's apparent moduli (polar_*).
+void write_cone_check(File& f, const std::string& name, const law::ConeCheck& c) {
+  f.create_group(object(name));
+  std::vector<double> stress;
+  for (const auto& N : c.stress) stress.insert(stress.end(), N.data(), N.data() + 3);
+  f.write(object(name + "/stress"), stress, {c.stress.size(), 3});
+  f.write(object(name + "/error"), c.error, {c.error.size()});
+  write_scalar(f, name + "/max_error", c.max_error);
+  write_scalar(f, name + "/rms_error", c.rms_error);
+  f.write(object(name + "/worst"), std::vector<double>{c.worst(0), c.worst(1), c.worst(2)}, {3});
+  write_scalar(f, name + "/sweep_fit_max_error", c.sweep_fit_max_error);
+  write_scalar(f, name + "/sweep_fit_rms_error", c.sweep_fit_rms_error);
+  if (c.polar_deg.empty()) return;
+  f.write(object(name + "/polar_deg"), c.polar_deg, {c.polar_deg.size()});
+  f.write(object(name + "/polar_E_tension"), c.polar_E_tension, {c.polar_deg.size()});
+  f.write(object(name + "/polar_E_compression"), c.polar_E_compression, {c.polar_deg.size()});
+}
+
+law::ConeCheck read_cone_check(const File& f, const Reader& r, const std::string& name) {
+  law::ConeCheck c;
+  Shape found;
+  const auto stress = f.read_doubles(object(name + "/stress"), {any_extent, 3}, "", &found);
+  const hsize_t K = found[0];
+  for (hsize_t k = 0; k < K; ++k) c.stress.emplace_back(stress[3 * k], stress[3 * k + 1], stress[3 * k + 2]);
+  c.error = r.doubles(name + "/error", {K}, (" like " + object(name + "/stress")).c_str());
+  c.max_error = r.scalar(name + "/max_error");
+  c.rms_error = r.scalar(name + "/rms_error");
+  const auto worst = r.doubles(name + "/worst", {3});
+  c.worst = {worst[0], worst[1], worst[2]};
+  c.sweep_fit_max_error = r.scalar(name + "/sweep_fit_max_error");
+  c.sweep_fit_rms_error = r.scalar(name + "/sweep_fit_rms_error");
+  if (!f.exists(object(name + "/polar_deg"))) return c;
+  c.polar_deg = f.read_doubles(object(name + "/polar_deg"), {any_extent}, "", &found);
+  const std::string like = " like " + object(name + "/polar_deg");
+  c.polar_E_tension = r.doubles(name + "/polar_E_tension", {found[0]}, like.c_str());
+  c.polar_E_compression = r.doubles(name + "/polar_E_compression", {found[0]}, like.c_str());
+  return c;
+}
+
 }  // namespace
 
 void write_law(const std::filesystem::path& file, const Law& law) {
@@ -206,22 +247,9 @@ void write_law(const std::filesystem::path& file, const Law& law) {
       write_count(f, "cell_replay/break_mismatches", c.break_mismatches);
       write_scalar(f, "cell_replay/limit", c.limit);
     }
-    if (!law.cone_check.stress.empty()) {
-      const law::ConeCheck& c = law.cone_check;
-      f.create_group(object("cone_check"));
-      std::vector<double> stress;
-      for (const auto& N : c.stress) stress.insert(stress.end(), N.data(), N.data() + 3);
-      f.write(object("cone_check/stress"), stress, {c.stress.size(), 3});
-      f.write(object("cone_check/error"), c.error, {c.error.size()});
-      write_scalar(f, "cone_check/max_error", c.max_error);
-      write_scalar(f, "cone_check/rms_error", c.rms_error);
-      write_scalar(f, "cone_check/sweep_fit_max_error", c.sweep_fit_max_error);
-      write_scalar(f, "cone_check/sweep_fit_rms_error", c.sweep_fit_rms_error);
-      f.write(object("cone_check/worst"), std::vector<double>{c.worst(0), c.worst(1), c.worst(2)}, {3});
-      f.write(object("cone_check/polar_deg"), c.polar_deg, {c.polar_deg.size()});
-      f.write(object("cone_check/polar_E_tension"), c.polar_E_tension, {c.polar_deg.size()});
-      f.write(object("cone_check/polar_E_compression"), c.polar_E_compression, {c.polar_deg.size()});
-    }
+    if (!law.cone_check.stress.empty()) write_cone_check(f, "cone_check", law.cone_check);
+    if (!law.cone_after_fuse_check.stress.empty())
+      write_cone_check(f, "cone_after_fuse_check", law.cone_after_fuse_check);
     f.write_attribute(group, "cell_note", law.cell_note);
     f.write_attribute(group, "units", law.units);
     f.write_attribute(group, "stress_state", law.stress_state);
@@ -277,23 +305,9 @@ Law read_law(const std::filesystem::path& file) {
     c.break_mismatches = static_cast<int>(r.count("cell_replay/break_mismatches", 0, std::numeric_limits<int>::max()));
     c.limit = r.scalar("cell_replay/limit");
   }
-  if (f.exists(object("cone_check"))) {
-    law::ConeCheck& c = law.cone_check;
-    Shape found;
-    const auto stress = f.read_doubles(object("cone_check/stress"), {any_extent, 3}, "", &found);
-    const hsize_t K = found[0];
-    for (hsize_t k = 0; k < K; ++k) c.stress.emplace_back(stress[3 * k], stress[3 * k + 1], stress[3 * k + 2]);
-    c.error = r.doubles("cone_check/error", {K}, " like /law/cone_check/stress");
-    c.max_error = r.scalar("cone_check/max_error");
-    c.rms_error = r.scalar("cone_check/rms_error");
-    c.sweep_fit_max_error = r.scalar("cone_check/sweep_fit_max_error");
-    c.sweep_fit_rms_error = r.scalar("cone_check/sweep_fit_rms_error");
-    const auto worst = r.doubles("cone_check/worst", {3});
-    c.worst = {worst[0], worst[1], worst[2]};
-    c.polar_deg = f.read_doubles(object("cone_check/polar_deg"), {any_extent}, "", &found);
-    c.polar_E_tension = r.doubles("cone_check/polar_E_tension", {found[0]}, " like /law/cone_check/polar_deg");
-    c.polar_E_compression = r.doubles("cone_check/polar_E_compression", {found[0]}, " like /law/cone_check/polar_deg");
-  }
+  if (f.exists(object("cone_check"))) law.cone_check = read_cone_check(f, r, "cone_check");
+  if (f.exists(object("cone_after_fuse_check")))
+    law.cone_after_fuse_check = read_cone_check(f, r, "cone_after_fuse_check");
   law.cell_note = f.read_string_attribute(group, "cell_note");
 
   law.units = f.read_string_attribute(group, "units");

@@ -60,6 +60,34 @@ CellSample sample_cell(const CondensedCell& cell, int n) {
   return sample;
 }
 
+CellSample sample_cell_past_fuse(const CondensedCell& cell, int n, double factor) {
+  CellSample sample;
+  CellEvaluator evaluator(cell);
+  CellHistory history = evaluator.unloaded();
+  sample.direction = cell.n_macro == 3 ? ordered_sphere(n) : ordered_circle(std::max(180, n / 2));
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (const Eigen::Vector3d& N : sample.direction) {
+    const double onset = evaluator.onset(N);
+    Eigen::Vector3d e = Eigen::Vector3d::Constant(nan);
+    if (std::isfinite(onset)) {
+      history.bonded = cell.bonded;
+      // Just past the onset the first bond breaks and the cascade runs; then on to factor·s* in
+      // steps, as a path goes (a bond can pass its strength on the way and not at the end).
+      const CellResponse at_fuse = evaluator.at_stress((1 + 1e-6) * onset * N, history);
+      CellResponse r = at_fuse;
+      for (int step = 1; r.ok && step <= past_fuse_steps; ++step)
+        r = evaluator.at_stress((1 + (factor - 1) * step / past_fuse_steps) * onset * N, history);
+      if (at_fuse.ok && r.ok) {
+        e = r.strain;
+        if (cell.n_macro == 2) e(2) = 0;
+      }
+    }
+    sample.strain.push_back(e);
+    sample.stress.push_back((std::isfinite(onset) ? factor * onset : 1.0) * N);
+  }
+  return sample;
+}
+
 ConeCheck check_cone(const ConeLaw& cone, const CellSample& sample) {
   ConeCheck check;
   check.stress = sample.direction;

@@ -42,6 +42,19 @@ struct CellSample {
 };
 CellSample sample_cell(const CondensedCell& cell, int n);
 
+// The exact law past the fuse, for the compact law after it (Law::cone_after_fuse): the same
+// directions N, each loaded from the intact cell just past its onset s*(N) (the cascade) and
+// then in past_fuse_steps steps to `factor`·s*(N), with its history. NaN where the cell has no
+// onset along N or an evaluation fails.
+// The load of that check over the onset: past the cascade, within the loads a sweep carries
+// past its fuse.
+inline constexpr double past_fuse_load_ratio = 2;
+// Steps from the onset to it: along a path a bond can pass its strength on the way and not at the
+// end, so one step would miss breaks (0.8 % of strain at some directions of a test cell; four
+// steps already give the path of forty there).
+inline constexpr int past_fuse_steps = 8;
+CellSample sample_cell_past_fuse(const CondensedCell& cell, int n, double factor);
+
 // The check over a sample of the exact law (sample_cell); polar_* are left empty.
 ConeCheck check_cone(const ConeLaw& cone, const CellSample& sample);
 // The exact law's apparent moduli for ConeCheck::polar_*.

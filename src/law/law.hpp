@@ -89,6 +89,10 @@ struct Law {
   // The compact law (cone) against the exact one over a dense set of directions; empty
   // (no directions) without an exact law or a cone-wise law.
   ConeCheck cone_check;
+  // The compact law past the fuse (cone_after_fuse) against the exact law past the fuse: the
+  // same directions, each loaded from the intact cell to twice its onset along the path
+  // (sample_cell_past_fuse); empty without adhesion, an exact law or a law past the fuse.
+  ConeCheck cone_after_fuse_check;
   // Constituents, for the out-of-plane constants of the exports (rule of mixtures).
   Constituents constituents;
   std::string units = "stress and moduli in the units of the input scene; strains dimensionless";

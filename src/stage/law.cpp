@@ -94,13 +94,16 @@ std::string export_law(const ExportOptions& options) {
       text = io::law_calculix(law, options.name, options.law_file.string());
       break;
     case io::ExportFormat::umat: {
-      const law::ConeCheck& c = law.cone_check;
-      if (!options.force && !c.stress.empty() && !(c.max_error <= options.max_law_error)) {
+      // The umat carries the law past the fuse where the law has an onset surface: both checked.
+      for (const auto* check : {&law.cone_check, &law.cone_after_fuse_check}) {
+        const law::ConeCheck& c = *check;
+        if (options.force || c.stress.empty() || c.max_error <= options.max_law_error) continue;
         char text_[320];
         std::snprintf(text_, sizeof text_,
-                      "the cone-wise law misses the exact law by %.1f %% of stress at sxx,syy,sxy = %.3f,%.3f,%.3f, "
+                      "the cone-wise law%s misses the exact law by %.1f %% of stress at sxx,syy,sxy = %.3f,%.3f,%.3f, "
                       "more than --max-law-error %.3g %%: not exported (--force writes it anyway)",
-                      100 * c.max_error, c.worst(0), c.worst(1), c.worst(2), 100 * options.max_law_error);
+                      check == &law.cone_check ? "" : " after the fuse", 100 * c.max_error, c.worst(0), c.worst(1),
+                      c.worst(2), 100 * options.max_law_error);
         throw InputError(options.law_file.string() + ": " + text_);
       }
       text = io::law_umat(law, options.name, options.law_file.string());
@@ -161,11 +164,13 @@ void print_fit_summary(const std::filesystem::path& sweep_file, const std::files
   } else {
     std::printf("  exact law: none (%s)\n", law.cell_note.c_str());
   }
-  if (!law.cone_check.stress.empty()) {
-    const law::ConeCheck& c = law.cone_check;
+  for (const auto* check : {&law.cone_check, &law.cone_after_fuse_check}) {
+    if (check->stress.empty()) continue;
+    const law::ConeCheck& c = *check;
     std::printf(
-        "  cone-wise law against the exact law at %zu stress directions: stress error max %.1f %% (at "
+        "  cone-wise law%s against the exact law%s at %zu stress directions: stress error max %.1f %% (at "
         "sxx,syy,sxy = %.3f,%.3f,%.3f), rms %.1f %%\n",
+        check == &law.cone_check ? "" : " after the fuse", check == &law.cone_check ? "" : " at twice its onset",
         c.stress.size(), 100 * c.max_error, c.worst(0), c.worst(1), c.worst(2), 100 * c.rms_error);
   }
 }

@@ -12,6 +12,8 @@
 #include "core/exit_codes.hpp"
 #include "io/law_file.hpp"
 #include "io/sweep_file.hpp"
+#include "law/condensed.hpp"
+#include "law/cone.hpp"
 #include "test_util.hpp"
 
 namespace dualcell {
@@ -163,6 +165,53 @@ TEST(LawStage, ExportRefusesACompactLawThatMissesTheExactOne) {
   EXPECT_FALSE(std::filesystem::exists(run.dir / "u.inp"));
   EXPECT_EQ(run_command(export_umat + " --force").exit_code, exit_ok);
   EXPECT_EQ(run_command(export_umat + " --max-law-error 0.99").exit_code, exit_ok);
+}
+
+// With adhesion the law past the fuse is measured too (/law/cone_after_fuse_check): the recorded
+// error at the worst direction is what the exact law along that path (40 steps through its
+// cascade) and the compact law past the fuse give, computed here without the fit's code; the
+// summary prints it, the JSON carries it, and a umat whose law past the fuse misses by more
+// than --max-law-error is refused although the bonded law (linear: exact) passes.
+TEST(LawStage, TheLawPastTheFuseIsMeasuredAndItsErrorRefusesTheUmat) {
+  StagesRun run(testing::scene_text(
+      1, 1, 2, 0.35,
+      "[interface]\nnormal_strength = 0.02\ntangential_strength = 0.02\n[load]\nboundary = \"periodic\"\n"
+      "[sweep]\ndirections_deg = [0, 45, 90]\nmagnitudes = [-0.2, -0.1, 0.02, 0.05, 0.1, 0.2]\n"));
+  const law::Law law = io::read_law(run.law);
+  ASSERT_TRUE(law.cell.has_value()) << law.cell_note;
+  ASSERT_TRUE(law.cone_after_fuse.ok) << law.cone_after_fuse.message;
+  const law::ConeCheck& c = law.cone_after_fuse_check;
+  ASSERT_GT(c.stress.size(), 250u);
+  EXPECT_NE(run.fit_output.find("cone-wise law after the fuse against the exact law at twice its onset"),
+            std::string::npos)
+      << run.fit_output;
+  law::CellEvaluator evaluator(*law.cell);
+  const double onset = evaluator.onset(c.worst);
+  law::CellHistory h = evaluator.unloaded();
+  law::CellResponse r;
+  for (int step = 1; step <= 40; ++step) r = evaluator.at_stress(step / 20.0 * onset * c.worst, h);
+  ASSERT_TRUE(r.ok) << r.message;
+  const Eigen::Vector3d sigma = 2 * onset * c.worst;
+  const double error = (law::evaluate(law.cone_after_fuse.law, r.strain).stress - sigma).norm() / sigma.norm();
+  EXPECT_NEAR(error, c.max_error, 1e-6) << "the recorded error is the compact law's miss at that state";
+  EXPECT_GT(c.max_error, 0.02) << "this cell's law past the fuse misses by more than 2 %";
+  EXPECT_LT(law.cone_check.max_error, 1e-6) << "bonded, the cell is linear and the compact law exact";
+
+  const auto json =
+      run_command(bin("dualcell-export") + " --law " + q(run.law) + " --format json --out " + q(run.dir / "law.json"));
+  ASSERT_EQ(json.exit_code, exit_ok) << json.output;
+  std::ifstream in(run.dir / "law.json");
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("\"cone_after_fuse_check\""), std::string::npos);
+
+  const std::string export_umat =
+      bin("dualcell-export") + " --law " + q(run.law) + " --format umat --form cone --out " + q(run.dir / "u.inp");
+  const auto refused = run_command(export_umat);
+  EXPECT_EQ(refused.exit_code, exit_input_error);
+  EXPECT_NE(refused.output.find("the cone-wise law after the fuse misses the exact law by"), std::string::npos)
+      << refused.output;
+  EXPECT_FALSE(std::filesystem::exists(run.dir / "u.inp"));
+  EXPECT_EQ(run_command(export_umat + " --force").exit_code, exit_ok);
 }
 
 // The JSON export carries the exact law and its checks, the same numbers as law.h5 (17 digits);
