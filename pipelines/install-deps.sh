@@ -4,6 +4,7 @@
 set -eu
 packages="cmake make gcc g++ git
 libeigen3-dev libsuitesparse-dev libgsl-dev libhdf5-dev libcli11-dev libtomlplusplus-dev
+libgmsh-dev libmetis-dev
 libgtest-dev libblas3 liblapack3 libopenblas0-pthread
 hdf5-tools python3 python3-numpy python3-h5py python3-meshio gnuplot-nox calculix-ccx
 clang clang-format libclang-rt-14-dev

@@ -22,7 +22,8 @@ int main(int argc, char** argv) {
   if (const auto stop = dualcell::parse_options(app, argc, argv)) return *stop;
 
   return dualcell::run_stage("dualcell-mesh", [&] {
-    const dualcell::mesh::Mesh mesh = dualcell::stage::run_mesh(config, out);
-    if (!quiet) dualcell::stage::print_mesh_summary(config, out, mesh);
+    dualcell::rve::MeshReport report;
+    const dualcell::mesh::Mesh mesh = dualcell::stage::run_mesh(config, out, &report);
+    if (!quiet) dualcell::stage::print_mesh_summary(config, out, mesh, report);
   });
 }

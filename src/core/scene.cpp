@@ -36,6 +36,18 @@ const char* to_string(DualOperator o) {
 
 const char* to_string(Element e) { return e == Element::p1 ? "p1" : "p2"; }
 
+const char* to_string(FibreLayout l) {
+  switch (l) {
+    case FibreLayout::cells:
+      return "cells";
+    case FibreLayout::list:
+      return "list";
+    case FibreLayout::random:
+      return "random";
+  }
+  return "?";
+}
+
 const char* to_string(Boundary b) {
   switch (b) {
     case Boundary::symmetry:
@@ -95,8 +107,53 @@ bool positive(double v) { return v > 0; }
 bool non_negative(double v) { return v >= 0; }
 bool finite(double) { return true; }
 
+// A periodic RVE's size, fibres and mesh budget (the fibres' positions are checked where they
+// are placed, rve/microstructure.hpp).
+void validate_rve(const Checker& c, const Scene& scene) {
+  const Geometry& geo = scene.geometry;
+  c.reals("geometry", "size", {geo.size[0], geo.size[1]}, positive, "an array of 2 numbers, each > 0");
+  c.integer("geometry", "degree", geo.degree, 1, 64);
+  c.real("geometry", "min_gap", geo.random.min_gap, non_negative, "min_gap >= 0");
+  double r_mean = 0;
+  if (geo.layout == FibreLayout::random) {
+    const RandomFibres& f = geo.random;
+    c.real(
+        "geometry", "volume_fraction", f.volume_fraction, [](double v) { return v > 0 && v < 0.9; },
+        "0 < volume_fraction < 0.9");
+    c.reals("geometry", "radius", {f.radius_mean}, positive, "[mean, sd] with mean > 0");
+    c.reals("geometry", "radius", {f.radius_sd}, non_negative, "[mean, sd] with sd >= 0 and mean - 2 sd > 0");
+    if (!(f.radius_mean - 2 * f.radius_sd > 0))
+      c.fail("geometry", "radius", "", "out of range: [mean, sd] with mean - 2 sd > 0 (radii are drawn within 2 sd)");
+    r_mean = f.radius_mean;
+  } else {
+    if (geo.fibres.empty()) c.fail("geometry", "size", "", "an RVE of kind \"list\" needs at least one [[fibres]]");
+    for (std::size_t k = 0; k < geo.fibres.size(); ++k) {
+      const FibreCircle& f = geo.fibres[k];
+      if (!(f.radius > 0 && std::isfinite(f.radius)) || !std::isfinite(f.centre[0]) || !std::isfinite(f.centre[1]))
+        c.fail("geometry", "size", "",
+               "[[fibres]] " + std::to_string(k + 1) + ": the radius must be > 0 and the centre finite");
+      r_mean += f.radius / geo.fibres.size();
+    }
+  }
+  // The mesh budget: elements of edge h = π r_mean / (4 k) (as a mapped cell's rim), about
+  // 2.3 area / h² triangles, (2k)² more nodes per corner node for p2.
+  const double h = std::numbers::pi * r_mean / (4 * geo.degree);
+  const double nodes = 1.2 * geo.size[0] * geo.size[1] / (h * h) * (geo.element == Element::p2 ? 4 : 1);
+  if (nodes > max_mesh_nodes) {
+    std::ostringstream s;
+    s << "the mesh would have about " << static_cast<long long>(nodes)
+      << " nodes (element size pi r / (4 degree) = " << h << " over " << geo.size[0] << " x " << geo.size[1]
+      << "), more than the limit " << max_mesh_nodes;
+    c.fail("geometry", "degree", std::to_string(geo.degree), s.str());
+  }
+  if (scene.load.boundary != Boundary::periodic)
+    c.fail("load", "boundary", to_string(scene.load.boundary),
+           "an RVE (size = [Lx, Ly]) is periodic: boundary = \"periodic\"");
+}
+
 void validate_geometry(const Checker& c, const Scene& scene) {
   const Geometry& geo = scene.geometry;
+  if (geo.rve()) return validate_rve(c, scene);
   c.reals(
       "geometry", "cells", {double(geo.cells[0]), double(geo.cells[1])}, [](double v) { return v >= 1 && v <= 4096; },
       "an array of 2 numbers, each an integer in [1, 4096]");
@@ -195,6 +252,7 @@ void validate_sweep_and_solver(const Checker& c, const Scene& scene) {
   c.real(
       "solver", "Gamma", so.Gamma, [](double v) { return v > 0 && v <= 1e3; }, "0 < Gamma <= 1e3");
   c.integer("solver", "max_debond_rounds", so.max_debond_rounds, 1, 1000000);
+  c.integer("solver", "subdomain_dofs", so.subdomain_dofs, 100, 10000000);
 }
 
 // A resolved block must be held against every rigid motion (core/edge_loads.hpp).

@@ -5,6 +5,7 @@
 // scenes built in code alike, with the same one-line messages naming the file, the line, the
 // key, the value and the allowed range. All keys and their defaults: README.md ("Scene files").
 #include <array>
+#include <cstdint>
 #include <filesystem>
 #include <map>
 #include <string>
@@ -28,7 +29,35 @@ const char* to_string(Element e);
 // the p1 mesh of degree 2k).
 inline int element_order(Element e) { return e == Element::p1 ? 1 : 2; }
 
+// Random fibres of a periodic RVE (docs/method.md §16b, rve/microstructure.hpp): radii normal
+// (mean, standard deviation), placed to the volume fraction keeping min_gap between fibres and
+// to the edges they do not cross (min_gap also checks a list of fibres), reproducible from seed.
+struct RandomFibres {
+  double volume_fraction = 0.5;
+  double radius_mean = 0.05, radius_sd = 0;
+  double min_gap = 0;
+  std::uint64_t seed = 1;
+  // Shaking sweeps (every fibre one move) allowed while fibres remain to be placed.
+  int max_shake_sweeps = 20000;
+};
+
+// How the fibres are laid out: one per square cell of a block (the mapped mesher, mesh/mesh.hpp),
+// or a periodic RVE of a given size whose fibres are a list or random (meshed by gmsh,
+// rve/mesher.hpp).
+enum class FibreLayout { cells, list, random };
+const char* to_string(FibreLayout l);
+
+// One fibre of a list: its centre, its radius, and where the scene gave it (for messages).
+struct FibreCircle {
+  std::array<double, 2> centre{0, 0};
+  double radius = 0;
+};
+
 struct Geometry {
+  FibreLayout layout = FibreLayout::cells;
+  std::array<double, 2> size{0, 0};          // Lx, Ly of an RVE (layout list or random)
+  std::vector<FibreCircle> fibres;           // layout list
+  RandomFibres random;                       // layout random; its min_gap also for a list
   std::array<int, 2> cells{1, 1};            // ex, ey
   double cell_size = 1.0;                    // edge length of one square cell
   double fibre_radius = 0.3;                 // r
@@ -37,6 +66,11 @@ struct Geometry {
   // p2 by default: on the accuracy study's cell it reaches a given error far sooner than p1
   // (README, "Accuracy per second").
   Element element = Element::p2;
+
+  bool rve() const { return layout != FibreLayout::cells; }
+  // The block's (or the RVE's) width and height.
+  double width() const { return rve() ? size[0] : cells[0] * cell_size; }
+  double height() const { return rve() ? size[1] : cells[1] * cell_size; }
 };
 
 // Interface strengths per unit interface length (force/length); 0 = no adhesion (docs/method.md §1, §4).
@@ -96,6 +130,9 @@ struct SolverSettings {
   int max_debond_rounds = 1000;             // break / re-solve rounds per load (docs/method.md §11)
   Preconditioner preconditioner = Preconditioner::none;
   DualOperator dual_operator = DualOperator::automatic;
+  // An RVE's matrix is split by METIS into subdomains of about this many DOFs (rve/mesher.hpp);
+  // each fibre is a subdomain of its own. The mapped block has one matrix subdomain per cell.
+  int subdomain_dofs = 1500;
 };
 
 struct WrittenKey {

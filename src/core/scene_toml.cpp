@@ -55,17 +55,56 @@ void check_top_level_keys(SceneReading& r) {
   const toml::table& root = r.root;
   const std::vector<std::string>& lines = r.lines;
   TableReader& top = r.top;
-  const std::vector<std::string> tables{"geometry", "fibre", "matrix", "interface", "load", "sweep", "solver"};
+  const std::vector<std::string> tables{"geometry",  "fibres", "fibre", "matrix",
+                                        "interface", "load",   "sweep", "solver"};
   for (const auto& [key, value] : root) {
     const std::string k(key.str());
     if (k == "material") continue;
     if (std::find(edge_load_tables.begin(), edge_load_tables.end(), k) != edge_load_tables.end()) continue;
     if (std::find(tables.begin(), tables.end(), k) == tables.end())
       top.fail(&value, key_text(key, lines), "",
-               "unknown table or key; allowed: material, [geometry], [fibre], "
+               "unknown table or key; allowed: material, [geometry], [[fibres]], [fibre], "
                "[matrix], [interface], [load], [sweep], [solver], and with [load] boundary = \"edges\" "
                "[edges.left|right|bottom|top], [[support]], [[point_load]], [steps], [output]");
   }
+}
+
+// A periodic RVE: [geometry] size = [Lx, Ly], kind = "list" (the [[fibres]] tables: centre,
+// radius) or "random" (volume_fraction, radius = [mean, sd], min_gap, seed); min_gap for both.
+void read_rve(SceneReading& r, TableReader& g) {
+  Geometry& geo = r.scene.geometry;
+  for (const char* key : {"cells", "cell_size", "fibre_radius", "fibre_offset"})
+    if (g.has(key)) g.fail(g.node(key), key, "", "not with size: an RVE (size = [Lx, Ly]) has its fibres, not cells");
+  const auto size = g.reals("size", {0, 0}, 2, 2);
+  geo.size = {size[0], size[1]};
+  const toml::node* fibres = r.root.get("fibres");
+  const std::string kind = g.string("kind", "list", {"list", "random"});
+  geo.layout = kind == "list" ? FibreLayout::list : FibreLayout::random;
+  geo.random.min_gap = g.real("min_gap", 0);
+  if (geo.layout == FibreLayout::random) {
+    if (fibres)
+      throw InputError(r.fname + ":" + std::to_string(fibres->source().begin.line) +
+                       ": [[fibres]] with kind = \"random\": give the list (kind = \"list\") or the random spec");
+    geo.random.volume_fraction = g.real("volume_fraction", 0, true, "0 < volume_fraction < 0.9");
+    const auto radius = g.reals("radius", {0, 0}, 1, 2);
+    geo.random.radius_mean = radius[0];
+    geo.random.radius_sd = radius.size() > 1 ? radius[1] : 0;
+    const auto seed = g.integer<std::int64_t>("seed", 1);
+    if (seed < 0) g.fail(g.node("seed"), "seed", std::to_string(seed), "must be an integer >= 0");
+    geo.random.seed = static_cast<std::uint64_t>(seed);
+    return;
+  }
+  for (const char* key : {"volume_fraction", "radius", "seed"})
+    if (g.has(key)) g.fail(g.node(key), key, "", "only with kind = \"random\" (a list gives its [[fibres]])");
+  if (!fibres)
+    throw InputError(r.fname + ": [geometry] size without [[fibres]]: give the list of fibres or kind = \"random\"");
+  reading::each_table(r.root, "fibres", r.fname, r.lines, [&](TableReader& t) {
+    FibreCircle f;
+    const Eigen::Vector2d c = reading::point(t, "centre", true, "[x, y] of the fibre's centre");
+    f.centre = {c.x(), c.y()};
+    f.radius = t.real("radius", 0, true, "radius > 0");
+    geo.fibres.push_back(f);
+  });
 }
 
 void read_geometry(SceneReading& r) {
@@ -80,14 +119,29 @@ void read_geometry(SceneReading& r) {
   // Integers stored as int: a non-integral or huge value becomes 0, which validate() refuses
   // (quoting the value as written).
   const auto as_count = [](double v) { return v >= 1 && v <= 1e9 && v == std::floor(v) ? static_cast<int>(v) : 0; };
-  const auto cells = g.reals("cells", {1, 1}, 2, 2);
-  geo.cells = {as_count(cells[0]), as_count(cells[1])};
-  geo.cell_size = g.real("cell_size", 1.0);
-  geo.fibre_radius = g.real("fibre_radius", 0, true, "fibre_radius > 0");
-  const auto off = g.reals("fibre_offset", {0, 0}, 2, 2);
-  geo.fibre_offset = {off[0], off[1]};
   geo.degree = g.integer<int>("degree", 1);
   geo.element = g.string("element", "p2", {"p1", "p2"}) == "p1" ? Element::p1 : Element::p2;
+  const toml::node* fibres = root.get("fibres");
+  if (g.has("size")) {
+    read_rve(r, g);
+  } else {
+    for (const char* key : {"kind", "volume_fraction", "radius", "min_gap", "seed"})
+      if (g.has(key)) {
+        const toml::node* n = g.node(key);
+        g.fail(n, key, show(*n, lines),
+               "unknown key for a block of cells (allowed: cells, cell_size, fibre_radius, fibre_offset, degree, "
+               "element); it is a key of a periodic RVE, which gives size = [Lx, Ly] instead of cells");
+      }
+    if (fibres)
+      throw InputError(fname + ":" + std::to_string(fibres->source().begin.line) +
+                       ": [[fibres]] only for a periodic RVE: give [geometry] size = [Lx, Ly]");
+    const auto cells = g.reals("cells", {1, 1}, 2, 2);
+    geo.cells = {as_count(cells[0]), as_count(cells[1])};
+    geo.cell_size = g.real("cell_size", 1.0);
+    geo.fibre_radius = g.real("fibre_radius", 0, true, "fibre_radius > 0");
+    const auto off = g.reals("fibre_offset", {0, 0}, 2, 2);
+    geo.fibre_offset = {off[0], off[1]};
+  }
   g.finish();
 }
 
@@ -200,6 +254,7 @@ void read_sweep_and_solver(SceneReading& r) {
   so.rho_patience = sv.integer<int>("rho_patience", so.rho_patience);
   so.Gamma = sv.real("Gamma", so.Gamma);
   so.max_debond_rounds = sv.integer<int>("max_debond_rounds", so.max_debond_rounds);
+  so.subdomain_dofs = sv.integer<int>("subdomain_dofs", so.subdomain_dofs);
   const std::string preconditioner = sv.string("preconditioner", "none", {"none", "lumped", "dirichlet"});
   so.preconditioner = preconditioner == "lumped"      ? Preconditioner::lumped
                       : preconditioner == "dirichlet" ? Preconditioner::dirichlet

@@ -37,7 +37,8 @@ BondState intact_bonds(const mesh::Mesh& mesh, const Interface& interface) {
 
 Eigen::Vector2d interface_normal(const mesh::Mesh& mesh, int p) {
   const Eigen::Vector2d& x = mesh.nodes[mesh.interface_pairs[p][0]];
-  return (x - mesh.fibre_centres[mesh.interface_cell[p]]) / mesh.geometry.fibre_radius;
+  const int f = mesh.interface_cell[p];
+  return (x - mesh.fibre_centres[f]) / mesh.fibre_radii[f];
 }
 
 std::vector<double> interface_lengths(const mesh::Mesh& mesh) {
@@ -74,14 +75,24 @@ class NodeClasses {
   std::vector<int> parent_;
 };
 
-// One node per physical point of a side, ordered along the side.
+// One node per physical point of a side, ordered along the side. Where an RVE's fibre meets the
+// side, its rim point is two points, the fibre's and the matrix's (joined by an interface row,
+// not glued): ordered fibre second, as on the opposite side, so that both pair up.
+std::vector<char> fibre_nodes(const mesh::Mesh& mesh) {
+  std::vector<char> on_fibre(mesh.n_nodes(), 0);
+  for (const mesh::Subdomain& sub : mesh.subdomains)
+    if (sub.is_fibre) std::fill(on_fibre.begin() + sub.node_begin, on_fibre.begin() + sub.node_end, 1);
+  return on_fibre;
+}
+
 std::vector<int> side_points(const mesh::Mesh& mesh, int side, NodeClasses& classes) {
-  std::map<double, int> by_position;
+  const std::vector<char> on_fibre = fibre_nodes(mesh);
+  std::map<std::pair<double, int>, int> by_position;
   const int axis = (side == mesh::left || side == mesh::right) ? 1 : 0;
   for (const mesh::Edge& edge : mesh.boundary_edges[side])
     for (int v : {edge.a, edge.b, edge.mid}) {
       if (v < 0) continue;
-      const double key = mesh.nodes[v][axis];
+      const std::pair<double, int> key{mesh.nodes[v][axis], on_fibre[v]};
       if (!by_position.count(key)) by_position[key] = classes.find(v);
     }
   std::vector<int> points;
@@ -146,21 +157,27 @@ constexpr double unbounded = std::numeric_limits<double>::infinity();
 // H = [[εxx, γ/2], [γ/2, εyy]] (symmetric: no rigid rotation), the macro DOFs from `macro` on.
 // Left–right for every point; bottom–top for all but the right end, whose corner is already
 // tied through the other three corners; then the block's translation held at one corner.
+// A row between two fibre nodes (an RVE's fibre cut by the edges, its pieces) has the fibre's
+// weight w_fibre_pair, any other the matrix's w_pair.
 void add_periodic_rows(RowBuilder& rows, const mesh::Mesh& mesh, NodeClasses& classes,
-                       const std::vector<int>& bottom_points, int macro, double w_pair, double w_single) {
+                       const std::vector<int>& bottom_points, int macro, double w_pair, double w_fibre_pair,
+                       double w_single) {
+  const std::vector<char> on_fibre = fibre_nodes(mesh);
+  const auto weight = [&](int a, int b) { return on_fibre[a] && on_fibre[b] ? w_fibre_pair : w_pair; };
   const double inf = unbounded;
   const double Lx = mesh.block_width(), Ly = mesh.block_height();
   const auto left = side_points(mesh, mesh::left, classes), right = side_points(mesh, mesh::right, classes);
   const auto top = side_points(mesh, mesh::top, classes);
   for (std::size_t i = 0; i < left.size(); ++i) {
     const int l = left[i], r = right[i];
-    rows.add(RowKind::periodic, -1, {{2 * r, 1.0}, {2 * l, -1.0}, {macro + 0, -Lx}}, -inf, inf, w_pair);
-    rows.add(RowKind::periodic, -1, {{2 * r + 1, 1.0}, {2 * l + 1, -1.0}, {macro + 2, -Lx / 2}}, -inf, inf, w_pair);
+    rows.add(RowKind::periodic, -1, {{2 * r, 1.0}, {2 * l, -1.0}, {macro + 0, -Lx}}, -inf, inf, weight(l, r));
+    rows.add(RowKind::periodic, -1, {{2 * r + 1, 1.0}, {2 * l + 1, -1.0}, {macro + 2, -Lx / 2}}, -inf, inf,
+             weight(l, r));
   }
   for (std::size_t i = 0; i + 1 < bottom_points.size(); ++i) {
     const int b = bottom_points[i], t = top[i];
-    rows.add(RowKind::periodic, -1, {{2 * t, 1.0}, {2 * b, -1.0}, {macro + 2, -Ly / 2}}, -inf, inf, w_pair);
-    rows.add(RowKind::periodic, -1, {{2 * t + 1, 1.0}, {2 * b + 1, -1.0}, {macro + 1, -Ly}}, -inf, inf, w_pair);
+    rows.add(RowKind::periodic, -1, {{2 * t, 1.0}, {2 * b, -1.0}, {macro + 2, -Ly / 2}}, -inf, inf, weight(b, t));
+    rows.add(RowKind::periodic, -1, {{2 * t + 1, 1.0}, {2 * b + 1, -1.0}, {macro + 1, -Ly}}, -inf, inf, weight(b, t));
   }
   const int a = bottom_points.front();
   rows.add(RowKind::dirichlet, -1, {{2 * a, 1.0}}, -inf, inf, w_single);
@@ -203,6 +220,7 @@ Constraints build_constraints(const mesh::Mesh& mesh, const Scene& scene, const 
   // Row scaling: w² = (1/E_m) / Σ 1/E_i over the subdomains a row couples (see header).
   const double Em = scene.matrix.E, Ef = scene.fibre.E;
   const double w_matrix_pair = std::sqrt(0.5);
+  const double w_fibre_pair = std::sqrt((1 / Em) / (2 / Ef));
   const double w_single = 1.0;
   const double w_interface = std::sqrt((1 / Em) / (1 / Em + 1 / Ef));
 
@@ -233,7 +251,7 @@ Constraints build_constraints(const mesh::Mesh& mesh, const Scene& scene, const 
       break;
     }
     case Boundary::periodic:
-      add_periodic_rows(rows, mesh, classes, bottom_points, macro, w_matrix_pair, w_single);
+      add_periodic_rows(rows, mesh, classes, bottom_points, macro, w_matrix_pair, w_fibre_pair, w_single);
       break;
     case Boundary::edges: {
       // Per edge (core/edge_loads.hpp), once per physical point and component: a point held by

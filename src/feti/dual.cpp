@@ -75,9 +75,45 @@ DualProblem::DualProblem(const FetiSetup& setup, Constraints constraints)
   // GGᵀ: small (3 per subdomain) and sparse (neighbours only); factorised once.
   const Eigen::SparseMatrix<double> GGt = Eigen::SparseMatrix<double>(G_ * G_.transpose());
   GGt_ = linalg::SparseCholesky(linalg::CholmodOptions{linalg::FactorKind::simplicial});
-  GGt_.compute(GGt);
+  try {
+    GGt_.compute(GGt);
+  } catch (const linalg::CholeskyError&) {
+    GGt_ = linalg::SparseCholesky(linalg::CholmodOptions{linalg::FactorKind::simplicial});
+    GGt_.compute(with_joint_null_modes(GGt));
+  }
   G_scratch_.resize(G_rows);
   G_solution_.resize(G_rows);
+}
+
+// A rigid motion that the rows of each subdomain see but that no row sees jointly across
+// subdomains leaves GGᵀ singular: the spin of an RVE's fibre cut by the edges about its centre,
+// its pieces turning together, seen by neither the normal rows (through the centre) nor the
+// periodic rows between the pieces (which move alike). The motion is undetermined, as a whole
+// fibre's spin is (R̂ drops that one). Its null vectors Z (of the small coarse matrix, found
+// densely) are added as Z Zᵀ: on the range of G, where every coarse right-hand side lies, the
+// factor of GGᵀ + Z Zᵀ is the pseudo-inverse of GGᵀ, and the undetermined amplitude is 0.
+Eigen::SparseMatrix<double> DualProblem::with_joint_null_modes(const Eigen::SparseMatrix<double>& GGt) {
+  constexpr Eigen::Index dense_limit = 6000;  // coarse rows: 3 per subdomain
+  if (GGt.rows() > dense_limit)
+    throw std::runtime_error("the coarse matrix GG^T is singular (a rigid motion no row sees) and too large (" +
+                             std::to_string(GGt.rows()) + " rows) to find its null space densely");
+  const Eigen::MatrixXd dense(GGt);
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(dense);
+  const double largest = eig.eigenvalues().maxCoeff();
+  Eigen::SparseMatrix<double> out = GGt;
+  for (Eigen::Index j = 0; j < eig.eigenvalues().size(); ++j) {
+    if (eig.eigenvalues()(j) > null_mode_tolerance * largest) continue;
+    const Eigen::VectorXd z = eig.eigenvectors().col(j);
+    Eigen::SparseMatrix<double> zzt(GGt.rows(), GGt.cols());
+    std::vector<Eigen::Triplet<double>> t;
+    for (Eigen::Index a = 0; a < z.size(); ++a)
+      for (Eigen::Index b = 0; b < z.size(); ++b)
+        if (std::abs(z(a)) > 1e-14 && std::abs(z(b)) > 1e-14) t.emplace_back(a, b, largest * z(a) * z(b));
+    zzt.setFromTriplets(t.begin(), t.end());
+    out += zzt;
+    ++joint_null_modes_;
+  }
+  return out;
 }
 
 void DualProblem::set_exchange() {

@@ -306,7 +306,7 @@ void ContactSolver::recover(const DualProblem& dual, const Eigen::VectorXd& f, c
   }
 
   const mesh::Mesh& mesh = setup_.mesh();
-  std::vector<int> fibre_of_cell(mesh.n_cells(), -1);
+  std::vector<int> fibre_of_cell(mesh.n_fibres(), -1);
   for (int s = 0; s < static_cast<int>(mesh.subdomains.size()); ++s)
     if (mesh.subdomains[s].is_fibre) fibre_of_cell[mesh.subdomains[s].cell] = s;
   std::vector<std::vector<int>> pairs_of_fibre(n_subdomains);

@@ -71,6 +71,47 @@ std::vector<std::array<int, N>> rows_of(const File& f, const std::string& name, 
   return rows;
 }
 
+// An RVE's geometry as written in its scene: size, min_gap, the random spec (attributes of
+// /mesh) or the list (/mesh/rve_fibres, K×3: x, y, r).
+void write_rve_geometry(File& f, const Geometry& g) {
+  f.write_attribute("/mesh", "size", std::vector<double>{g.size[0], g.size[1]});
+  f.write_attribute("/mesh", "min_gap", g.random.min_gap);
+  if (g.layout == FibreLayout::random) {
+    f.write_attribute("/mesh", "volume_fraction", g.random.volume_fraction);
+    f.write_attribute("/mesh", "radius", std::vector<double>{g.random.radius_mean, g.random.radius_sd});
+    f.write_attribute("/mesh", "seed", static_cast<std::int64_t>(g.random.seed));
+    return;
+  }
+  std::vector<double> list;
+  for (const FibreCircle& c : g.fibres) list.insert(list.end(), {c.centre[0], c.centre[1], c.radius});
+  f.write("/mesh/rve_fibres", list, {g.fibres.size(), 3});
+}
+
+void read_rve_geometry(const File& f, Geometry& g, const std::string& where) {
+  const std::string layout = f.read_string_attribute("/mesh", "layout");
+  if (layout == "cells") return;
+  if (layout != "list" && layout != "random")
+    throw InputError(where + "/mesh attribute layout = \"" + clipped(layout) +
+                     "\": allowed \"cells\", \"list\" or \"random\"");
+  g.layout = layout == "list" ? FibreLayout::list : FibreLayout::random;
+  const auto size = f.read_double_attribute("/mesh", "size", 2);
+  g.size = {size[0], size[1]};
+  if (!(g.size[0] > 0 && g.size[1] > 0 && std::isfinite(g.size[0]) && std::isfinite(g.size[1])))
+    throw InputError(where + "/mesh attribute size: must be 2 finite numbers > 0");
+  g.random.min_gap = f.read_double_attribute_value("/mesh", "min_gap");
+  if (g.layout == FibreLayout::random) {
+    g.random.volume_fraction = f.read_double_attribute_value("/mesh", "volume_fraction");
+    const auto radius = f.read_double_attribute("/mesh", "radius", 2);
+    g.random.radius_mean = radius[0];
+    g.random.radius_sd = radius[1];
+    g.random.seed = static_cast<std::uint64_t>(f.read_int_attribute_value("/mesh", "seed"));
+    return;
+  }
+  const auto list = f.read_doubles("/mesh/rve_fibres", {any_extent, 3});
+  for (std::size_t k = 0; k < list.size() / 3; ++k)
+    g.fibres.push_back({{list[3 * k], list[3 * k + 1]}, list[3 * k + 2]});
+}
+
 // What the solver relies on, so that a corrupt or edited file is refused instead of indexing out
 // of bounds or silently solving another problem: one fibre and one matrix subdomain per cell;
 // every triangle counter-clockwise, not degenerate, with its nodes in its own subdomain; nodes in
@@ -78,26 +119,35 @@ std::vector<std::array<int, N>> rows_of(const File& f, const std::string& name, 
 // pairs and boundary edges on matrix nodes.
 void check_structure(const mesh::Mesh& m, const std::vector<std::int64_t>& is_fibre, const std::string& where) {
   const Geometry& g = m.geometry;
-  if (!(g.cell_size > 0 && std::isfinite(g.cell_size)) || !(g.fibre_radius > 0 && std::isfinite(g.fibre_radius)) ||
-      g.cells[0] < 1 || g.cells[1] < 1 || g.degree < 1)
+  const bool rve = g.rve();
+  if (!rve &&
+      (!(g.cell_size > 0 && std::isfinite(g.cell_size)) || !(g.fibre_radius > 0 && std::isfinite(g.fibre_radius)) ||
+       g.cells[0] < 1 || g.cells[1] < 1 || g.degree < 1))
     throw InputError(where + "/mesh: attributes cells, cell_size, fibre_radius or degree out of range");
-  const auto cells = static_cast<std::size_t>(m.n_cells());
+  // A cell's fibre and matrix subdomains (mapped), or an RVE's fibre pieces (matrix: cell −1).
+  const auto cells = static_cast<std::size_t>(rve ? m.n_fibres() : m.n_cells());
   std::vector<int> fibre_of(cells, -1), matrix_of(cells, -1);
   for (std::size_t s = 0; s < m.subdomains.size(); ++s) {
     const int c = m.subdomains[s].cell;
-    if (c < 0 || static_cast<std::size_t>(c) >= cells || (is_fibre[s] != 0 && is_fibre[s] != 1))
+    const bool rve_matrix = rve && is_fibre[s] == 0;
+    if ((rve_matrix ? c != -1 : (c < 0 || static_cast<std::size_t>(c) >= cells)) ||
+        (is_fibre[s] != 0 && is_fibre[s] != 1))
       throw InputError(where + "/mesh/subdomain_cell or subdomain_is_fibre: subdomain " + std::to_string(s) +
                        " has cell " + std::to_string(c) + " and flag " + std::to_string(is_fibre[s]));
+    if (rve_matrix) continue;
     int& slot = is_fibre[s] ? fibre_of[c] : matrix_of[c];
     if (slot >= 0)
       throw InputError(where + "/mesh/subdomain_is_fibre: cell " + std::to_string(c) + " has two " +
                        (is_fibre[s] ? "fibre" : "matrix") + " subdomains");
     slot = static_cast<int>(s);
   }
+  for (double r : m.fibre_radii)
+    if (!(r > 0 && std::isfinite(r)))
+      throw InputError(where + "/mesh/fibre_radii: a radius is not a finite number > 0");
   std::vector<int> owner(m.nodes.size());
   for (std::size_t s = 0; s < m.subdomains.size(); ++s)
     for (int v = m.subdomains[s].node_begin; v < m.subdomains[s].node_end; ++v) owner[v] = static_cast<int>(s);
-  const double tol = 1e-9 * g.cell_size;
+  const double tol = 1e-9 * std::max(m.block_width(), m.block_height());
   for (std::size_t v = 0; v < m.nodes.size(); ++v)
     if (m.nodes[v].x() < -tol || m.nodes[v].x() > m.block_width() + tol || m.nodes[v].y() < -tol ||
         m.nodes[v].y() > m.block_height() + tol)
@@ -119,7 +169,7 @@ void check_structure(const mesh::Mesh& m, const std::vector<std::int64_t>& is_fi
   for (std::size_t p = 0; p < m.interface_pairs.size(); ++p) {
     const auto [f, mn] = m.interface_pairs[p];
     const int c = m.interface_cell[p];
-    if (owner[f] != fibre_of[c] || owner[mn] != matrix_of[c] || !coincide(f, mn))
+    if (owner[f] != fibre_of[c] || is_fibre[owner[mn]] || (!rve && owner[mn] != matrix_of[c]) || !coincide(f, mn))
       throw InputError(where + "/mesh/interface_pairs: pair " + std::to_string(p) +
                        " does not join coinciding fibre and matrix nodes of cell " + std::to_string(c));
   }
@@ -134,11 +184,11 @@ void check_structure(const mesh::Mesh& m, const std::vector<std::int64_t>& is_fi
     const int axis = side / 2;
     const double at = side == 1 ? m.block_width() : side == 3 ? m.block_height() : 0.0;
     for (const auto& [u, v, mid] : m.boundary_edges[side])
-      if (is_fibre[owner[u]] || owner[u] != owner[v] || u == v || std::abs(m.nodes[u][axis] - at) > tol ||
+      if ((!rve && is_fibre[owner[u]]) || owner[u] != owner[v] || u == v || std::abs(m.nodes[u][axis] - at) > tol ||
           std::abs(m.nodes[v][axis] - at) > tol ||
           (mid >= 0 && (owner[mid] != owner[u] || (m.nodes[mid] - (m.nodes[u] + m.nodes[v]) / 2).norm() > tol)))
         throw InputError(where + "/mesh/boundary/" + mesh::side_names[side] +
-                         ": an edge that is not a matrix edge on that side of the block");
+                         ": an edge that is not a matrix edge (or an RVE's edge) on that side of the block");
   }
 }
 
@@ -173,6 +223,7 @@ void write_mesh(const mesh::Mesh& mesh, const Scene& scene, const std::filesyste
     f.write("/mesh/subdomain_nodes", node_range, {S, 2});
     f.write("/mesh/subdomain_triangles", triangle_range, {S, 2});
     f.write("/mesh/fibre_centres", flatten(mesh.fibre_centres), {mesh.fibre_centres.size(), 2});
+    f.write("/mesh/fibre_radii", mesh.fibre_radii, {mesh.fibre_radii.size()});
     f.write("/mesh/interface_pairs", flatten(mesh.interface_pairs), {mesh.interface_pairs.size(), 2});
     f.write("/mesh/interface_cell", std::vector<std::int64_t>(mesh.interface_cell.begin(), mesh.interface_cell.end()),
             {mesh.interface_cell.size()});
@@ -181,6 +232,8 @@ void write_mesh(const mesh::Mesh& mesh, const Scene& scene, const std::filesyste
       f.write(std::string("/mesh/boundary/") + mesh::side_names[side], flatten(mesh.boundary_edges[side], E),
               {mesh.boundary_edges[side].size(), E});
     const Geometry& g = mesh.geometry;
+    f.write_attribute("/mesh", "layout", std::string(to_string(g.layout)));
+    if (g.rve()) write_rve_geometry(f, g);
     f.write_attribute("/mesh", "cells", std::vector<std::int64_t>{g.cells[0], g.cells[1]});
     f.write_attribute("/mesh", "cell_size", g.cell_size);
     f.write_attribute("/mesh", "fibre_radius", g.fibre_radius);
@@ -223,6 +276,7 @@ MeshFile read_mesh(const std::filesystem::path& h5) {
   if (element != "p1" && element != "p2")
     throw InputError(where + "/mesh attribute element = \"" + clipped(element) + "\": allowed \"p1\" or \"p2\"");
   m.geometry.element = element == "p1" ? Element::p1 : Element::p2;
+  read_rve_geometry(f, m.geometry, where);
   const int W = m.geometry.element == Element::p1 ? 3 : 6, E = W == 6 ? 3 : 2;  // nodes per triangle, per edge
   out.scene_text = f.read_string_attribute("/", "scene");
 
@@ -266,6 +320,7 @@ MeshFile read_mesh(const std::filesystem::path& h5) {
   }
   const auto centres = f.read_doubles("/mesh/fibre_centres", {any_extent, 2});
   for (std::size_t c = 0; c < centres.size() / 2; ++c) m.fibre_centres.emplace_back(centres[2 * c], centres[2 * c + 1]);
+  m.fibre_radii = f.read_doubles("/mesh/fibre_radii", {m.fibre_centres.size()}, " like /mesh/fibre_centres");
   m.interface_pairs = rows_of<2>(f, "/mesh/interface_pairs", N);
   for (auto c : f.read_ints("/mesh/interface_cell", {m.interface_pairs.size()}, " like /mesh/interface_pairs")) {
     if (c < 0 || c >= static_cast<std::int64_t>(m.fibre_centres.size()))
@@ -278,7 +333,7 @@ MeshFile read_mesh(const std::filesystem::path& h5) {
     for (std::size_t e = 0; e < flat.size() / E; ++e)
       m.boundary_edges[side].push_back({flat[e * E], flat[e * E + 1], E == 3 ? flat[e * E + 2] : -1});
   }
-  if (static_cast<int>(m.fibre_centres.size()) != m.n_cells() || S != 2 * m.fibre_centres.size())
+  if (!m.geometry.rve() && (static_cast<int>(m.fibre_centres.size()) != m.n_cells() || S != 2 * m.fibre_centres.size()))
     throw InputError(where + "cell count does not match /mesh attribute cells");
   check_structure(m, is_fibre, where);
   return out;
@@ -288,6 +343,40 @@ std::string geometry_mismatch(const mesh::Mesh& mesh, const Scene& scene) {
   const Geometry& a = mesh.geometry;
   const Geometry& b = scene.geometry;
   std::ostringstream s;
+  const auto pair_text = [](std::array<double, 2> v) {
+    std::ostringstream t;
+    t << '[' << shortest(v[0]) << ", " << shortest(v[1]) << ']';
+    return t.str();
+  };
+  if (a.layout != b.layout) {
+    s << "[geometry] the fibres: mesh " << to_string(a.layout) << ", scene " << to_string(b.layout);
+    return s.str();
+  }
+  if (a.rve()) {
+    const auto list = [](const Geometry& g) {
+      std::vector<double> v;
+      for (const FibreCircle& c : g.fibres) v.insert(v.end(), {c.centre[0], c.centre[1], c.radius});
+      return v;
+    };
+    const RandomFibres &ra = a.random, &rb = b.random;
+    if (a.size != b.size)
+      s << "[geometry] size: mesh " << pair_text(a.size) << ", scene " << pair_text(b.size);
+    else if (a.degree != b.degree)
+      s << "[geometry] degree: mesh " << a.degree << ", scene " << b.degree;
+    else if (a.element != b.element)
+      s << "[geometry] element: mesh " << to_string(a.element) << ", scene " << to_string(b.element);
+    else if (ra.min_gap != rb.min_gap)
+      s << "[geometry] min_gap: mesh " << shortest(ra.min_gap) << ", scene " << shortest(rb.min_gap);
+    else if (a.layout == FibreLayout::random &&
+             (ra.volume_fraction != rb.volume_fraction || ra.radius_mean != rb.radius_mean ||
+              ra.radius_sd != rb.radius_sd || ra.seed != rb.seed))
+      s << "[geometry] volume_fraction, radius or seed: mesh " << shortest(ra.volume_fraction) << ", "
+        << pair_text({ra.radius_mean, ra.radius_sd}) << ", " << ra.seed << "; scene " << shortest(rb.volume_fraction)
+        << ", " << pair_text({rb.radius_mean, rb.radius_sd}) << ", " << rb.seed;
+    else if (a.layout == FibreLayout::list && list(a) != list(b))
+      s << "[[fibres]]: the mesh's " << a.fibres.size() << " fibres differ from the scene's " << b.fibres.size();
+    return s.str();
+  }
   if (a.cells != b.cells)
     s << "[geometry] cells: mesh [" << a.cells[0] << ", " << a.cells[1] << "], scene [" << b.cells[0] << ", "
       << b.cells[1] << "]";

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <map>
 #include <numbers>
 
 namespace dualcell::mesh {
@@ -243,6 +244,7 @@ Mesh build_mesh(const Geometry& geometry) {
       const Eigen::Vector2d cell_centre((cx + 0.5) * g.a, (cy + 0.5) * g.a);
       const Eigen::Vector2d c = cell_centre + Eigen::Vector2d(geometry.fibre_offset[0], geometry.fibre_offset[1]);
       mesh.fibre_centres.push_back(c);
+      mesh.fibre_radii.push_back(geometry.fibre_radius);
       const int matrix_index = static_cast<int>(mesh.subdomains.size());
       matrix_grid[cell] = add_matrix(mesh, keep, g, cx, cy, cell, cell_centre, c);
       const int fibre_index = static_cast<int>(mesh.subdomains.size());
@@ -270,7 +272,47 @@ std::vector<Eigen::Vector2d> triangle_points(const Mesh& mesh, int t) {
   return x;
 }
 
+namespace {
+
+// An RVE's rim edges, from its fibre triangles: the edges of a fibre piece used by one of its
+// triangles only (its outline) whose end nodes are both interface nodes, except those along the
+// rectangle's sides (a piece's straight cut).
+std::vector<Edge> rve_interface_edges(const Mesh& mesh) {
+  std::vector<int> pair_of(mesh.n_nodes(), -1);
+  for (int p = 0; p < static_cast<int>(mesh.interface_pairs.size()); ++p) pair_of[mesh.interface_pairs[p][0]] = p;
+  const double eps = 1e-9 * std::max(mesh.block_width(), mesh.block_height());
+  const auto on_one_side = [&](int a, int b) {
+    const Eigen::Vector2d &p = mesh.nodes[a], &q = mesh.nodes[b];
+    const double W = mesh.block_width(), H = mesh.block_height();
+    return (std::abs(p.x()) < eps && std::abs(q.x()) < eps) ||
+           (std::abs(p.x() - W) < eps && std::abs(q.x() - W) < eps) ||
+           (std::abs(p.y()) < eps && std::abs(q.y()) < eps) || (std::abs(p.y() - H) < eps && std::abs(q.y() - H) < eps);
+  };
+  std::map<std::pair<int, int>, std::pair<int, Edge>> uses;  // sorted corner pair -> (count, edge)
+  const int width = mesh.triangles.width();
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    if (!mesh.subdomains[mesh.triangle_subdomain[t]].is_fibre) continue;
+    const auto tri = mesh.triangles[t];
+    for (int c = 0; c < 3; ++c) {
+      const int a = tri[c], b = tri[(c + 1) % 3];
+      auto& [count, edge] = uses[std::minmax(a, b)];
+      ++count;
+      edge = {a, b, width == 6 ? tri[3 + c] : -1};
+    }
+  }
+  std::vector<Edge> edges;
+  for (const auto& [key, use] : uses) {
+    const auto& [count, e] = use;
+    if (count != 1 || pair_of[e.a] < 0 || pair_of[e.b] < 0 || on_one_side(e.a, e.b)) continue;
+    edges.push_back({pair_of[e.a], pair_of[e.b], e.mid < 0 ? -1 : pair_of[e.mid]});
+  }
+  return edges;
+}
+
+}  // namespace
+
 std::vector<Edge> interface_edges(const Mesh& mesh) {
+  if (mesh.geometry.rve()) return rve_interface_edges(mesh);
   const int n = static_cast<int>(mesh.interface_pairs.size());
   const int o = element_order(mesh.element());
   std::vector<Edge> edges;

@@ -33,7 +33,9 @@ namespace dualcell::mesh {
 
 struct Subdomain {
   bool is_fibre = false;
-  int cell = 0;        // cx + ex*cy
+  // The mapped block: the cell cx + ex*cy. An RVE: a fibre piece's index into
+  // Mesh::fibre_centres; −1 for the matrix's subdomains.
+  int cell = 0;
   int node_begin = 0;  // rows [node_begin, node_end) of Mesh::nodes
   int node_end = 0;
   int triangle_begin = 0;  // rows [triangle_begin, triangle_end) of Mesh::triangles
@@ -94,9 +96,12 @@ struct Mesh {
   Triangles triangles;                 // global node indices, counter-clockwise
   std::vector<int> triangle_subdomain;
   std::vector<Subdomain> subdomains;
-  std::vector<Eigen::Vector2d> fibre_centres;       // one per cell, exact circle centre
+  // Per fibre subdomain (a cell's fibre, or a piece of an RVE's fibre: a fibre crossing an edge
+  // is one piece per side, each with the centre of its own periodic image): the exact circle.
+  std::vector<Eigen::Vector2d> fibre_centres;
+  std::vector<double> fibre_radii;
   std::vector<std::array<int, 2>> interface_pairs;  // (fibre node, matrix node)
-  std::vector<int> interface_cell;                  // cell of each interface pair
+  std::vector<int> interface_cell;                  // fibre (index into fibre_centres) of each interface pair
   std::vector<std::array<int, 2>> glue_pairs;       // (matrix node, matrix node of a neighbour)
   // Outer boundary edges per Side, oriented counter-clockwise around the block, so the
   // outward normal of edge (a, b) is (b - a) rotated by -90°.
@@ -106,8 +111,9 @@ struct Mesh {
   int n_nodes() const { return static_cast<int>(nodes.size()); }
   int dim_u() const { return 2 * n_nodes(); }
   int n_cells() const { return geometry.cells[0] * geometry.cells[1]; }
-  double block_width() const { return geometry.cells[0] * geometry.cell_size; }
-  double block_height() const { return geometry.cells[1] * geometry.cell_size; }
+  int n_fibres() const { return static_cast<int>(fibre_centres.size()); }
+  double block_width() const { return geometry.width(); }
+  double block_height() const { return geometry.height(); }
 };
 
 // Builds the mesh of a validated geometry.

@@ -59,7 +59,7 @@ std::string fibre_text(const Fibre& f, std::size_t i) {
          "), radius " + shortest(f.radius);
 }
 
-void check_spec(double Lx, double Ly, const RandomSpec& s, const std::string& where) {
+void check_spec(double Lx, double Ly, const RandomFibres& s, const std::string& where) {
   const auto bad = [&](const std::string& key, double value, const std::string& range) {
     throw InputError(where + ": " + key + " = " + shortest(value) + ": out of range: " + range);
   };
@@ -77,7 +77,7 @@ void check_spec(double Lx, double Ly, const RandomSpec& s, const std::string& wh
 
 // Radii to the volume fraction: drawn until their area passes it (the count nearer to it
 // kept), then scaled by one common factor so that Σπr² = v_f Lx Ly exactly.
-std::vector<double> draw_radii(double Lx, double Ly, const RandomSpec& s, std::mt19937_64& rng) {
+std::vector<double> draw_radii(double Lx, double Ly, const RandomFibres& s, std::mt19937_64& rng) {
   std::normal_distribution<double> normal(s.radius_mean, s.radius_sd);
   const double target = s.volume_fraction * Lx * Ly;
   std::vector<double> radii;
@@ -175,7 +175,7 @@ void check(const Microstructure& m, double min_gap, const std::string& where) {
   }
 }
 
-Microstructure generate_random(double Lx, double Ly, const RandomSpec& spec, const std::string& where) {
+Microstructure generate_random(double Lx, double Ly, const RandomFibres& spec, const std::string& where) {
   check_spec(Lx, Ly, spec, where);
   std::mt19937_64 rng(spec.seed);
   Microstructure m;

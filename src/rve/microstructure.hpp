@@ -17,6 +17,8 @@
 #include <string>
 #include <vector>
 
+#include "core/scene.hpp"
+
 namespace dualcell::rve {
 
 struct Fibre {
@@ -28,16 +30,6 @@ struct Microstructure {
   double Lx = 1, Ly = 1;
   std::vector<Fibre> fibres;
   double volume_fraction() const;
-};
-
-struct RandomSpec {
-  double volume_fraction = 0.5;
-  double radius_mean = 0.05, radius_sd = 0;
-  // Between fibres (surface to surface), and from a fibre to an edge it does not cross.
-  double min_gap = 0;
-  std::uint64_t seed = 1;
-  // Shaking sweeps (every fibre one move) allowed while fibres remain to be placed.
-  int max_shake_sweeps = 20000;
 };
 
 // Nearest-neighbour statistics of a microstructure (periodic distances between centres, and the
@@ -63,6 +55,6 @@ void check(const Microstructure& m, double min_gap, const std::string& where);
 
 // Random fibres to spec.volume_fraction in Lx × Ly (see the file comment). An InputError when the
 // spec is out of range, or, naming the volume fraction reached, when the fibres jam.
-Microstructure generate_random(double Lx, double Ly, const RandomSpec& spec, const std::string& where);
+Microstructure generate_random(double Lx, double Ly, const RandomFibres& spec, const std::string& where);
 
 }  // namespace dualcell::rve

@@ -27,7 +27,7 @@ std::string error_of(auto&& f) {
 // Every rule a generated microstructure promises, measured on it (independent of how it was
 // made): the volume fraction to round-off, every surface gap and edge distance ≥ min_gap (less
 // 1e-12 of the size for round-off), no fibre across a corner; check() accepts it.
-void expect_valid(const Microstructure& m, const RandomSpec& spec) {
+void expect_valid(const Microstructure& m, const RandomFibres& spec) {
   const Statistics s = statistics(m);
   EXPECT_NEAR(s.volume_fraction, spec.volume_fraction, 1e-12);
   EXPECT_GE(s.gap_min, spec.min_gap - 1e-12 * m.Lx);
@@ -36,7 +36,7 @@ void expect_valid(const Microstructure& m, const RandomSpec& spec) {
 }
 
 TEST(RandomFibres, ReproducibleFromTheSeedAndEveryGapKept) {
-  RandomSpec spec{0.5, 0.05, 0.005, 0.005, 7};
+  RandomFibres spec{0.5, 0.05, 0.005, 0.005, 7};
   const double L = side(36, 0.05, 0.5);
   const Microstructure a = generate_random(L, L, spec, "test"), b = generate_random(L, L, spec, "test");
   ASSERT_EQ(a.fibres.size(), b.fibres.size());
@@ -61,7 +61,7 @@ TEST(RandomFibres, ReproducibleFromTheSeedAndEveryGapKept) {
 TEST(RandomFibres, ShakingReachesVolumeFractionsRsaCannot) {
   for (const double vf : {0.6, 0.65})
     for (const double sd : {0.0, 0.0025}) {
-      const RandomSpec spec{vf, 0.05, sd, 0.0025, 3};
+      const RandomFibres spec{vf, 0.05, sd, 0.0025, 3};
       const double L = side(64, 0.05, vf);
       const Microstructure m = generate_random(L, L, spec, "test");
       expect_valid(m, spec);
@@ -73,7 +73,7 @@ TEST(RandomFibres, ShakingReachesVolumeFractionsRsaCannot) {
 }
 
 TEST(RandomFibres, AVolumeFractionThatJamsIsOneLineWithTheFractionReached) {
-  RandomSpec spec{0.85, 0.05, 0, 0.005, 1};
+  RandomFibres spec{0.85, 0.05, 0, 0.005, 1};
   spec.max_shake_sweeps = 200;
   const double L = side(16, 0.05, 0.85);
   const std::string e = error_of([&] { generate_random(L, L, spec, "rve.toml"); });

@@ -1,0 +1,394 @@
+#include "rve/mesher.hpp"
+
+#include <gmsh.h>
+#include <metis.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <numbers>
+#include <numeric>
+#include <set>
+#include <unordered_map>
+
+#include "core/error.hpp"
+
+namespace dualcell::rve {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+// A periodic image of a fibre that reaches into the rectangle: one fibre piece once meshed.
+struct Image {
+  int fibre = 0;
+  Eigen::Vector2d centre;
+  double radius = 0;
+};
+
+std::vector<Image> images_in(const Microstructure& m) {
+  std::vector<Image> out;
+  for (int k = 0; k < static_cast<int>(m.fibres.size()); ++k)
+    for (int iy = -1; iy <= 1; ++iy)
+      for (int ix = -1; ix <= 1; ++ix) {
+        const Fibre& f = m.fibres[k];
+        const Eigen::Vector2d c = f.centre + Eigen::Vector2d(ix * m.Lx, iy * m.Ly);
+        if (c.x() + f.radius > 0 && c.x() - f.radius < m.Lx && c.y() + f.radius > 0 && c.y() - f.radius < m.Ly)
+          out.push_back({k, c, f.radius});
+      }
+  return out;
+}
+
+// gmsh's global state for one mesh: initialised quietly, finalised on every way out.
+struct GmshSession {
+  GmshSession() {
+    gmsh::initialize(0, nullptr, false);
+    gmsh::option::setNumber("General.Terminal", 0);
+    gmsh::model::add("rve");
+  }
+  ~GmshSession() { gmsh::finalize(); }
+  GmshSession(const GmshSession&) = delete;
+  GmshSession& operator=(const GmshSession&) = delete;
+};
+
+// The mesh size at a point: h, or the sum of the distances to the two nearest fibre surfaces
+// where that is smaller (a narrow gap), not below h/10.
+class SizeField {
+ public:
+  SizeField(const Microstructure& m, double h) : h_(h) {
+    for (const Fibre& f : m.fibres)
+      for (int iy = -1; iy <= 1; ++iy)
+        for (int ix = -1; ix <= 1; ++ix)
+          circles_.push_back({f.centre + Eigen::Vector2d(ix * m.Lx, iy * m.Ly), f.radius});
+  }
+  double operator()(double x, double y) const {
+    double d1 = std::numeric_limits<double>::infinity(), d2 = d1;
+    for (const Fibre& c : circles_) {
+      const double d = std::abs((Eigen::Vector2d(x, y) - c.centre).norm() - c.radius);
+      if (d < d1)
+        d2 = d1, d1 = d;
+      else if (d < d2)
+        d2 = d;
+    }
+    return std::min(h_, std::max(d1 + d2, h_ / 10));
+  }
+
+ private:
+  double h_;
+  std::vector<Fibre> circles_;
+};
+
+// One surface of the fragmented geometry: the matrix (image −1) or a fibre piece.
+struct Surface {
+  int tag = 0;
+  int image = -1;
+};
+
+// Builds the OpenCASCADE geometry, fragments it and keeps what lies in the rectangle; the
+// right and top curves are made periodic copies of the left and bottom ones.
+std::vector<Surface> build_geometry(const Microstructure& m, const std::vector<Image>& images) {
+  namespace occ = gmsh::model::occ;
+  const int rectangle = occ::addRectangle(0, 0, 0, m.Lx, m.Ly);
+  gmsh::vectorpair disks;
+  for (const Image& im : images)
+    disks.push_back({2, occ::addDisk(im.centre.x(), im.centre.y(), 0, im.radius, im.radius)});
+  gmsh::vectorpair pieces;
+  std::vector<gmsh::vectorpair> children;
+  occ::fragment({{2, rectangle}}, disks, pieces, children);
+  occ::synchronize();
+  // children[0]: the pieces of the rectangle; children[1 + j]: those of disk j. A piece of both
+  // is the part of image j inside the rectangle.
+  std::set<int> inside;
+  for (const auto& [dim, tag] : children[0]) inside.insert(tag);
+  std::map<int, int> image_of;
+  for (std::size_t j = 0; j < images.size(); ++j)
+    for (const auto& [dim, tag] : children[1 + j])
+      if (inside.count(tag)) image_of[tag] = static_cast<int>(j);
+  gmsh::vectorpair outside;
+  for (const auto& [dim, tag] : pieces)
+    if (!inside.count(tag)) outside.push_back({dim, tag});
+  if (!outside.empty()) occ::remove(outside, true);
+  occ::synchronize();
+  std::vector<Surface> surfaces;
+  for (int tag : inside) surfaces.push_back({tag, image_of.count(tag) ? image_of[tag] : -1});
+
+  // Periodic edges: every curve on the right (top) side is the copy of the curve on the left
+  // (bottom) side at the same place, matched by their bounding boxes.
+  const double L = std::max(m.Lx, m.Ly), eps = 1e-7 * L;
+  const auto curves_on = [&](double x0, double y0, double x1, double y1) {
+    gmsh::vectorpair c;
+    gmsh::model::getEntitiesInBoundingBox(x0 - eps, y0 - eps, -eps, x1 + eps, y1 + eps, eps, c, 1);
+    return c;
+  };
+  const auto box = [](int tag) {
+    std::array<double, 6> b{};
+    gmsh::model::getBoundingBox(1, tag, b[0], b[1], b[2], b[3], b[4], b[5]);
+    return b;
+  };
+  const auto match = [&](const gmsh::vectorpair& from, const gmsh::vectorpair& to, double dx, double dy) {
+    for (const auto& [d, t] : to) {
+      const auto bt = box(t);
+      int master = -1;
+      for (const auto& [e, s] : from) {
+        const auto bs = box(s);
+        if (std::abs(bs[0] + dx - bt[0]) < 10 * eps && std::abs(bs[1] + dy - bt[1]) < 10 * eps &&
+            std::abs(bs[3] + dx - bt[3]) < 10 * eps && std::abs(bs[4] + dy - bt[4]) < 10 * eps)
+          master = s;
+      }
+      if (master < 0) throw InputError("an edge curve has no periodic partner on the opposite side");
+      gmsh::model::mesh::setPeriodic(1, {t}, {master}, {1, 0, 0, dx, 0, 1, 0, dy, 0, 0, 1, 0, 0, 0, 0, 1});
+    }
+  };
+  match(curves_on(0, 0, 0, m.Ly), curves_on(m.Lx, 0, m.Lx, m.Ly), m.Lx, 0);
+  match(curves_on(0, 0, m.Lx, 0), curves_on(0, m.Ly, m.Lx, m.Ly), 0, m.Ly);
+  return surfaces;
+}
+
+// The triangles of one surface as rows of gmsh node tags (3 or 6 per row, gmsh's order is ours:
+// corners, then the mid-sides of (0,1), (1,2), (2,0)).
+std::vector<std::vector<std::size_t>> triangles_of(int surface, int width) {
+  std::vector<std::size_t> element_tags, node_tags;
+  gmsh::model::mesh::getElementsByType(width == 3 ? 2 : 9, element_tags, node_tags, surface);
+  std::vector<std::vector<std::size_t>> rows;
+  for (std::size_t e = 0; e < element_tags.size(); ++e)
+    rows.emplace_back(node_tags.begin() + e * width, node_tags.begin() + (e + 1) * width);
+  return rows;
+}
+
+// The matrix triangles' parts: METIS on the dual graph (triangles sharing an edge) into
+// n_parts, then each part's connected pieces (a METIS part need not be connected), numbered in
+// order of their first triangle. Returns the subdomain of every triangle and their count.
+std::pair<std::vector<int>, int> split_matrix(const std::vector<std::vector<std::size_t>>& triangles, int n_parts) {
+  const auto n = static_cast<idx_t>(triangles.size());
+  std::vector<idx_t> part(n, 0);
+  std::unordered_map<std::size_t, idx_t> compact;
+  for (const auto& t : triangles)
+    for (int c = 0; c < 3; ++c) compact.emplace(t[c], static_cast<idx_t>(compact.size()));
+  if (n_parts > 1 && n > n_parts) {
+    std::vector<idx_t> eptr(n + 1), eind(3 * n), npart(compact.size());
+    for (idx_t e = 0; e < n; ++e) {
+      eptr[e + 1] = 3 * (e + 1);
+      for (int c = 0; c < 3; ++c) eind[3 * e + c] = compact.at(triangles[e][c]);
+    }
+    idx_t ne = n, nn = static_cast<idx_t>(compact.size()), ncommon = 2, nparts = n_parts, objval = 0;
+    idx_t options[METIS_NOPTIONS];
+    METIS_SetDefaultOptions(options);
+    options[METIS_OPTION_SEED] = 1;  // the same split on every run
+    if (METIS_PartMeshDual(&ne, &nn, eptr.data(), eind.data(), nullptr, nullptr, &ncommon, &nparts, nullptr, options,
+                           &objval, part.data(), npart.data()) != METIS_OK)
+      throw InputError("METIS could not split the matrix into " + std::to_string(n_parts) + " parts");
+  }
+  // Connected pieces of each part: triangles of one part sharing an edge, by union-find.
+  std::vector<idx_t> parent(n);
+  std::iota(parent.begin(), parent.end(), 0);
+  const auto find = [&](idx_t v) {
+    while (parent[v] != v) v = parent[v] = parent[parent[v]];
+    return v;
+  };
+  std::map<std::pair<std::size_t, std::size_t>, idx_t> edge_owner;
+  for (idx_t e = 0; e < n; ++e)
+    for (int c = 0; c < 3; ++c) {
+      const std::size_t a = triangles[e][c], b = triangles[e][(c + 1) % 3];
+      const auto key = std::minmax(a, b);
+      const auto [it, fresh] = edge_owner.emplace(key, e);
+      if (!fresh && part[it->second] == part[e]) parent[find(e)] = find(it->second);
+    }
+  std::vector<int> subdomain(n, -1);
+  std::map<idx_t, int> number;
+  for (idx_t e = 0; e < n; ++e) {
+    const idx_t root = find(e);
+    const auto [it, fresh] = number.emplace(root, static_cast<int>(number.size()));
+    subdomain[e] = it->second;
+  }
+  return {subdomain, static_cast<int>(number.size())};
+}
+
+// Boundary edges of the rectangle from the triangles' own (counter-clockwise) edges, each side
+// ordered counter-clockwise around the block.
+void add_boundary_edges(mesh::Mesh& mesh, double eps) {
+  const double Lx = mesh.block_width(), Ly = mesh.block_height();
+  const int width = mesh.triangles.width();
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const auto tri = mesh.triangles[t];
+    for (int c = 0; c < 3; ++c) {
+      const int a = tri[c], b = tri[(c + 1) % 3], mid = width == 6 ? tri[3 + c] : -1;
+      const Eigen::Vector2d &pa = mesh.nodes[a], &pb = mesh.nodes[b];
+      int side = -1;
+      if (std::abs(pa.x()) < eps && std::abs(pb.x()) < eps) side = mesh::left;
+      if (std::abs(pa.x() - Lx) < eps && std::abs(pb.x() - Lx) < eps) side = mesh::right;
+      if (std::abs(pa.y()) < eps && std::abs(pb.y()) < eps) side = mesh::bottom;
+      if (std::abs(pa.y() - Ly) < eps && std::abs(pb.y() - Ly) < eps) side = mesh::top;
+      if (side >= 0) mesh.boundary_edges[side].push_back({a, b, mid});
+    }
+  }
+  // Counter-clockwise: bottom by x up, right by y up, top by x down, left by y down.
+  const auto along = [&](int side, const mesh::Edge& e) {
+    const Eigen::Vector2d& p = mesh.nodes[e.a];
+    return side == mesh::bottom ? p.x() : side == mesh::right ? p.y() : side == mesh::top ? -p.x() : -p.y();
+  };
+  for (int side = 0; side < 4; ++side)
+    std::sort(mesh.boundary_edges[side].begin(), mesh.boundary_edges[side].end(),
+              [&](const mesh::Edge& x, const mesh::Edge& y) { return along(side, x) < along(side, y); });
+}
+
+// The gmsh mesh of the fragmented geometry, split and turned into the solver's mesh.
+mesh::Mesh collect_mesh(const Geometry& geometry, const Microstructure& m, const std::vector<Image>& images,
+                        const std::vector<Surface>& surfaces, int subdomain_dofs, MeshReport& report) {
+  const int width = geometry.element == Element::p1 ? 3 : 6;
+  std::vector<std::size_t> tags;
+  std::vector<double> xyz, parametric;
+  gmsh::model::mesh::getNodes(tags, xyz, parametric, -1, -1, false, false);
+  std::unordered_map<std::size_t, Eigen::Vector2d> position;
+  for (std::size_t i = 0; i < tags.size(); ++i) position[tags[i]] = {xyz[3 * i], xyz[3 * i + 1]};
+
+  // Subdomains: the matrix's parts, then one per fibre piece (in the order of their images).
+  std::vector<std::vector<std::size_t>> matrix;
+  std::vector<std::pair<int, std::vector<std::vector<std::size_t>>>> fibres;  // (image, triangles)
+  for (const Surface& s : surfaces) {
+    auto rows = triangles_of(s.tag, width);
+    if (s.image < 0)
+      matrix.insert(matrix.end(), rows.begin(), rows.end());
+    else
+      fibres.push_back({s.image, std::move(rows)});
+  }
+  std::sort(fibres.begin(), fibres.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::set<std::size_t> matrix_nodes;
+  for (const auto& t : matrix) matrix_nodes.insert(t.begin(), t.end());
+  const Clock::time_point split_start = Clock::now();
+  const int n_parts = std::max(1, static_cast<int>(std::lround(2.0 * matrix_nodes.size() / subdomain_dofs)));
+  const auto [part, n_matrix] = split_matrix(matrix, n_parts);
+  report.seconds_split = seconds_since(split_start);
+
+  std::vector<std::vector<const std::vector<std::size_t>*>> rows_of(n_matrix + fibres.size());
+  for (std::size_t e = 0; e < matrix.size(); ++e) rows_of[part[e]].push_back(&matrix[e]);
+  for (std::size_t f = 0; f < fibres.size(); ++f)
+    for (const auto& t : fibres[f].second) rows_of[n_matrix + f].push_back(&t);
+
+  mesh::Mesh mesh;
+  mesh.geometry = geometry;
+  mesh.triangles = mesh::Triangles(width);
+  // Every subdomain its own copy of its nodes; copies[tag]: (subdomain, node) of each.
+  std::map<std::size_t, std::vector<std::pair<int, int>>> copies;
+  for (int s = 0; s < static_cast<int>(rows_of.size()); ++s) {
+    mesh::Subdomain sub;
+    sub.is_fibre = s >= n_matrix;
+    sub.cell = sub.is_fibre ? s - n_matrix : -1;
+    sub.node_begin = mesh.n_nodes();
+    sub.triangle_begin = static_cast<int>(mesh.triangles.size());
+    std::unordered_map<std::size_t, int> local;
+    const auto node = [&](std::size_t tag) {
+      const auto [it, fresh] = local.emplace(tag, mesh.n_nodes());
+      if (fresh) {
+        mesh.nodes.push_back(position.at(tag));
+        copies[tag].push_back({s, it->second});
+      }
+      return it->second;
+    };
+    for (const auto* row : rows_of[s]) {
+      std::vector<int> t(width);
+      for (int i = 0; i < width; ++i) t[i] = node((*row)[i]);
+      const Eigen::Vector2d a = mesh.nodes[t[1]] - mesh.nodes[t[0]], b = mesh.nodes[t[2]] - mesh.nodes[t[0]];
+      if (a.x() * b.y() - a.y() * b.x() < 0) {  // clockwise: reverse, and the mid-sides with it
+        std::swap(t[1], t[2]);
+        if (width == 6) std::swap(t[3], t[5]);
+      }
+      mesh.triangles.push_back(std::span<const int>(t));
+      mesh.triangle_subdomain.push_back(s);
+    }
+    sub.node_end = mesh.n_nodes();
+    sub.triangle_end = static_cast<int>(mesh.triangles.size());
+    mesh.subdomains.push_back(sub);
+  }
+  for (const auto& [image, rows] : fibres) {
+    mesh.fibre_centres.push_back(images[image].centre);
+    mesh.fibre_radii.push_back(images[image].radius);
+  }
+  // Interface pairs, fibre piece by fibre piece along its rim (by angle about its centre), and
+  // glue pairs where matrix subdomains meet.
+  std::vector<std::vector<std::pair<double, std::array<int, 2>>>> rim(fibres.size());
+  for (const auto& [tag, c] : copies) {
+    std::vector<int> in_matrix;
+    for (const auto& [s, v] : c)
+      if (s < n_matrix) in_matrix.push_back(v);
+    for (std::size_t k = 1; k < in_matrix.size(); ++k) mesh.glue_pairs.push_back({in_matrix[0], in_matrix[k]});
+    if (in_matrix.empty()) continue;
+    for (const auto& [s, v] : c)
+      if (s >= n_matrix) {
+        const int piece = s - n_matrix;
+        const Eigen::Vector2d d = mesh.nodes[v] - mesh.fibre_centres[piece];
+        rim[piece].push_back({std::atan2(d.y(), d.x()), {v, in_matrix[0]}});
+      }
+  }
+  for (std::size_t piece = 0; piece < rim.size(); ++piece) {
+    std::sort(rim[piece].begin(), rim[piece].end());
+    for (const auto& [angle, pair] : rim[piece]) {
+      mesh.interface_pairs.push_back(pair);
+      mesh.interface_cell.push_back(static_cast<int>(piece));
+    }
+  }
+  add_boundary_edges(mesh, 1e-9 * std::max(m.Lx, m.Ly));
+  report.fibre_pieces = static_cast<int>(fibres.size());
+  report.matrix_parts = n_matrix;
+  return mesh;
+}
+
+}  // namespace
+
+Microstructure microstructure_of(const Geometry& geometry, const std::string& where) {
+  if (geometry.layout == FibreLayout::random)
+    return generate_random(geometry.size[0], geometry.size[1], geometry.random, where + ": [geometry]");
+  Microstructure m;
+  m.Lx = geometry.size[0];
+  m.Ly = geometry.size[1];
+  for (const FibreCircle& f : geometry.fibres) m.fibres.push_back({{f.centre[0], f.centre[1]}, f.radius});
+  check(m, geometry.random.min_gap, where + ": [[fibres]]");
+  return m;
+}
+
+mesh::Mesh build_rve_mesh(const Geometry& geometry, int subdomain_dofs, const std::string& where, MeshReport* report) {
+  MeshReport local;
+  MeshReport& r = report ? *report : local;
+  const Microstructure m = microstructure_of(geometry, where);
+  r.fibres = statistics(m);
+  double r_mean = 0;
+  for (const Fibre& f : m.fibres) r_mean += f.radius / m.fibres.size();
+  const double h = std::numbers::pi * r_mean / (4 * geometry.degree);
+  r.element_size = h;
+  const std::vector<Image> images = images_in(m);
+  const Clock::time_point start = Clock::now();
+  try {
+    GmshSession session;
+    // gmsh reports an error by an exception of its own; its last error is the message.
+    const auto gmsh_error = [] {
+      std::string message;
+      gmsh::logger::getLastError(message);
+      return InputError("gmsh failed: " + (message.empty() ? std::string("no message") : message));
+    };
+    try {
+      const std::vector<Surface> surfaces = build_geometry(m, images);
+      gmsh::option::setNumber("Mesh.Algorithm", 6);  // Frontal-Delaunay
+      gmsh::option::setNumber("Mesh.MeshSizeFromPoints", 0);
+      gmsh::option::setNumber("Mesh.MeshSizeFromCurvature", 0);
+      gmsh::option::setNumber("Mesh.MeshSizeExtendFromBoundary", 0);
+      gmsh::option::setNumber("Mesh.MeshSizeMax", h);
+      gmsh::option::setNumber("Mesh.MeshSizeMin", h / 10);
+      const SizeField size(m, h);
+      gmsh::model::mesh::setSizeCallback([&size](int, int, double x, double y, double) { return size(x, y); });
+      gmsh::model::mesh::generate(2);
+      if (geometry.element == Element::p2) gmsh::model::mesh::setOrder(2);
+      r.seconds_gmsh = seconds_since(start);
+      return collect_mesh(geometry, m, images, surfaces, subdomain_dofs, r);
+    } catch (const InputError&) {
+      throw;
+    } catch (...) {
+      throw gmsh_error();
+    }
+  } catch (const InputError& e) {
+    throw InputError(where + ": the RVE mesher: " + e.what());
+  }
+}
+
+}  // namespace dualcell::rve
