@@ -14,6 +14,7 @@
 #include <unordered_map>
 
 #include "core/error.hpp"
+#include "core/text.hpp"
 
 namespace dualcell::rve {
 
@@ -357,6 +358,13 @@ mesh::Mesh build_rve_mesh(const Geometry& geometry, int subdomain_dofs, const st
   for (const Fibre& f : m.fibres) r_mean += f.radius / m.fibres.size();
   const double h = std::numbers::pi * r_mean / (4 * geometry.degree);
   r.element_size = h;
+  // The size field stops refining at h/10: a gap narrower than h/50 would get elements of
+  // angles near 0 (and a gap of 0 none at all).
+  const double narrowest = std::min(r.fibres.gap_min, r.fibres.edge_gap_min);
+  if (narrowest < h / 50)
+    throw InputError(where + ": the narrowest gap (between fibres or to an edge), " + formatted("%.3g", narrowest) +
+                     ", is too narrow to mesh at degree " + std::to_string(geometry.degree) + " (elements of h = " +
+                     formatted("%.3g", h) + ", at least h/50 needed): raise min_gap or the degree");
   const std::vector<Image> images = images_in(m);
   const Clock::time_point start = Clock::now();
   try {

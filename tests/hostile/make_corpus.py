@@ -12,7 +12,8 @@ Writes
   data/hostile/README.md              both tables in words
 
 Outcomes: `ok` the stage accepts the input (exit 0); `input` it refuses it with exit 1 and one
-line "<stage>: error: ..." containing the substring. Needs Debian's python3-h5py and numpy.
+line "<stage>: error: ..." containing the substring; `mesh-input` dualcell-mesh refuses it so
+(an RVE's fibres, which only the mesher places; the other stages read the mesh instead). Needs Debian's python3-h5py and numpy.
 Everything is deterministic except the provenance inside the stage outputs (code version,
 timings), so regenerating changes the .h5 bytes but not what the tests expect.
 """
@@ -297,6 +298,39 @@ def build_scene_cases():
          "a cell of size 1e300")
     case("extreme-thin-ligament", scene(geometry={"fibre_radius": "0.4999999"}), "ok", "",
          "a fibre 1e-7 from its cell's edge")
+
+    # Periodic RVEs: the scene's keys (every stage), then what only the mesher can see (mesh-input:
+    # the fibres' positions, a jam, a gap too narrow to mesh; solve and sweep read the mesh instead).
+    def rve(geometry, fibres=(), tail="[load]\nboundary = \"periodic\"\n"):
+        text = "[geometry]\n" + "".join(f"{k} = {v}\n" for k, v in geometry.items()) + "\n"
+        for x, y, r in fibres:
+            text += f"[[fibres]]\ncentre = [{x}, {y}]\nradius = {r}\n\n"
+        return text + table("fibre", FIBRE, {}) + "\n" + table("matrix", MATRIX, {}) + tail
+    one = [(0.5, 0.5, 0.3)]
+    case("rve-valid", rve({"size": "[1.0, 1.0]"}, one), "ok", "", "a periodic RVE of one listed fibre")
+    case("rve-random-valid", rve({"size": "[1.0, 1.0]", "kind": "\"random\"", "volume_fraction": "0.4",
+                                  "radius": "[0.2, 0.01]", "min_gap": "0.02", "seed": "4"}), "ok", "",
+         "a periodic RVE of random fibres")
+    case("rve-with-cells", rve({"size": "[1.0, 1.0]", "cells": "[1, 1]"}, one), "input",
+         "[geometry] cells: not with size", "an RVE that also gives cells")
+    case("rve-without-fibres", rve({"size": "[1.0, 1.0]"}), "input", "size without [[fibres]]",
+         "an RVE of kind list without its [[fibres]]")
+    case("rve-fibres-without-size", scene(tail="[[fibres]]\ncentre = [0.5, 0.5]\nradius = 0.3\n"), "input",
+         "[[fibres]] only for a periodic RVE", "a fibre list in a block of cells")
+    case("rve-symmetry", rve({"size": "[1.0, 1.0]"}, one, "[load]\nboundary = \"symmetry\"\n"), "input",
+         "is periodic: boundary = \"periodic\"", "an RVE with the symmetry boundary")
+    case("rve-vf-range", rve({"size": "[1.0, 1.0]", "kind": "\"random\"", "volume_fraction": "0.95",
+                              "radius": "[0.1, 0]"}), "input", "[geometry] volume_fraction = 0.95: out of range",
+         "a random volume fraction of 0.95")
+    case("rve-overlap", rve({"size": "[1.0, 1.0]"}, [(0.3, 0.5, 0.2), (0.6, 0.5, 0.2)]), "mesh-input",
+         "overlaps fibre 1", "two listed fibres that overlap")
+    case("rve-corner", rve({"size": "[1.0, 1.0]"}, [(0.05, 0.05, 0.1)]), "mesh-input",
+         "crosses two edges at a corner", "a fibre across a corner of the RVE")
+    case("rve-jam", rve({"size": "[1.0, 1.0]", "kind": "\"random\"", "volume_fraction": "0.85",
+                         "radius": "[0.1, 0]", "min_gap": "0.01"}), "mesh-input", "the fibres jam at volume fraction",
+         "random fibres to a volume fraction that jams")
+    case("rve-narrow-gap", rve({"size": "[1.0, 1.0]"}, [(0.3, 0.5, 0.15), (0.6000001, 0.5, 0.15)]), "mesh-input",
+         "too narrow to mesh", "two fibres 1e-7 apart, no min_gap")
 
     # Material files: missing, a folder, a device, the scene itself, foreign keys
     case("material-missing", "material = \"no-such-material.toml\"\n" + table("geometry", GEOMETRY, {}), "input",
@@ -755,6 +789,8 @@ def write_readme():
              "| file | what | outcome |\n|---|---|---|\n"]
     for name, _content, outcome, substring, what in SCENE_CASES:
         expect = "accepted" if outcome == "ok" else "refused: `" + substring.replace("|", "\\|") + "`"
+        if outcome == "mesh-input":
+            expect += " (by dualcell-mesh)"
         lines.append(f"| `{name}` | {what} | {expect} |\n")
     lines.append("\n`scenes/aux/` holds the material files some scenes name.\n\n")
     lines.append("## h5/ (mesh: dualcell-solve and dualcell-sweep; solution: dualcell-solve --bonds; "
