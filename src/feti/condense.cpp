@@ -130,22 +130,72 @@ law::CondensedCell condense(const FetiSetup& setup, int max_rows) {
   }
   const MacroLoad load = macro_load(setup, dual, n_macro);
   const Eigen::MatrixXd& D = load.D;
-  const Eigen::MatrixXd& e = load.e;
-  for (int g : N)
-    if (e.row(g).norm() > 1e-12 * std::max(e.norm(), 1e-300))
-      throw InputError("a macro stress loads a body held only by interface rows: this cell has no condensed law");
   const StrainMap T = strain_map(setup, dual, load, n_macro);
+  // The modes as rows of G, of e and as columns of T.alpha, split into what the other rows see
+  // and what they do not. A combination of modes the other rows see one by one may still escape
+  // them jointly (an RVE's fibre cut by the edges: its pieces spinning together about its centre,
+  // which the periodic rows between them do not see): such combinations Z, the null space of
+  // G_ME G_MEᵀ, join N, and M keeps its complement W.
+  Eigen::MatrixXd G_M = pick(G, M, all(m)), G_N = pick(G, N, all(m));
+  Eigen::MatrixXd e_M = pick(load.e, M, all(n_macro)), e_N = pick(load.e, N, all(n_macro));
+  Eigen::MatrixXd alpha_M = pick(T.alpha, all(n_macro), M), alpha_N = pick(T.alpha, all(n_macro), N);
+  {
+    const Eigen::MatrixXd G_ME = pick(G, M, E);
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(G_ME * G_ME.transpose());
+    const double largest = eig.eigenvalues().size() > 0 ? eig.eigenvalues().maxCoeff() : 0;
+    std::vector<int> kept, unseen;
+    for (Eigen::Index j = 0; j < eig.eigenvalues().size(); ++j)
+      (eig.eigenvalues()(j) > 1e-10 * largest ? kept : unseen).push_back(static_cast<int>(j));
+    // A combination no row sees at all (that spin also escapes the interface's normal rows) is
+    // no constraint: the dual problem leaves it undetermined (DualProblem::with_joint_null_modes)
+    // and so does the law; it must carry no load and move no boundary.
+    std::vector<int> constrained;
+    for (int j : unseen) {
+      const Eigen::VectorXd z = eig.eigenvectors().col(j);
+      if ((z.transpose() * G_M).norm() > 1e-10 * G_M.norm()) {
+        constrained.push_back(j);
+        continue;
+      }
+      if ((z.transpose() * e_M).norm() > 1e-12 * std::max(load.e.norm(), 1e-300) ||
+          (alpha_M * z).norm() > 1e-10 * T.alpha.norm())
+        throw InputError("a rigid motion no row sees is loaded or moves the cell's boundary: this cell has no law");
+    }
+    if (!unseen.empty()) {
+      const Eigen::MatrixXd W = pick(eig.eigenvectors(), all(M.size()), kept);
+      const Eigen::MatrixXd Z = pick(eig.eigenvectors(), all(M.size()), constrained);
+      const auto stack = [](const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
+        Eigen::MatrixXd out(a.rows() + b.rows(), a.cols());
+        out << a, b;
+        return out;
+      };
+      const auto beside = [](const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
+        Eigen::MatrixXd out(a.rows(), a.cols() + b.cols());
+        out << a, b;
+        return out;
+      };
+      G_N = stack(G_N, Z.transpose() * G_M);
+      e_N = stack(e_N, Z.transpose() * e_M);
+      alpha_N = beside(alpha_N, alpha_M * Z);
+      G_M = W.transpose() * G_M;
+      e_M = W.transpose() * e_M;
+      alpha_M = alpha_M * W;
+    }
+  }
+  for (Eigen::Index g = 0; g < e_N.rows(); ++g)
+    if (e_N.row(g).norm() > 1e-12 * std::max(load.e.norm(), 1e-300))
+      throw InputError("a macro stress loads a body held only by interface rows: this cell has no condensed law");
   cell.operator_applications = 2 * n_macro;  // d and the strain map; F comes from the subdomains' blocks
 
   // Eliminate λ_E and α_M.
-  const int mE = static_cast<int>(E.size()), nM = static_cast<int>(M.size()), nI = static_cast<int>(I.size());
+  const int mE = static_cast<int>(E.size()), nM = static_cast<int>(G_M.rows()), nI = static_cast<int>(I.size());
+  const std::vector<int> rows_M = all(nM);
   Eigen::MatrixXd K = Eigen::MatrixXd::Zero(mE + nM, mE + nM);
   K.topLeftCorner(mE, mE) = pick(F, E, E);
-  K.topRightCorner(mE, nM) = pick(G, M, E).transpose();
-  K.bottomLeftCorner(nM, mE) = pick(G, M, E);
+  K.topRightCorner(mE, nM) = pick(G_M, rows_M, E).transpose();
+  K.bottomLeftCorner(nM, mE) = pick(G_M, rows_M, E);
   Eigen::MatrixXd rhs_p(mE + nM, nI), rhs_s(mE + nM, n_macro);
-  rhs_p << -pick(F, E, I), -pick(G, M, I);
-  rhs_s << pick(D, E, all(n_macro)), pick(e, M, all(n_macro));
+  rhs_p << -pick(F, E, I), -pick(G_M, rows_M, I);
+  rhs_s << pick(D, E, all(n_macro)), e_M;
   const Eigen::PartialPivLU<Eigen::MatrixXd> lu(K);
   const Eigen::MatrixXd X_p = lu.solve(rhs_p), X_s = lu.solve(rhs_s);
   const double solve_error = std::max((K * X_p - rhs_p).norm() / std::max(rhs_p.norm(), 1e-300),
@@ -153,13 +203,12 @@ law::CondensedCell condense(const FetiSetup& setup, int max_rows) {
   if (!(solve_error < 1e-8))
     throw InputError("the cell's rows other than the interface do not hold it (the eliminated system is singular)");
   const auto X_pE = X_p.topRows(mE), X_pM = X_p.bottomRows(nM), X_sE = X_s.topRows(mE), X_sM = X_s.bottomRows(nM);
-  const Eigen::MatrixXd F_IE = pick(F, I, E), G_MI = pick(G, M, I);
+  const Eigen::MatrixXd F_IE = pick(F, I, E), G_MI = pick(G_M, rows_M, I);
   Eigen::MatrixXd H = pick(F, I, I) + F_IE * X_pE + G_MI.transpose() * X_pM;
   Eigen::MatrixXd Y = pick(D, I, all(n_macro)) - F_IE * X_sE - G_MI.transpose() * X_sM;
-  Eigen::MatrixXd E_p =
-      pick(T.lambda, all(n_macro), I) + pick(T.lambda, all(n_macro), E) * X_pE - pick(T.alpha, all(n_macro), M) * X_pM;
-  Eigen::MatrixXd S0 = T.sigma + pick(T.lambda, all(n_macro), E) * X_sE - pick(T.alpha, all(n_macro), M) * X_sM;
-  if (!N.empty() && pick(T.alpha, all(n_macro), N).norm() > 1e-10 * T.alpha.norm())
+  Eigen::MatrixXd E_p = pick(T.lambda, all(n_macro), I) + pick(T.lambda, all(n_macro), E) * X_pE - alpha_M * X_pM;
+  Eigen::MatrixXd S0 = T.sigma + pick(T.lambda, all(n_macro), E) * X_sE - alpha_M * X_sM;
+  if (alpha_N.cols() > 0 && alpha_N.norm() > 1e-10 * T.alpha.norm())
     throw InputError("a body held only by interface rows moves the cell's boundary: this cell has no condensed law");
 
   // Physical interface forces p = w λ_scaled: H, Y, E_p and G scaled by 1/w.
@@ -180,7 +229,7 @@ law::CondensedCell condense(const FetiSetup& setup, int max_rows) {
   cell.S0 = 0.5 * (S0 + S0.transpose());
   cell.H = 0.5 * (H + H.transpose());
   cell.Y = 0.5 * (Y - volume * E_p.transpose());
-  cell.G = pick(G, N, I) * inverse_weight.asDiagonal();
+  cell.G = pick(G_N, all(G_N.rows()), I) * inverse_weight.asDiagonal();
   cell.n_pairs = static_cast<int>(mesh.interface_pairs.size());
   cell.bonded = intact;
   set_rows(cell, con, I);

@@ -208,7 +208,9 @@ law::CellReplay replay_cell(const law::CondensedCell& cell, const std::vector<sw
     for (std::size_t k = 0; k < paths[i].steps.size(); ++k) {
       const sweep::Step& step = paths[i].steps[k];
       const law::CellResponse r = evaluator.at_stress(step.stress, history);
-      if (!r.ok) throw std::runtime_error("the exact law failed on the sweep's stress: " + r.message);
+      if (!r.ok)
+        throw ExactLawFailed("not kept: its QP failed on the sweep's stress of path " + std::to_string(i) + ": " +
+                             r.message);
       if (!step.converged || step.load == 0) continue;
       Eigen::Vector3d expected(step.strain(0), step.strain(1), 2 * step.strain(2)), strain = r.strain;
       if (cell.n_macro == 2) expected(2) = strain(2) = 0;  // no shear with the symmetry boundary
@@ -371,9 +373,16 @@ law::Law fit_law(const std::vector<sweep::PathResult>& paths, const sweep::Sweep
   law.cell = header.cell;
   law.cell_note = header.cell_note;
   if (law.cell) {
-    law.cell_replay = replay_cell(*law.cell, paths, header.qp_tolerance);
-    check_against_cell(law, bonded, debonded, n_directions);
+    try {
+      law.cell_replay = replay_cell(*law.cell, paths, header.qp_tolerance);
+    } catch (const ExactLawFailed& e) {
+      // The condensation may be right and its QP still beyond the dense method (an RVE of many
+      // hundred interface rows): the law is not kept, and the file says why.
+      law.cell.reset();
+      law.cell_note = e.what();
+    }
   }
+  if (law.cell) check_against_cell(law, bonded, debonded, n_directions);
   law.constituents = header.constituents;
   law.provenance = header.provenance;
   law.provenance.code_version = code_version;  // the fit's

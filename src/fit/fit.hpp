@@ -13,6 +13,7 @@
 //     or its truncated SVD when the directions do not determine all six entries: the
 //     undetermined entries are NaN).
 //   cone-wise linear check (Curnier, He & Zysset 1995): ΔC = S_t⁻¹ − S_c⁻¹ rank-one?
+#include <stdexcept>
 #include <vector>
 
 #include "law/law.hpp"
@@ -25,6 +26,11 @@ law::Law fit_law(const std::vector<sweep::PathResult>& paths, const sweep::Sweep
 
 // The exact law replayed through every converged point of the paths, each path from the unloaded
 // cell with its bonds carried (law::CellReplay); the limit is 1e3 × the sweep's QP tolerance.
+// Throws ExactLawFailed where the law's QP does not solve a point (fit_law then keeps no exact
+// law and says why in Law::cell_note).
+struct ExactLawFailed : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
 law::CellReplay replay_cell(const law::CondensedCell& cell, const std::vector<sweep::PathResult>& paths,
                             double qp_tolerance);
 
