@@ -1,0 +1,193 @@
+#!/usr/bin/python3
+"""The RVE-size study: random fibre RVEs of N fibres, several realisations each, their transverse
+law against N (README, "Random fibre RVEs").
+
+usage:
+  rve_study.py BIN_DIR OUT_DIR MATERIAL [--fibres 1 4 9 16 36 64] [--realisations 5]
+               [--volume-fraction 0.5] [--extra 0.6] [--degree 2]
+
+Per RVE (mean radius 1, standard deviation 0.05, min_gap 0.05, the square of side
+sqrt(N pi / v_f), seed = realisation + 1, p2 at the degree), two sweeps and their fits:
+  bonded   interface strengths 0.05, uniaxial stress 1e-3 along 0, 45, 90, 135 deg (below the
+           onset): the compliance S (/law/S_tension), E(theta) = 1/(v.S.v) with
+           v = (c^2, s^2, cs), nu = -S_xy/S_xx, G = 1/S_shear, the anisotropy max/min E(theta),
+           and the debond onset stress along 0 deg from the onset surface;
+  contact  no adhesion, +-1e-2 along 0 and 90 deg: E_t and E_c (their mean over the two).
+Each RVE's files stay in OUT_DIR/N<n>-r<k>/ and a finished RVE is not run again (resume).
+Writes OUT_DIR/table.md, table.csv (per N: mean and standard deviation over the realisations;
+`extra`: one realisation set at the extra volume fraction), convergence.png/svg (each figure's
+mean +- sd against N, relative to the largest N's mean) and microstructures.png/svg (one
+realisation per N, fibres on their mesh).
+"""
+import csv
+import io
+import math
+import os
+import statistics
+import sys
+
+import h5py
+
+import common
+import plot
+
+FIGURES = [("E", "E (bonded, mean over theta)"), ("nu", "nu_xy (bonded)"), ("G", "G (bonded)"),
+           ("anisotropy", "max/min E(theta) (bonded)"), ("E_t", "E_t (contact)"), ("E_c", "E_c (contact)"),
+           ("onset", "debond onset stress at 0 deg")]
+
+
+def scene_text(material, n, seed, vf, degree, bonded):
+    side = math.sqrt(n * math.pi / vf)
+    text = (f'material = "{material}"\n\n[geometry]\nsize = [{side!r}, {side!r}]\nkind = "random"\n'
+            f"volume_fraction = {vf}\nradius = [1.0, 0.05]\nmin_gap = 0.05\nseed = {seed}\ndegree = {degree}\n\n"
+            '[load]\nboundary = "periodic"\n\n')
+    if bonded:
+        return text + ("[interface]\nnormal_strength = 0.05\ntangential_strength = 0.05\n\n"
+                       "[sweep]\ndirections_deg = [0, 45, 90, 135]\nmagnitudes = [1e-3]\n")
+    return text + "[sweep]\ndirections_deg = [0, 90]\nmagnitudes = [-1e-2, 1e-2]\n"
+
+
+def run_case(bin_dir, folder, text):
+    """mesh -> sweep -> fit in folder; skipped when law.h5 is there (a finished case)."""
+    law = os.path.join(folder, "law.h5")
+    if os.path.exists(law):
+        return law
+    os.makedirs(folder, exist_ok=True)
+    scene = os.path.join(folder, "scene.toml")
+    common.write_atomic(scene, text)
+    mesh, sweep = os.path.join(folder, "mesh.h5"), os.path.join(folder, "sweep.h5")
+    common.run([os.path.join(bin_dir, "dualcell-mesh"), "--quiet", "--config", scene, "--out", mesh])
+    common.run([os.path.join(bin_dir, "dualcell-sweep"), "--quiet", "--config", scene, "--mesh", mesh, "--out", sweep])
+    common.run([os.path.join(bin_dir, "dualcell-fit"), "--quiet", "--sweep", sweep, "--out", law])
+    return law
+
+
+def bonded_figures(law):
+    with h5py.File(law, "r") as f:
+        S = f["law/S_tension"][:]
+        facets = f["law/onset/facets"][:] if "law/onset/facets" in f else None
+    moduli = []
+    for deg in range(180):
+        t = math.radians(deg)
+        v = (math.cos(t) ** 2, math.sin(t) ** 2, math.cos(t) * math.sin(t))
+        moduli.append(1 / sum(v[i] * S[i][j] * v[j] for i in range(3) for j in range(3)))
+    onset = math.nan
+    if facets is not None and len(facets):
+        onset = 1 / max(g[0] for g in facets)
+    return {"E": statistics.fmean(moduli), "anisotropy": max(moduli) / min(moduli), "nu": -S[0][1] / S[0][0],
+            "G": 1 / S[2][2], "onset": onset}
+
+
+def contact_figures(law):
+    with h5py.File(law, "r") as f:
+        return {"E_t": float(f["law/E_tension"][:].mean()), "E_c": float(f["law/E_compression"][:].mean())}
+
+
+def microstructure_data(mesh_file):
+    """Fibre triangles as gnuplot polygons (corner nodes), and the RVE's size."""
+    with h5py.File(mesh_file, "r") as f:
+        nodes, triangles = f["mesh/nodes"][:], f["mesh/triangles"][:]
+        fibre = f["mesh/triangle_is_fibre"][:]
+        size = f["mesh"].attrs["size"]
+    out = io.StringIO()
+    for t, is_fibre in zip(triangles, fibre):
+        if is_fibre:
+            for v in list(t[:3]) + [t[0]]:
+                out.write(f"{nodes[v][0]} {nodes[v][1]}\n")
+            out.write("\n")
+    return out.getvalue(), size
+
+
+def main(argv):
+    parser = common.Parser(description=__doc__)
+    parser.add_argument("bin_dir")
+    parser.add_argument("out_dir")
+    parser.add_argument("material")
+    parser.add_argument("--fibres", type=int, nargs="+", default=[1, 4, 9, 16, 36, 64])
+    parser.add_argument("--realisations", type=int, default=5)
+    parser.add_argument("--volume-fraction", type=float, default=0.5)
+    parser.add_argument("--extra", type=float, default=0.6, help="one more set at this volume fraction (0: none)")
+    parser.add_argument("--degree", type=int, default=2)
+    args = parser.parse_args(argv[1:])
+    material = os.path.abspath(args.material)
+    sets = [(args.volume_fraction, n) for n in args.fibres]
+    if args.extra > 0:
+        sets.append((args.extra, max(args.fibres)))
+    rows, samples = [], {}
+    for vf, n in sets:
+        values = {key: [] for key, _ in FIGURES}
+        for k in range(args.realisations):
+            tag = f"N{n}-r{k}" + ("" if vf == args.volume_fraction else f"-vf{vf}")
+            folder = os.path.join(args.out_dir, tag)
+            print(f"rve_study: {tag}", file=sys.stderr, flush=True)
+            bonded = run_case(args.bin_dir, os.path.join(folder, "bonded"),
+                              scene_text(material, n, k + 1, vf, args.degree, True))
+            contact = run_case(args.bin_dir, os.path.join(folder, "contact"),
+                               scene_text(material, n, k + 1, vf, args.degree, False))
+            figures = {**bonded_figures(bonded), **contact_figures(contact)}
+            for key in values:
+                values[key].append(figures[key])
+        row = {"volume_fraction": vf, "fibres": n, "realisations": args.realisations}
+        for key, _ in FIGURES:
+            v = [x for x in values[key] if math.isfinite(x)]
+            row[key + "_mean"] = statistics.fmean(v) if v else math.nan
+            row[key + "_sd"] = statistics.stdev(v) if len(v) > 1 else math.nan
+        rows.append(row)
+        if vf == args.volume_fraction:
+            samples[n] = row
+
+    # The table: mean +- sd per N; the last columns judge representativeness against the largest N.
+    largest = samples[max(samples)]
+    lines = ["| v_f | N | " + " | ".join(label for _, label in FIGURES) + " |",
+             "|---|---|" + "---|" * len(FIGURES)]
+    for r in rows:
+        cells = [f"{r[k + '_mean']:.4g} ± {r[k + '_sd']:.2g}" for k, _ in FIGURES]
+        lines.append(f"| {r['volume_fraction']} | {r['fibres']} | " + " | ".join(cells) + " |")
+    lines += ["", "Representative to 1 % and 5 % (the smallest N from which the mean stays within that of the "
+              "largest N's and the scatter, sd/mean, stays below it):", ""]
+    for key, label in FIGURES:
+        judged = []
+        for tol in (0.01, 0.05):
+            ok = [n for n in sorted(samples)
+                  if all(abs(samples[m][key + "_mean"] / largest[key + "_mean"] - 1) <= tol and
+                         (samples[m][key + "_sd"] / abs(samples[m][key + "_mean"]) <= tol
+                          if math.isfinite(samples[m][key + "_sd"]) else True)
+                         for m in sorted(samples) if m >= n)]
+            judged.append(str(ok[0]) if ok else "none")
+        lines.append(f"- {label}: 1 % from N = {judged[0]}, 5 % from N = {judged[1]}")
+    os.makedirs(args.out_dir, exist_ok=True)
+    common.write_atomic(os.path.join(args.out_dir, "table.md"), "\n".join(lines) + "\n")
+    text = io.StringIO()
+    writer = csv.DictWriter(text, fieldnames=list(rows[0].keys()), lineterminator="\n")
+    writer.writeheader()
+    writer.writerows(rows)
+    common.write_atomic(os.path.join(args.out_dir, "table.csv"), text.getvalue())
+
+    # Convergence: each figure relative to the largest N's mean.
+    data = io.StringIO()
+    for n in sorted(samples):
+        r = samples[n]
+        data.write(f"{n} " + " ".join(f"{r[k + '_mean'] / largest[k + '_mean']} "
+                                      f"{(r[k + '_sd'] if math.isfinite(r[k + '_sd']) else 0) / abs(largest[k + '_mean'])}"
+                                      for k, _ in FIGURES) + "\n")
+    curves = ", ".join(f"'conv.dat' using ($1*{1 + 0.03 * i}):{2 + 2 * i}:{3 + 2 * i} with yerrorlines title '{label}'"
+                       for i, (_, label) in enumerate(FIGURES))
+    plot.gnuplot("set logscale x\nset xlabel 'fibres N'\nset ylabel 'mean / mean at the largest N'\n"
+                 "set key outside right\nset grid\nplot " + curves + "\n",
+                 os.path.join(args.out_dir, "convergence"), {"conv.dat": data.getvalue()})
+
+    # Microstructures: the first realisation of each N, side by side.
+    panels, files = [], {}
+    ns = sorted(samples)
+    for i, n in enumerate(ns):
+        polygons, size = microstructure_data(os.path.join(args.out_dir, f"N{n}-r0", "bonded", "mesh.h5"))
+        files[f"m{n}.dat"] = polygons
+        panels.append(f"set title 'N = {n}'\nset xrange [0:{size[0]}]\nset yrange [0:{size[1]}]\n"
+                      f"plot 'm{n}.dat' with filledcurves closed lc rgb '#4477aa' notitle\n")
+    layout = f"set multiplot layout 1,{len(ns)}\nset size ratio -1\nunset key\nunset tics\n"
+    plot.gnuplot(layout + "".join(panels) + "unset multiplot\n", os.path.join(args.out_dir, "microstructures"), files)
+    print("\n".join(lines))
+
+
+if __name__ == "__main__":
+    common.main_guard(main)
