@@ -46,11 +46,11 @@ std::vector<double> interface_lengths(const mesh::Mesh& mesh) {
   // through the same nodes): half of the two neighbouring chords for p1; for p2 the weights of
   // the parabola through each edge's three nodes (about 1/6, 4/6, 1/6 of its length).
   std::vector<double> length(mesh.interface_pairs.size(), 0.0);
-  for (const mesh::Edge& e : mesh::interface_edges(mesh)) {
-    const int pairs[3] = {e.a, e.b, e.mid};
-    const int n = e.mid >= 0 ? 3 : 2;
+  for (const mesh::RimEdge& e : mesh::interface_edges(mesh)) {
+    const int pairs[3] = {e.pairs.a, e.pairs.b, e.pairs.mid}, nodes[3] = {e.nodes.a, e.nodes.b, e.nodes.mid};
+    const int n = e.pairs.mid >= 0 ? 3 : 2;
     std::vector<Eigen::Vector2d> x;
-    for (int i = 0; i < n; ++i) x.push_back(mesh.nodes[mesh.interface_pairs[pairs[i]][0]]);
+    for (int i = 0; i < n; ++i) x.push_back(mesh.nodes[nodes[i]]);
     const std::array<double, 3> w = fem::edge_weights(x);
     for (int i = 0; i < n; ++i) length[pairs[i]] += w[i];
   }

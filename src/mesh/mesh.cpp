@@ -275,15 +275,33 @@ std::vector<Eigen::Vector2d> triangle_points(const Mesh& mesh, int t) {
 namespace {
 
 // An RVE's rim edges, from its fibre triangles: the edges of a fibre piece used by one of its
-// triangles only (its outline) whose end nodes are both interface nodes, except those along the
-// rectangle's sides (a piece's straight cut).
-std::vector<Edge> rve_interface_edges(const Mesh& mesh) {
+// triangles only (its outline) whose end nodes are both on the rim, except those along the
+// rectangle's sides (a piece's straight cut). A rim node on the right or top side takes the pair
+// of its periodic copy on the left or bottom side.
+std::vector<RimEdge> rve_interface_edges(const Mesh& mesh) {
+  const double W = mesh.block_width(), H = mesh.block_height();
+  const double eps = 1e-9 * std::max(W, H);
   std::vector<int> pair_of(mesh.n_nodes(), -1);
-  for (int p = 0; p < static_cast<int>(mesh.interface_pairs.size()); ++p) pair_of[mesh.interface_pairs[p][0]] = p;
-  const double eps = 1e-9 * std::max(mesh.block_width(), mesh.block_height());
+  std::map<std::pair<long long, long long>, int> on_left_or_bottom;  // rounded position -> pair
+  const auto key = [&](const Eigen::Vector2d& x) {
+    return std::pair{std::llround(x.x() / eps), std::llround(x.y() / eps)};
+  };
+  for (int p = 0; p < static_cast<int>(mesh.interface_pairs.size()); ++p) {
+    const int f = mesh.interface_pairs[p][0];
+    pair_of[f] = p;
+    on_left_or_bottom[key(mesh.nodes[f])] = p;
+  }
+  const auto rim_pair = [&](int v) {
+    if (pair_of[v] >= 0) return pair_of[v];
+    const Eigen::Vector2d& x = mesh.nodes[v];
+    Eigen::Vector2d copy = x;
+    if (std::abs(x.x() - W) < eps) copy.x() -= W;
+    if (std::abs(x.y() - H) < eps) copy.y() -= H;
+    const auto it = copy == x ? on_left_or_bottom.end() : on_left_or_bottom.find(key(copy));
+    return it == on_left_or_bottom.end() ? -1 : it->second;
+  };
   const auto on_one_side = [&](int a, int b) {
     const Eigen::Vector2d &p = mesh.nodes[a], &q = mesh.nodes[b];
-    const double W = mesh.block_width(), H = mesh.block_height();
     return (std::abs(p.x()) < eps && std::abs(q.x()) < eps) ||
            (std::abs(p.x() - W) < eps && std::abs(q.x() - W) < eps) ||
            (std::abs(p.y()) < eps && std::abs(q.y()) < eps) || (std::abs(p.y() - H) < eps && std::abs(q.y() - H) < eps);
@@ -300,22 +318,25 @@ std::vector<Edge> rve_interface_edges(const Mesh& mesh) {
       edge = {a, b, width == 6 ? tri[3 + c] : -1};
     }
   }
-  std::vector<Edge> edges;
-  for (const auto& [key, use] : uses) {
+  std::vector<RimEdge> edges;
+  for (const auto& [corners, use] : uses) {
     const auto& [count, e] = use;
-    if (count != 1 || pair_of[e.a] < 0 || pair_of[e.b] < 0 || on_one_side(e.a, e.b)) continue;
-    edges.push_back({pair_of[e.a], pair_of[e.b], e.mid < 0 ? -1 : pair_of[e.mid]});
+    if (count != 1 || on_one_side(e.a, e.b)) continue;
+    const int pa = rim_pair(e.a), pb = rim_pair(e.b), pm = e.mid < 0 ? -1 : rim_pair(e.mid);
+    if (pa < 0 || pb < 0 || (e.mid >= 0 && pm < 0)) continue;
+    edges.push_back({{pa, pb, pm}, e});
   }
   return edges;
 }
 
 }  // namespace
 
-std::vector<Edge> interface_edges(const Mesh& mesh) {
+std::vector<RimEdge> interface_edges(const Mesh& mesh) {
   if (mesh.geometry.rve()) return rve_interface_edges(mesh);
   const int n = static_cast<int>(mesh.interface_pairs.size());
   const int o = element_order(mesh.element());
-  std::vector<Edge> edges;
+  std::vector<RimEdge> edges;
+  const auto node = [&](int p) { return p < 0 ? -1 : mesh.interface_pairs[p][0]; };
   // Pairs are stored cell by cell, counter-clockwise from angle 0, every rim node of the cell
   // once: an edge starts at every o-th pair of its cell and ends o pairs further, cyclically.
   int begin = 0;
@@ -323,7 +344,10 @@ std::vector<Edge> interface_edges(const Mesh& mesh) {
     int end = begin;
     while (end < n && mesh.interface_cell[end] == mesh.interface_cell[begin]) ++end;
     const int m = end - begin;
-    for (int i = 0; i + o <= m; i += o) edges.push_back({begin + i, begin + (i + o) % m, o == 1 ? -1 : begin + i + 1});
+    for (int i = 0; i + o <= m; i += o) {
+      const Edge pairs{begin + i, begin + (i + o) % m, o == 1 ? -1 : begin + i + 1};
+      edges.push_back({pairs, {node(pairs.a), node(pairs.b), node(pairs.mid)}});
+    }
     begin = end;
   }
   return edges;

@@ -127,8 +127,14 @@ double corner_area(const Mesh& mesh, int t);
 // Coordinates of the nodes of triangle t, in the row's order.
 std::vector<Eigen::Vector2d> triangle_points(const Mesh& mesh, int t);
 // Interface edges of the rim: per edge the interface pairs (indices into interface_pairs) of its
-// end nodes and, for p2, its mid-side node (else −1), counter-clockwise cell by cell.
-std::vector<Edge> interface_edges(const Mesh& mesh);
+// end nodes and, for p2, its mid-side node (else −1), counter-clockwise cell by cell; and the
+// fibre nodes they run through. An RVE's rim point on its right or top side has no pair of its
+// own (it is the periodic copy of the point on the left or bottom, whose pair it shares: one
+// physical point, one pair), so there an edge's pair is the copy's and its node its own.
+struct RimEdge {
+  Edge pairs, nodes;
+};
+std::vector<RimEdge> interface_edges(const Mesh& mesh);
 // Number of nodes of one cell's matrix and fibre subdomains for degree k and element e.
 int matrix_nodes_per_cell(int degree, Element element = Element::p1);
 int fibre_nodes_per_cell(int degree, Element element = Element::p1);

@@ -310,12 +310,18 @@ mesh::Mesh collect_mesh(const Geometry& geometry, const Microstructure& m, const
   // Interface pairs, fibre piece by fibre piece along its rim (by angle about its centre), and
   // glue pairs where matrix subdomains meet.
   std::vector<std::vector<std::pair<double, std::array<int, 2>>>> rim(fibres.size());
+  const double eps = 1e-9 * std::max(m.Lx, m.Ly);
   for (const auto& [tag, c] : copies) {
     std::vector<int> in_matrix;
     for (const auto& [s, v] : c)
       if (s < n_matrix) in_matrix.push_back(v);
     for (std::size_t k = 1; k < in_matrix.size(); ++k) mesh.glue_pairs.push_back({in_matrix[0], in_matrix[k]});
     if (in_matrix.empty()) continue;
+    // A rim point on the right or top side is the periodic copy of one on the left or bottom:
+    // one physical point, one pair (two would be the same row twice; interface_edges gives
+    // the copy's rim length to the pair it shares).
+    const Eigen::Vector2d& at = position.at(tag);
+    if (std::abs(at.x() - m.Lx) < eps || std::abs(at.y() - m.Ly) < eps) continue;
     for (const auto& [s, v] : c)
       if (s >= n_matrix) {
         const int piece = s - n_matrix;
@@ -330,7 +336,7 @@ mesh::Mesh collect_mesh(const Geometry& geometry, const Microstructure& m, const
       mesh.interface_cell.push_back(static_cast<int>(piece));
     }
   }
-  add_boundary_edges(mesh, 1e-9 * std::max(m.Lx, m.Ly));
+  add_boundary_edges(mesh, eps);
   report.fibre_pieces = static_cast<int>(fibres.size());
   report.matrix_parts = n_matrix;
   return mesh;

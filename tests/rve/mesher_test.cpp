@@ -15,6 +15,7 @@
 #include "core/error.hpp"
 #include "fem/element.hpp"
 #include "feti/condense.hpp"
+#include "feti/constraints.hpp"
 #include "feti/solver.hpp"
 #include "law/condensed.hpp"
 #include "mesh/mesh.hpp"
@@ -140,8 +141,21 @@ TEST(RveMesher, ARandomRveMeshCoversItsFibresAndItsSidesMatch) {
   EXPECT_NEAR(report.fibres.volume_fraction, 0.5, 1e-12);
   EXPECT_GT(report.fibre_pieces, report.fibres.fibres) << "some fibres cross an edge";
   EXPECT_GT(report.matrix_parts, 1);
+  // One pair per physical rim point: none on the right or top side (those are the periodic
+  // copies of points on the left or bottom, which carry the pair and its whole rim length), and
+  // the rim lengths add up to the fibres' perimeters: p2 arcs miss a circle's length by O(θ⁴),
+  // 2e-5 here, while a half-edge lost where a rim meets a side would cost h/2 per cut, 2e-3.
+  double length = 0;
+  for (double l : feti::interface_lengths(mesh)) length += l;
+  double expected = 0;
+  {
+    const Microstructure m = microstructure_of(s.geometry, "test");
+    for (const Fibre& f : m.fibres) expected += 2 * std::numbers::pi * f.radius;
+  }
+  EXPECT_NEAR(length, expected, 1e-4 * expected);
   for (std::size_t p = 0; p < mesh.interface_pairs.size(); ++p) {
     const auto [f, m] = mesh.interface_pairs[p];
+    EXPECT_FALSE(std::abs(mesh.nodes[f].x() - 1) < 1e-12 || std::abs(mesh.nodes[f].y() - 1) < 1e-12) << p;
     const int k = mesh.interface_cell[p];
     EXPECT_NEAR((mesh.nodes[f] - mesh.fibre_centres[k]).norm(), mesh.fibre_radii[k], 1e-12);
     EXPECT_EQ(mesh.nodes[f], mesh.nodes[m]);
