@@ -31,7 +31,7 @@ import h5py
 import common
 import plot
 
-FIGURES = [("E", "E (bonded, mean over theta)"), ("nu", "nu_xy (bonded)"), ("G", "G (bonded)"),
+FIGURES = [("E", "E (bonded, mean over theta)"), ("nu", "nu xy (bonded)"), ("G", "G (bonded)"),
            ("anisotropy", "max/min E(theta) (bonded)"), ("E_t", "E_t (contact)"), ("E_c", "E_c (contact)"),
            ("onset", "debond onset stress at 0 deg")]
 
@@ -172,7 +172,7 @@ def main(argv):
                                       for k, _ in FIGURES) + "\n")
     curves = ", ".join(f"'conv.dat' using ($1*{1 + 0.03 * i}):{2 + 2 * i}:{3 + 2 * i} with yerrorlines title '{label}'"
                        for i, (_, label) in enumerate(FIGURES))
-    plot.gnuplot("set logscale x\nset xlabel 'fibres N'\nset ylabel 'mean / mean at the largest N'\n"
+    plot.gnuplot("set termoption noenhanced\nset logscale x\nset xlabel 'fibres N'\nset ylabel 'mean / mean at the largest N'\n"
                  "set key outside right\nset grid\nplot " + curves + "\n",
                  os.path.join(args.out_dir, "convergence"), {"conv.dat": data.getvalue()})
 
