@@ -98,6 +98,23 @@ def microstructure_data(mesh_file):
     return out.getvalue(), size
 
 
+def representative(samples, key, tol):
+    """The smallest N from which every N's mean of `key` stays within tol of the largest N's mean
+    and its scatter (sd/mean, where there is one) stays below tol; None when no N does.
+    samples: N -> {key_mean, key_sd}."""
+    ns = sorted(samples)
+    reference = samples[ns[-1]][key + "_mean"]
+
+    def holds(n):
+        mean, sd = samples[n][key + "_mean"], samples[n][key + "_sd"]
+        return abs(mean / reference - 1) <= tol and (not math.isfinite(sd) or sd / abs(mean) <= tol)
+
+    for i, n in enumerate(ns):
+        if all(holds(m) for m in ns[i:]):
+            return n
+    return None
+
+
 def main(argv):
     parser = common.Parser(description=__doc__)
     parser.add_argument("bin_dir")
@@ -146,15 +163,8 @@ def main(argv):
     lines += ["", "Representative to 1 % and 5 % (the smallest N from which the mean stays within that of the "
               "largest N's and the scatter, sd/mean, stays below it):", ""]
     for key, label in FIGURES:
-        judged = []
-        for tol in (0.01, 0.05):
-            ok = [n for n in sorted(samples)
-                  if all(abs(samples[m][key + "_mean"] / largest[key + "_mean"] - 1) <= tol and
-                         (samples[m][key + "_sd"] / abs(samples[m][key + "_mean"]) <= tol
-                          if math.isfinite(samples[m][key + "_sd"]) else True)
-                         for m in sorted(samples) if m >= n)]
-            judged.append(str(ok[0]) if ok else "none")
-        lines.append(f"- {label}: 1 % from N = {judged[0]}, 5 % from N = {judged[1]}")
+        judged = [representative(samples, key, tol) for tol in (0.01, 0.05)]
+        lines.append(f"- {label}: 1 % from N = {judged[0] or 'none'}, 5 % from N = {judged[1] or 'none'}")
     os.makedirs(args.out_dir, exist_ok=True)
     common.write_atomic(os.path.join(args.out_dir, "table.md"), "\n".join(lines) + "\n")
     text = io.StringIO()
