@@ -1,8 +1,9 @@
 // dualcell-mesh: the mesh stage.
 //
 // Reads a scene, builds the mapped mesh of its block of fibre cells (one fibre and one matrix
-// subdomain per cell, each with its own nodes; docs/method.md), writes mesh.h5 (+ mesh.xdmf for
-// ParaView) and prints a summary.
+// subdomain per cell, each with its own nodes; docs/method.md) or the gmsh mesh of its periodic
+// RVE (fibre pieces and METIS parts of the matrix, rve/mesher.hpp), writes mesh.h5 (+ mesh.xdmf
+// for ParaView) and prints a summary.
 //
 //   dualcell-mesh --config pipelines/scenes/default.toml --out mesh.h5
 
@@ -12,8 +13,9 @@
 
 int main(int argc, char** argv) {
   CLI::App app{
-      "dualcell-mesh: mesh a block of fibre cells (fibre disc + matrix square-with-hole per cell)\n"
-      "and write mesh.h5 with mesh.xdmf beside it (layout: README.md, \"mesh.h5\")."};
+      "dualcell-mesh: mesh a block of fibre cells (fibre disc + matrix square-with-hole per cell),\n"
+      "or a periodic RVE ([geometry] size) with gmsh and METIS, and write mesh.h5 with mesh.xdmf\n"
+      "beside it (layout: README.md, \"mesh.h5\")."};
   std::string config, out;
   bool quiet = false;
   app.add_option("--config", config, "scene file (TOML)")->required();

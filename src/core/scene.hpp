@@ -47,7 +47,7 @@ struct RandomFibres {
 enum class FibreLayout { cells, list, random };
 const char* to_string(FibreLayout l);
 
-// One fibre of a list: its centre, its radius, and where the scene gave it (for messages).
+// One fibre of a list: its centre and its radius.
 struct FibreCircle {
   std::array<double, 2> centre{0, 0};
   double radius = 0;

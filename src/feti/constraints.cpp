@@ -75,9 +75,7 @@ class NodeClasses {
   std::vector<int> parent_;
 };
 
-// One node per physical point of a side, ordered along the side. Where an RVE's fibre meets the
-// side, its rim point is two points, the fibre's and the matrix's (joined by an interface row,
-// not glued): ordered fibre second, as on the opposite side, so that both pair up.
+// 1 for the nodes of fibre subdomains.
 std::vector<char> fibre_nodes(const mesh::Mesh& mesh) {
   std::vector<char> on_fibre(mesh.n_nodes(), 0);
   for (const mesh::Subdomain& sub : mesh.subdomains)
@@ -85,8 +83,12 @@ std::vector<char> fibre_nodes(const mesh::Mesh& mesh) {
   return on_fibre;
 }
 
-std::vector<int> side_points(const mesh::Mesh& mesh, int side, NodeClasses& classes) {
-  const std::vector<char> on_fibre = fibre_nodes(mesh);
+// One node per physical point of a side, ordered along the side. Where an RVE's fibre meets the
+// side, its rim point is two points, the fibre's and the matrix's (joined by an interface row,
+// not glued): ordered fibre second (on_fibre: fibre_nodes), as on the opposite side, so that
+// both pair up.
+std::vector<int> side_points(const mesh::Mesh& mesh, int side, NodeClasses& classes,
+                             const std::vector<char>& on_fibre) {
   std::map<std::pair<double, int>, int> by_position;
   const int axis = (side == mesh::left || side == mesh::right) ? 1 : 0;
   for (const mesh::Edge& edge : mesh.boundary_edges[side])
@@ -160,14 +162,14 @@ constexpr double unbounded = std::numeric_limits<double>::infinity();
 // A row between two fibre nodes (an RVE's fibre cut by the edges, its pieces) has the fibre's
 // weight w_fibre_pair, any other the matrix's w_pair.
 void add_periodic_rows(RowBuilder& rows, const mesh::Mesh& mesh, NodeClasses& classes,
-                       const std::vector<int>& bottom_points, int macro, double w_pair, double w_fibre_pair,
-                       double w_single) {
-  const std::vector<char> on_fibre = fibre_nodes(mesh);
+                       const std::vector<int>& bottom_points, const std::vector<char>& on_fibre, int macro,
+                       double w_pair, double w_fibre_pair, double w_single) {
   const auto weight = [&](int a, int b) { return on_fibre[a] && on_fibre[b] ? w_fibre_pair : w_pair; };
   const double inf = unbounded;
   const double Lx = mesh.block_width(), Ly = mesh.block_height();
-  const auto left = side_points(mesh, mesh::left, classes), right = side_points(mesh, mesh::right, classes);
-  const auto top = side_points(mesh, mesh::top, classes);
+  const auto left = side_points(mesh, mesh::left, classes, on_fibre),
+             right = side_points(mesh, mesh::right, classes, on_fibre);
+  const auto top = side_points(mesh, mesh::top, classes, on_fibre);
   for (std::size_t i = 0; i < left.size(); ++i) {
     const int l = left[i], r = right[i];
     rows.add(RowKind::periodic, -1, {{2 * r, 1.0}, {2 * l, -1.0}, {macro + 0, -Lx}}, -inf, inf, weight(l, r));
@@ -231,12 +233,13 @@ Constraints build_constraints(const mesh::Mesh& mesh, const Scene& scene, const 
   }
 
   NodeClasses classes(mesh);
-  const std::vector<int> bottom_points = side_points(mesh, mesh::bottom, classes);
+  const std::vector<char> on_fibre = fibre_nodes(mesh);
+  const std::vector<int> bottom_points = side_points(mesh, mesh::bottom, classes, on_fibre);
   switch (scene.load.boundary) {
     case Boundary::symmetry: {
       // u_x = 0 on x = 0 and u_y = 0 on y = 0 (the `symmetry` boundary, docs/method.md §12), once per physical point:
       // the other copies follow through their glue rows.
-      for (int v : side_points(mesh, mesh::left, classes))
+      for (int v : side_points(mesh, mesh::left, classes, on_fibre))
         rows.add(RowKind::dirichlet, -1, {{2 * v, 1.0}}, -inf, inf, w_single);
       for (int v : bottom_points) rows.add(RowKind::dirichlet, -1, {{2 * v + 1, 1.0}}, -inf, inf, w_single);
       break;
@@ -251,7 +254,7 @@ Constraints build_constraints(const mesh::Mesh& mesh, const Scene& scene, const 
       break;
     }
     case Boundary::periodic:
-      add_periodic_rows(rows, mesh, classes, bottom_points, macro, w_matrix_pair, w_fibre_pair, w_single);
+      add_periodic_rows(rows, mesh, classes, bottom_points, on_fibre, macro, w_matrix_pair, w_fibre_pair, w_single);
       break;
     case Boundary::edges: {
       // Per edge (core/edge_loads.hpp), once per physical point and component: a point held by
@@ -259,7 +262,7 @@ Constraints build_constraints(const mesh::Mesh& mesh, const Scene& scene, const 
       // row rank. c holds the prescribed displacements at load factor 1.
       const EdgeLoads& loads = scene.load.edge_loads;
       std::array<std::vector<int>, 4> edge_points;
-      for (int e = 0; e < 4; ++e) edge_points[e] = side_points(mesh, edge_sides[e], classes);
+      for (int e = 0; e < 4; ++e) edge_points[e] = side_points(mesh, edge_sides[e], classes, on_fibre);
       const auto held = fem::held_components(loads, edge_points, [&](const Support& support) {
         return classes.find(node_at(mesh, support.at, support.where, "support"));
       });

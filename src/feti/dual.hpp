@@ -130,8 +130,6 @@ class DualProblem {
   std::vector<Local> locals_;
   Eigen::SparseMatrix<double, Eigen::RowMajor> G_;
   mutable linalg::SparseCholesky GGt_;
-  // Null modes of GGᵀ added to it (with_joint_null_modes): 0 unless an RVE's cut fibre spins.
-  int joint_null_modes_ = 0;
   static constexpr double null_mode_tolerance = 1e-10;  // relative eigenvalue of GGᵀ: round-off
   Eigen::SparseMatrix<double> with_joint_null_modes(const Eigen::SparseMatrix<double>& GGt);
   mutable Eigen::VectorXd G_scratch_, G_solution_;

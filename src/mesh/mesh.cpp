@@ -272,6 +272,15 @@ std::vector<Eigen::Vector2d> triangle_points(const Mesh& mesh, int t) {
   return x;
 }
 
+int side_of(const Mesh& mesh, const Eigen::Vector2d& a, const Eigen::Vector2d& b, double eps) {
+  const double W = mesh.block_width(), H = mesh.block_height();
+  if (std::abs(a.x()) < eps && std::abs(b.x()) < eps) return left;
+  if (std::abs(a.x() - W) < eps && std::abs(b.x() - W) < eps) return right;
+  if (std::abs(a.y()) < eps && std::abs(b.y()) < eps) return bottom;
+  if (std::abs(a.y() - H) < eps && std::abs(b.y() - H) < eps) return top;
+  return -1;
+}
+
 namespace {
 
 // An RVE's rim edges, from its fibre triangles: the edges of a fibre piece used by one of its
@@ -300,12 +309,6 @@ std::vector<RimEdge> rve_interface_edges(const Mesh& mesh) {
     const auto it = copy == x ? on_left_or_bottom.end() : on_left_or_bottom.find(key(copy));
     return it == on_left_or_bottom.end() ? -1 : it->second;
   };
-  const auto on_one_side = [&](int a, int b) {
-    const Eigen::Vector2d &p = mesh.nodes[a], &q = mesh.nodes[b];
-    return (std::abs(p.x()) < eps && std::abs(q.x()) < eps) ||
-           (std::abs(p.x() - W) < eps && std::abs(q.x() - W) < eps) ||
-           (std::abs(p.y()) < eps && std::abs(q.y()) < eps) || (std::abs(p.y() - H) < eps && std::abs(q.y() - H) < eps);
-  };
   std::map<std::pair<int, int>, std::pair<int, Edge>> uses;  // sorted corner pair -> (count, edge)
   const int width = mesh.triangles.width();
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
@@ -321,7 +324,7 @@ std::vector<RimEdge> rve_interface_edges(const Mesh& mesh) {
   std::vector<RimEdge> edges;
   for (const auto& [corners, use] : uses) {
     const auto& [count, e] = use;
-    if (count != 1 || on_one_side(e.a, e.b)) continue;
+    if (count != 1 || side_of(mesh, mesh.nodes[e.a], mesh.nodes[e.b], eps) >= 0) continue;
     const int pa = rim_pair(e.a), pb = rim_pair(e.b), pm = e.mid < 0 ? -1 : rim_pair(e.mid);
     if (pa < 0 || pb < 0 || (e.mid >= 0 && pm < 0)) continue;
     edges.push_back({{pa, pb, pm}, e});

@@ -119,6 +119,9 @@ struct Mesh {
 // Builds the mesh of a validated geometry.
 Mesh build_mesh(const Geometry& geometry);
 
+// The side of the block (Side) on which both points a and b lie, within eps; −1 for none.
+int side_of(const Mesh& mesh, const Eigen::Vector2d& a, const Eigen::Vector2d& b, double eps);
+
 // Smallest interior angle over all triangles (of their corners), in degrees.
 double minimum_angle_deg(const Mesh& mesh);
 // Signed area of the straight triangle through the corners of triangle t (positive when

@@ -210,18 +210,12 @@ std::pair<std::vector<int>, int> split_matrix(const std::vector<std::vector<std:
 // Boundary edges of the rectangle from the triangles' own (counter-clockwise) edges, each side
 // ordered counter-clockwise around the block.
 void add_boundary_edges(mesh::Mesh& mesh, double eps) {
-  const double Lx = mesh.block_width(), Ly = mesh.block_height();
   const int width = mesh.triangles.width();
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
     const auto tri = mesh.triangles[t];
     for (int c = 0; c < 3; ++c) {
       const int a = tri[c], b = tri[(c + 1) % 3], mid = width == 6 ? tri[3 + c] : -1;
-      const Eigen::Vector2d &pa = mesh.nodes[a], &pb = mesh.nodes[b];
-      int side = -1;
-      if (std::abs(pa.x()) < eps && std::abs(pb.x()) < eps) side = mesh::left;
-      if (std::abs(pa.x() - Lx) < eps && std::abs(pb.x() - Lx) < eps) side = mesh::right;
-      if (std::abs(pa.y()) < eps && std::abs(pb.y()) < eps) side = mesh::bottom;
-      if (std::abs(pa.y() - Ly) < eps && std::abs(pb.y() - Ly) < eps) side = mesh::top;
+      const int side = mesh::side_of(mesh, mesh.nodes[a], mesh.nodes[b], eps);
       if (side >= 0) mesh.boundary_edges[side].push_back({a, b, mid});
     }
   }

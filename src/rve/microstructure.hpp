@@ -10,7 +10,7 @@
 // (RSA, a uniformly random centre, kept when it keeps min_gap to every fibre placed and to
 // the edges it does not cross). RSA jams near v_f 0.55; past that, the placed fibres are shaken
 // (a hard-disk Monte Carlo move per fibre: a random displacement kept when it keeps every gap),
-// which opens room for the next ones, the densification of Melro et al. (2008) by perturbation.
+// which opens room for the next ones, densification by perturbation (docs/method.md §16b).
 // Reproducible: one std::mt19937_64 seeded with `seed`, consumed in a fixed order.
 #include <Eigen/Core>
 #include <cstdint>
