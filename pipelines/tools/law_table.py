@@ -7,7 +7,8 @@ usage:
 Per law: the exact law (the cell condensed onto its interface rows: rows, kB, seconds of the
 condensation), its replay of the sweep it came from (points, largest relative strain error,
 whether the broken bonds agree), and the compact cone-wise law against it over the dense set of
-directions (/law/cone_check: largest and rms relative stress error, the worst direction); with
+directions (/law/cone_check: largest and rms relative stress error, the worst direction; without
+an exact law the same against the sweep's held-out directions, attribute `against`); with
 adhesion a second table, the compact law past the fuse against the exact law past the fuse
 (/law/cone_after_fuse_check). Writes OUT.md and OUT.csv beside it, atomically.
 """
@@ -20,8 +21,8 @@ import h5py
 import common
 
 COLUMNS = ["scene", "interface_rows", "condense_s", "kB", "replay_points", "replay_max", "breaks_agree",
-           "cone_directions", "cone_form", "cone_max", "cone_rms", "worst_sxx", "worst_syy", "worst_sxy",
-           "sweep_fit_max", "sweep_fit_rms", "fuse_directions", "fuse_form", "fuse_max", "fuse_rms",
+           "cone_against", "cone_directions", "cone_form", "cone_max", "cone_rms", "worst_sxx", "worst_syy", "worst_sxy",
+           "sweep_fit_max", "sweep_fit_rms", "fuse_against", "fuse_directions", "fuse_form", "fuse_max", "fuse_rms",
            "fuse_worst_sxx", "fuse_worst_syy", "fuse_worst_sxy", "fuse_sweep_fit_max", "fuse_sweep_fit_rms"]
 
 
@@ -30,17 +31,18 @@ def row(path):
     with h5py.File(path, "r") as f:
         g = f["law"]
         if "cell" not in g:
-            return {"scene": scene, "interface_rows": "none: " + common.text(g.attrs["cell_note"])}
-        c = g["cell"]
-        n = len(c["pair"])
-        size = int(c["bytes"][0])
-        r = {"scene": scene, "interface_rows": n, "condense_s": float(c["seconds"][0]), "kB": size / 1e3,
-             "replay_points": int(g["cell_replay/points"][0]), "replay_max": float(g["cell_replay/max_error"][0]),
-             "breaks_agree": "yes" if int(g["cell_replay/break_mismatches"][0]) == 0 else "no"}
+            r = {"scene": scene, "interface_rows": "none: " + common.text(g.attrs["cell_note"])}
+        else:
+            c = g["cell"]
+            r = {"scene": scene, "interface_rows": len(c["pair"]), "condense_s": float(c["seconds"][0]),
+                 "kB": int(c["bytes"][0]) / 1e3, "replay_points": int(g["cell_replay/points"][0]),
+                 "replay_max": float(g["cell_replay/max_error"][0]),
+                 "breaks_agree": "yes" if int(g["cell_replay/break_mismatches"][0]) == 0 else "no"}
         if "cone_check" in g:
             k = g["cone_check"]
             worst = k["worst"][:]
-            r.update({"cone_directions": len(k["error"]), "cone_form": common.text(g["cone"].attrs["form"]),
+            r.update({"cone_against": common.text(k.attrs.get("against", "the exact law")),
+                      "cone_directions": len(k["error"]), "cone_form": common.text(g["cone"].attrs["form"]),
                       "sweep_fit_max": float(k["sweep_fit_max_error"][0]),
                       "sweep_fit_rms": float(k["sweep_fit_rms_error"][0]), "cone_max": float(k["max_error"][0]),
                       "cone_rms": float(k["rms_error"][0]), "worst_sxx": worst[0], "worst_syy": worst[1],
@@ -48,7 +50,8 @@ def row(path):
         if "cone_after_fuse_check" in g:
             k = g["cone_after_fuse_check"]
             worst = k["worst"][:]
-            r.update({"fuse_directions": len(k["error"]), "fuse_form": common.text(g["cone_after_fuse"].attrs["form"]),
+            r.update({"fuse_against": common.text(k.attrs.get("against", "the exact law")),
+                      "fuse_directions": len(k["error"]), "fuse_form": common.text(g["cone_after_fuse"].attrs["form"]),
                       "fuse_max": float(k["max_error"][0]), "fuse_rms": float(k["rms_error"][0]),
                       "fuse_worst_sxx": worst[0], "fuse_worst_syy": worst[1], "fuse_worst_sxy": worst[2],
                       "fuse_sweep_fit_max": float(k["sweep_fit_max_error"][0]),
@@ -61,15 +64,18 @@ def markdown(rows):
              "breaks agree | cone-wise law kept | against the exact law: directions, max, rms | worst direction "
              "(σxx, σyy, σxy) | the form fitted to the sweep: max, rms |", "|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
-        if "replay_points" not in r:
-            lines.append(f"| {r['scene']} | {r['interface_rows']} | | | | | | | |")
-            continue
         form = cone = worst = sweep_fit = ""
         if "cone_max" in r:
             form = r["cone_form"]
             cone = f"{r['cone_directions']}, {100 * r['cone_max']:.1f} %, {100 * r['cone_rms']:.1f} %"
             worst = f"({r['worst_sxx']:.2f}, {r['worst_syy']:.2f}, {r['worst_sxy']:.2f})"
-            sweep_fit = f"{100 * r['sweep_fit_max']:.1f} %, {100 * r['sweep_fit_rms']:.1f} %"
+            if r["cone_against"] != "the exact law":
+                cone = f"against {r['cone_against']} (no exact law): " + cone
+            else:
+                sweep_fit = f"{100 * r['sweep_fit_max']:.1f} %, {100 * r['sweep_fit_rms']:.1f} %"
+        if "replay_points" not in r:
+            lines.append(f"| {r['scene']} | {r['interface_rows']} | | | | {form} | {cone} | {worst} | |")
+            continue
         lines.append(f"| {r['scene']} | {r['interface_rows']} | {r['condense_s']:.2f} s, {r['kB']:.0f} kB | "
                      f"{r['replay_points']}, {r['replay_max']:.1e} | {r['breaks_agree']} | {form} | {cone} | {worst} | "
                      f"{sweep_fit} |")
@@ -79,10 +85,12 @@ def markdown(rows):
                   "| scene | cone-wise law after the fuse kept | against the exact law: directions, max, rms | worst "
                   "direction (σxx, σyy, σxy) | the form fitted to the sweep: max, rms |", "|---|---|---|---|---|"]
         for r in fused:
-            lines.append(f"| {r['scene']} | {r['fuse_form']} | {r['fuse_directions']}, {100 * r['fuse_max']:.1f} %, "
+            against = "" if r["fuse_against"] == "the exact law" else f"against {r['fuse_against']} (no exact law): "
+            lines.append(f"| {r['scene']} | {r['fuse_form']} | {against}{r['fuse_directions']}, {100 * r['fuse_max']:.1f} %, "
                          f"{100 * r['fuse_rms']:.1f} % | ({r['fuse_worst_sxx']:.2f}, {r['fuse_worst_syy']:.2f}, "
-                         f"{r['fuse_worst_sxy']:.2f}) | {100 * r['fuse_sweep_fit_max']:.1f} %, "
-                         f"{100 * r['fuse_sweep_fit_rms']:.1f} % |")
+                         f"{r['fuse_worst_sxy']:.2f}) | "
+                         + ("" if against else f"{100 * r['fuse_sweep_fit_max']:.1f} %, "
+                            f"{100 * r['fuse_sweep_fit_rms']:.1f} %") + " |")
     return "\n".join(lines) + "\n"
 
 

@@ -112,9 +112,8 @@ std::string json_vector(const Eigen::VectorXd& v) {
   return json_array(std::vector<double>(v.data(), v.data() + v.size()));
 }
 
-// The exact law (/law/cell) and its checks (/law/cell_replay, /law/cone_check,
-// /law/cone_after_fuse_check), as nested
-// objects with the names of law.h5; the bounds' ±inf (an unbounded row) as null.
+// The exact law (/law/cell) and its replay of the sweep (/law/cell_replay), as nested objects
+// with the names of law.h5; the bounds' ±inf (an unbounded row) as null.
 void add_exact_law(JsonObject& o, const Law& law) {
   o.add_text("cell_note", law.cell_note);
   if (!law.cell) return;
@@ -147,13 +146,20 @@ void add_exact_law(JsonObject& o, const Law& law) {
                            .add("worst_step", std::to_string(r.worst_step))
                            .add("break_mismatches", std::to_string(r.break_mismatches))
                            .str(4));
+}
+
+// The compact laws' checks (/law/cone_check, /law/cone_after_fuse_check), against the exact law
+// or the sweep's held-out directions.
+void add_cone_checks(JsonObject& o, const Law& law) {
   const auto check_json = [](const law::ConeCheck& k) {
     return JsonObject()
+        .add_text("against", law::checked_against_text(k.against))
         .add("directions", std::to_string(k.stress.size()))
         .add("max_error", json_number(k.max_error))
         .add("rms_error", json_number(k.rms_error))
         .add("worst", json_array(std::vector<double>{k.worst(0), k.worst(1), k.worst(2)}));
   };
+  if (law.cone_check.stress.empty()) return;
   o.add("cone_check", check_json(law.cone_check)
                           .add("sweep_fit_max_error", json_number(law.cone_check.sweep_fit_max_error))
                           .add("sweep_fit_rms_error", json_number(law.cone_check.sweep_fit_rms_error))
@@ -257,6 +263,7 @@ std::string law_json(const Law& law) {
   }
   o.add("onset", onset_json(law.onset));
   add_exact_law(o, law);
+  add_cone_checks(o, law);
   return o.str() + "\n";
 }
 

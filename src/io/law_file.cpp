@@ -162,11 +162,13 @@ law::ConeFit read_cone(const File& f, const Reader& r, const std::string& name, 
   return fit;
 }
 
-// /law/<name>/: a compact law against the exact one (law/cone_check.hpp): stress (K×3 unit
-// directions), error (K), max_error, rms_error, worst (3), the same of the form fitted to the
-// sweep (sweep_fit_*); for /law/cone_check also the exact law's apparent moduli (polar_*).
+// /law/<name>/: a compact law against the exact one or the sweep's held-out directions
+// (law/cone_check.hpp; attribute `against`): stress (K×3 unit directions), error (K), max_error,
+// rms_error, worst (3), the same of the form fitted to the sweep (sweep_fit_*); for
+// /law/cone_check against the exact law also its apparent moduli (polar_*).
 void write_cone_check(File& f, const std::string& name, const law::ConeCheck& c) {
   f.create_group(object(name));
+  f.write_attribute(object(name), "against", law::checked_against_text(c.against));
   std::vector<double> stress;
   for (const auto& N : c.stress) stress.insert(stress.end(), N.data(), N.data() + 3);
   f.write(object(name + "/stress"), stress, {c.stress.size(), 3});
@@ -184,6 +186,16 @@ void write_cone_check(File& f, const std::string& name, const law::ConeCheck& c)
 
 law::ConeCheck read_cone_check(const File& f, const Reader& r, const std::string& name) {
   law::ConeCheck c;
+  // Written by every version that writes the held-out check; before it, only the exact law.
+  if (f.has_attribute(object(name), "against")) {
+    const std::string against = f.read_string_attribute(object(name), "against");
+    try {
+      c.against = law::checked_against_from(against);
+    } catch (const std::invalid_argument&) {
+      r.fail(object(name),
+             "attribute against is '" + against + "', not 'the exact law' or 'held-out sweep directions'");
+    }
+  }
   Shape found;
   const auto stress = f.read_doubles(object(name + "/stress"), {any_extent, 3}, "", &found);
   const hsize_t K = found[0];

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <stdexcept>
 
 namespace dualcell::law {
 
@@ -86,6 +87,16 @@ CellSample sample_cell_past_fuse(const CondensedCell& cell, int n, double factor
     sample.stress.push_back((std::isfinite(onset) ? factor * onset : 1.0) * N);
   }
   return sample;
+}
+
+const char* checked_against_text(CheckedAgainst against) {
+  return against == CheckedAgainst::exact_law ? "the exact law" : "held-out sweep directions";
+}
+
+CheckedAgainst checked_against_from(const std::string& text) {
+  for (CheckedAgainst a : {CheckedAgainst::exact_law, CheckedAgainst::held_out_directions})
+    if (text == checked_against_text(a)) return a;
+  throw std::invalid_argument("not a cone check's reference: '" + text + "'");
 }
 
 ConeCheck check_cone(const ConeLaw& cone, const CellSample& sample) {

@@ -11,6 +11,7 @@
 // cell really takes.
 #include <Eigen/Core>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include "law/condensed.hpp"
@@ -18,7 +19,16 @@
 
 namespace dualcell::law {
 
+// What a compact law was measured against: the exact law at a dense set of directions, or,
+// where the cell has no exact law (law::Law::cell_note says why), the sweep's own points, each
+// uniaxial direction held out of the fit in turn and the law fitted without it evaluated there.
+enum class CheckedAgainst { exact_law, held_out_directions };
+// "the exact law" / "held-out sweep directions": for summaries, refusals and law.h5.
+const char* checked_against_text(CheckedAgainst against);
+CheckedAgainst checked_against_from(const std::string& text);  // throws std::invalid_argument
+
 struct ConeCheck {
+  CheckedAgainst against = CheckedAgainst::exact_law;
   std::vector<Eigen::Vector3d> stress;  // the unit directions N, in the order evaluated
   std::vector<double> error;            // per direction
   double max_error = 0, rms_error = 0;

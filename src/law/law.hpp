@@ -86,12 +86,15 @@ struct Law {
   std::optional<CondensedCell> cell;
   std::string cell_note;
   CellReplay cell_replay;
-  // The compact law (cone) against the exact one over a dense set of directions; empty
-  // (no directions) without an exact law or a cone-wise law.
+  // The compact law (cone) against the exact one over a dense set of directions, or without an
+  // exact law against the sweep's points, each direction held out of the fit in turn
+  // (ConeCheck::against); empty without a cone-wise law, or without an exact law and with one
+  // sweep direction only.
   ConeCheck cone_check;
   // The compact law past the fuse (cone_after_fuse) against the exact law past the fuse: the
   // same directions, each loaded from the intact cell to twice its onset along the path
-  // (sample_cell_past_fuse); empty without adhesion, an exact law or a law past the fuse.
+  // (sample_cell_past_fuse); without an exact law against held-out directions as above; empty
+  // without adhesion or a law past the fuse.
   ConeCheck cone_after_fuse_check;
   // Constituents, for the out-of-plane constants of the exports (rule of mixtures).
   Constituents constituents;

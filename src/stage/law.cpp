@@ -94,16 +94,23 @@ std::string export_law(const ExportOptions& options) {
       text = io::law_calculix(law, options.name, options.law_file.string());
       break;
     case io::ExportFormat::umat: {
-      // The umat carries the law past the fuse where the law has an onset surface: both checked.
+      // The umat carries the law past the fuse where the law has an onset surface: both checked,
+      // and a law that was not measured at all (no exact law, one direction) is not vouched for.
+      if (!options.force && law.cone.ok && law.cone_check.stress.empty())
+        throw InputError(options.law_file.string() +
+                         ": the cone-wise law was measured neither against an exact law nor on held-out "
+                         "sweep directions (" +
+                         (law.cell_note.empty() ? std::string("the sweep has one direction") : law.cell_note) +
+                         "): not exported (--force writes it anyway)");
       for (const auto* check : {&law.cone_check, &law.cone_after_fuse_check}) {
         const law::ConeCheck& c = *check;
         if (options.force || c.stress.empty() || c.max_error <= options.max_law_error) continue;
-        char text_[320];
+        char text_[400];
         std::snprintf(text_, sizeof text_,
-                      "the cone-wise law%s misses the exact law by %.1f %% of stress at sxx,syy,sxy = %.3f,%.3f,%.3f, "
+                      "the cone-wise law%s misses %s by %.1f %% of stress at sxx,syy,sxy = %.3f,%.3f,%.3f, "
                       "more than --max-law-error %.3g %%: not exported (--force writes it anyway)",
-                      check == &law.cone_check ? "" : " after the fuse", 100 * c.max_error, c.worst(0), c.worst(1),
-                      c.worst(2), 100 * options.max_law_error);
+                      check == &law.cone_check ? "" : " after the fuse", law::checked_against_text(c.against),
+                      100 * c.max_error, c.worst(0), c.worst(1), c.worst(2), 100 * options.max_law_error);
         throw InputError(options.law_file.string() + ": " + text_);
       }
       text = io::law_umat(law, options.name, options.law_file.string());
@@ -167,11 +174,14 @@ void print_fit_summary(const std::filesystem::path& sweep_file, const std::files
   for (const auto* check : {&law.cone_check, &law.cone_after_fuse_check}) {
     if (check->stress.empty()) continue;
     const law::ConeCheck& c = *check;
+    const bool exact = c.against == law::CheckedAgainst::exact_law;
     std::printf(
-        "  cone-wise law%s against the exact law%s at %zu stress directions: stress error max %.1f %% (at "
-        "sxx,syy,sxy = %.3f,%.3f,%.3f), rms %.1f %%\n",
-        check == &law.cone_check ? "" : " after the fuse", check == &law.cone_check ? "" : " at twice its onset",
-        c.stress.size(), 100 * c.max_error, c.worst(0), c.worst(1), c.worst(2), 100 * c.rms_error);
+        "  cone-wise law%s against %s%s at %zu %s: stress error max %.1f %% (at sxx,syy,sxy = %.3f,%.3f,%.3f), "
+        "rms %.1f %%\n",
+        check == &law.cone_check ? "" : " after the fuse", law::checked_against_text(c.against),
+        check == &law.cone_check || !exact ? "" : " at twice its onset", c.stress.size(),
+        exact ? "stress directions" : "points, each fitted without its direction", 100 * c.max_error, c.worst(0),
+        c.worst(1), c.worst(2), 100 * c.rms_error);
   }
 }
 

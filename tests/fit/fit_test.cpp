@@ -9,7 +9,11 @@
 #include <numbers>
 #include <random>
 
+#include "core/exit_codes.hpp"
 #include "io/hdf5.hpp"
+#include "io/law_file.hpp"
+#include "law/cone.hpp"
+#include "law/synthetic_law.hpp"
 #include "test_util.hpp"
 
 namespace dualcell::fit {
@@ -108,6 +112,78 @@ TEST(Fit, ConeWiseLinearDetectsARankOneJump) {
   EXPECT_NEAR(law.cone_beta, -2.0, 1e-8);
   const law::Law iso = fit_law(synthetic(C_c.inverse() * 2, C_c.inverse(), {0, 45, 90}, 0, 1), {});
   EXPECT_FALSE(iso.cone_wise_linear);  // a uniform softening is full-rank
+}
+
+// Without an exact law the compact law is measured on held-out directions (/law/cone_check,
+// against "held-out sweep directions"): each recorded error is that of the law fitted by
+// fit_law to a sweep without that direction's paths, evaluated at the held-out points; a law
+// the cone form expresses exactly misses them by round-off, one it cannot by more than its own
+// residual shows; and dualcell-export refuses a umat of it beyond --max-law-error.
+TEST(Fit, WithoutAnExactLawTheCompactLawIsMeasuredOnHeldOutDirections) {
+  // A one-plane cone-wise law's own points (as in cone_fit_test): its form is fixed by any five
+  // of six directions, so the held-out points are met to the fit's tolerance.
+  law::ConeLaw truth;
+  truth.C_c << 12, 4, 0.5, 4, 10, -0.3, 0.5, -0.3, 3;
+  truth.q = {Eigen::Vector3d(0.7, 0.6, 0.2).normalized()};
+  truth.beta = {6};
+  const std::vector<double> directions{0, 30, 45, 60, 90, 135};
+  auto own = synthetic(Eigen::Matrix3d::Identity(), Eigen::Matrix3d::Identity(), directions, 0, 1);
+  for (auto& p : own)
+    for (auto& step : p.steps) {
+      const Eigen::Vector3d e = law::strain_for(truth, step.stress);
+      step.strain = {e(0), e(1), e(2) / 2};
+    }
+  const law::Law exact_form = fit_law(own, {});
+  ASSERT_TRUE(exact_form.cone.ok);
+  EXPECT_EQ(exact_form.cone_check.against, law::CheckedAgainst::held_out_directions);
+  EXPECT_EQ(exact_form.cone_check.stress.size(), directions.size() * 2 * 5);  // every point held out once
+  // The fit's own tolerance on exact data is 1e-8 of the residual (cone_fit_test).
+  EXPECT_LT(exact_form.cone_check.max_error, 1e-6);
+
+  // Uniformly softer in tension (by the sign of the load): full rank, no cone-wise law has it
+  // (ConeWiseLinearDetectsARankOneJump), so the law fitted to it misses what it did not see.
+  Eigen::Matrix3d C_c;
+  C_c << 5, 2, 0, 2, 5, 0, 0, 0, 1.5;
+  const Eigen::Matrix3d S_c = C_c.inverse(), S_t = 1.5 * S_c;
+  const auto paths = synthetic(S_t, S_c, directions, 0, 1);
+  const law::Law law = fit_law(paths, {});
+  ASSERT_TRUE(law.cone.ok);
+  const law::ConeCheck& k = law.cone_check;
+  ASSERT_EQ(k.stress.size(), directions.size() * 2 * 5);
+  EXPECT_GT(k.max_error, law.cone.relative_residual) << "held-out points are harder than the fitted ones";
+  // Independently: the sweep without one direction's paths through fit_law, its law at them.
+  for (std::size_t d = 0; d < directions.size(); ++d) {
+    std::vector<sweep::PathResult> others, held;
+    for (const auto& p : paths) (p.spec.direction_deg == directions[d] ? held : others).push_back(p);
+    const law::Law without = fit_law(others, {});
+    ASSERT_TRUE(without.cone.ok) << directions[d];
+    for (const auto& p : held)
+      for (const auto& step : p.steps) {
+        const Eigen::Vector3d strain(step.strain(0), step.strain(1), 2 * step.strain(2));
+        const double error = (law::evaluate(without.cone.law, strain).stress - step.stress).norm() / step.stress.norm();
+        const Eigen::Vector3d N = step.stress.normalized();
+        bool found = false;
+        for (std::size_t i = 0; i < k.stress.size() && !found; ++i)
+          if ((k.stress[i] - N).norm() < 1e-12 && std::abs(k.error[i] - error) <= 1e-9 * (1 + error)) found = true;
+        EXPECT_TRUE(found) << "direction " << directions[d] << ", load " << step.load << ": error " << error;
+      }
+  }
+  // One direction: nothing to hold out, no check (and no umat without --force).
+  EXPECT_TRUE(fit_law(synthetic(S_t, S_c, {0}, 0, 1), {}).cone_check.stress.empty());
+
+  testing::ScratchDir dir;
+  law::Law file = law;  // with the provenance and constituents a law file carries
+  file.provenance = testing::synthetic_law().provenance;
+  file.constituents = testing::synthetic_law().constituents;
+  io::write_law(dir / "law.h5", file);
+  ASSERT_EQ(io::read_law(dir / "law.h5").cone_check.against, law::CheckedAgainst::held_out_directions);
+  const std::string export_umat = testing::bin("dualcell-export") + " --law " + testing::quoted(dir / "law.h5") +
+                                  " --format umat --form cone --out " + testing::quoted(dir / "u.inp");
+  const auto refused = testing::run_command(export_umat);
+  EXPECT_EQ(refused.exit_code, exit_input_error) << refused.output;
+  EXPECT_NE(refused.output.find("misses held-out sweep directions by"), std::string::npos) << refused.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "u.inp"));
+  EXPECT_EQ(testing::run_command(export_umat + " --max-law-error 0.99").exit_code, exit_ok);
 }
 
 }  // namespace
