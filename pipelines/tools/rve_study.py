@@ -4,7 +4,7 @@ law against N (README, "Random fibre RVEs").
 
 usage:
   rve_study.py BIN_DIR OUT_DIR MATERIAL [--fibres 1 4 9 16 36 64] [--realisations 5]
-               [--volume-fraction 0.5] [--extra 0.6] [--degree 2]
+               [--volume-fraction 0.5] [--extra 0.6] [--extra-fibres 36] [--degree 2]
 
 Per RVE (mean radius 1, standard deviation 0.05, min_gap 0.05, the square of side
 sqrt(N pi / v_f), seed = realisation + 1, p2 at the degree), two sweeps and their fits:
@@ -124,12 +124,13 @@ def main(argv):
     parser.add_argument("--realisations", type=int, default=5)
     parser.add_argument("--volume-fraction", type=float, default=0.5)
     parser.add_argument("--extra", type=float, default=0.6, help="one more set at this volume fraction (0: none)")
+    parser.add_argument("--extra-fibres", type=int, default=36, help="the fibres of the RVEs of that set")
     parser.add_argument("--degree", type=int, default=2)
     args = parser.parse_args(argv[1:])
     material = os.path.abspath(args.material)
     sets = [(args.volume_fraction, n) for n in args.fibres]
     if args.extra > 0:
-        sets.append((args.extra, max(args.fibres)))
+        sets.append((args.extra, args.extra_fibres))
     rows, samples = [], {}
     for vf, n in sets:
         values = {key: [] for key, _ in FIGURES}
