@@ -4,7 +4,11 @@
 usage:
   plot.py stress-strain SWEEP.h5 OUTBASE     s against N:ε per path, the fuse jump marked
   plot.py polar LAW.h5 OUTBASE               E_tension(θ), E_compression(θ), debond onset(θ)
-  plot.py deformed SOLUTION.h5 OUTBASE       the deformed mesh with its gaps (exaggerated)
+  plot.py deformed SOLUTION.h5 OUTBASE [--mesh MESH.h5]
+                                             the deformed mesh with its gaps (exaggerated); with
+                                             the mesh the fibres by /mesh/triangle_is_fibre (any
+                                             mesher), the rims whose bonds broke as red dots and
+                                             the open gaps as orange segments
   plot.py work-precision TABLE.csv OUTBASE   error of E_t, E_c against seconds, log-log
   plot.py accuracy TABLE.csv OUTBASE         the accuracy study: error against seconds per code,
                                              element and sign, log-log (accuracy_table.py's CSV)
@@ -188,13 +192,22 @@ def polar(law, outbase):
     gnuplot(script, outbase, data)
 
 
-def deformed(solution, outbase):
+def deformed(solution, outbase, mesh=None):
     with h5py.File(solution, "r") as f:
         nodes = f["/mesh/nodes"][:]
         u = f["/solution/u"][:]
         tri = f["/mesh/triangles"][:]
         sub = f["/mesh/triangle_subdomain"][:]
         stress = f["/macro/stress"][:]
+        bonded = f["/interface/bonded"][:]
+        opening = f["/interface/opening"][:]
+        newly_broken = int(f["/solver"].attrs["newly_broken"])
+    # Without the mesh: the mapped mesher's alternation of matrix and fibre subdomains.
+    is_fibre, pairs = [int(s) % 2 for s in sub], None
+    if mesh is not None:
+        with h5py.File(mesh, "r") as f:
+            is_fibre = f["/mesh/triangle_is_fibre"][:]
+            pairs = f["/mesh/interface_pairs"][:]
     # Exaggerated so that the largest displacement is 12 % of the block: gaps become visible.
     size = max(nodes[:, 0].max() - nodes[:, 0].min(), nodes[:, 1].max() - nodes[:, 1].min())
     largest = abs(u).max()
@@ -205,12 +218,28 @@ def deformed(solution, outbase):
     # curved rim edges show as two chords.
     outline = [0, 1, 2, 0] if tri.shape[1] == 3 else [0, 3, 1, 4, 2, 5, 0]
     lines = {0: [], 1: []}
-    for t, s in zip(tri, sub):
-        lines[int(s) % 2].append("".join("{:.8g} {:.8g}\n".format(*x[t[k]]) for k in outline) + "\n")
+    for t, fibre in zip(tri, is_fibre):
+        lines[int(fibre)].append("".join("{:.8g} {:.8g}\n".format(*x[t[k]]) for k in outline) + "\n")
     data = {"matrix.dat": "".join(lines[0]), "fibre.dat": "".join(lines[1])}
+    plots = ["'matrix.dat' with lines lw 0.6 lc rgb '#404040' title 'matrix'",
+             "'fibre.dat' with lines lw 0.6 lc rgb '#c02080' title 'fibres'"]
+    if pairs is not None and len(pairs) == len(bonded):
+        # Bonds exist where some pair is bonded or this load broke some (else: no adhesion, no
+        # red). Pair rows are (fibre node, matrix node). An open gap: opening above 1e-9 of the
+        # block (the solver's complementarity is ~1e-8 relative).
+        adhesion = bool(bonded.any()) or newly_broken > 0
+        broken = "".join("{:.8g} {:.8g}\n".format(*x[p[1]]) for p, b in zip(pairs, bonded) if adhesion and not b)
+        gaps = "".join("{:.8g} {:.8g}\n{:.8g} {:.8g}\n\n".format(*x[p[0]], *x[p[1]])
+                       for p, g in zip(pairs, opening) if g > 1e-9 * size)
+        if gaps:
+            data["gaps.dat"] = gaps
+            plots.append("'gaps.dat' with lines lw 2 lc rgb '#ff9900' title 'open gap'")
+        if broken:
+            data["broken.dat"] = broken
+            plots.append("'broken.dat' with points pt 7 ps 0.3 lc rgb '#e00000' title 'broken bond'")
     script = ("set title 'Deformed mesh at σ̄ = ({:.3g}, {:.3g}, {:.3g}), displacements × {:.3g}'\n".format(*stress, scale) +
-              "set size ratio -1\nunset key\nset xlabel 'x'\nset ylabel 'y'\n"
-              "plot 'matrix.dat' with lines lw 0.6 lc rgb '#404040', 'fibre.dat' with lines lw 0.6 lc rgb '#c02080'\n")
+              "set size ratio -1\nset key outside bottom horizontal\nset xlabel 'x'\nset ylabel 'y'\nplot " +
+              ", ".join(plots) + "\n")
     gnuplot(script, outbase, data)
 
 
@@ -347,10 +376,14 @@ def main(argv):
         p = kinds.add_parser(kind)
         p.add_argument("source", metavar=source)
         p.add_argument("outbase", metavar="OUTBASE")
+        if kind == "deformed":
+            p.add_argument("--mesh", metavar="MESH.h5", help="the mesh.h5 of the solution (fibres, rim pairs)")
     kinds.add_parser("last-stress").add_argument("source", metavar="SWEEP.h5")
     args = parser.parse_args(argv[1:])
     if args.kind == "last-stress":
         return last_stress(args.source)
+    if args.kind == "deformed":
+        return deformed(args.source, args.outbase, args.mesh)
     PICTURES[args.kind][0](args.source, args.outbase)
 
 

@@ -16,8 +16,10 @@ sqrt(N pi / v_f), seed = realisation + 1, p2 at the degree), two sweeps and thei
 Each RVE's files stay in OUT_DIR/N<n>-r<k>/ and a finished RVE is not run again (resume).
 Writes OUT_DIR/table.md, table.csv (per N: mean and standard deviation over the realisations;
 `extra`: one realisation set at the extra volume fraction), convergence.png/svg (each figure's
-mean +- sd against N, relative to the largest N's mean) and microstructures.png/svg (one
-realisation per N, fibres on their mesh).
+mean +- sd against N, relative to the largest N's mean), microstructures.png/svg (one
+realisation per N, fibres on their mesh) and debonded-N<n>.png/svg (that realisation, bonded,
+under sxx = 1.2 x its onset along 0 deg: the broken rims and open gaps on the deformed mesh;
+its solution in N<n>-r0/debonded/).
 """
 import csv
 import io
@@ -45,6 +47,21 @@ def scene_text(material, n, seed, vf, degree, bonded):
         return text + ("[interface]\nnormal_strength = 0.05\ntangential_strength = 0.05\n\n"
                        "[sweep]\ndirections_deg = [0, 45, 90, 135]\nmagnitudes = [1e-3]\n")
     return text + "[sweep]\ndirections_deg = [0, 90]\nmagnitudes = [-1e-2, 1e-2]\n"
+
+
+# The load of the debonded pictures, over the onset along 0 deg.
+DEBOND_LOAD = 1.2
+
+
+def debond(bin_dir, folder, load):
+    """The bonded RVE in folder under sxx = load: debonded/solution.h5 (kept: resume)."""
+    out = os.path.join(folder, "debonded", "solution.h5")
+    if not os.path.exists(out):
+        os.makedirs(os.path.dirname(out), exist_ok=True)
+        bonded = os.path.join(folder, "bonded")
+        common.run([os.path.join(bin_dir, "dualcell-solve"), "--quiet", "--config", os.path.join(bonded, "scene.toml"),
+                    "--mesh", os.path.join(bonded, "mesh.h5"), "--stress", f"{load!r},0,0", "--out", out])
+    return out
 
 
 def run_case(bin_dir, folder, text):
@@ -197,6 +214,17 @@ def main(argv):
                       f"plot 'm{n}.dat' with filledcurves closed lc rgb '#4477aa' notitle\n")
     layout = f"set multiplot layout 1,{len(ns)}\nset size ratio -1\nunset key\nunset tics\n"
     plot.gnuplot(layout + "".join(panels) + "unset multiplot\n", os.path.join(args.out_dir, "microstructures"), files)
+
+    # Debonded: the first realisation of each N, bonded, loaded along 0 deg to DEBOND_LOAD times
+    # its onset: the cascade, the broken rims and the open gaps on the deformed mesh.
+    for n in ns:
+        folder = os.path.join(args.out_dir, f"N{n}-r0")
+        onset = bonded_figures(os.path.join(folder, "bonded", "law.h5"))["onset"]
+        if not math.isfinite(onset):
+            continue
+        solution = debond(args.bin_dir, folder, DEBOND_LOAD * onset)
+        plot.deformed(solution, os.path.join(args.out_dir, f"debonded-N{n}"),
+                      os.path.join(folder, "bonded", "mesh.h5"))
     print("\n".join(lines))
 
 

@@ -86,6 +86,24 @@ class Pictures(unittest.TestCase):
         plot.deformed(self.files["solution.h5"], out)
         self.assert_picture(out)
 
+    def test_deformed_marks_broken_rims_and_open_gaps_only_past_the_onset(self):
+        # Below the onset (0.01): bonded, closed, no mark. Past it (0.2): the rim breaks and opens.
+        bonded = os.path.join(self.tmp.name, "deformed_bonded")
+        plot.deformed(self.files["solution.h5"], bonded, self.files["mesh.h5"])
+        self.assert_picture(bonded)
+        svg = open(bonded + ".svg").read()
+        self.assertNotIn("broken bond", svg)
+        self.assertNotIn("open gap", svg)
+        past = os.path.join(self.tmp.name, "past.h5")
+        stage("dualcell-solve", "--config", self.files["scene.toml"], "--mesh", self.files["mesh.h5"],
+              "--stress", "0.2,0,0", "--out", past)
+        debonded = os.path.join(self.tmp.name, "deformed_debonded")
+        plot.deformed(past, debonded, self.files["mesh.h5"])
+        self.assert_picture(debonded)
+        svg = open(debonded + ".svg").read()
+        self.assertIn("broken bond", svg)
+        self.assertIn("open gap", svg)
+
 
 if __name__ == "__main__":
     if len(sys.argv) < 2:
