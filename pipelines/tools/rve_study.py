@@ -14,7 +14,8 @@ sqrt(N pi / v_f), seed = realisation + 1, p2 at the degree), two sweeps and thei
            and the debond onset stress along 0 deg from the onset surface;
   contact  no adhesion, +-1e-2 along 0 and 90 deg: E_t and E_c (their mean over the two).
 Each RVE's files stay in OUT_DIR/N<n>-r<k>/ and a finished RVE is not run again (resume).
-Writes OUT_DIR/table.md, table.csv (per N: mean and standard deviation over the realisations;
+Writes OUT_DIR/table.md (with the exact law of the contact RVEs against N: kept or why not, and
+what the compact law was checked against), table.csv (per N: mean and standard deviation over the realisations;
 `extra`: one realisation set at the extra volume fraction), convergence.png/svg (each figure's
 mean +- sd against N, relative to the largest N's mean), microstructures.png/svg (one
 realisation per N, fibres on their mesh) and debonded-N<n>.png/svg (that realisation, bonded,
@@ -100,6 +101,35 @@ def contact_figures(law):
         return {"E_t": float(f["law/E_tension"][:].mean()), "E_c": float(f["law/E_compression"][:].mean())}
 
 
+def law_checks(law):
+    """The exact law of a law.h5 (its interface rows, or why it has none) and its compact law's
+    check (against what, largest error)."""
+    with h5py.File(law, "r") as f:
+        g = f["law"]
+        out = {"rows": len(g["cell/pair"]) if "cell" in g else None, "note": common.text(g.attrs["cell_note"]),
+               "against": None, "max_error": math.nan}
+        if "cone_check" in g:
+            out["against"] = common.text(g["cone_check"].attrs.get("against", "the exact law"))
+            out["max_error"] = float(g["cone_check/max_error"][0])
+    return out
+
+
+def exact_law_lines(checks):
+    """The exact law against N: checks maps (v_f, N) to the law_checks of each realisation's
+    contact law."""
+    lines = ["| v_f | N | exact law kept | interface rows | why not (first realisation without) | "
+             "compact law checked against: max error (mean) |", "|---|---|---|---|---|---|"]
+    for (vf, n), cs in checks.items():
+        kept = [c for c in cs if c["rows"] is not None]
+        rows = f"{statistics.fmean(c['rows'] for c in kept):.0f}" if kept else ""
+        why = next((c["note"] for c in cs if c["rows"] is None), "")
+        against = sorted({c["against"] for c in cs if c["against"]})
+        errors = [c["max_error"] for c in cs if math.isfinite(c["max_error"])]
+        checked = (", ".join(against) + f": {100 * statistics.fmean(errors):.1f} %") if errors else "none"
+        lines.append(f"| {vf} | {n} | {len(kept)} of {len(cs)} | {rows} | {why} | {checked} |")
+    return lines
+
+
 def microstructure_data(mesh_file):
     """Fibre triangles as gnuplot polygons (corner nodes), and the RVE's size."""
     with h5py.File(mesh_file, "r") as f:
@@ -148,7 +178,7 @@ def main(argv):
     sets = [(args.volume_fraction, n) for n in args.fibres]
     if args.extra > 0:
         sets.append((args.extra, args.extra_fibres))
-    rows, samples = [], {}
+    rows, samples, checks = [], {}, {}
     for vf, n in sets:
         values = {key: [] for key, _ in FIGURES}
         for k in range(args.realisations):
@@ -160,6 +190,7 @@ def main(argv):
             contact = run_case(args.bin_dir, os.path.join(folder, "contact"),
                                scene_text(material, n, k + 1, vf, args.degree, False))
             figures = {**bonded_figures(bonded), **contact_figures(contact)}
+            checks.setdefault((vf, n), []).append(law_checks(contact))
             for key in values:
                 values[key].append(figures[key])
         row = {"volume_fraction": vf, "fibres": n, "realisations": args.realisations}
@@ -183,6 +214,8 @@ def main(argv):
     for key, label in FIGURES:
         judged = [representative(samples, key, tol) for tol in (0.01, 0.05)]
         lines.append(f"- {label}: 1 % from N = {judged[0] or 'none'}, 5 % from N = {judged[1] or 'none'}")
+    lines += ["", "The exact law of the contact RVEs (the cell condensed onto its rims) and what their compact law "
+              "was checked against:", ""] + exact_law_lines(checks)
     os.makedirs(args.out_dir, exist_ok=True)
     common.write_atomic(os.path.join(args.out_dir, "table.md"), "\n".join(lines) + "\n")
     text = io.StringIO()

@@ -23,6 +23,15 @@ class Study(unittest.TestCase):
         self.assertNotIn("interface", contact)
         self.assertEqual(contact["sweep"]["magnitudes"], [-1e-2, 1e-2])
 
+    def test_exact_law_lines(self):
+        kept = {"rows": 100, "note": "", "against": "the exact law", "max_error": 0.1}
+        none = {"rows": None, "note": "more than 3000 rows", "against": "held-out sweep directions",
+                "max_error": 0.3}
+        lines = rve_study.exact_law_lines({(0.5, 4): [kept, kept], (0.5, 64): [none, kept]})
+        self.assertEqual(lines[2], "| 0.5 | 4 | 2 of 2 | 100 |  | the exact law: 10.0 % |")
+        self.assertEqual(lines[3], "| 0.5 | 64 | 1 of 2 | 100 | more than 3000 rows | "
+                                   "held-out sweep directions, the exact law: 20.0 % |")
+
     def test_representative(self):
         def samples(means, sds):
             return {n: {"E_mean": m, "E_sd": s} for n, m, s in zip((1, 4, 16, 36), means, sds)}
