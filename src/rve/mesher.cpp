@@ -363,9 +363,18 @@ mesh::Mesh build_rve_mesh(const Geometry& geometry, int subdomain_dofs, const st
   // angles near 0 (and a gap of 0 none at all).
   const double narrowest = std::min(r.fibres.gap_min, r.fibres.edge_gap_min);
   if (narrowest < h / 50)
-    throw InputError(where + ": the narrowest gap (between fibres or to an edge), " + formatted("%.3g", narrowest) +
-                     ", is too narrow to mesh at degree " + std::to_string(geometry.degree) + " (elements of h = " +
-                     formatted("%.3g", h) + ", at least h/50 needed): raise min_gap or the degree");
+    throw InputError(where + ": the narrowest gap (between fibres, to an edge, or a sliver of a fibre an edge cuts), " +
+                     formatted("%.3g", narrowest) + ", is too narrow to mesh at degree " +
+                     std::to_string(geometry.degree) + " (elements of h = " + formatted("%.3g", h) +
+                     ", at least h/50 needed): raise min_gap or the degree");
+  // A fibre far smaller than the smallest element (h/10) is not resolved, and gmsh's OpenCASCADE
+  // projections fail on it inside a parallel region, where no error can be caught.
+  for (std::size_t i = 0; i < m.fibres.size(); ++i)
+    if (m.fibres[i].radius < h / 10)
+      throw InputError(where + ": fibre " + std::to_string(i + 1) + " has radius " +
+                       formatted("%.3g", m.fibres[i].radius) + ", below h/10 = " + formatted("%.3g", h / 10) +
+                       ", the smallest element at degree " + std::to_string(geometry.degree) +
+                       " (h = pi x mean radius / (4 degree)): raise the degree or leave it out");
   const std::vector<Image> images = images_in(m);
   const Clock::time_point start = Clock::now();
   try {

@@ -134,11 +134,11 @@ Statistics statistics(const Microstructure& m) {
     }
     bool crossing = false;
     for (const auto& [c, L] : {std::pair{f.centre.x(), m.Lx}, std::pair{f.centre.y(), m.Ly}}) {
+      // The rim's distance to the edge line: a gap, or for a fibre the line cuts the width of
+      // the sliver beyond it (what the mesh must resolve either way).
       const double d = std::min(c, L - c);
-      if (d < f.radius)
-        crossing = true;
-      else
-        s.edge_gap_min = std::min(s.edge_gap_min, d - f.radius);
+      crossing = crossing || d < f.radius;
+      s.edge_gap_min = std::min(s.edge_gap_min, std::abs(d - f.radius));
     }
     s.crossing_edges += crossing ? 1 : 0;
   }

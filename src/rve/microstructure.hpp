@@ -39,8 +39,10 @@ struct Statistics {
   double volume_fraction = 0;
   double neighbour_mean = 0, neighbour_sd = 0, neighbour_min = 0;  // centre to nearest centre
   double gap_min = 0;                                              // surface to nearest surface
-  double edge_gap_min = 0;  // +inf when every fibre crosses an edge or none comes near one
-  int crossing_edges = 0;   // fibres cut by an edge (they continue across the opposite one)
+  // The smallest distance between a rim and an edge line: a fibre's gap to an edge, or the
+  // width of the sliver of a fibre that an edge cuts; +inf without fibres.
+  double edge_gap_min = 0;
+  int crossing_edges = 0;  // fibres cut by an edge (they continue across the opposite one)
 };
 Statistics statistics(const Microstructure& m);
 

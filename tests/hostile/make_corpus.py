@@ -331,6 +331,10 @@ def build_scene_cases():
          "random fibres to a volume fraction that jams")
     case("rve-narrow-gap", rve({"size": "[1.0, 1.0]"}, [(0.3, 0.5, 0.15), (0.6000001, 0.5, 0.15)]), "mesh-input",
          "too narrow to mesh", "two fibres 1e-7 apart, no min_gap")
+    case("rve-sliver", rve({"size": "[1.0, 1.0]"}, [(0.09999999, 0.5, 0.1), (0.6, 0.5, 0.3)]), "mesh-input",
+         "too narrow to mesh", "a fibre the left edge cuts 1e-8 from its rim (a sliver), no min_gap")
+    case("rve-tiny-fibre", rve({"size": "[1.0, 1.0]"}, [(0.5, 0.5, 0.3), (0.1, 0.5, 1e-7)]), "mesh-input",
+         "below h/10", "a fibre of radius 1e-7 beside one of 0.3 (crashed gmsh inside its parallel meshing)")
 
     # Material files: missing, a folder, a device, the scene itself, foreign keys
     case("material-missing", "material = \"no-such-material.toml\"\n" + table("geometry", GEOMETRY, {}), "input",
