@@ -326,9 +326,13 @@ void check_against_cell(law::Law& law, const std::vector<ConePoint>& bonded, con
 // Without an exact law the compact law is measured on the sweep's own points: each uniaxial
 // direction (both signs) held out in turn, the law refitted to the others and evaluated at the
 // held-out strains (law::check_cone), so every error is at points the law was not built from.
-// A direction whose refit fails counts as an unbounded error (the law cannot be vouched for
-// there); with one direction only there is nothing to hold out and the check stays empty.
-law::ConeCheck check_held_out(const std::vector<ConePoint>& points, int n_directions, const Eigen::Vector3d& guess) {
+// The refit starts, as the fit does, from the rank-one normal of the compliances, here fitted
+// without the held-out paths: nothing of them enters the law evaluated on them. A direction
+// whose refit fails counts as an unbounded error (the law cannot be vouched for there); with one
+// direction only there is nothing to hold out and the check stays empty.
+law::ConeCheck check_held_out(const std::vector<sweep::PathResult>& paths, const std::vector<double>& directions,
+                              const std::vector<ConePoint>& points) {
+  const int n_directions = static_cast<int>(directions.size());
   law::ConeCheck check;
   check.against = law::CheckedAgainst::held_out_directions;
   if (n_directions < 2) return check;
@@ -347,6 +351,16 @@ law::ConeCheck check_held_out(const std::vector<ConePoint>& points, int n_direct
       held.stress.push_back(p.stress);
     }
     if (held.direction.empty()) continue;
+    std::vector<sweep::PathResult> other_paths;
+    for (const auto& p : paths)
+      if (p.spec.direction_deg != directions[d]) other_paths.push_back(p);
+    std::vector<double> other_directions = directions;
+    other_directions.erase(other_directions.begin() + d);
+    law::Law without;
+    without.tension = fit_compliance(other_paths, +1, other_directions);
+    without.compression = fit_compliance(other_paths, -1, other_directions);
+    rank_one_test(without);
+    const Eigen::Vector3d guess = without.cone_normal.allFinite() ? without.cone_normal : Eigen::Vector3d::Zero();
     const law::ConeFit refit = fit_cone(others, n_directions, guess);
     const law::ConeCheck part = refit.ok ? law::check_cone(refit.law, held) : law::ConeCheck{};
     for (std::size_t i = 0; i < held.direction.size(); ++i) {
@@ -426,8 +440,8 @@ law::Law fit_law(const std::vector<sweep::PathResult>& paths, const sweep::Sweep
   if (law.cell) {
     check_against_cell(law, bonded, debonded, n_directions);
   } else {
-    if (law.cone.ok) law.cone_check = check_held_out(bonded, n_directions, guess);
-    if (law.cone_after_fuse.ok) law.cone_after_fuse_check = check_held_out(debonded, n_directions, guess);
+    if (law.cone.ok) law.cone_check = check_held_out(paths, directions, bonded);
+    if (law.cone_after_fuse.ok) law.cone_after_fuse_check = check_held_out(paths, directions, debonded);
   }
   law.constituents = header.constituents;
   law.provenance = header.provenance;
