@@ -54,6 +54,7 @@ void DenseActiveSet::factorise(const Eigen::MatrixXd& A, const Eigen::MatrixXd& 
     if (working_[i] == Bound::free) free_.push_back(static_cast<int>(i));
   const int n_F = static_cast<int>(free_.size());
   kept_rows_.clear();
+  pinned_.assign(n_F, 0);
   if (n_c > 0 && n_F > 0) {
     Eigen::MatrixXd CFt(n_F, n_c);
     for (int j = 0; j < n_F; ++j) CFt.row(j) = C.col(free_[j]).transpose();
@@ -61,6 +62,11 @@ void DenseActiveSet::factorise(const Eigen::MatrixXd& A, const Eigen::MatrixXd& 
     qr.setThreshold(independent_row);
     for (Eigen::Index k = 0; k < qr.rank(); ++k) kept_rows_.push_back(qr.colsPermutation().indices()(k));
     std::sort(kept_rows_.begin(), kept_rows_.end());
+    // A free variable is pinned where e_j lies in the row space of C_F (orthonormal basis: the
+    // first rank columns of Q): C_F d = 0 then forces d_j = 0, so it never moves, and holding
+    // it would make the working set dependent (its multiplier meaningless).
+    const Eigen::MatrixXd basis = qr.householderQ() * Eigen::MatrixXd::Identity(n_F, qr.rank());
+    for (int j = 0; j < n_F; ++j) pinned_[j] = basis.row(j).squaredNorm() > 1 - 1e-8;
   }
   const int r = static_cast<int>(kept_rows_.size()), k = n_F + r;
   if (kkt_.rows() < k) kkt_.resize(std::max<Eigen::Index>(k, n + n_c), std::max<Eigen::Index>(k, n + n_c));
@@ -231,6 +237,12 @@ DenseQpResult DenseActiveSet::solve(const Eigen::MatrixXd& A, const Eigen::Vecto
   }
   const double b_scale = b.lpNorm<Eigen::Infinity>() / std::max(A_max_, std::numeric_limits<double>::min());
   const int max_iterations = 10 * static_cast<int>(n) + 50;
+  // Steps of length zero in a row (a bound met where x already is: a degenerate vertex). While
+  // they last, the bound released is the one of smallest index with the wrong sign rather than
+  // the most wrong (Bland's rule), and the blocking bound of smallest index among equal steps
+  // (the loop below keeps the first): the largest-multiplier rule can cycle through the same
+  // working sets there, as it did on RVE cells of several hundred rows.
+  int degenerate = 0;
   while (out.iterations <= max_iterations) {
     if (!at_subproblem_solution) {
       if (!refactorise()) {
@@ -249,13 +261,15 @@ DenseQpResult DenseActiveSet::solve(const Eigen::MatrixXd& A, const Eigen::Vecto
       for (std::size_t j = 0; j < free_.size(); ++j) {
         const int i = free_[j];
         double d = x_free(j) - x(i);
-        if (std::abs(d) <= round_off_move * x_scale) d = 0;
+        if (pinned_[j] || std::abs(d) <= round_off_move * x_scale) d = 0;
         if (d < 0 && std::isfinite(l(i)) && (l(i) - x(i)) / d < step)
           step = std::max(0.0, (l(i) - x(i)) / d), blocking = i, blocking_bound = Bound::lower;
         if (d > 0 && std::isfinite(u(i)) && (u(i) - x(i)) / d < step)
           step = std::max(0.0, (u(i) - x(i)) / d), blocking = i, blocking_bound = Bound::upper;
       }
-      for (std::size_t j = 0; j < free_.size(); ++j) x(free_[j]) += step * (x_free(j) - x(free_[j]));
+      for (std::size_t j = 0; j < free_.size(); ++j)
+        if (!pinned_[j]) x(free_[j]) += step * (x_free(j) - x(free_[j]));
+      degenerate = blocking >= 0 && step == 0 ? degenerate + 1 : 0;
       if (blocking >= 0) {
         working_[blocking] = blocking_bound;
         x(blocking) = blocking_bound == Bound::lower ? l(blocking) : u(blocking);
@@ -278,6 +292,7 @@ DenseQpResult DenseActiveSet::solve(const Eigen::MatrixXd& A, const Eigen::Vecto
       const double wrong = working_[i] == Bound::lower ? -nu : nu;
       const double relative = wrong / std::max(terms, std::numeric_limits<double>::min());
       if (relative > multiplier_round_off && relative > worst) worst = relative, release = static_cast<int>(i);
+      if (degenerate > 0 && release >= 0) break;  // Bland: the first wrong one
     }
     if (release < 0) {
       out.x = x;

@@ -73,7 +73,8 @@ class DenseActiveSet {
 
   std::vector<Bound> working_;  // the working set of the kept factorisation
   std::vector<int> free_, kept_rows_;
-  Eigen::MatrixXd kkt_;  // LU factors in place (unit lower, upper)
+  std::vector<char> pinned_;  // per free variable: fixed by the rows of C (it cannot move)
+  Eigen::MatrixXd kkt_;       // LU factors in place (unit lower, upper)
   std::vector<int> pivot_;
   mutable Eigen::VectorXd rhs_;  // the subproblem's right-hand side, kept between calls
   double A_max_ = 0;             // max |A_ij| of the problem at A_max_of_
