@@ -31,6 +31,10 @@ class Study(unittest.TestCase):
         self.assertEqual(lines[2], "| 0.5 | 4 | 2 of 2 | 100 |  | the exact law: 10.0 % |")
         self.assertEqual(lines[3], "| 0.5 | 64 | 1 of 2 | 100 | more than 3000 rows | "
                                    "held-out sweep directions, the exact law: 20.0 % |")
+        unbounded = dict(none, max_error=math.inf)
+        lines = rve_study.exact_law_lines({(0.5, 64): [unbounded]})
+        self.assertTrue(lines[2].endswith("| held-out sweep directions: unbounded (no law fits the other directions "
+                                          "alone) |"), lines[2])
 
     def test_representative(self):
         def samples(means, sds):

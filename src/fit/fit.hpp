@@ -21,6 +21,11 @@
 
 namespace dualcell::fit {
 
+// The largest exact law (interface rows) against which the compact law is checked on the dense
+// sphere of directions; above it the exact law is kept and the compact one checked on held-out
+// sweep directions (the dense check's cost grows as rows³: docs/method.md §16a).
+inline constexpr int max_checked_rows = 1000;
+
 // The law of a sweep; its provenance is the sweep's (the caller adds the sweep file and hash).
 law::Law fit_law(const std::vector<sweep::PathResult>& paths, const sweep::SweepHeader& header);
 
