@@ -18,6 +18,9 @@ constexpr double independent_row = 1e-10;
 // A bound's multiplier of the wrong sign by less than this fraction of the terms that make it
 // up is round-off: releasing it would let the variable move by round-off and be caught again.
 constexpr double multiplier_round_off = 1e-10;
+// A free variable whose unit vector has this share of its length outside the row space of C_F
+// (an orthonormal basis, so only round-off) is pinned by C.
+constexpr double pinned_round_off = 1e-8;
 // A step of a free variable below this fraction of the size of x is round-off.
 constexpr double round_off_move = 1e-12;
 // Corrections of the warm start before the method falls back to x = 0.
@@ -66,7 +69,7 @@ void DenseActiveSet::factorise(const Eigen::MatrixXd& A, const Eigen::MatrixXd& 
     // first rank columns of Q): C_F d = 0 then forces d_j = 0, so it never moves, and holding
     // it would make the working set dependent (its multiplier meaningless).
     const Eigen::MatrixXd basis = qr.householderQ() * Eigen::MatrixXd::Identity(n_F, qr.rank());
-    for (int j = 0; j < n_F; ++j) pinned_[j] = basis.row(j).squaredNorm() > 1 - 1e-8;
+    for (int j = 0; j < n_F; ++j) pinned_[j] = basis.row(j).squaredNorm() > 1 - pinned_round_off;
   }
   const int r = static_cast<int>(kept_rows_.size()), k = n_F + r;
   if (kkt_.rows() < k) kkt_.resize(std::max<Eigen::Index>(k, n + n_c), std::max<Eigen::Index>(k, n + n_c));
@@ -237,12 +240,6 @@ DenseQpResult DenseActiveSet::solve(const Eigen::MatrixXd& A, const Eigen::Vecto
   }
   const double b_scale = b.lpNorm<Eigen::Infinity>() / std::max(A_max_, std::numeric_limits<double>::min());
   const int max_iterations = 10 * static_cast<int>(n) + 50;
-  // Steps of length zero in a row (a bound met where x already is: a degenerate vertex). While
-  // they last, the bound released is the one of smallest index with the wrong sign rather than
-  // the most wrong (Bland's rule), and the blocking bound of smallest index among equal steps
-  // (the loop below keeps the first): the largest-multiplier rule can cycle through the same
-  // working sets there, as it did on RVE cells of several hundred rows.
-  int degenerate = 0;
   while (out.iterations <= max_iterations) {
     if (!at_subproblem_solution) {
       if (!refactorise()) {
@@ -269,7 +266,6 @@ DenseQpResult DenseActiveSet::solve(const Eigen::MatrixXd& A, const Eigen::Vecto
       }
       for (std::size_t j = 0; j < free_.size(); ++j)
         if (!pinned_[j]) x(free_[j]) += step * (x_free(j) - x(free_[j]));
-      degenerate = blocking >= 0 && step == 0 ? degenerate + 1 : 0;
       if (blocking >= 0) {
         working_[blocking] = blocking_bound;
         x(blocking) = blocking_bound == Bound::lower ? l(blocking) : u(blocking);
@@ -292,7 +288,6 @@ DenseQpResult DenseActiveSet::solve(const Eigen::MatrixXd& A, const Eigen::Vecto
       const double wrong = working_[i] == Bound::lower ? -nu : nu;
       const double relative = wrong / std::max(terms, std::numeric_limits<double>::min());
       if (relative > multiplier_round_off && relative > worst) worst = relative, release = static_cast<int>(i);
-      if (degenerate > 0 && release >= 0) break;  // Bland: the first wrong one
     }
     if (release < 0) {
       out.x = x;
