@@ -380,7 +380,7 @@ law::ConeCheck check_held_out(const std::vector<sweep::PathResult>& paths, const
 
 }  // namespace
 
-law::Law fit_law(const std::vector<sweep::PathResult>& paths, const sweep::SweepHeader& header) {
+law::Law fit_law(const std::vector<sweep::PathResult>& paths, const sweep::SweepHeader& header, int checked_rows) {
   law::Law law;
   std::vector<double> directions;
   for (const auto& p : paths)
@@ -439,9 +439,9 @@ law::Law fit_law(const std::vector<sweep::PathResult>& paths, const sweep::Sweep
   }
   // The dense check samples the exact law at ~1800 directions (check and fit, more past the
   // fuse), each a dense QP whose factorisations cost n³: 1.5–3 min at the 700 rows of a 16-fibre
-  // RVE, over 16 min at the ~1500 of a 36-fibre one. Above max_checked_rows the exact law is
+  // RVE, over 16 min at the ~1500 of a 36-fibre one. Above checked_rows the exact law is
   // kept (replayed above) and the compact law measured on held-out directions instead.
-  if (law.cell && law.cell->n_rows() <= max_checked_rows) {
+  if (law.cell && law.cell->n_rows() <= checked_rows) {
     check_against_cell(law, bonded, debonded, n_directions);
   } else {
     if (law.cone.ok) law.cone_check = check_held_out(paths, directions, bonded);

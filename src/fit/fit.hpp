@@ -27,7 +27,9 @@ namespace dualcell::fit {
 inline constexpr int max_checked_rows = 1000;
 
 // The law of a sweep; its provenance is the sweep's (the caller adds the sweep file and hash).
-law::Law fit_law(const std::vector<sweep::PathResult>& paths, const sweep::SweepHeader& header);
+// `checked_rows`: the max_checked_rows in force (tests lower it).
+law::Law fit_law(const std::vector<sweep::PathResult>& paths, const sweep::SweepHeader& header,
+                 int checked_rows = max_checked_rows);
 
 // The exact law replayed through every converged point of the paths, each path from the unloaded
 // cell with its bonds carried (law::CellReplay); the limit is 1e3 × the sweep's QP tolerance.

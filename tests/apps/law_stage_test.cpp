@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "core/exit_codes.hpp"
+#include "fit/fit.hpp"
 #include "io/law_file.hpp"
 #include "io/sweep_file.hpp"
 #include "law/condensed.hpp"
@@ -147,6 +148,27 @@ TEST(LawStage, DualcellLawRefusesBadPointsWithTheLine) {
   const auto neither = run_command(bin("dualcell-law") + " --law " + q(run.law) + " --out " + q(run.dir / "o.csv"));
   EXPECT_EQ(neither.exit_code, exit_input_error);
   EXPECT_NE(neither.output.find("one of --strain and --stress is required"), std::string::npos) << neither.output;
+}
+
+// Above fit::max_checked_rows (lowered here to the cell's rows − 1) the exact law is kept and
+// replayed, and the compact law is measured on held-out sweep directions instead of the dense
+// sphere: the same law fitted, its check from points it was not fitted to.
+TEST(LawStage, AboveTheCheckedRowsTheCompactLawIsMeasuredOnHeldOutDirections) {
+  StagesRun run(contact_scene);
+  const auto paths = io::read_sweep(run.sweep);
+  const sweep::SweepHeader header = io::read_sweep_header(run.sweep);
+  ASSERT_TRUE(header.cell.has_value());
+  const law::Law dense = fit::fit_law(paths, header);
+  const law::Law held = fit::fit_law(paths, header, header.cell->n_rows() - 1);
+  ASSERT_TRUE(held.cell.has_value());
+  EXPECT_TRUE(held.cell_replay.ok());
+  EXPECT_EQ(dense.cone_check.against, law::CheckedAgainst::exact_law);
+  EXPECT_EQ(held.cone_check.against, law::CheckedAgainst::held_out_directions);
+  // 3 directions × 2 signs, one magnitude: each held out once; the 6 sphere paths (no direction)
+  // are always among the fitted points.
+  EXPECT_EQ(held.cone_check.stress.size(), 6u);
+  EXPECT_GT(held.cone_check.max_error, 0);
+  EXPECT_TRUE(held.cone_check.polar_deg.empty());
 }
 
 // A compact law that misses the exact one is not exported as a umat, with the error and where;
