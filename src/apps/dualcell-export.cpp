@@ -33,8 +33,9 @@ int main(int argc, char** argv) {
   double max_law_error = 0.02;
   bool force = false;
   app.add_option("--max-law-error", max_law_error,
-                 "umat: refuse a cone-wise law whose stress error against the exact law (law.h5 /law/cone_check) "
-                 "exceeds this fraction")
+                 "umat: refuse a cone-wise law whose stress error against the exact law or held-out sweep "
+                 "directions (law.h5 /law/cone_check, /law/cone_after_fuse_check) exceeds this fraction, or that "
+                 "was measured against neither")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1e300));
   app.add_flag("--force", force, "umat: write the cone-wise law whatever its measured error");
