@@ -2,7 +2,7 @@
 # Checks that every Debian package dualcell needs is installed; installs the missing ones when
 # run as root, otherwise prints the exact command and fails. Does nothing when all are present.
 set -eu
-packages="cmake make gcc g++ git
+packages="cmake make gcc g++ binutils git
 libeigen3-dev libsuitesparse-dev libgsl-dev libhdf5-dev libcli11-dev libtomlplusplus-dev
 libgmsh-dev libmetis-dev
 libgtest-dev libblas3 liblapack3 libopenblas0-pthread
