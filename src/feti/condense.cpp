@@ -59,7 +59,7 @@ struct StrainMap {
 StrainMap strain_map(const FetiSetup& setup, const DualProblem& dual, const MacroLoad& load, int n_macro) {
   const int m = dual.constraints().n_rows();
   Eigen::MatrixXd W = boundary_strain_matrix(setup.mesh(), setup.n_dofs());
-  W.row(2) *= 2;
+  W.row(2) *= 2;  // the boundary formula gives tensor shear; the law's is engineering (core/strain.hpp)
   StrainMap T{Eigen::MatrixXd(n_macro, m), Eigen::MatrixXd(n_macro, dual.G().rows()),
               Eigen::MatrixXd(n_macro, n_macro)};
   const Eigen::VectorXd no_lambda = Eigen::VectorXd::Zero(m);

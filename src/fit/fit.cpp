@@ -15,6 +15,7 @@
 #include <stdexcept>
 
 #include "core/error.hpp"
+#include "core/strain.hpp"
 #include "core/version.hpp"
 #include "fit/cone_fit.hpp"
 
@@ -107,8 +108,7 @@ law::ComplianceFit fit_compliance(const std::vector<sweep::PathResult>& paths, i
     if (p.spec.sign != sign || p.spec.sphere) continue;
     for (const auto& s : p.steps) {
       if (!usable(s)) continue;
-      const Eigen::Vector3d e_eng(s.strain(0), s.strain(1), 2 * s.strain(2));
-      points.push_back({s.stress / s.load, e_eng / s.load, p.spec.direction_deg});
+      points.push_back({s.stress / s.load, engineering_from_tensor(s.strain) / s.load, p.spec.direction_deg});
     }
   }
   out.n_points = static_cast<int>(points.size());
@@ -192,10 +192,6 @@ law::ComplianceFit fit_compliance(const std::vector<sweep::PathResult>& paths, i
 
 }  // namespace
 
-double along(const Eigen::Vector3d& N, const Eigen::Vector3d& strain) {
-  return N(0) * strain(0) + N(1) * strain(1) + 2 * N(2) * strain(2);
-}
-
 law::CellReplay replay_cell(const law::CondensedCell& cell, const std::vector<sweep::PathResult>& paths,
                             double qp_tolerance) {
   law::CellReplay replay;
@@ -212,7 +208,7 @@ law::CellReplay replay_cell(const law::CondensedCell& cell, const std::vector<sw
         throw ExactLawFailed("not kept: its QP failed on the sweep's stress of path " + std::to_string(i) + ": " +
                              r.message);
       if (!step.converged || step.load == 0) continue;
-      Eigen::Vector3d expected(step.strain(0), step.strain(1), 2 * step.strain(2)), strain = r.strain;
+      Eigen::Vector3d expected = engineering_from_tensor(step.strain), strain = r.strain;
       if (cell.n_macro == 2) expected(2) = strain(2) = 0;  // no shear with the symmetry boundary
       const double error = (strain - expected).norm() / expected.norm();
       ++replay.points;
@@ -403,7 +399,7 @@ law::Law fit_law(const std::vector<sweep::PathResult>& paths, const sweep::Sweep
     const int index = at == directions.end() ? -1 : static_cast<int>(at - directions.begin());
     for (const auto& s : p.steps) {
       if (!s.converged || s.load == 0) continue;
-      const ConePoint point{{s.strain(0), s.strain(1), 2 * s.strain(2)}, s.stress, index};
+      const ConePoint point{engineering_from_tensor(s.strain), s.stress, index};
       if (usable(s)) bonded.push_back(point);
       if (p.fuse && s.load >= p.fuse->load_after) debonded.push_back(point);
     }

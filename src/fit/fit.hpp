@@ -41,7 +41,4 @@ struct ExactLawFailed : std::runtime_error {
 law::CellReplay replay_cell(const law::CondensedCell& cell, const std::vector<sweep::PathResult>& paths,
                             double qp_tolerance);
 
-// Strain along the unit stress N (tensor shear): N:ε = N_xx ε_xx + N_yy ε_yy + 2 N_xy ε_xy.
-double along(const Eigen::Vector3d& N, const Eigen::Vector3d& strain);
-
 }  // namespace dualcell::fit

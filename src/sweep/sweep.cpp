@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "core/error.hpp"
+#include "core/strain.hpp"
 
 namespace dualcell::sweep {
 
@@ -28,14 +29,11 @@ Step make_step(double load, const feti::Solution& s, int broken, double seconds)
   return step;
 }
 
-// N:ε with tensor shear: N_xx ε_xx + N_yy ε_yy + 2 N_xy ε_xy.
-double along_load(const PathSpec& spec, const Eigen::Vector3d& strain) {
-  return spec.unit_stress(0) * strain(0) + spec.unit_stress(1) * strain(1) + 2 * spec.unit_stress(2) * strain(2);
-}
-
+// The jump of the strain along the load N:ε (tensor shear, the fuse's strains).
 double jump_ratio(const PathSpec& spec, const Fuse& fuse) {
-  const double before = along_load(spec, fuse.strain_before);
-  return before != 0 ? along_load(spec, fuse.strain_after) / before : std::numeric_limits<double>::infinity();
+  const double before = work_with_tensor_strain(spec.unit_stress, fuse.strain_before);
+  return before != 0 ? work_with_tensor_strain(spec.unit_stress, fuse.strain_after) / before
+                     : std::numeric_limits<double>::infinity();
 }
 
 }  // namespace

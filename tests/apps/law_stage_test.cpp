@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "core/exit_codes.hpp"
+#include "core/strain.hpp"
 #include "fit/fit.hpp"
 #include "io/law_file.hpp"
 #include "io/sweep_file.hpp"
@@ -87,7 +88,7 @@ TEST(LawStage, DualcellLawGivesBackTheSweepInBothDirections) {
   for (std::size_t p = 0; p < paths.size(); ++p)
     for (const auto& step : paths[p].steps) {
       stress << p << "," << step.stress(0) << "," << step.stress(1) << "," << step.stress(2) << "\n";
-      strains.emplace_back(step.strain(0), step.strain(1), 2 * step.strain(2));
+      strains.push_back(engineering_from_tensor(step.strain));
     }
   stress.close();
   const auto r = run_command(bin("dualcell-law") + " --law " + q(run.law) + " --stress " + q(run.dir / "stress.csv") +

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <random>
 
+#include "core/strain.hpp"
 #include "feti/solver.hpp"
 #include "sweep/sweep.hpp"
 #include "test_util.hpp"
@@ -32,9 +33,6 @@ Scene cell_scene(Boundary boundary, Element element, int ex, int ey, double stre
   s.solver.tolerance = 1e-10;
   return s;
 }
-
-// Engineering shear from the solver's tensor shear.
-Eigen::Vector3d engineering(const Eigen::Vector3d& tensor) { return {tensor(0), tensor(1), 2 * tensor(2)}; }
 
 // v without its shear where the cell has none (the symmetry boundary: NaN there).
 Eigen::Vector3d in_plane(Eigen::Vector3d v, bool shear) {
@@ -96,7 +94,8 @@ TEST_P(CondensedContact, ReproducesTheCellAtDirectionsItNeverSaw) {
     law::CellHistory h = law.unloaded();
     const law::CellResponse r = law.at_stress(sigma, h);
     ASSERT_TRUE(r.ok) << r.message;
-    const Eigen::Vector3d strain = in_plane(r.strain, shear), expected = in_plane(engineering(s.strain), shear);
+    const Eigen::Vector3d strain = in_plane(r.strain, shear),
+                          expected = in_plane(engineering_from_tensor(s.strain), shear);
     const Eigen::Matrix3d tangent = in_plane(r.tangent, shear);
     EXPECT_LE((strain - expected).norm(), against_solver * expected.norm()) << sigma.transpose();
     EXPECT_EQ(r.broken, 0);
@@ -161,7 +160,7 @@ TEST(CondensedAdhesion, ThroughTheFuseAlongAPathAsTheCellDoes) {
         law::CellEvaluator fresh(cell);
         const law::CellResponse again = fresh.at_stress(load * N, before);
         EXPECT_LE((again.tangent - r.tangent).norm(), 1e-10 * r.tangent.norm()) << fraction;
-        const Eigen::Vector3d expected = engineering(s.strain);
+        const Eigen::Vector3d expected = engineering_from_tensor(s.strain);
         EXPECT_LE((r.strain - expected).norm(), against_solver * expected.norm())
             << to_string(element) << " at " << fraction << " × onset along " << N.transpose();
         const int broken = sweep::count_broken(solver.intact(), s.bonds);

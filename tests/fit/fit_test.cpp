@@ -10,6 +10,7 @@
 #include <random>
 
 #include "core/exit_codes.hpp"
+#include "core/strain.hpp"
 #include "io/hdf5.hpp"
 #include "io/law_file.hpp"
 #include "law/cone.hpp"
@@ -159,7 +160,7 @@ TEST(Fit, WithoutAnExactLawTheCompactLawIsMeasuredOnHeldOutDirections) {
     ASSERT_TRUE(without.cone.ok) << directions[d];
     for (const auto& p : held)
       for (const auto& step : p.steps) {
-        const Eigen::Vector3d strain(step.strain(0), step.strain(1), 2 * step.strain(2));
+        const Eigen::Vector3d strain = engineering_from_tensor(step.strain);
         const double error = (law::evaluate(without.cone.law, strain).stress - step.stress).norm() / step.stress.norm();
         const Eigen::Vector3d N = step.stress.normalized();
         bool found = false;
