@@ -8,12 +8,19 @@
 #include "feti/constraints.hpp"
 #include "feti/dual.hpp"
 #include "feti/macro.hpp"
+#include "law/bond.hpp"
 
 namespace dualcell::feti {
 
 namespace {
 
-bool is_interface(RowKind kind) { return kind == RowKind::normal || kind == RowKind::tangential; }
+// A rigid motion's load e (per unit macro stress) at most this fraction of ‖e‖ is round-off of
+// the sums R̂ᵀf: the motion is unloaded.
+constexpr double load_round_off = 1e-12;
+// The elimination of the rows other than the interface solves a nonsingular system to round-off,
+// decades below this; a relative residual above it means the system is singular: those rows do
+// not hold the cell.
+constexpr double elimination_tolerance = 1e-8;
 
 // Rows `rows` and columns `cols` of M.
 Eigen::MatrixXd pick(const Eigen::MatrixXd& M, const std::vector<int>& rows, const std::vector<int>& cols) {
@@ -73,9 +80,10 @@ StrainMap strain_map(const FetiSetup& setup, const DualProblem& dual, const Macr
   return T;
 }
 
-// The interface rows' bounds and kinds, in physical units (forces, not the weighted rows).
+// The interface rows' bounds and kinds, in physical units (forces, not the weighted rows): the
+// bonded ones as the rows have them, the broken ones by the bond rule.
 void set_rows(law::CondensedCell& cell, const Constraints& con, const std::vector<int>& I) {
-  constexpr double inf = std::numeric_limits<double>::infinity();
+  namespace bond = law::bond;
   const int nI = static_cast<int>(I.size());
   cell.pair.resize(nI);
   cell.tangential.resize(nI);
@@ -90,8 +98,10 @@ void set_rows(law::CondensedCell& cell, const Constraints& con, const std::vecto
     cell.tangential[i] = con.kind[r] == RowKind::tangential;
     cell.lower_bonded(i) = con.lower(r) * w;
     cell.upper_bonded(i) = con.upper(r) * w;
-    cell.lower_broken(i) = 0;
-    cell.upper_broken(i) = cell.tangential[i] ? 0 : inf;
+    const bond::Bounds broken =
+        bond::bounds(cell.tangential[i] ? bond::Kind::tangential : bond::Kind::normal, bond::State::broken, 0, 0, 0);
+    cell.lower_broken(i) = broken.lower;
+    cell.upper_broken(i) = broken.upper;
   }
 }
 
@@ -141,28 +151,24 @@ law::CondensedCell condense(const FetiSetup& setup, int max_rows) {
   Eigen::MatrixXd alpha_M = pick(T.alpha, all(n_macro), M), alpha_N = pick(T.alpha, all(n_macro), N);
   {
     const Eigen::MatrixXd G_ME = pick(G, M, E);
-    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(G_ME * G_ME.transpose());
-    const double largest = eig.eigenvalues().size() > 0 ? eig.eigenvalues().maxCoeff() : 0;
-    std::vector<int> kept, unseen;
-    for (Eigen::Index j = 0; j < eig.eigenvalues().size(); ++j)
-      (eig.eigenvalues()(j) > 1e-10 * largest ? kept : unseen).push_back(static_cast<int>(j));
+    const NullSplit split = split_null_space(G_ME * G_ME.transpose());
     // A combination no row sees at all (that spin also escapes the interface's normal rows) is
     // no constraint: the dual problem leaves it undetermined (DualProblem::with_joint_null_modes)
     // and so does the law; it must carry no load and move no boundary.
     std::vector<int> constrained;
-    for (int j : unseen) {
-      const Eigen::VectorXd z = eig.eigenvectors().col(j);
-      if ((z.transpose() * G_M).norm() > 1e-10 * G_M.norm()) {
-        constrained.push_back(j);
+    for (Eigen::Index j = 0; j < split.null.cols(); ++j) {
+      const Eigen::VectorXd z = split.null.col(j);
+      if ((z.transpose() * G_M).norm() > null_mode_tolerance * G_M.norm()) {
+        constrained.push_back(static_cast<int>(j));
         continue;
       }
-      if ((z.transpose() * e_M).norm() > 1e-12 * std::max(load.e.norm(), 1e-300) ||
-          (alpha_M * z).norm() > 1e-10 * T.alpha.norm())
+      if ((z.transpose() * e_M).norm() > load_round_off * std::max(load.e.norm(), 1e-300) ||
+          (alpha_M * z).norm() > null_mode_tolerance * T.alpha.norm())
         throw InputError("a rigid motion no row sees is loaded or moves the cell's boundary: this cell has no law");
     }
-    if (!unseen.empty()) {
-      const Eigen::MatrixXd W = pick(eig.eigenvectors(), all(M.size()), kept);
-      const Eigen::MatrixXd Z = pick(eig.eigenvectors(), all(M.size()), constrained);
+    if (split.null.cols() > 0) {
+      const Eigen::MatrixXd& W = split.range;
+      const Eigen::MatrixXd Z = pick(split.null, all(M.size()), constrained);
       const auto stack = [](const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
         Eigen::MatrixXd out(a.rows() + b.rows(), a.cols());
         out << a, b;
@@ -182,7 +188,7 @@ law::CondensedCell condense(const FetiSetup& setup, int max_rows) {
     }
   }
   for (Eigen::Index g = 0; g < e_N.rows(); ++g)
-    if (e_N.row(g).norm() > 1e-12 * std::max(load.e.norm(), 1e-300))
+    if (e_N.row(g).norm() > load_round_off * std::max(load.e.norm(), 1e-300))
       throw InputError("a macro stress loads a body held only by interface rows: this cell has no condensed law");
   cell.operator_applications = 2 * n_macro;  // d and the strain map; F comes from the subdomains' blocks
 
@@ -200,7 +206,7 @@ law::CondensedCell condense(const FetiSetup& setup, int max_rows) {
   const Eigen::MatrixXd X_p = lu.solve(rhs_p), X_s = lu.solve(rhs_s);
   const double solve_error = std::max((K * X_p - rhs_p).norm() / std::max(rhs_p.norm(), 1e-300),
                                       (K * X_s - rhs_s).norm() / std::max(rhs_s.norm(), 1e-300));
-  if (!(solve_error < 1e-8))
+  if (!(solve_error < elimination_tolerance))
     throw InputError("the cell's rows other than the interface do not hold it (the eliminated system is singular)");
   const auto X_pE = X_p.topRows(mE), X_pM = X_p.bottomRows(nM), X_sE = X_s.topRows(mE), X_sM = X_s.bottomRows(nM);
   const Eigen::MatrixXd F_IE = pick(F, I, E), G_MI = pick(G_M, rows_M, I);
@@ -208,7 +214,7 @@ law::CondensedCell condense(const FetiSetup& setup, int max_rows) {
   Eigen::MatrixXd Y = pick(D, I, all(n_macro)) - F_IE * X_sE - G_MI.transpose() * X_sM;
   Eigen::MatrixXd E_p = pick(T.lambda, all(n_macro), I) + pick(T.lambda, all(n_macro), E) * X_pE - alpha_M * X_pM;
   Eigen::MatrixXd S0 = T.sigma + pick(T.lambda, all(n_macro), E) * X_sE - alpha_M * X_sM;
-  if (alpha_N.cols() > 0 && alpha_N.norm() > 1e-10 * T.alpha.norm())
+  if (alpha_N.cols() > 0 && alpha_N.norm() > null_mode_tolerance * T.alpha.norm())
     throw InputError("a body held only by interface rows moves the cell's boundary: this cell has no condensed law");
 
   // Physical interface forces p = w λ_scaled: H, Y, E_p and G scaled by 1/w.

@@ -12,6 +12,7 @@
 #include "core/text.hpp"
 #include "fem/assembly.hpp"
 #include "fem/edge_conditions.hpp"
+#include "law/bond.hpp"
 
 namespace dualcell::feti {
 
@@ -186,24 +187,25 @@ void add_periodic_rows(RowBuilder& rows, const mesh::Mesh& mesh, NodeClasses& cl
   rows.add(RowKind::dirichlet, -1, {{2 * a + 1, 1.0}}, -inf, inf, w_single);
 }
 
-// Interface rows, pair by pair: normal, then tangential while bonded with shear strength; the
-// bonded bounds are the strengths times the pair's length.
+// Interface rows, pair by pair: normal, then tangential where the bond rule gives it a force to
+// carry (bonded with shear strength): law::bond::bounds of the pair's state, with the strengths
+// per unit length times the pair's length.
 void add_interface_rows(RowBuilder& rows, const mesh::Mesh& mesh, const Scene& scene, const BondState& bonds,
                         double w_interface) {
-  const double inf = unbounded;
+  namespace bond = law::bond;
   const std::vector<double> length = interface_lengths(mesh);
   const double sn = scene.interface.normal_strength, st = scene.interface.tangential_strength;
   for (int p = 0; p < static_cast<int>(mesh.interface_pairs.size()); ++p) {
     const auto [f, m] = mesh.interface_pairs[p];
-    const Eigen::Vector2d n = interface_normal(mesh, p);
-    const bool bonded = bonds[p] != 0;
+    const Eigen::Vector2d n = interface_normal(mesh, p), t(-n.y(), n.x());
+    const bond::State state = bonds[p] != 0 ? bond::State::intact : bond::State::broken;
+    const bond::Bounds normal = bond::bounds(bond::Kind::normal, state, sn, st, length[p]);
+    const bond::Bounds tangential = bond::bounds(bond::Kind::tangential, state, sn, st, length[p]);
     rows.add(RowKind::normal, p, {{2 * f, n.x()}, {2 * f + 1, n.y()}, {2 * m, -n.x()}, {2 * m + 1, -n.y()}},
-             bonded ? -sn * length[p] : 0.0, inf, w_interface);
-    if (bonded && st > 0) {
-      const Eigen::Vector2d t(-n.y(), n.x());
+             normal.lower, normal.upper, w_interface);
+    if (tangential.carries_force())
       rows.add(RowKind::tangential, p, {{2 * f, t.x()}, {2 * f + 1, t.y()}, {2 * m, -t.x()}, {2 * m + 1, -t.y()}},
-               -st * length[p], st * length[p], w_interface);
-    }
+               tangential.lower, tangential.upper, w_interface);
   }
 }
 

@@ -33,6 +33,9 @@ namespace dualcell::feti {
 
 enum class RowKind : std::uint8_t { glue, dirichlet, periodic, normal, tangential };
 const char* to_string(RowKind kind);
+// Normal and tangential rows: an interface pair's, with the bounds of the bond rule
+// (law/bond.hpp); the others are equalities that hold the structure together.
+inline bool is_interface(RowKind kind) { return kind == RowKind::normal || kind == RowKind::tangential; }
 
 // Bond state of every interface pair: true = the adhesive bond holds (normal and tangential).
 // Breaks are irreversible along a load path; without adhesion every entry is false.

@@ -85,6 +85,18 @@ DualProblem::DualProblem(const FetiSetup& setup, Constraints constraints)
   G_solution_.resize(G_rows);
 }
 
+NullSplit split_null_space(const Eigen::MatrixXd& A) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(A);
+  NullSplit out;
+  out.largest = eig.eigenvalues().size() > 0 ? eig.eigenvalues().maxCoeff() : 0;
+  std::vector<Eigen::Index> range, null;
+  for (Eigen::Index j = 0; j < eig.eigenvalues().size(); ++j)
+    (eig.eigenvalues()(j) > null_mode_tolerance * out.largest ? range : null).push_back(j);
+  out.range = eig.eigenvectors()(Eigen::all, range);
+  out.null = eig.eigenvectors()(Eigen::all, null);
+  return out;
+}
+
 // A rigid motion that the rows of each subdomain see but that no row sees jointly across
 // subdomains leaves GGᵀ singular: the spin of an RVE's fibre cut by the edges about its centre,
 // its pieces turning together, seen by neither the normal rows (through the centre) nor the
@@ -97,13 +109,11 @@ Eigen::SparseMatrix<double> DualProblem::with_joint_null_modes(const Eigen::Spar
   if (GGt.rows() > dense_limit)
     throw std::runtime_error("the coarse matrix GG^T is singular (a rigid motion no row sees) and too large (" +
                              std::to_string(GGt.rows()) + " rows) to find its null space densely");
-  const Eigen::MatrixXd dense(GGt);
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(dense);
-  const double largest = eig.eigenvalues().maxCoeff();
+  const NullSplit split = split_null_space(Eigen::MatrixXd(GGt));
+  const double largest = split.largest;
   Eigen::SparseMatrix<double> out = GGt;
-  for (Eigen::Index j = 0; j < eig.eigenvalues().size(); ++j) {
-    if (eig.eigenvalues()(j) > null_mode_tolerance * largest) continue;
-    const Eigen::VectorXd z = eig.eigenvectors().col(j);
+  for (Eigen::Index j = 0; j < split.null.cols(); ++j) {
+    const Eigen::VectorXd z = split.null.col(j);
     std::vector<Eigen::Index> support;  // a cut fibre's pieces: a few entries
     for (Eigen::Index a = 0; a < z.size(); ++a)
       if (std::abs(z(a)) > 1e-14) support.push_back(a);

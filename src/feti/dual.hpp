@@ -34,6 +34,18 @@
 
 namespace dualcell::feti {
 
+// The joint null-mode search of the coarse matrices (GGᵀ here, G_E G_Eᵀ of the condensation):
+// the eigenvectors of a small symmetric positive semidefinite A, split into those of its range
+// and those of its null space. An eigenvalue at most null_mode_tolerance × the largest counts as
+// zero (round-off of the sums that form A); the same cut says whether a combination of modes is
+// seen by a set of rows (‖zᵀG‖ against ‖G‖).
+inline constexpr double null_mode_tolerance = 1e-10;
+struct NullSplit {
+  Eigen::MatrixXd range, null;  // orthonormal columns
+  double largest = 0;           // the largest eigenvalue of A
+};
+NullSplit split_null_space(const Eigen::MatrixXd& A);
+
 class DualProblem {
  public:
   DualProblem(const FetiSetup& setup, Constraints constraints);
@@ -130,7 +142,6 @@ class DualProblem {
   std::vector<Local> locals_;
   Eigen::SparseMatrix<double, Eigen::RowMajor> G_;
   mutable linalg::SparseCholesky GGt_;
-  static constexpr double null_mode_tolerance = 1e-10;  // relative eigenvalue of GGᵀ: round-off
   Eigen::SparseMatrix<double> with_joint_null_modes(const Eigen::SparseMatrix<double>& GGt);
   mutable Eigen::VectorXd G_scratch_, G_solution_;
   mutable Profile profile_;

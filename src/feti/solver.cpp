@@ -11,6 +11,7 @@
 
 #include "core/error.hpp"
 #include "feti/macro.hpp"
+#include "law/bond.hpp"
 #include "qp/operator.hpp"
 #include "qp/smalbe.hpp"
 
@@ -20,10 +21,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
-
-bool is_structural(RowKind kind) {
-  return kind == RowKind::glue || kind == RowKind::dirichlet || kind == RowKind::periodic;
-}
 
 // A multiplier strictly inside its bounds: the constraint holds as an equality (active).
 bool is_active(const Constraints& con, const Eigen::VectorXd& lambda_scaled, int r) {
@@ -60,11 +57,6 @@ double estimate_norm_PFP(const DualProblem& dual) {
   ProjectedPlusShiftedQ PFP(dual, &DualProblem::apply_F, m);
   return qp::estimate_norm([&](const Eigen::VectorXd& x, Eigen::VectorXd& y) { PFP(x, 0.0, y); }, m);
 }
-
-// Relative distance within which a bonded multiplier counts as "at its strength": far below
-// any load step a sweep resolves (1e-3), far above the QP's round-off at the bound (MPRGP puts
-// components exactly on the bound).
-constexpr double at_strength_tolerance = 1e-7;
 
 // The tightest dual tolerance the primal check may ask for: a relative projected gradient of
 // 1e-14 is a few hundred ulps of its terms, below which SMALBE stagnates instead of converging.
@@ -481,13 +473,9 @@ Solution ContactSolver::solve(const Eigen::Vector3d& sigma, const BondState& bon
     if (adhesion && s.qp_converged()) {
       const Constraints& con = problem(current).constraints();
       for (int r = 0; r < con.n_rows(); ++r) {
-        if (con.kind[r] != RowKind::normal && con.kind[r] != RowKind::tangential) continue;
-        if (!current[con.pair[r]]) continue;
-        const double lambda = s.lambda(r) / con.weight(r);
-        const double lo = con.lower(r), hi = con.upper(r);
-        const bool at_lower = std::isfinite(lo) && lo < 0 && lambda <= lo + at_strength_tolerance * std::abs(lo);
-        const bool at_upper = std::isfinite(hi) && hi > 0 && lambda >= hi - at_strength_tolerance * std::abs(hi);
-        if (at_lower || at_upper) breaking.push_back(con.pair[r]);
+        if (!is_interface(con.kind[r]) || !current[con.pair[r]]) continue;
+        if (law::bond::at_strength(s.lambda(r) / con.weight(r), {con.lower(r), con.upper(r)}))
+          breaking.push_back(con.pair[r]);
       }
     }
     if (breaking.empty() || round >= max_rounds) {
@@ -511,9 +499,9 @@ Solution ContactSolver::solve(const Eigen::Vector3d& sigma, const BondState& bon
     // Structural rows keep their order; interface rows are found by (kind, pair).
     std::map<std::pair<int, int>, double> by_key;
     for (int r = 0; r < old.n_rows(); ++r)
-      by_key[{static_cast<int>(old.kind[r]), is_structural(old.kind[r]) ? r : old.pair[r]}] = s.lambda(r);
+      by_key[{static_cast<int>(old.kind[r]), !is_interface(old.kind[r]) ? r : old.pair[r]}] = s.lambda(r);
     for (int r = 0; r < next.n_rows(); ++r) {
-      const auto it = by_key.find({static_cast<int>(next.kind[r]), is_structural(next.kind[r]) ? r : next.pair[r]});
+      const auto it = by_key.find({static_cast<int>(next.kind[r]), !is_interface(next.kind[r]) ? r : next.pair[r]});
       warm(r) = it == by_key.end()
                     ? 0.0
                     : std::clamp(it->second, next.lower(r) * next.weight(r), next.upper(r) * next.weight(r));
@@ -526,25 +514,21 @@ Solution ContactSolver::solve(const Eigen::Vector3d& sigma, const BondState& bon
 
 namespace {
 
-// The bonded problem with the bounds that come from a strength lifted: a normal row without
-// normal strength keeps λ ≥ 0 (contact), which leaves a cone and keeps the response
-// homogeneous. Returns the lifted constraints; `lower`, `upper` get the original bounds.
+// The bonded problem with the interface rows' strengths lifted (law::bond::lifted): a normal row
+// without normal strength keeps λ ≥ 0 (contact), which leaves a cone and keeps the response
+// homogeneous, but not linear. Returns the lifted constraints; `lower`, `upper` get the intact
+// bounds.
 Constraints lifted_bonded(const mesh::Mesh& mesh, const Scene& scene, const BondState& intact, Eigen::VectorXd& lower,
                           Eigen::VectorXd& upper, bool& linear) {
   Constraints con = build_constraints(mesh, scene, intact);
   lower = con.lower, upper = con.upper;
   linear = true;
   for (int r = 0; r < con.n_rows(); ++r) {
-    if (con.kind[r] == RowKind::tangential) {
-      con.lower(r) = -std::numeric_limits<double>::infinity();
-      con.upper(r) = std::numeric_limits<double>::infinity();
-    }
-    if (con.kind[r] == RowKind::normal) {
-      if (con.lower(r) < 0)
-        con.lower(r) = -std::numeric_limits<double>::infinity();
-      else
-        linear = false;
-    }
+    if (!is_interface(con.kind[r])) continue;
+    const law::bond::Bounds lifted = law::bond::lifted({con.lower(r), con.upper(r)});
+    con.lower(r) = lifted.lower;
+    con.upper(r) = lifted.upper;
+    linear = linear && lifted.lower == -std::numeric_limits<double>::infinity();
   }
   return con;
 }
@@ -571,19 +555,13 @@ double ContactSolver::debond_onset(const Eigen::Vector3d& sigma, std::vector<int
   if (!s.converged()) return std::numeric_limits<double>::quiet_NaN();
   // The load factor at which row r reaches its bound (+inf where it never does along σ̄).
   const Constraints& c = lifted.dual->constraints();
-  const auto reach = [&](int r) {
-    const double lambda = s.lambda(r) / c.weight(r);
-    if (lambda < 0 && std::isfinite(lower(r)) && lower(r) < 0) return lower(r) / lambda;
-    if (lambda > 0 && std::isfinite(upper(r)) && upper(r) > 0) return upper(r) / lambda;
-    return std::numeric_limits<double>::infinity();
-  };
-  const auto bonded = [&](int r) { return c.kind[r] == RowKind::normal || c.kind[r] == RowKind::tangential; };
+  const auto reach = [&](int r) { return law::bond::reach(s.lambda(r) / c.weight(r), {lower(r), upper(r)}); };
   double onset = std::numeric_limits<double>::infinity();
   for (int r = 0; r < c.n_rows(); ++r)
-    if (bonded(r)) onset = std::min(onset, reach(r));
+    if (is_interface(c.kind[r])) onset = std::min(onset, reach(r));
   if (critical && std::isfinite(onset)) {
     for (int r = 0; r < c.n_rows(); ++r)
-      if (bonded(r) && reach(r) <= onset * (1 + at_strength_tolerance)) critical->push_back(c.pair[r]);
+      if (is_interface(c.kind[r]) && law::bond::reaches_at_onset(reach(r), onset)) critical->push_back(c.pair[r]);
     std::sort(critical->begin(), critical->end());
     critical->erase(std::unique(critical->begin(), critical->end()), critical->end());
   }
@@ -623,7 +601,7 @@ law::OnsetSurface ContactSolver::onset_surface() {
   }
   std::vector<Eigen::Vector3d> rows;
   for (int r = 0; r < c.n_rows(); ++r) {
-    if (c.kind[r] != RowKind::normal && c.kind[r] != RowKind::tangential) continue;
+    if (!is_interface(c.kind[r])) continue;
     for (const double bound : {lower(r), upper(r)}) {
       if (!std::isfinite(bound) || bound == 0) continue;
       rows.push_back(a.row(r).transpose() / bound);  // a·σ̄ ≥ ℓ (ℓ < 0) and a·σ̄ ≤ υ (υ > 0) alike: g·σ̄ ≤ 1

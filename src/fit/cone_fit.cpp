@@ -319,9 +319,10 @@ double fit_plane_orbits(const std::vector<ConePoint>& points, const std::vector<
   const Eigen::MatrixXd gram = A.transpose() * A;
   const Eigen::VectorXd rhs = A.transpose() * b;
   std::vector<qp::Bound> active(n_orbits, qp::Bound::lower);
-  qp::DenseActiveSet nnls;
+  const Eigen::MatrixXd no_rows(0, n_orbits);
+  qp::DenseActiveSet nnls(gram, no_rows);
   const qp::DenseQpResult r =
-      nnls.solve(gram, rhs, Eigen::MatrixXd(0, n_orbits), Eigen::VectorXd::Zero(n_orbits),
+      nnls.solve(rhs, Eigen::VectorXd::Zero(n_orbits),
                  Eigen::VectorXd::Constant(n_orbits, std::numeric_limits<double>::infinity()), active);
   if (!r.converged) return std::numeric_limits<double>::infinity();
   const Eigen::VectorXd beta = r.x.cwiseMax(0.0);

@@ -11,9 +11,6 @@ namespace {
 
 constexpr double inf = std::numeric_limits<double>::infinity();
 constexpr double nan = std::numeric_limits<double>::quiet_NaN();
-// A bond breaks when its force is within this fraction of its strength, the rule of the full
-// solver (docs/method.md §11): the law and the cell break the same bonds.
-constexpr double at_strength = 1e-7;
 
 bool symmetric(const Eigen::MatrixXd& M) {
   return M.rows() == M.cols() && (M - M.transpose()).norm() <= 1e-12 * std::max(M.norm(), 1e-300);
@@ -63,22 +60,42 @@ std::string consistency_problem(const CondensedCell& cell) {
          {std::pair{cell.lower_bonded(r), cell.upper_bonded(r)}, std::pair{cell.lower_broken(r), cell.upper_broken(r)}})
       if (std::isnan(lo) || std::isnan(hi) || lo > 0 || hi < 0)
         return "row " + std::to_string(r) + ": its bounds do not hold 0";
+    const bond::Bounds rule = bond::bounds(cell.kind(r), bond::State::broken, 0, 0, 0);
+    if (cell.lower_broken(r) != rule.lower || cell.upper_broken(r) != rule.upper)
+      return "row " + std::to_string(r) + ": its broken bounds are not the bond rule's (docs/method.md §11)";
   }
   return "";
 }
 
-CellEvaluator::CellEvaluator(const CondensedCell& cell) : cell_(cell) {
+namespace {
+
+// 𝓗 = [|Ω|S₀ −Yᵀ; −Y H] (docs/method.md §16a).
+Eigen::MatrixXd energy_matrix(const CondensedCell& cell) {
   const int n = cell.n_rows(), m = cell.n_macro;
-  // 𝓗 = [|Ω|S₀ −Yᵀ; −Y H] (docs/method.md §16a).
-  energy_.resize(m + n, m + n);
-  energy_.topLeftCorner(m, m) = cell.volume * cell.S0;
-  energy_.topRightCorner(m, n) = -cell.Y.transpose();
-  energy_.bottomLeftCorner(n, m) = -cell.Y;
-  energy_.bottomRightCorner(n, n) = cell.H;
-  C_stress_ = cell.G;
-  C_strain_ = Eigen::MatrixXd::Zero(cell.G.rows(), m + n);
-  C_strain_.rightCols(n) = cell.G;
+  Eigen::MatrixXd energy(m + n, m + n);
+  energy.topLeftCorner(m, m) = cell.volume * cell.S0;
+  energy.topRightCorner(m, n) = -cell.Y.transpose();
+  energy.bottomLeftCorner(n, m) = -cell.Y;
+  energy.bottomRightCorner(n, n) = cell.H;
+  return energy;
 }
+
+// The fibres' rows G p = 0 on z = (σ̄, p): [0 G].
+Eigen::MatrixXd strain_rows(const CondensedCell& cell) {
+  Eigen::MatrixXd C = Eigen::MatrixXd::Zero(cell.G.rows(), cell.n_macro + cell.n_rows());
+  C.rightCols(cell.n_rows()) = cell.G;
+  return C;
+}
+
+}  // namespace
+
+CellEvaluator::CellEvaluator(const CondensedCell& cell)
+    : cell_(cell),
+      energy_(energy_matrix(cell)),
+      C_strain_(strain_rows(cell)),
+      stress_qp_(cell.H, cell.G),
+      strain_qp_(energy_, C_strain_),
+      onset_qp_(cell.H, cell.G) {}
 
 CellHistory CellEvaluator::unloaded() const { return {cell_.bonded, {}}; }
 
@@ -90,24 +107,20 @@ void CellEvaluator::set_bounds(const std::vector<std::uint8_t>& bonded, int offs
   upper_.head(offset).setConstant(inf);
   for (int r = 0; r < n; ++r) {
     const bool b = bonded[cell_.pair[r]] != 0;
-    lower_(offset + r) = b ? cell_.lower_bonded(r) : cell_.lower_broken(r);
-    upper_(offset + r) = b ? cell_.upper_bonded(r) : cell_.upper_broken(r);
-    // The strengths lifted: contact rows keep p_n ≥ 0, so the admissible set stays a cone.
-    if (lifted && b) {
-      if (lower_(offset + r) < 0) lower_(offset + r) = -inf;
-      if (upper_(offset + r) > 0) upper_(offset + r) = inf;
-    }
+    // The strengths lifted (the bond rule): contact rows keep p_n ≥ 0, so the admissible set
+    // stays a cone.
+    const bond::Bounds bounds = !b       ? cell_.broken_bounds(r)
+                                : lifted ? bond::lifted(cell_.bonded_bounds(r))
+                                         : cell_.bonded_bounds(r);
+    lower_(offset + r) = bounds.lower;
+    upper_(offset + r) = bounds.upper;
   }
 }
 
 double CellEvaluator::strength_use(const Eigen::VectorXd& forces, const std::vector<std::uint8_t>& bonded) const {
   double use = 0;
-  for (int r = 0; r < cell_.n_rows(); ++r) {
-    if (!bonded[cell_.pair[r]]) continue;
-    const double p = forces(r), lo = cell_.lower_bonded(r), hi = cell_.upper_bonded(r);
-    if (p < 0 && lo < 0) use = std::max(use, p / lo);
-    if (p > 0 && hi > 0 && std::isfinite(hi)) use = std::max(use, p / hi);
-  }
+  for (int r = 0; r < cell_.n_rows(); ++r)
+    if (bonded[cell_.pair[r]]) use = std::max(use, bond::strength_use(forces(r), cell_.bonded_bounds(r)));
   return use;
 }
 
@@ -130,13 +143,9 @@ CellResponse CellEvaluator::cascade(CellHistory& h, bool breaks, Solve&& solve) 
     if (!breaks) break;
     std::vector<int> breaking;
     const int n = cell_.n_rows();
-    for (int r = 0; r < n; ++r) {
-      if (!h.bonded[cell_.pair[r]]) continue;
-      const double p = out.forces(r), lo = cell_.lower_bonded(r), hi = cell_.upper_bonded(r);
-      if ((lo < 0 && p <= lo + at_strength * std::abs(lo)) ||
-          (hi > 0 && std::isfinite(hi) && p >= hi - at_strength * hi))
+    for (int r = 0; r < n; ++r)
+      if (h.bonded[cell_.pair[r]] && bond::at_strength(out.forces(r), cell_.bonded_bounds(r)))
         breaking.push_back(cell_.pair[r]);
-    }
     if (breaking.empty()) break;
     for (int p : breaking) {
       out.newly_broken += h.bonded[p] ? 1 : 0;
@@ -159,7 +168,7 @@ CellResponse CellEvaluator::at_stress(const Eigen::Vector3d& sigma, CellHistory&
   out = cascade(h, true, [&](CellResponse& r) {
     set_bounds(h.bonded, 0);
     b_ = cell_.Y * sigma.head(m);
-    const qp::DenseQpResult qp = stress_qp_.solve(cell_.H, b_, C_stress_, lower_, upper_, h.active);
+    const qp::DenseQpResult qp = stress_qp_.solve(b_, lower_, upper_, h.active);
     r.iterations += qp.iterations;
     r.factorisations += qp.factorisations;
     if (!qp.converged) {
@@ -198,7 +207,7 @@ CellResponse CellEvaluator::at_strain(const Eigen::Vector3d& strain, CellHistory
     set_bounds(h.bonded, m, bonds == Bonds::lifted);
     b_ = Eigen::VectorXd::Zero(m + n);
     b_.head(m) = cell_.volume * strain.head(m);
-    const qp::DenseQpResult qp = strain_qp_.solve(energy_, b_, C_strain_, lower_, upper_, h.active);
+    const qp::DenseQpResult qp = strain_qp_.solve(b_, lower_, upper_, h.active);
     r.iterations += qp.iterations;
     r.factorisations += qp.factorisations;
     if (!qp.converged) {
@@ -233,8 +242,9 @@ double CellEvaluator::onset(const Eigen::Vector3d& sigma) {
   // The intact cell with the strengths lifted: p(sσ̄) = s p(σ̄) for s ≥ 0.
   set_bounds(cell_.bonded, 0, true);
   b_ = cell_.Y * sigma.head(m);
-  const qp::DenseQpResult qp = onset_qp_.solve(cell_.H, b_, C_stress_, lower_, upper_, onset_active_);
+  const qp::DenseQpResult qp = onset_qp_.solve(b_, lower_, upper_, onset_active_);
   if (!qp.converged) return nan;
+  // The first row to reach its strength: s* = 1/(largest strength use), the bond rule's reach.
   const double use = strength_use(qp.x, cell_.bonded);
   return use > 0 ? 1 / use : inf;
 }

@@ -25,6 +25,7 @@
 #include <string>
 #include <vector>
 
+#include "law/bond.hpp"
 #include "qp/dense_qp.hpp"
 
 namespace dualcell::law {
@@ -52,6 +53,9 @@ struct CondensedCell {
   long operator_applications = 0;
 
   int n_rows() const { return static_cast<int>(pair.size()); }
+  bond::Kind kind(int r) const { return tangential[r] ? bond::Kind::tangential : bond::Kind::normal; }
+  bond::Bounds bonded_bounds(int r) const { return {lower_bonded(r), upper_bonded(r)}; }
+  bond::Bounds broken_bounds(int r) const { return {lower_broken(r), upper_broken(r)}; }
   bool adhesion() const;
   // Bytes of the matrices.
   std::size_t bytes() const;
@@ -120,9 +124,11 @@ class CellEvaluator {
   void check_shear(const Eigen::Vector3d& v, CellResponse& out) const;
 
   const CondensedCell& cell_;
-  Eigen::MatrixXd energy_;               // 𝓗
-  Eigen::MatrixXd C_stress_, C_strain_;  // G, and [0 G]
-  Eigen::VectorXd lower_, upper_, b_;    // the QP's bounds and linear term
+  const Eigen::MatrixXd energy_;       // 𝓗
+  const Eigen::MatrixXd C_strain_;     // [0 G]
+  Eigen::VectorXd lower_, upper_, b_;  // the QP's bounds and linear term
+  // One QP per problem (qp::DenseActiveSet binds its matrices): stress-driven (H, G), strain-driven
+  // (𝓗, [0 G]) and the onset's (H, G with the strengths lifted).
   qp::DenseActiveSet stress_qp_, strain_qp_, onset_qp_;
   std::vector<qp::Bound> onset_active_;  // the warm start of the next onset
   // The last tangents and the factorisation they came from: the same factorisation (the same

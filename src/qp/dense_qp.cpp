@@ -28,7 +28,10 @@ constexpr int max_guesses = 6;
 
 }  // namespace
 
-void DenseActiveSet::free_a_basis(const Eigen::MatrixXd& C) {
+DenseActiveSet::DenseActiveSet(const Eigen::MatrixXd& A, const Eigen::MatrixXd& C) : A_(A), C_(C) {}
+
+void DenseActiveSet::free_a_basis() {
+  const Eigen::MatrixXd& C = C_;
   const Eigen::Index n = C.cols(), n_c = C.rows();
   if (n_c == 0) return;
   // An orthonormal basis Q of the span of the free columns of C, then every held column that
@@ -50,7 +53,8 @@ void DenseActiveSet::free_a_basis(const Eigen::MatrixXd& C) {
     if (working_[i] != Bound::free && add(i)) working_[i] = Bound::free;
 }
 
-void DenseActiveSet::factorise(const Eigen::MatrixXd& A, const Eigen::MatrixXd& C) {
+void DenseActiveSet::factorise() {
+  const Eigen::MatrixXd &A = A_, &C = C_;
   const Eigen::Index n = A.rows(), n_c = C.rows();
   free_.clear();
   for (Eigen::Index i = 0; i < n; ++i)
@@ -107,10 +111,6 @@ void DenseActiveSet::factorise(const Eigen::MatrixXd& A, const Eigen::MatrixXd& 
     K.block(j0, j0, jb, jb).triangularView<Eigen::UnitLower>().solveInPlace(K.block(j0, end, jb, k - end));
     K.bottomRightCorner(k - end, k - end).noalias() -= K.block(end, j0, k - end, jb) * K.block(j0, end, jb, k - end);
   }
-  A_data_ = A.data();
-  C_data_ = C.data();
-  n_ = n;
-  n_c_ = n_c;
   factorised_ = true;
   ++generation_;
 }
@@ -124,8 +124,9 @@ void DenseActiveSet::lu_solve(Eigen::VectorXd& rhs) const {
   K.triangularView<Eigen::Upper>().solveInPlace(rhs);
 }
 
-void DenseActiveSet::solve_subproblem(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const Eigen::MatrixXd& C,
-                                      const Eigen::VectorXd& x, Eigen::VectorXd& x_free, Eigen::VectorXd& mu) const {
+void DenseActiveSet::solve_subproblem(const Eigen::VectorXd& b, const Eigen::VectorXd& x, Eigen::VectorXd& x_free,
+                                      Eigen::VectorXd& mu) const {
+  const Eigen::MatrixXd &A = A_, &C = C_;
   const int n_F = static_cast<int>(free_.size()), r = static_cast<int>(kept_rows_.size());
   // The right-hand side b_F − A_FW x_W and −C_KW x_W over the held columns W only (A symmetric).
   Eigen::VectorXd& rhs = rhs_;
@@ -143,8 +144,9 @@ void DenseActiveSet::solve_subproblem(const Eigen::MatrixXd& A, const Eigen::Vec
   for (int q = 0; q < r; ++q) mu(kept_rows_[q]) = rhs(n_F + q);
 }
 
-DenseQpResult DenseActiveSet::solve(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const Eigen::MatrixXd& C,
-                                    const Eigen::VectorXd& l, const Eigen::VectorXd& u, std::vector<Bound>& active) {
+DenseQpResult DenseActiveSet::solve(const Eigen::VectorXd& b, const Eigen::VectorXd& l, const Eigen::VectorXd& u,
+                                    std::vector<Bound>& active) {
+  const Eigen::MatrixXd &A = A_, &C = C_;
   DenseQpResult out;
   const Eigen::Index n = A.rows();
   if (A.cols() != n || b.size() != n || l.size() != n || u.size() != n || (C.rows() > 0 && C.cols() != n)) {
@@ -156,7 +158,6 @@ DenseQpResult DenseActiveSet::solve(const Eigen::MatrixXd& A, const Eigen::Vecto
     return out;
   }
   if (static_cast<Eigen::Index>(active.size()) != n) active.assign(n, Bound::free);
-  const bool same_problem = factorised_ && A.data() == A_data_ && C.data() == C_data_ && n == n_ && C.rows() == n_c_;
 
   // The working set and x at its bounds; a bound that is infinite cannot hold a variable.
   const auto hold = [&](std::vector<Bound>& set, Eigen::VectorXd& x) {
@@ -168,7 +169,8 @@ DenseQpResult DenseActiveSet::solve(const Eigen::MatrixXd& A, const Eigen::Vecto
     }
   };
   const auto refactorise = [&] {
-    bool same = same_problem || (factorised_ && A.data() == A_data_ && C.data() == C_data_);
+    // The kept factorisation serves while the free set is the same (A and C are this object's).
+    bool same = factorised_;
     if (same) {
       int j = 0;
       for (Eigen::Index i = 0; i < n && same; ++i)
@@ -176,7 +178,7 @@ DenseQpResult DenseActiveSet::solve(const Eigen::MatrixXd& A, const Eigen::Vecto
       same = same && j == static_cast<int>(free_.size());
     }
     if (!same) {
-      factorise(A, C);
+      factorise();
       ++out.factorisations;
     }
     return factorised_;
@@ -200,9 +202,9 @@ DenseQpResult DenseActiveSet::solve(const Eigen::MatrixXd& A, const Eigen::Vecto
   bool at_subproblem_solution = false;
   for (int guess = 0; guess <= max_guesses && !at_subproblem_solution; ++guess) {
     hold(working_, x);
-    free_a_basis(C);
+    free_a_basis();
     if (!refactorise()) break;
-    solve_subproblem(A, b, C, x, x_free, mu);
+    solve_subproblem(b, x, x_free, mu);
     ++out.iterations;
     if (feasible(x_free)) {
       for (std::size_t j = 0; j < free_.size(); ++j) x(free_[j]) = std::clamp(x_free(j), l(free_[j]), u(free_[j]));
@@ -229,15 +231,11 @@ DenseQpResult DenseActiveSet::solve(const Eigen::MatrixXd& A, const Eigen::Vecto
     x.setZero();
     for (Eigen::Index i = 0; i < n; ++i)
       working_[i] = l(i) == 0 ? Bound::lower : u(i) == 0 ? Bound::upper : Bound::free;
-    free_a_basis(C);
+    free_a_basis();
   }
 
   // The size of x that b asks for, ‖b‖/‖A‖, for a problem whose x is 0 so far.
-  if (A.data() != A_max_of_ || A.size() != A_max_size_) {  // max |A_ij|, once per problem
-    A_max_ = A.size() > 0 ? A.cwiseAbs().maxCoeff() : 0.0;
-    A_max_of_ = A.data();
-    A_max_size_ = A.size();
-  }
+  if (A_max_ < 0) A_max_ = A.size() > 0 ? A.cwiseAbs().maxCoeff() : 0.0;  // once per problem
   const double b_scale = b.lpNorm<Eigen::Infinity>() / std::max(A_max_, std::numeric_limits<double>::min());
   const int max_iterations = 10 * static_cast<int>(n) + 50;
   while (out.iterations <= max_iterations) {
@@ -246,7 +244,7 @@ DenseQpResult DenseActiveSet::solve(const Eigen::MatrixXd& A, const Eigen::Vecto
         out.message = "the KKT system of the free set is singular (A not positive definite on ker C)";
         return out;
       }
-      solve_subproblem(A, b, C, x, x_free, mu);
+      solve_subproblem(b, x, x_free, mu);
       ++out.iterations;
       // Step from x towards the subproblem's solution, as far as the bounds allow.
       // A move of round-off size (a variable the rows of C pin, at 0 up to round-off) blocks

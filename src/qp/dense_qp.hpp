@@ -18,11 +18,18 @@
 // so the method terminates.
 //
 // Warm start: `active` in is the previous answer's active set. It is tried first as it stands
-// (the common case along a path: the same set, one solve); if its subproblem's solution is not
-// feasible the method starts from x = 0 with every bound at zero held. Either way held
+// (the common case along a path: the same set, one solve); while its subproblem's solution is not
+// feasible, up to a few corrections of it are tried in the manner of block principal pivoting (a
+// variable put beyond a bound is held there, a held one whose multiplier has the wrong sign is
+// freed), and only when none is feasible does the method start from x = 0 with every bound at
+// zero held. Either way held
 // variables are freed until the free columns of C have its full rank (a working set must be
 // linearly independent for its multipliers to say which bound to release). The factorisation
-// of the last working set is kept and reused while the free set and the problem stay the same.
+// of the last working set is kept and reused while the free set stays the same.
+//
+// One object is one problem: A and C are bound at construction (referenced, not copied: the
+// caller keeps them alive and unchanged); b and the bounds change from call to call. Another A
+// or C is another object, so a kept factorisation can never belong to other matrices.
 #include <Eigen/Core>
 #include <cstdint>
 #include <string>
@@ -45,44 +52,43 @@ struct DenseQpResult {
 
 class DenseActiveSet {
  public:
-  // Solves the QP; `active` (size n, or empty for none) is the warm start in and the active set
-  // of the solution out. A and C must stay the same between calls that rely on the kept
-  // factorisation: a call with other matrices (another address or size) factorises anew, and
-  // reset() forgets the factorisation.
-  DenseQpResult solve(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const Eigen::MatrixXd& C,
-                      const Eigen::VectorXd& l, const Eigen::VectorXd& u, std::vector<Bound>& active);
+  // The problem's A (n × n) and C (n_c × n; 0 × n or empty for none), for the object's life.
+  DenseActiveSet(const Eigen::MatrixXd& A, const Eigen::MatrixXd& C);
+  DenseActiveSet(const DenseActiveSet&) = delete;
+  DenseActiveSet& operator=(const DenseActiveSet&) = delete;
+
+  // Solves the QP for b and the bounds l, u; `active` (size n, or empty for none) is the warm
+  // start in and the active set of the solution out.
+  DenseQpResult solve(const Eigen::VectorXd& b, const Eigen::VectorXd& l, const Eigen::VectorXd& u,
+                      std::vector<Bound>& active);
   // dx/db at the last solution's active set (the free variables move, the bound ones do not),
   // one column per column of db: what the tangent of a law needs.
   Eigen::MatrixXd sensitivity(const Eigen::MatrixXd& db) const;
-  void reset() { factorised_ = false; }
   // Counts the factorisations: sensitivity() gives the same answer while it stays the same
   // (the caller may keep what it derived from it, e.g. a tangent).
   long generation() const { return generation_; }
 
  private:
   // The KKT system of the free set: [A_FF C_Kᵀ; C_K 0], C_K the independent rows of C_F.
-  void factorise(const Eigen::MatrixXd& A, const Eigen::MatrixXd& C);
+  void factorise();
   // Frees held variables until the free columns of C span what all columns span, so that the
   // working set (held bounds and the rows of C) is linearly independent: its multipliers are
   // then unique, and a released bound moves its variable off the bound.
-  void free_a_basis(const Eigen::MatrixXd& C);
+  void free_a_basis();
   // x_F and μ of the subproblem with x_W held; x is updated only on the free entries.
-  void solve_subproblem(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const Eigen::MatrixXd& C,
-                        const Eigen::VectorXd& x, Eigen::VectorXd& x_free, Eigen::VectorXd& mu) const;
+  void solve_subproblem(const Eigen::VectorXd& b, const Eigen::VectorXd& x, Eigen::VectorXd& x_free,
+                        Eigen::VectorXd& mu) const;
   void lu_solve(Eigen::VectorXd& rhs) const;
 
+  const Eigen::MatrixXd& A_;
+  const Eigen::MatrixXd& C_;
+  double A_max_ = -1;           // max |A_ij|, once (−1: not yet)
   std::vector<Bound> working_;  // the working set of the kept factorisation
   std::vector<int> free_, kept_rows_;
   std::vector<char> pinned_;  // per free variable: fixed by the rows of C (it cannot move)
   Eigen::MatrixXd kkt_;       // LU factors in place (unit lower, upper)
   std::vector<int> pivot_;
   mutable Eigen::VectorXd rhs_;  // the subproblem's right-hand side, kept between calls
-  double A_max_ = 0;             // max |A_ij| of the problem at A_max_of_
-  const double* A_max_of_ = nullptr;
-  Eigen::Index A_max_size_ = -1;
-  const double* A_data_ = nullptr;
-  const double* C_data_ = nullptr;
-  Eigen::Index n_ = -1, n_c_ = -1;
   bool factorised_ = false;
   long generation_ = 0;
 };

@@ -183,5 +183,53 @@ TEST(CondensedAdhesion, ThroughTheFuseAlongAPathAsTheCellDoes) {
   }
 }
 
+// The bond rule (law/bond.hpp) is the one description of a row's bounds: the full solver's rows
+// and the exact law's carry the same bounds for every pair in either state, and a broken pair
+// has no tangential row on the solver's side.
+TEST(BondRule, TheFullSolverAndTheExactLawGiveEachRowTheSameBounds) {
+  Scene scene = cell_scene(Boundary::periodic, Element::p2, 1, 1, 0.05);
+  scene.interface.tangential_strength = 0.03;
+  const mesh::Mesh mesh = mesh::build_mesh(scene.geometry);
+  ContactSolver solver(mesh, scene);
+  const law::CondensedCell cell = condense(solver.setup());
+  const std::vector<double> length = interface_lengths(mesh);
+  const double sn = scene.interface.normal_strength, st = scene.interface.tangential_strength;
+  BondState some_broken = solver.intact();
+  for (std::size_t p = 0; p < some_broken.size(); p += 3) some_broken[p] = 0;
+  for (const BondState& bonds : {solver.intact(), some_broken}) {
+    const Constraints con = build_constraints(mesh, scene, bonds);
+    int i = 0;  // the cell's row of the intact state's row
+    std::vector<int> tangential_rows(mesh.interface_pairs.size(), 0);
+    for (int r = 0; r < con.n_rows(); ++r) {
+      if (!is_interface(con.kind[r])) continue;
+      const int p = con.pair[r];
+      const auto kind = con.kind[r] == RowKind::tangential ? law::bond::Kind::tangential : law::bond::Kind::normal;
+      const auto state = bonds[p] ? law::bond::State::intact : law::bond::State::broken;
+      const law::bond::Bounds rule = law::bond::bounds(kind, state, sn, st, length[p]);
+      // The rows store bounds / w: the product back is the rule to round-off.
+      EXPECT_NEAR(con.lower(r) * con.weight(r), rule.lower, 1e-15 * sn) << r;
+      EXPECT_EQ(std::isinf(con.upper(r)), std::isinf(rule.upper)) << r;
+      if (!std::isinf(rule.upper)) {
+        EXPECT_NEAR(con.upper(r) * con.weight(r), rule.upper, 1e-15 * st) << r;
+      }
+      tangential_rows[p] += kind == law::bond::Kind::tangential;
+      if (bonds != solver.intact()) continue;
+      // The exact law's rows are the intact state's, in its order.
+      ASSERT_LT(i, cell.n_rows());
+      EXPECT_EQ(cell.pair[i], p);
+      EXPECT_EQ(cell.kind(i), kind);
+      EXPECT_EQ(cell.bonded_bounds(i).lower, con.lower(r) * con.weight(r));
+      const law::bond::Bounds broken = law::bond::bounds(kind, law::bond::State::broken, sn, st, length[p]);
+      EXPECT_EQ(cell.broken_bounds(i).lower, broken.lower);
+      EXPECT_EQ(cell.broken_bounds(i).upper, broken.upper);
+      ++i;
+    }
+    if (bonds == solver.intact()) {
+      EXPECT_EQ(i, cell.n_rows());
+    }
+    for (std::size_t p = 0; p < bonds.size(); ++p) EXPECT_EQ(tangential_rows[p], bonds[p] ? 1 : 0) << p;
+  }
+}
+
 }  // namespace
 }  // namespace dualcell::feti

@@ -84,9 +84,9 @@ TEST(DenseActiveSet, SolvesRandomBoxQpsWithEqualityRowsExactly) {
   for (unsigned seed = 1; seed <= 40; ++seed) {
     const int n = 5 + static_cast<int>(seed % 7) * 9, n_c = static_cast<int>(seed % 4);
     const Problem p = random_problem(n, n_c, seed, seed % 2 == 0);
-    DenseActiveSet qp;
+    DenseActiveSet qp(p.A, p.C);
     std::vector<Bound> active;
-    const DenseQpResult r = qp.solve(p.A, p.b, p.C, p.l, p.u, active);
+    const DenseQpResult r = qp.solve(p.b, p.l, p.u, active);
     // Round-off of an LU of size ≤ 60 on matrices of condition ≲ 1e4: 1e-9 relative.
     expect_optimal(p, r, active, 1e-9);
   }
@@ -97,9 +97,9 @@ TEST(DenseActiveSet, SolvesRandomBoxQpsWithEqualityRowsExactly) {
 TEST(DenseActiveSet, AWarmStartAtTheSameActiveSetIsOneSolveWithoutFactorisation) {
   const Problem p = random_problem(40, 2, 5, false);
   DenseQpResult r;
-  DenseActiveSet qp;
+  DenseActiveSet qp(p.A, p.C);
   std::vector<Bound> active;
-  r = qp.solve(p.A, p.b, p.C, p.l, p.u, active);
+  r = qp.solve(p.b, p.l, p.u, active);
   ASSERT_TRUE(r.converged);
   EXPECT_GE(r.factorisations, 1);
   const std::vector<Bound> first = active;
@@ -107,10 +107,10 @@ TEST(DenseActiveSet, AWarmStartAtTheSameActiveSetIsOneSolveWithoutFactorisation)
   q.b *= 1.0 + 1e-9;  // scaled: x scales, the active set of a cone stays (bounds at 0 stay)
   for (Eigen::Index i = 0; i < q.l.size(); ++i)
     if (q.l(i) != 0 || q.u(i) != 0) q.l(i) = q.l(i) == 0 ? 0.0 : -inf, q.u(i) = q.u(i) == 0 ? 0.0 : inf;
-  DenseActiveSet cone;
+  DenseActiveSet cone(q.A, q.C);
   std::vector<Bound> cone_active;
-  ASSERT_TRUE(cone.solve(q.A, p.b, q.C, q.l, q.u, cone_active).converged);
-  const DenseQpResult again = cone.solve(q.A, q.b, q.C, q.l, q.u, cone_active);
+  ASSERT_TRUE(cone.solve(p.b, q.l, q.u, cone_active).converged);
+  const DenseQpResult again = cone.solve(q.b, q.l, q.u, cone_active);
   expect_optimal(q, again, cone_active, 1e-9);
   EXPECT_EQ(again.iterations, 1);
   EXPECT_EQ(again.factorisations, 0);
@@ -119,17 +119,17 @@ TEST(DenseActiveSet, AWarmStartAtTheSameActiveSetIsOneSolveWithoutFactorisation)
 // dx/db at the active set against the difference of two solves that keep it.
 TEST(DenseActiveSet, SensitivityIsTheDerivativeAtTheActiveSet) {
   const Problem p = random_problem(30, 3, 9, false);
-  DenseActiveSet qp;
+  DenseActiveSet qp(p.A, p.C);
   std::vector<Bound> active;
-  const DenseQpResult r = qp.solve(p.A, p.b, p.C, p.l, p.u, active);
+  const DenseQpResult r = qp.solve(p.b, p.l, p.u, active);
   ASSERT_TRUE(r.converged);
   Eigen::VectorXd db = Eigen::VectorXd::Zero(p.b.size());
   db(3) = 1e-7, db(7) = -2e-7;
   const Eigen::MatrixXd dx = qp.sensitivity(db);
-  DenseActiveSet other;
+  DenseActiveSet other(p.A, p.C);
   std::vector<Bound> same = active;
   const Eigen::VectorXd b2 = p.b + db;
-  const DenseQpResult r2 = other.solve(p.A, b2, p.C, p.l, p.u, same);
+  const DenseQpResult r2 = other.solve(b2, p.l, p.u, same);
   ASSERT_TRUE(r2.converged);
   ASSERT_EQ(same, active) << "the step must keep the active set";
   // A linear map: exact to round-off.
@@ -138,15 +138,15 @@ TEST(DenseActiveSet, SensitivityIsTheDerivativeAtTheActiveSet) {
 
 TEST(DenseActiveSet, RefusesWhatItCannotSolve) {
   Problem p = random_problem(6, 1, 3, false);
-  DenseActiveSet qp;
+  DenseActiveSet qp(p.A, p.C);
   std::vector<Bound> active;
   p.l(2) = 0.5;  // x = 0 infeasible
-  const DenseQpResult r = qp.solve(p.A, p.b, p.C, p.l, p.u, active);
+  const DenseQpResult r = qp.solve(p.b, p.l, p.u, active);
   EXPECT_FALSE(r.converged);
   EXPECT_EQ(r.message, "x = 0 is not within the bounds");
   p.l(2) = 0;
   Eigen::VectorXd short_b = p.b.head(5);
-  EXPECT_EQ(qp.solve(p.A, short_b, p.C, p.l, p.u, active).message, "sizes do not match");
+  EXPECT_EQ(qp.solve(short_b, p.l, p.u, active).message, "sizes do not match");
 }
 
 }  // namespace
