@@ -1,6 +1,7 @@
 // dualcell-stability: the stability matrix on stiff and extreme cases (study/stability.hpp).
-// Writes a CSV with one row per case and a Markdown summary; exits 1 when a case failed (a
-// silent NaN/Inf, or a stop without a diagnostic).
+// Writes a CSV with one row per case and a Markdown summary; exits 3 (an internal error) when a
+// case failed: a silent NaN/Inf or a stop without a diagnostic is a fault of the solver, not of
+// the input.
 //
 //   dualcell-stability --out stability.csv [--summary stability.md] [--fast]
 #include <unistd.h>
@@ -30,5 +31,5 @@ int main(int argc, char** argv) {
     std::printf("dualcell-stability: %d cases, %d failed, %d stopped with a diagnostic -> %s\n", report.cases,
                 report.failed, report.stopped, options.csv.c_str());
   });
-  return status != 0 ? status : (failed > 0 ? 1 : 0);
+  return status != dualcell::exit_ok ? status : (failed > 0 ? dualcell::exit_internal_error : dualcell::exit_ok);
 }

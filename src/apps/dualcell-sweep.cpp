@@ -35,11 +35,18 @@ int main(int argc, char** argv) {
   app.add_option("--interrupt-after-paths", options.interrupt_after, "")->group("");
   if (const auto stop = dualcell::parse_options(app, argc, argv)) return *stop;
 
-  return dualcell::run_stage(
+  // Steps that did not converge are written and marked (sweep.h5 /paths/NNN/converged):
+  // exit 4, as every stage whose computation ran without converging.
+  int exit_code = dualcell::exit_ok;
+  const int status = dualcell::run_stage(
       "dualcell-sweep",
       [&] {
         options.progress = !quiet;
         const auto s = dualcell::stage::run_sweep(options);
+        if (s.unconverged_steps > 0) exit_code = dualcell::exit_not_converged;
+        if (s.written && s.unconverged_steps > 0)
+          std::fprintf(stderr, "dualcell-sweep: warning: %d steps did not converge (written, marked as such)\n",
+                       s.unconverged_steps);
         if (!quiet && s.written)
           std::printf("dualcell-sweep: %d paths -> %s (%d with a fuse, %d steps not converged, %d resumed), %.2f s\n",
                       s.paths, options.out.c_str(), s.fuses, s.unconverged_steps, s.resumed, s.seconds);
@@ -53,4 +60,5 @@ int main(int argc, char** argv) {
           std::printf("dualcell-sweep: no exact law: %s\n", s.cell_note.c_str());
       },
       dualcell::Ranks::share);
+  return status != dualcell::exit_ok ? status : exit_code;
 }

@@ -194,7 +194,8 @@ inline constexpr ConstituentField constituent_fields[] = {
 inline constexpr long max_mesh_nodes = 10'000'000;
 // The range of a law's cell size (any unit) that a structure of homogeneous cells takes: its
 // positions (supports, loads, the watch point) are written in that unit, and beyond this range
-// they and the node tolerance (1e-9 of a cell) underflow or lose every digit.
+// they and the node tolerance (fem::node_reach: 1e-9 of the structure's size) underflow or lose
+// every digit.
 inline constexpr double min_structure_cell_size = 1e-12, max_structure_cell_size = 1e12;
 
 // Every range and combination of keys; an InputError naming the first violation. The stages,

@@ -20,8 +20,10 @@
 
 namespace dualcell::feti {
 
-// Beyond this many rows of B the dense F (8·rows² bytes, one application per row) no longer
-// pays: 3000 rows are 72 MB and seconds of applications; the compact law stands alone there.
+// Beyond this many rows of B the dense condensation no longer pays: F (summed from the
+// subdomains' blocks F_s) and the eliminated system are dense, 8·rows² bytes each (72 MB at 3000
+// rows), and the law's QP evaluates a dense matrix of the interface rows at every material point;
+// the compact law stands alone there.
 inline constexpr int max_condensed_rows = 3000;
 
 // Every rank of setup.group() must call it (it applies F). An InputError, saying why, for a

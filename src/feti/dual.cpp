@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/error.hpp"
+
 namespace dualcell::feti {
 
 DualProblem::DualProblem(const FetiSetup& setup, Constraints constraints)
@@ -105,10 +107,14 @@ NullSplit split_null_space(const Eigen::MatrixXd& A) {
 // densely) are added as Z Zᵀ: on the range of G, where every coarse right-hand side lies, the
 // factor of GGᵀ + Z Zᵀ is the pseudo-inverse of GGᵀ, and the undetermined amplitude is 0.
 Eigen::SparseMatrix<double> DualProblem::with_joint_null_modes(const Eigen::SparseMatrix<double>& GGt) {
-  constexpr Eigen::Index dense_limit = 6000;  // coarse rows: 3 per subdomain
+  // A limit of the input, as the condensation's row limit: 6000 coarse rows (3 per subdomain) are
+  // a dense symmetric eigenproblem of 288 MB, O(n³) work.
+  constexpr Eigen::Index dense_limit = 6000;
   if (GGt.rows() > dense_limit)
-    throw std::runtime_error("the coarse matrix GG^T is singular (a rigid motion no row sees) and too large (" +
-                             std::to_string(GGt.rows()) + " rows) to find its null space densely");
+    throw InputError("the coarse matrix GG^T is singular (a rigid motion no row sees: an RVE's fibre cut by the "
+                     "edges) and has " +
+                     std::to_string(GGt.rows()) + " rows, more than the " + std::to_string(dense_limit) +
+                     " whose null space is found densely: use larger subdomains ([solver] subdomain_dofs)");
   const NullSplit split = split_null_space(Eigen::MatrixXd(GGt));
   const double largest = split.largest;
   Eigen::SparseMatrix<double> out = GGt;

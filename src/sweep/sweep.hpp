@@ -109,7 +109,8 @@ class LoadWalk {
 // Bonds intact in `intact` and broken in `now`.
 int count_broken(const feti::BondState& intact, const feti::BondState& now);
 
-// Called after every step: path, step index, the step, bisections so far.
+// Called after every recorded step (both sides of a fuse bracket; not the bisection's inner
+// solves): the path, the step's index, the step.
 using StepObserver = std::function<void(const PathSpec&, int step, const Step&)>;
 
 // Runs one path from the intact, unloaded state. Deterministic: the same solver and spec give

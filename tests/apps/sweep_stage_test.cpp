@@ -2,6 +2,7 @@
 // same data as an uninterrupted run, and refusals that leave no output.
 #include <gtest/gtest.h>
 
+#include "core/exit_codes.hpp"
 #include "io/hdf5.hpp"
 #include "io/sweep_file.hpp"
 #include "test_util.hpp"
@@ -49,6 +50,23 @@ TEST(SweepStage, WritesTheDocumentedLayoutWithAFuse) {
     EXPECT_TRUE(f.has_attribute("/", attr)) << attr;
   EXPECT_EQ(f.shape("/paths/000/strain")[1], 3u);
   EXPECT_FALSE(std::filesystem::exists(dir / "sweep.h5.parts"));
+}
+
+// Steps whose QP stopped short (here at an application limit no contact solve meets) are
+// written and marked, and the stage says so: exit 4, as every stage that ran without converging.
+TEST(SweepStage, UnconvergedStepsAreWrittenMarkedAndExitFour) {
+  testing::ScratchDir dir;
+  const auto scene = make_mesh(dir, testing::scene_text(1, 1, 2, 0.3,
+                                                        "[solver]\nmax_operator_applications = 3\n"
+                                                        "[load]\nboundary = \"traction\"\n"
+                                                        "[sweep]\ndirections_deg = [0]\nmagnitudes = [1]\n"));
+  const auto r = run_command(sweep_command(scene, dir, "sweep.h5"));
+  EXPECT_EQ(r.exit_code, exit_not_converged) << r.output;
+  EXPECT_NE(r.output.find("did not converge"), std::string::npos) << r.output;
+  io::File f = io::File::open_read(dir / "sweep.h5");
+  const auto converged = f.read_ints("/paths/000/converged", {io::any_extent});
+  ASSERT_FALSE(converged.empty());
+  EXPECT_EQ(converged.back(), 0);
 }
 
 // The uniaxial paths of a sweep with [sweep] sphere are those of the same sweep without it:
