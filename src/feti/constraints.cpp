@@ -3,9 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <map>
-#include <numeric>
-#include <set>
 #include <string>
 
 #include "core/error.hpp"
@@ -60,47 +57,11 @@ std::vector<double> interface_lengths(const mesh::Mesh& mesh) {
 
 namespace {
 
-// Union-find over nodes tied by glue pairs: the copies of one physical point.
-class NodeClasses {
- public:
-  explicit NodeClasses(const mesh::Mesh& mesh) : parent_(mesh.n_nodes()) {
-    std::iota(parent_.begin(), parent_.end(), 0);
-    for (const auto& [a, b] : mesh.glue_pairs) parent_[find(a)] = find(b);
-  }
-  int find(int v) {
-    while (parent_[v] != v) v = parent_[v] = parent_[parent_[v]];
-    return v;
-  }
-
- private:
-  std::vector<int> parent_;
-};
-
-// 1 for the nodes of fibre subdomains.
-std::vector<char> fibre_nodes(const mesh::Mesh& mesh) {
-  std::vector<char> on_fibre(mesh.n_nodes(), 0);
-  for (const mesh::Subdomain& sub : mesh.subdomains)
-    if (sub.is_fibre) std::fill(on_fibre.begin() + sub.node_begin, on_fibre.begin() + sub.node_end, 1);
-  return on_fibre;
-}
-
-// One node per physical point of a side, ordered along the side. Where an RVE's fibre meets the
-// side, its rim point is two points, the fibre's and the matrix's (joined by an interface row,
-// not glued): ordered fibre second (on_fibre: fibre_nodes), as on the opposite side, so that
-// both pair up.
-std::vector<int> side_points(const mesh::Mesh& mesh, int side, NodeClasses& classes,
-                             const std::vector<char>& on_fibre) {
-  std::map<std::pair<double, int>, int> by_position;
-  const int axis = (side == mesh::left || side == mesh::right) ? 1 : 0;
-  for (const mesh::Edge& edge : mesh.boundary_edges[side])
-    for (int v : {edge.a, edge.b, edge.mid}) {
-      if (v < 0) continue;
-      const std::pair<double, int> key{mesh.nodes[v][axis], on_fibre[v]};
-      if (!by_position.count(key)) by_position[key] = classes.find(v);
-    }
-  std::vector<int> points;
-  for (const auto& [position, v] : by_position) points.push_back(v);
-  return points;
+// The nodes that carry the rows of the points of a side, in order along it (mesh::side_points).
+std::vector<int> side_nodes(const mesh::Mesh& mesh, int side, const std::vector<int>& point_node) {
+  std::vector<int> nodes;
+  for (int p : mesh::side_points(mesh, side)) nodes.push_back(point_node[p]);
+  return nodes;
 }
 
 }  // namespace
@@ -158,31 +119,30 @@ constexpr double unbounded = std::numeric_limits<double>::infinity();
 
 // The periodic boundary (docs/method.md §12): u(x + Δx) − u(x) = H Δx with
 // H = [[εxx, γ/2], [γ/2, εyy]] (symmetric: no rigid rotation), the macro DOFs from `macro` on.
-// Left–right for every point; bottom–top for all but the right end, whose corner is already
-// tied through the other three corners; then the block's translation held at one corner.
-// A row between two fibre nodes (an RVE's fibre cut by the edges, its pieces) has the fibre's
-// weight w_fibre_pair, any other the matrix's w_pair.
-void add_periodic_rows(RowBuilder& rows, const mesh::Mesh& mesh, NodeClasses& classes,
-                       const std::vector<int>& bottom_points, const std::vector<char>& on_fibre, int macro,
+// Left–right for every pair of the mesh (mesh::Mesh::periodic_pairs); bottom–top for all but
+// the top-right corner, already tied through the other three corners; then the block's
+// translation held at one corner. A row between two fibre nodes (an RVE's fibre cut by the
+// edges, its pieces) has the fibre's weight w_fibre_pair, any other the matrix's w_pair.
+void add_periodic_rows(RowBuilder& rows, const mesh::Mesh& mesh, const std::vector<int>& point_node,
+                       const std::vector<int>& bottom_nodes, const std::vector<char>& on_fibre, int macro,
                        double w_pair, double w_fibre_pair, double w_single) {
   const auto weight = [&](int a, int b) { return on_fibre[a] && on_fibre[b] ? w_fibre_pair : w_pair; };
   const double inf = unbounded;
   const double Lx = mesh.block_width(), Ly = mesh.block_height();
-  const auto left = side_points(mesh, mesh::left, classes, on_fibre),
-             right = side_points(mesh, mesh::right, classes, on_fibre);
-  const auto top = side_points(mesh, mesh::top, classes, on_fibre);
-  for (std::size_t i = 0; i < left.size(); ++i) {
-    const int l = left[i], r = right[i];
+  for (const mesh::PeriodicPair& pair : mesh.periodic_pairs) {
+    if (pair.side != mesh::right) continue;
+    const int l = point_node[pair.partner], r = point_node[pair.point];
     rows.add(RowKind::periodic, -1, {{2 * r, 1.0}, {2 * l, -1.0}, {macro + 0, -Lx}}, -inf, inf, weight(l, r));
     rows.add(RowKind::periodic, -1, {{2 * r + 1, 1.0}, {2 * l + 1, -1.0}, {macro + 2, -Lx / 2}}, -inf, inf,
              weight(l, r));
   }
-  for (std::size_t i = 0; i + 1 < bottom_points.size(); ++i) {
-    const int b = bottom_points[i], t = top[i];
+  for (const mesh::PeriodicPair& pair : mesh.periodic_pairs) {
+    if (pair.side != mesh::top || (mesh.point_sides[pair.point] & mesh::side_bit(mesh::right))) continue;
+    const int b = point_node[pair.partner], t = point_node[pair.point];
     rows.add(RowKind::periodic, -1, {{2 * t, 1.0}, {2 * b, -1.0}, {macro + 2, -Ly / 2}}, -inf, inf, weight(b, t));
     rows.add(RowKind::periodic, -1, {{2 * t + 1, 1.0}, {2 * b + 1, -1.0}, {macro + 1, -Ly}}, -inf, inf, weight(b, t));
   }
-  const int a = bottom_points.front();
+  const int a = bottom_nodes.front();
   rows.add(RowKind::dirichlet, -1, {{2 * a, 1.0}}, -inf, inf, w_single);
   rows.add(RowKind::dirichlet, -1, {{2 * a + 1, 1.0}}, -inf, inf, w_single);
 }
@@ -234,29 +194,29 @@ Constraints build_constraints(const mesh::Mesh& mesh, const Scene& scene, const 
       rows.add(RowKind::glue, q, {{2 * a + c, 1.0}, {2 * b + c, -1.0}}, -inf, inf, w_matrix_pair);
   }
 
-  NodeClasses classes(mesh);
-  const std::vector<char> on_fibre = fibre_nodes(mesh);
-  const std::vector<int> bottom_points = side_points(mesh, mesh::bottom, classes, on_fibre);
+  const std::vector<int> point_node = mesh::point_nodes(mesh);
+  const std::vector<char> on_fibre = mesh::fibre_nodes(mesh);
+  const std::vector<int> bottom_nodes = side_nodes(mesh, mesh::bottom, point_node);
   switch (scene.load.boundary) {
     case Boundary::symmetry: {
       // u_x = 0 on x = 0 and u_y = 0 on y = 0 (the `symmetry` boundary, docs/method.md §12), once per physical point:
       // the other copies follow through their glue rows.
-      for (int v : side_points(mesh, mesh::left, classes, on_fibre))
+      for (int v : side_nodes(mesh, mesh::left, point_node))
         rows.add(RowKind::dirichlet, -1, {{2 * v, 1.0}}, -inf, inf, w_single);
-      for (int v : bottom_points) rows.add(RowKind::dirichlet, -1, {{2 * v + 1, 1.0}}, -inf, inf, w_single);
+      for (int v : bottom_nodes) rows.add(RowKind::dirichlet, -1, {{2 * v + 1, 1.0}}, -inf, inf, w_single);
       break;
     }
     case Boundary::traction: {
       // The minimal set that removes the rigid motion: both components at the lower left
       // corner, the vertical one at the lower right corner.
-      const int a = bottom_points.front(), b = bottom_points.back();
+      const int a = bottom_nodes.front(), b = bottom_nodes.back();
       rows.add(RowKind::dirichlet, -1, {{2 * a, 1.0}}, -inf, inf, w_single);
       rows.add(RowKind::dirichlet, -1, {{2 * a + 1, 1.0}}, -inf, inf, w_single);
       rows.add(RowKind::dirichlet, -1, {{2 * b + 1, 1.0}}, -inf, inf, w_single);
       break;
     }
     case Boundary::periodic:
-      add_periodic_rows(rows, mesh, classes, bottom_points, on_fibre, macro, w_matrix_pair, w_fibre_pair, w_single);
+      add_periodic_rows(rows, mesh, point_node, bottom_nodes, on_fibre, macro, w_matrix_pair, w_fibre_pair, w_single);
       break;
     case Boundary::edges: {
       // Per edge (core/edge_loads.hpp), once per physical point and component: a point held by
@@ -264,9 +224,9 @@ Constraints build_constraints(const mesh::Mesh& mesh, const Scene& scene, const 
       // row rank. c holds the prescribed displacements at load factor 1.
       const EdgeLoads& loads = scene.load.edge_loads;
       std::array<std::vector<int>, 4> edge_points;
-      for (int e = 0; e < 4; ++e) edge_points[e] = side_points(mesh, edge_sides[e], classes, on_fibre);
+      for (int e = 0; e < 4; ++e) edge_points[e] = side_nodes(mesh, edge_sides[e], point_node);
       const auto held = fem::held_components(loads, edge_points, [&](const Support& support) {
-        return classes.find(node_at(mesh, support.at, support.where, "support"));
+        return point_node[mesh.point_of[node_at(mesh, support.at, support.where, "support")]];
       });
       for (const fem::HeldComponent& h : held)
         rows.add(RowKind::dirichlet, -1, {{2 * h.point + h.component, 1.0}}, -inf, inf, w_single, h.value);

@@ -192,6 +192,47 @@ void check_structure(const mesh::Mesh& m, const std::vector<std::int64_t>& is_fi
   }
 }
 
+// The physical points (mesh::Mesh::point_of, point_sides, periodic_pairs as rows point,
+// partner, side).
+void write_points(File& f, const mesh::Mesh& mesh) {
+  f.write("/mesh/point_of", std::vector<std::int64_t>(mesh.point_of.begin(), mesh.point_of.end()),
+          {mesh.point_of.size()});
+  f.write("/mesh/point_sides", std::vector<std::int64_t>(mesh.point_sides.begin(), mesh.point_sides.end()),
+          {mesh.point_sides.size()});
+  std::vector<std::int64_t> pairs;
+  for (const auto& [point, partner, side] : mesh.periodic_pairs) pairs.insert(pairs.end(), {point, partner, side});
+  f.write("/mesh/periodic_pairs", pairs, {mesh.periodic_pairs.size(), 3});
+}
+
+// The physical points: the point indices in range here, what they say by mesh::point_problem.
+void read_points(const File& f, mesh::Mesh& m, const std::string& where) {
+  const auto sides = f.read_ints("/mesh/point_sides", {any_extent});
+  const auto n_points = static_cast<std::int64_t>(sides.size());
+  const auto point = [&](std::int64_t p, const char* name) {
+    if (p < 0 || p >= n_points)
+      throw InputError(where + "/mesh/" + name + ": point " + std::to_string(p) + " out of range [0, " +
+                       std::to_string(n_points) + ")");
+    return static_cast<int>(p);
+  };
+  for (std::int64_t s : sides) {
+    if (s < 0 || s > 15)
+      throw InputError(where + "/mesh/point_sides: " + std::to_string(s) + " is not a set of sides (0 to 15)");
+    m.point_sides.push_back(static_cast<std::uint8_t>(s));
+  }
+  for (std::int64_t p : f.read_ints("/mesh/point_of", {m.nodes.size()}, " like /mesh/nodes"))
+    m.point_of.push_back(point(p, "point_of"));
+  const auto pairs = f.read_ints("/mesh/periodic_pairs", {any_extent, 3});
+  for (std::size_t i = 0; i < pairs.size(); i += 3) {
+    if (pairs[i + 2] != mesh::right && pairs[i + 2] != mesh::top)
+      throw InputError(where + "/mesh/periodic_pairs: pair " + std::to_string(i / 3) + " has side " +
+                       std::to_string(pairs[i + 2]) + ", not 1 (right) or 3 (top)");
+    m.periodic_pairs.push_back({point(pairs[i], "periodic_pairs"), point(pairs[i + 1], "periodic_pairs"),
+                                static_cast<mesh::Side>(pairs[i + 2])});
+  }
+  if (const std::string problem = mesh::point_problem(m); !problem.empty())
+    throw InputError(where + "/mesh/" + problem);
+}
+
 }  // namespace
 
 void write_mesh(const mesh::Mesh& mesh, const Scene& scene, const std::filesystem::path& h5) {
@@ -231,6 +272,7 @@ void write_mesh(const mesh::Mesh& mesh, const Scene& scene, const std::filesyste
     for (int side = 0; side < 4; ++side)
       f.write(std::string("/mesh/boundary/") + mesh::side_names[side], flatten(mesh.boundary_edges[side], E),
               {mesh.boundary_edges[side].size(), E});
+    write_points(f, mesh);
     const Geometry& g = mesh.geometry;
     f.write_attribute("/mesh", "layout", std::string(to_string(g.layout)));
     if (g.rve()) write_rve_geometry(f, g);
@@ -336,6 +378,7 @@ MeshFile read_mesh(const std::filesystem::path& h5) {
   if (!m.geometry.rve() && (static_cast<int>(m.fibre_centres.size()) != m.n_cells() || S != 2 * m.fibre_centres.size()))
     throw InputError(where + "cell count does not match /mesh attribute cells");
   check_structure(m, is_fibre, where);
+  read_points(f, m, where);
   return out;
 }
 

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <map>
 #include <numbers>
+#include <tuple>
 
 namespace dualcell::mesh {
 
@@ -101,11 +102,26 @@ struct FineGrid {
   double a, r;
 };
 
+// The physical points of the block's matrix, by their fine grid index over the whole block
+// (ex·n + 1) × (ey·n + 1): the copies a shared cell edge gives one place are one point.
+struct BlockPoints {
+  int columns = 0, rows = 0;  // ex·n + 1, ey·n + 1
+  std::vector<int> point;     // block grid index -> point, −1 before its first node
+  int& at(int gx, int gy) { return point[gx + columns * gy]; }
+};
+
+// A new point for node v with the sides it lies on.
+int new_point(Mesh& mesh, std::uint8_t sides) {
+  mesh.point_sides.push_back(sides);
+  return mesh.n_points() - 1;
+}
+
 // Cell (cx, cy)'s matrix subdomain, its hole's rim on the circle about c: nodes (the outer
 // square from integer grid coordinates of the whole block, so that neighbouring cells produce
-// bitwise identical shared nodes), then triangles. Returns grid index -> node.
-std::vector<int> add_matrix(Mesh& mesh, std::vector<char>& keep, const FineGrid& g, int cx, int cy, int cell,
-                            const Eigen::Vector2d& cell_centre, const Eigen::Vector2d& c) {
+// bitwise identical shared nodes; their points by that block grid index), then triangles.
+// Returns grid index -> node.
+std::vector<int> add_matrix(Mesh& mesh, std::vector<char>& keep, BlockPoints& points, const FineGrid& g, int cx, int cy,
+                            int cell, const Eigen::Vector2d& cell_centre, const Eigen::Vector2d& c) {
   const int k = g.k, n = g.n, o = g.o;
   const double a = g.a, r = g.r;
   Subdomain matrix{false, cell, mesh.n_nodes(), 0, static_cast<int>(mesh.triangles.size()), 0};
@@ -128,6 +144,12 @@ std::vector<int> add_matrix(Mesh& mesh, std::vector<char>& keep, const FineGrid&
       grid[i + (n + 1) * j] = mesh.n_nodes();
       mesh.nodes.push_back(p);
       keep.push_back(l == k || l == 2 * k);
+      const int gx = cx * n + i, gy = cy * n + j;
+      int& point = points.at(gx, gy);
+      if (point < 0)
+        point = new_point(mesh, (gx == 0 ? side_bit(left) : 0) | (gx == points.columns - 1 ? side_bit(right) : 0) |
+                                    (gy == 0 ? side_bit(bottom) : 0) | (gy == points.rows - 1 ? side_bit(top) : 0));
+      mesh.point_of.push_back(point);
     }
   }
   for (int j = 0; j < n; j += o) {
@@ -143,8 +165,8 @@ std::vector<int> add_matrix(Mesh& mesh, std::vector<char>& keep, const FineGrid&
   return grid;
 }
 
-// Cell `cell`'s fibre subdomain about c: rings of its own grid, the outermost on the circle.
-// Returns grid index -> node.
+// Cell `cell`'s fibre subdomain about c: rings of its own grid, the outermost on the circle;
+// every node its own point, inside the cell. Returns grid index -> node.
 std::vector<int> add_fibre(Mesh& mesh, std::vector<char>& keep, const FineGrid& g, int cell, const Eigen::Vector2d& c) {
   const int k = g.k, o = g.o, m = 2 * k;
   const double r = g.r;
@@ -165,6 +187,7 @@ std::vector<int> add_fibre(Mesh& mesh, std::vector<char>& keep, const FineGrid& 
       fgrid[i + (m + 1) * j] = mesh.n_nodes();
       mesh.nodes.push_back(p);
       keep.push_back(l == k);
+      mesh.point_of.push_back(new_point(mesh, 0));
     }
   }
   for (int j = 0; j < m; j += o)
@@ -224,6 +247,14 @@ void add_glue_and_boundary(Mesh& mesh, const FineGrid& g, int ex, int ey,
     }
 }
 
+// The periodic pairs of the block's grid: right column to left column upwards, then top row to
+// bottom row rightwards.
+void add_periodic_pairs(Mesh& mesh, BlockPoints& points) {
+  const int X = points.columns - 1, Y = points.rows - 1;
+  for (int gy = 0; gy <= Y; ++gy) mesh.periodic_pairs.push_back({points.at(X, gy), points.at(0, gy), right});
+  for (int gx = 0; gx <= X; ++gx) mesh.periodic_pairs.push_back({points.at(gx, Y), points.at(gx, 0), top});
+}
+
 }  // namespace
 
 Mesh build_mesh(const Geometry& geometry) {
@@ -238,6 +269,8 @@ Mesh build_mesh(const Geometry& geometry) {
   mesh.nodes.reserve(static_cast<std::size_t>(n_cells) * (matrix_nodes_per_cell(k) + fibre_nodes_per_cell(k)));
   std::vector<char> keep;  // per node: its mapped position lies on the circle or a cell edge
   std::vector<std::vector<int>> matrix_grid(n_cells);  // grid index -> global node of each cell's matrix
+  BlockPoints points{ex * g.n + 1, ey * g.n + 1, {}};
+  points.point.assign(static_cast<std::size_t>(points.columns) * points.rows, -1);
   for (int cy = 0; cy < ey; ++cy) {
     for (int cx = 0; cx < ex; ++cx) {
       const int cell = cx + ex * cy;
@@ -246,7 +279,7 @@ Mesh build_mesh(const Geometry& geometry) {
       mesh.fibre_centres.push_back(c);
       mesh.fibre_radii.push_back(geometry.fibre_radius);
       const int matrix_index = static_cast<int>(mesh.subdomains.size());
-      matrix_grid[cell] = add_matrix(mesh, keep, g, cx, cy, cell, cell_centre, c);
+      matrix_grid[cell] = add_matrix(mesh, keep, points, g, cx, cy, cell, cell_centre, c);
       const int fibre_index = static_cast<int>(mesh.subdomains.size());
       const std::vector<int> fgrid = add_fibre(mesh, keep, g, cell, c);
       for (int index : {matrix_index, fibre_index})
@@ -256,6 +289,7 @@ Mesh build_mesh(const Geometry& geometry) {
     }
   }
   add_glue_and_boundary(mesh, g, ex, ey, matrix_grid);
+  add_periodic_pairs(mesh, points);
   return mesh;
 }
 
@@ -281,33 +315,137 @@ int side_of(const Mesh& mesh, const Eigen::Vector2d& a, const Eigen::Vector2d& b
   return -1;
 }
 
+double side_tolerance(const Mesh& mesh) { return 1e-9 * std::max(mesh.block_width(), mesh.block_height()); }
+
+std::vector<int> point_nodes(const Mesh& mesh) {
+  std::vector<int> node(mesh.n_points(), -1);
+  for (int v = 0; v < mesh.n_nodes(); ++v) node[mesh.point_of[v]] = v;
+  return node;
+}
+
+std::vector<char> fibre_nodes(const Mesh& mesh) {
+  std::vector<char> on_fibre(mesh.n_nodes(), 0);
+  for (const Subdomain& sub : mesh.subdomains)
+    if (sub.is_fibre) std::fill(on_fibre.begin() + sub.node_begin, on_fibre.begin() + sub.node_end, 1);
+  return on_fibre;
+}
+
+std::vector<int> side_points(const Mesh& mesh, int side) {
+  const std::vector<char> on_fibre = fibre_nodes(mesh);
+  const int axis = (side == left || side == right) ? 1 : 0;
+  std::vector<char> seen(mesh.n_points(), 0);
+  std::vector<std::tuple<double, char, int>> along;  // (coordinate along the side, fibre, point)
+  for (int v = 0; v < mesh.n_nodes(); ++v) {
+    const int p = mesh.point_of[v];
+    if (!(mesh.point_sides[p] & side_bit(side)) || seen[p]) continue;
+    seen[p] = 1;
+    along.emplace_back(mesh.nodes[v][axis], on_fibre[v], p);
+  }
+  std::sort(along.begin(), along.end());
+  std::vector<int> points;
+  for (const auto& [x, fibre, p] : along) points.push_back(p);
+  return points;
+}
+
+std::uint8_t sides_at(const Mesh& mesh, const Eigen::Vector2d& x, double tol) {
+  const double W = mesh.block_width(), H = mesh.block_height();
+  return (std::abs(x.x()) <= tol ? side_bit(left) : 0) | (std::abs(x.x() - W) <= tol ? side_bit(right) : 0) |
+         (std::abs(x.y()) <= tol ? side_bit(bottom) : 0) | (std::abs(x.y() - H) <= tol ? side_bit(top) : 0);
+}
+
+namespace {
+
+// point_problem's part for periodic_pairs, given every point's first node.
+std::string periodic_problem(const Mesh& mesh, const std::vector<int>& first, const std::vector<char>& on_fibre) {
+  const int P = mesh.n_points();
+  const double tol = side_tolerance(mesh);
+  // Per point how often it is the point (the partner) of a right pair [0] and of a top pair [1].
+  std::vector<std::array<int, 2>> as_point(P, {0, 0}), as_partner(P, {0, 0});
+  for (const auto& [side, opposite] : {std::pair{right, left}, std::pair{top, bottom}}) {
+    int n = 0, m = 0;
+    for (int p = 0; p < P; ++p) {
+      n += (mesh.point_sides[p] & side_bit(side)) != 0;
+      m += (mesh.point_sides[p] & side_bit(opposite)) != 0;
+    }
+    if (n != m)
+      return std::string("point_sides: the ") + side_names[side] + " side has " + std::to_string(n) + " points, the " +
+             side_names[opposite] + " side " + std::to_string(m);
+  }
+  for (std::size_t i = 0; i < mesh.periodic_pairs.size(); ++i) {
+    const auto [p, q, side] = mesh.periodic_pairs[i];
+    const std::string pair = "periodic_pairs: pair " + std::to_string(i);
+    if (p < 0 || p >= P || q < 0 || q >= P || (side != right && side != top))
+      return pair + ": a point or its side out of range";
+    const int opposite = side == right ? left : bottom;
+    const Eigen::Vector2d shift =
+        side == right ? Eigen::Vector2d(mesh.block_width(), 0) : Eigen::Vector2d(0, mesh.block_height());
+    if (!(mesh.point_sides[p] & side_bit(side)) || !(mesh.point_sides[q] & side_bit(opposite)) ||
+        on_fibre[first[p]] != on_fibre[first[q]] || (mesh.nodes[first[p]] - shift - mesh.nodes[first[q]]).norm() > tol)
+      return pair + ": the partner of a point on the " + side_names[side] + " side is not its copy on the " +
+             side_names[opposite] + " side";
+    ++as_point[p][side == top];
+    ++as_partner[q][side == top];
+  }
+  for (const auto& [side, opposite] : {std::pair{right, left}, std::pair{top, bottom}}) {
+    for (int p = 0; p < P; ++p)
+      if (((mesh.point_sides[p] & side_bit(side)) && as_point[p][side == top] != 1) ||
+          ((mesh.point_sides[p] & side_bit(opposite)) && as_partner[p][side == top] != 1))
+        return "periodic_pairs: point " + std::to_string(p) + " on the " +
+               side_names[(mesh.point_sides[p] & side_bit(side)) ? side : opposite] +
+               " side is not in exactly one pair";
+  }
+  return "";
+}
+
+}  // namespace
+
+std::string point_problem(const Mesh& mesh) {
+  const int N = mesh.n_nodes(), P = mesh.n_points();
+  if (static_cast<int>(mesh.point_of.size()) != N) return "point_of: not one point per node";
+  const double tol = side_tolerance(mesh);
+  const std::vector<char> on_fibre = fibre_nodes(mesh);
+  std::vector<int> first(P, -1);
+  for (int v = 0; v < N; ++v) {
+    const int p = mesh.point_of[v];
+    if (p < 0 || p >= P) return "point_of: node " + std::to_string(v) + " has a point out of range";
+    if (first[p] < 0) first[p] = v;
+    // Copies of one place in the matrix, or a fibre node alone.
+    const int u = first[p];
+    if (u != v && (on_fibre[u] || on_fibre[v] || (mesh.nodes[u] - mesh.nodes[v]).norm() > tol))
+      return "point_of: nodes " + std::to_string(u) + " and " + std::to_string(v) +
+             " share a point but are not copies of one place in the matrix";
+    if (sides_at(mesh, mesh.nodes[v], tol) != mesh.point_sides[p])
+      return "point_sides: point " + std::to_string(p) + " of node " + std::to_string(v) +
+             " is not marked with the sides the node lies on";
+  }
+  for (int p = 0; p < P; ++p)
+    if (first[p] < 0) return "point_sides: point " + std::to_string(p) + " has no node";
+  for (std::size_t q = 0; q < mesh.glue_pairs.size(); ++q)
+    if (mesh.point_of[mesh.glue_pairs[q][0]] != mesh.point_of[mesh.glue_pairs[q][1]])
+      return "glue_pairs: pair " + std::to_string(q) + " joins two points (point_of)";
+  for (std::size_t q = 0; q < mesh.interface_pairs.size(); ++q)
+    if (mesh.point_of[mesh.interface_pairs[q][0]] == mesh.point_of[mesh.interface_pairs[q][1]])
+      return "interface_pairs: pair " + std::to_string(q) + " joins the nodes of one point (point_of)";
+  return periodic_problem(mesh, first, on_fibre);
+}
+
 namespace {
 
 // An RVE's rim edges, from its fibre triangles: the edges of a fibre piece used by one of its
 // triangles only (its outline) whose end nodes are both on the rim, except those along the
-// rectangle's sides (a piece's straight cut). A rim node on the right or top side takes the pair
-// of its periodic copy on the left or bottom side.
+// rectangle's sides (a piece's straight cut). A rim point on the right or top side takes the pair
+// of its periodic partner on the left or bottom side (a corner's through both).
 std::vector<RimEdge> rve_interface_edges(const Mesh& mesh) {
-  const double W = mesh.block_width(), H = mesh.block_height();
-  const double eps = 1e-9 * std::max(W, H);
-  std::vector<int> pair_of(mesh.n_nodes(), -1);
-  std::map<std::pair<long long, long long>, int> on_left_or_bottom;  // rounded position -> pair
-  const auto key = [&](const Eigen::Vector2d& x) {
-    return std::pair{std::llround(x.x() / eps), std::llround(x.y() / eps)};
-  };
-  for (int p = 0; p < static_cast<int>(mesh.interface_pairs.size()); ++p) {
-    const int f = mesh.interface_pairs[p][0];
-    pair_of[f] = p;
-    on_left_or_bottom[key(mesh.nodes[f])] = p;
-  }
+  std::vector<int> pair_of(mesh.n_points(), -1), partner(mesh.n_points(), -1);
+  for (int p = 0; p < static_cast<int>(mesh.interface_pairs.size()); ++p)
+    pair_of[mesh.point_of[mesh.interface_pairs[p][0]]] = p;
+  // Right pairs first: a top-right corner goes left, then down.
+  for (const PeriodicPair& pp : mesh.periodic_pairs)
+    if (partner[pp.point] < 0) partner[pp.point] = pp.partner;
   const auto rim_pair = [&](int v) {
-    if (pair_of[v] >= 0) return pair_of[v];
-    const Eigen::Vector2d& x = mesh.nodes[v];
-    Eigen::Vector2d copy = x;
-    if (std::abs(x.x() - W) < eps) copy.x() -= W;
-    if (std::abs(x.y() - H) < eps) copy.y() -= H;
-    const auto it = copy == x ? on_left_or_bottom.end() : on_left_or_bottom.find(key(copy));
-    return it == on_left_or_bottom.end() ? -1 : it->second;
+    int p = mesh.point_of[v];
+    while (pair_of[p] < 0 && partner[p] >= 0) p = partner[p];
+    return pair_of[p];
   };
   std::map<std::pair<int, int>, std::pair<int, Edge>> uses;  // sorted corner pair -> (count, edge)
   const int width = mesh.triangles.width();
@@ -324,7 +462,7 @@ std::vector<RimEdge> rve_interface_edges(const Mesh& mesh) {
   std::vector<RimEdge> edges;
   for (const auto& [corners, use] : uses) {
     const auto& [count, e] = use;
-    if (count != 1 || side_of(mesh, mesh.nodes[e.a], mesh.nodes[e.b], eps) >= 0) continue;
+    if (count != 1 || (mesh.point_sides[mesh.point_of[e.a]] & mesh.point_sides[mesh.point_of[e.b]])) continue;
     const int pa = rim_pair(e.a), pb = rim_pair(e.b), pm = e.mid < 0 ? -1 : rim_pair(e.mid);
     if (pa < 0 || pb < 0 || (e.mid >= 0 && pm < 0)) continue;
     edges.push_back({{pa, pb, pm}, e});

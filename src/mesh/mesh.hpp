@@ -20,9 +20,14 @@
 // Interface pairs (fibre node, matrix node) coincide exactly, and so do glue pairs
 // (matrix nodes of neighbouring cells on a shared edge; at a cross point of four cells only
 // three pairs, so that the gluing rows are linearly independent).
+//
+// Point identity (Mesh::point_of, point_sides, periodic_pairs) is recorded by the mesher, which
+// knows it exactly (grid indices; gmsh's node tags and periodic copies), so that no consumer
+// compares coordinates to find a copy, a side or a periodic partner.
 #include <Eigen/Core>
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <span>
 #include <string>
 #include <vector>
@@ -89,6 +94,16 @@ struct Edge {
 // Sides of the block's outer boundary, in the order used everywhere (files, loads).
 enum Side { left = 0, right = 1, bottom = 2, top = 3 };
 inline constexpr std::array<const char*, 4> side_names{"left", "right", "bottom", "top"};
+// The bit of a side in Mesh::point_sides.
+inline constexpr std::uint8_t side_bit(int side) { return std::uint8_t(1u << side); }
+
+// A point on the right (top) side and its periodic partner on the left (bottom) side: the same
+// place one period Lx (Ly) back, of the same material (a fibre's point pairs with a fibre's).
+struct PeriodicPair {
+  int point = -1, partner = -1;
+  Side side = right;  // of `point`: right or top
+  bool operator==(const PeriodicPair&) const = default;
+};
 
 struct Mesh {
   Geometry geometry;
@@ -106,6 +121,17 @@ struct Mesh {
   // Outer boundary edges per Side, oriented counter-clockwise around the block, so the
   // outward normal of edge (a, b) is (b - a) rotated by -90°.
   std::array<std::vector<Edge>, 4> boundary_edges;
+  // Physical points. point_of[v]: the point of node v; the copies of one place in the matrix's
+  // subdomains (glued) share one point, while a fibre node and its matrix interface partner are
+  // two points (joined by interface rows, which may open). Points are numbered in the order of
+  // their first node; a point's rows act on its last node (point_nodes).
+  std::vector<int> point_of;
+  // Per point: the sides of the block it lies on (side_bit; a corner has two).
+  std::vector<std::uint8_t> point_sides;
+  // Every point on the right side with its partner on the left, ordered upwards, then every
+  // point on the top with its partner on the bottom, ordered rightwards; at one place the
+  // matrix's point before the fibre's. A corner point has a pair on each of its sides.
+  std::vector<PeriodicPair> periodic_pairs;
 
   Element element() const { return geometry.element; }
   int n_nodes() const { return static_cast<int>(nodes.size()); }
@@ -114,13 +140,36 @@ struct Mesh {
   int n_fibres() const { return static_cast<int>(fibre_centres.size()); }
   double block_width() const { return geometry.width(); }
   double block_height() const { return geometry.height(); }
+  int n_points() const { return static_cast<int>(point_sides.size()); }
 };
 
 // Builds the mesh of a validated geometry.
 Mesh build_mesh(const Geometry& geometry);
 
-// The side of the block (Side) on which both points a and b lie, within eps; −1 for none.
+// The side of the block (Side) on which both points a and b lie, within eps; −1 for none. For
+// the meshers and the reader's check; everything else reads Mesh::point_sides.
 int side_of(const Mesh& mesh, const Eigen::Vector2d& a, const Eigen::Vector2d& b, double eps);
+// The tolerance of the meshers and of the reader's check for "on a side" and "at the same place
+// on the opposite side": 1e-9 of the block's larger side (fem::node_reach of the block).
+double side_tolerance(const Mesh& mesh);
+// The sides of the block position x lies on, within tol, as side bits (a corner: two).
+std::uint8_t sides_at(const Mesh& mesh, const Eigen::Vector2d& x, double tol);
+
+// 1 for the nodes of fibre subdomains.
+std::vector<char> fibre_nodes(const Mesh& mesh);
+// Per point its last node: the node the point's constraint rows act on.
+std::vector<int> point_nodes(const Mesh& mesh);
+// The points on `side` (from point_sides) in order along it, left to right or bottom to top; at
+// one place the matrix's point before the fibre's. Ordered by the coordinate along the side
+// (only the order, never which points are on it).
+std::vector<int> side_points(const Mesh& mesh, int side);
+// What is wrong with point_of, point_sides and periodic_pairs, or "" when nothing is: sizes and
+// ranges; glued copies of one point, interface pairs of two; every point's sides those its nodes
+// lie on; every point of the right (top) side in exactly one pair, with a partner of the same
+// material on the left (bottom) side at the same place one period back, and every point of the
+// left (bottom) side the partner of exactly one — so opposite sides have equally many points.
+// Within side_tolerance. The meshers' own check and the reader's.
+std::string point_problem(const Mesh& mesh);
 
 // Smallest interior angle over all triangles (of their corners), in degrees.
 double minimum_angle_deg(const Mesh& mesh);

@@ -18,114 +18,92 @@ namespace dualcell::primal {
 
 namespace {
 
-// The block as one body: every node's root (glued copies merged; with `holes` the fibres are
-// absent, otherwise their interface nodes merge with the matrix's), by union–find.
+// The block as one body: its points are the mesh's physical points (glued copies are one
+// already), a fibre's interface point merged into its matrix partner; with `holes` the fibres
+// are absent instead.
 struct Points {
-  std::vector<int> parent;
-  std::vector<bool> absent;  // fibre nodes left out (holes)
-  int find(int v) {
-    while (parent[v] != v) v = parent[v] = parent[parent[v]];
-    return v;
-  }
+  std::vector<int> body;      // per mesh point: its point of the body
+  std::vector<int> of_node;   // per node: its point of the body
+  std::vector<bool> absent;   // per node: a fibre node left out (holes)
+  std::vector<bool> missing;  // per mesh point: the same
 };
 
 Points merge_points(const mesh::Mesh& m, bool holes) {
-  const int N = m.n_nodes();
   Points p;
-  p.parent.resize(N);
-  std::iota(p.parent.begin(), p.parent.end(), 0);
-  for (const auto& [a, b] : m.glue_pairs) p.parent[p.find(a)] = p.find(b);
+  p.body.resize(m.n_points());
+  std::iota(p.body.begin(), p.body.end(), 0);
   if (!holes)
-    for (const auto& [a, b] : m.interface_pairs) p.parent[p.find(a)] = p.find(b);
-  p.absent.assign(N, false);
-  if (holes)
-    for (const auto& sub : m.subdomains)
-      if (sub.is_fibre)
-        for (int v = sub.node_begin; v < sub.node_end; ++v) p.absent[v] = true;
+    for (const auto& [f, mn] : m.interface_pairs) p.body[m.point_of[f]] = m.point_of[mn];
+  const std::vector<char> on_fibre = mesh::fibre_nodes(m);
+  p.absent.assign(m.n_nodes(), false);
+  p.missing.assign(m.n_points(), false);
+  for (int v = 0; v < m.n_nodes(); ++v) {
+    p.of_node.push_back(p.body[m.point_of[v]]);
+    if (holes && on_fibre[v]) p.absent[v] = p.missing[m.point_of[v]] = true;
+  }
   return p;
 }
 
-// Whether node v lies on a side of the block (physical points by position).
-bool on_side(const mesh::Mesh& m, int v, int side) {
-  const double W = m.block_width(), H = m.block_height(), tol = 1e-12 * (W + H);
-  const auto& x = m.nodes[v];
-  switch (side) {
-    case mesh::left:
-      return std::abs(x.x()) < tol;
-    case mesh::right:
-      return std::abs(x.x() - W) < tol;
-    case mesh::bottom:
-      return std::abs(x.y()) < tol;
-    default:
-      return std::abs(x.y() - H) < tol;
-  }
-}
-
-// Periodic: root of a right or top point → (its master's root on the opposite side, the
+// Periodic: a right or top point of the body → (its partner's on the opposite side, the
 // coefficients of the jump H·(W, 0) or H·(0, H) on the macro DOFs (εxx, εyy, γxy) per component).
+// A top-right corner follows its right pair.
 using Slaves = std::map<int, std::pair<int, Eigen::Matrix<double, 2, 3>>>;
-Slaves periodic_slaves(const mesh::Mesh& m, Points& p) {
-  const int N = m.n_nodes();
+Slaves periodic_slaves(const mesh::Mesh& m, const Points& p) {
   const double W = m.block_width(), H = m.block_height();
   Slaves slave;
-  std::map<std::pair<long, long>, int> at;  // rounded position → root
-  auto key = [&](const Eigen::Vector2d& x) {
-    return std::pair<long, long>(std::lround(x.x() * 1e9), std::lround(x.y() * 1e9));
-  };
-  for (int v = 0; v < N; ++v) at[key(m.nodes[v])] = p.find(v);
-  for (int v = 0; v < N; ++v) {
-    const int root = p.find(v);
-    if (slave.count(root)) continue;
-    Eigen::Matrix<double, 2, 3> J = Eigen::Matrix<double, 2, 3>::Zero();
-    // u_right = u_left + H(W, 0): x: W εxx, y: W γ/2. u_top = u_bottom + H(0, H): x: H γ/2, y: H εyy.
-    if (on_side(m, v, mesh::right)) {
-      J << W, 0, 0, 0, 0, W / 2;
-      slave[root] = {at[key(m.nodes[v] - Eigen::Vector2d(W, 0))], J};
-    } else if (on_side(m, v, mesh::top)) {
-      J << 0, 0, H / 2, 0, H, 0;
-      slave[root] = {at[key(m.nodes[v] - Eigen::Vector2d(0, H))], J};
+  for (const mesh::Side side : {mesh::right, mesh::top})
+    for (const mesh::PeriodicPair& pair : m.periodic_pairs) {
+      if (pair.side != side || slave.count(p.body[pair.point])) continue;
+      Eigen::Matrix<double, 2, 3> J = Eigen::Matrix<double, 2, 3>::Zero();
+      // u_right = u_left + H(W, 0): x: W εxx, y: W γ/2. u_top = u_bottom + H(0, H): x: H γ/2, y: H εyy.
+      if (side == mesh::right)
+        J << W, 0, 0, 0, 0, W / 2;
+      else
+        J << 0, 0, H / 2, 0, H, 0;
+      slave[p.body[pair.point]] = {p.body[pair.partner], J};
     }
-  }
   return slave;
 }
 
-// The Dirichlet DOFs (root, component) of the boundary and their values.
-std::map<std::pair<int, int>, double> held_dofs(const mesh::Mesh& m, const Scene& scene, Points& p,
+// The points of the body on a side (those present), in order along it.
+std::vector<int> side_points(const mesh::Mesh& m, const Points& p, int side) {
+  std::vector<int> points;
+  for (int q : mesh::side_points(m, side))
+    if (!p.missing[q]) points.push_back(p.body[q]);
+  return points;
+}
+
+// The Dirichlet DOFs (point of the body, component) of the boundary and their values.
+std::map<std::pair<int, int>, double> held_dofs(const mesh::Mesh& m, const Scene& scene, const Points& p,
                                                 double load_factor) {
-  const int N = m.n_nodes();
-  const double W = m.block_width(), H = m.block_height();
   std::map<std::pair<int, int>, double> fixed;
-  // The (merged) node at a corner or support; a position off the mesh is an input error, never
-  // a silent −1.
-  auto corner = [&](double x, double y) {
-    const int v = fem::node_near(
-        N, [&](int i) { return m.nodes[i]; }, Eigen::Vector2d(x, y), std::max(W, H));
-    if (v < 0) throw InputError(position_text("", "support", Eigen::Vector2d(x, y)) + ": no node of the mesh there");
-    return p.find(v);
-  };
+  // The corners of the block: the ends of its bottom side.
+  const std::vector<int> bottom = side_points(m, p, mesh::bottom);
   switch (scene.load.boundary) {
     case Boundary::symmetry:
-      for (int v = 0; v < N; ++v) {
-        if (on_side(m, v, mesh::left)) fixed[{p.find(v), 0}] = 0.0;
-        if (on_side(m, v, mesh::bottom)) fixed[{p.find(v), 1}] = 0.0;
-      }
+      for (int q : side_points(m, p, mesh::left)) fixed[{q, 0}] = 0.0;
+      for (int q : bottom) fixed[{q, 1}] = 0.0;
       break;
     case Boundary::traction:
-      fixed[{corner(0, 0), 0}] = fixed[{corner(0, 0), 1}] = fixed[{corner(W, 0), 1}] = 0.0;
+      fixed[{bottom.front(), 0}] = fixed[{bottom.front(), 1}] = fixed[{bottom.back(), 1}] = 0.0;
       break;
     case Boundary::periodic:
-      fixed[{corner(0, 0), 0}] = fixed[{corner(0, 0), 1}] = 0.0;
+      fixed[{bottom.front(), 0}] = fixed[{bottom.front(), 1}] = 0.0;
       break;
     case Boundary::edges: {
-      // The merged nodes on each side, and the conditions on them as the dual solver's rows
-      // have them (fem::held_components: the first condition wins at a point held twice).
+      // The points on each side, and the conditions on them as the dual solver's rows have them
+      // (fem::held_components: the first condition wins at a point held twice). A support is at
+      // a position the scene gives, off the mesh an input error, never a silent −1.
       const int sides[4] = {mesh::left, mesh::right, mesh::bottom, mesh::top};
       std::array<std::vector<int>, 4> edge_points;
-      for (int e = 0; e < 4; ++e)
-        for (int v = 0; v < N; ++v)
-          if (!p.absent[v] && on_side(m, v, sides[e])) edge_points[e].push_back(p.find(v));
-      const auto held = fem::held_components(scene.load.edge_loads, edge_points,
-                                             [&](const Support& s) { return corner(s.at.x(), s.at.y()); });
+      for (int e = 0; e < 4; ++e) edge_points[e] = side_points(m, p, sides[e]);
+      const auto support_point = [&](const Support& s) {
+        const int v = fem::node_near(
+            m.n_nodes(), [&](int i) { return m.nodes[i]; }, s.at, std::max(m.block_width(), m.block_height()));
+        if (v < 0) throw InputError(position_text("", "support", s.at) + ": no node of the mesh there");
+        return p.of_node[v];
+      };
+      const auto held = fem::held_components(scene.load.edge_loads, edge_points, support_point);
       for (const fem::HeldComponent& h : held) fixed.insert({{h.point, h.component}, load_factor * h.value});
       break;
     }
@@ -180,15 +158,15 @@ Eigen::VectorXd solve_refined(const Eigen::SparseMatrix<double>& K_red, const Ei
 Eigen::VectorXd solve_one_body(const mesh::Mesh& m, const Scene& scene, const Eigen::VectorXd& f, bool holes,
                                bool refine, double* seconds_factorise_solve, double load_factor) {
   const int N = m.n_nodes();
-  Points points = merge_points(m, holes);
+  const Points points = merge_points(m, holes);
   const bool periodic = scene.load.boundary == Boundary::periodic;
-  Slaves slave = periodic ? periodic_slaves(m, points) : Slaves{};
+  const Slaves slave = periodic ? periodic_slaves(m, points) : Slaves{};
   const std::map<std::pair<int, int>, double> fixed = held_dofs(m, scene, points, load_factor);
   // Reduced numbering: u = T z + u_D, z the free DOFs of the masters (and the macro DOFs).
   std::map<std::pair<int, int>, int> index;
   int n = 0;
   for (int v = 0; v < N; ++v) {
-    const int root = points.find(v);
+    const int root = points.of_node[v];
     if (slave.count(root) || points.absent[v]) continue;
     for (int c = 0; c < 2; ++c)
       if (!fixed.count({root, c}) && !index.count({root, c})) index[{root, c}] = n++;
@@ -200,11 +178,11 @@ Eigen::VectorXd solve_one_body(const mesh::Mesh& m, const Scene& scene, const Ei
   for (int v = 0; v < N; ++v)
     for (int c = 0; c < 2; ++c) {
       if (points.absent[v]) continue;
-      int root = points.find(v);
+      int root = points.of_node[v];
       Eigen::RowVector3d jump = Eigen::RowVector3d::Zero();
       while (slave.count(root)) {
-        jump += slave[root].second.row(c);
-        root = slave[root].first;
+        jump += slave.at(root).second.row(c);
+        root = slave.at(root).first;
       }
       if (!fixed.count({root, c})) t.emplace_back(2 * v + c, index.at({root, c}), 1.0);
       for (int k = 0; k < 3; ++k)
@@ -220,7 +198,7 @@ Eigen::VectorXd solve_one_body(const mesh::Mesh& m, const Scene& scene, const Ei
   Eigen::VectorXd u_D = Eigen::VectorXd::Zero(dim);
   for (int v = 0; v < N; ++v)
     for (int c = 0; c < 2; ++c)
-      if (const auto it = fixed.find({points.find(v), c}); it != fixed.end() && !points.absent[v])
+      if (const auto it = fixed.find({points.of_node[v], c}); it != fixed.end() && !points.absent[v])
         u_D(2 * v + c) = it->second;
   const Eigen::VectorXd f_red = T.transpose() * (f - K * u_D);
   return T * solve_refined(K_red, f_red, refine, seconds_factorise_solve) + u_D;

@@ -230,6 +230,63 @@ void add_boundary_edges(mesh::Mesh& mesh, double eps) {
               [&](const mesh::Edge& x, const mesh::Edge& y) { return along(side, x) < along(side, y); });
 }
 
+// The physical points of the nodes, gmsh node tag by tag (tag_of: per node): the matrix's copies
+// of a tag are one point, a fibre piece's copy another (joined by an interface pair, or on the
+// right or top side by its partner's); the sides from the tag's position. Periodic pairs: gmsh
+// meshed the right (top) curves as copies of the left (bottom) ones, so the two sides hold the
+// same places in the same order along them, the matrix's point before the fibre's at each;
+// point_problem checks that every partner is at its place.
+void add_points(mesh::Mesh& mesh, const std::vector<std::size_t>& tag_of, double eps) {
+  std::unordered_map<std::size_t, int> matrix_point;
+  for (const mesh::Subdomain& sub : mesh.subdomains)
+    for (int v = sub.node_begin; v < sub.node_end; ++v) {
+      const auto [it, fresh] = matrix_point.emplace(tag_of[v], mesh.n_points());
+      if (fresh || sub.is_fibre) mesh.point_sides.push_back(mesh::sides_at(mesh, mesh.nodes[v], eps));
+      mesh.point_of.push_back(sub.is_fibre ? mesh.n_points() - 1 : it->second);
+      if (fresh && sub.is_fibre) matrix_point.erase(it);
+    }
+  for (const auto& [side, opposite] : {std::pair{mesh::right, mesh::left}, std::pair{mesh::top, mesh::bottom}}) {
+    const std::vector<int> copies = mesh::side_points(mesh, side), places = mesh::side_points(mesh, opposite);
+    for (std::size_t i = 0; i < std::min(copies.size(), places.size()); ++i)
+      mesh.periodic_pairs.push_back({copies[i], places[i], side});
+  }
+  if (const std::string problem = mesh::point_problem(mesh); !problem.empty())
+    throw InputError("the periodic mesh does not match: " + problem);
+}
+
+// Interface pairs, fibre piece by fibre piece along its rim (by angle about its centre), and
+// glue pairs where matrix subdomains meet, from the copies of every gmsh node tag: (subdomain,
+// node), the matrix's n_matrix subdomains first.
+void add_pairs(mesh::Mesh& mesh, const std::map<std::size_t, std::vector<std::pair<int, int>>>& copies, int n_matrix,
+               double eps) {
+  std::vector<std::vector<std::pair<double, std::array<int, 2>>>> rim(mesh.fibre_centres.size());
+  for (const auto& [tag, c] : copies) {
+    std::vector<int> in_matrix;
+    for (const auto& [s, v] : c)
+      if (s < n_matrix) in_matrix.push_back(v);
+    for (std::size_t k = 1; k < in_matrix.size(); ++k) mesh.glue_pairs.push_back({in_matrix[0], in_matrix[k]});
+    if (in_matrix.empty()) continue;
+    // A rim point on the right or top side is the periodic copy of one on the left or bottom:
+    // one physical point, one pair (two would be the same row twice; interface_edges gives
+    // the copy's rim length to the pair it shares).
+    const Eigen::Vector2d& at = mesh.nodes[c.front().second];
+    if (std::abs(at.x() - mesh.block_width()) < eps || std::abs(at.y() - mesh.block_height()) < eps) continue;
+    for (const auto& [s, v] : c)
+      if (s >= n_matrix) {
+        const int piece = s - n_matrix;
+        const Eigen::Vector2d d = mesh.nodes[v] - mesh.fibre_centres[piece];
+        rim[piece].push_back({std::atan2(d.y(), d.x()), {v, in_matrix[0]}});
+      }
+  }
+  for (std::size_t piece = 0; piece < rim.size(); ++piece) {
+    std::sort(rim[piece].begin(), rim[piece].end());
+    for (const auto& [angle, pair] : rim[piece]) {
+      mesh.interface_pairs.push_back(pair);
+      mesh.interface_cell.push_back(static_cast<int>(piece));
+    }
+  }
+}
+
 // The gmsh mesh of the fragmented geometry, split and turned into the solver's mesh.
 mesh::Mesh collect_mesh(const Geometry& geometry, const Microstructure& m, const std::vector<Image>& images,
                         const std::vector<Surface>& surfaces, int subdomain_dofs, MeshReport& report) {
@@ -268,6 +325,7 @@ mesh::Mesh collect_mesh(const Geometry& geometry, const Microstructure& m, const
   mesh.triangles = mesh::Triangles(width);
   // Every subdomain its own copy of its nodes; copies[tag]: (subdomain, node) of each.
   std::map<std::size_t, std::vector<std::pair<int, int>>> copies;
+  std::vector<std::size_t> tag_of;  // per node
   for (int s = 0; s < static_cast<int>(rows_of.size()); ++s) {
     mesh::Subdomain sub;
     sub.is_fibre = s >= n_matrix;
@@ -279,6 +337,7 @@ mesh::Mesh collect_mesh(const Geometry& geometry, const Microstructure& m, const
       const auto [it, fresh] = local.emplace(tag, mesh.n_nodes());
       if (fresh) {
         mesh.nodes.push_back(position.at(tag));
+        tag_of.push_back(tag);
         copies[tag].push_back({s, it->second});
       }
       return it->second;
@@ -302,36 +361,10 @@ mesh::Mesh collect_mesh(const Geometry& geometry, const Microstructure& m, const
     mesh.fibre_centres.push_back(images[image].centre);
     mesh.fibre_radii.push_back(images[image].radius);
   }
-  // Interface pairs, fibre piece by fibre piece along its rim (by angle about its centre), and
-  // glue pairs where matrix subdomains meet.
-  std::vector<std::vector<std::pair<double, std::array<int, 2>>>> rim(fibres.size());
   const double eps = 1e-9 * std::max(m.Lx, m.Ly);
-  for (const auto& [tag, c] : copies) {
-    std::vector<int> in_matrix;
-    for (const auto& [s, v] : c)
-      if (s < n_matrix) in_matrix.push_back(v);
-    for (std::size_t k = 1; k < in_matrix.size(); ++k) mesh.glue_pairs.push_back({in_matrix[0], in_matrix[k]});
-    if (in_matrix.empty()) continue;
-    // A rim point on the right or top side is the periodic copy of one on the left or bottom:
-    // one physical point, one pair (two would be the same row twice; interface_edges gives
-    // the copy's rim length to the pair it shares).
-    const Eigen::Vector2d& at = position.at(tag);
-    if (std::abs(at.x() - m.Lx) < eps || std::abs(at.y() - m.Ly) < eps) continue;
-    for (const auto& [s, v] : c)
-      if (s >= n_matrix) {
-        const int piece = s - n_matrix;
-        const Eigen::Vector2d d = mesh.nodes[v] - mesh.fibre_centres[piece];
-        rim[piece].push_back({std::atan2(d.y(), d.x()), {v, in_matrix[0]}});
-      }
-  }
-  for (std::size_t piece = 0; piece < rim.size(); ++piece) {
-    std::sort(rim[piece].begin(), rim[piece].end());
-    for (const auto& [angle, pair] : rim[piece]) {
-      mesh.interface_pairs.push_back(pair);
-      mesh.interface_cell.push_back(static_cast<int>(piece));
-    }
-  }
+  add_pairs(mesh, copies, n_matrix, eps);
   add_boundary_edges(mesh, eps);
+  add_points(mesh, tag_of, eps);
   report.fibre_pieces = static_cast<int>(fibres.size());
   report.matrix_parts = n_matrix;
   return mesh;

@@ -598,6 +598,41 @@ def write_h5(bin_dir):
     h5case("mesh", "mesh-element-p2-on-p1.h5", "input", "/mesh/triangles: expected shape",
            "a p1 mesh (T×3 triangles) that claims 6-node triangles",
            edited(m, lambda f: f["/mesh"].attrs.__setitem__("element", "p2")))
+    # The physical points and periodic pairs (mesh::Mesh::point_of, point_sides, periodic_pairs).
+    def swap_partners(f):
+        pairs = np.asarray(f["/mesh/periodic_pairs"])
+        pairs[[1, 2], 1] = pairs[[2, 1], 1]
+        replace(f, "/mesh/periodic_pairs", pairs)
+
+    def left_point_off_its_side(f):
+        sides = np.asarray(f["/mesh/point_sides"])
+        point = int(np.flatnonzero(sides == 1)[0])  # on the left side only
+        node = int(np.flatnonzero(np.asarray(f["/mesh/point_of"]) == point)[-1])
+        f["/mesh/nodes"][node, 0] = 1e-3
+        sides[point] = 0
+        replace(f, "/mesh/point_sides", sides)
+        # and the boundary edges through it left out, so that only the sides' points disagree
+        edges = np.asarray(f["/mesh/boundary/left"])
+        replace(f, "/mesh/boundary/left", edges[~(edges == node).any(axis=1)])
+
+    h5case("mesh", "mesh-periodic-partner-swapped.h5", "input",
+           "/mesh/periodic_pairs: pair 1: the partner of a point on the right side is not its copy",
+           "two right points' partners on the left side swapped", edited(m, swap_partners))
+    h5case("mesh", "mesh-periodic-pairs-short.h5", "input", "side is not in exactly one pair",
+           "the last periodic pair (top-right corner to bottom-right) left out",
+           edited(m, lambda f: replace(f, "/mesh/periodic_pairs", np.asarray(f["/mesh/periodic_pairs"])[:-1])))
+    h5case("mesh", "mesh-periodic-pairs-missing.h5", "input", "/mesh/periodic_pairs: missing dataset",
+           "no periodic pairs (a mesh.h5 of an earlier format, its format attribute edited)",
+           edited(m, lambda f: f.__delitem__("/mesh/periodic_pairs")))
+    h5case("mesh", "mesh-periodic-pairs-side.h5", "input", "/mesh/periodic_pairs: pair 0 has side 0",
+           "a periodic pair from the left side",
+           edited(m, lambda f: f["/mesh/periodic_pairs"].__setitem__((0, 2), 0)))
+    h5case("mesh", "mesh-point-of-high.h5", "input", "/mesh/point_of: point",
+           "a node whose point is past the last point",
+           edited(m, lambda f: f["/mesh/point_of"].__setitem__(0, f["/mesh/point_sides"].shape[0])))
+    h5case("mesh", "mesh-unequal-sides.h5", "input", "/mesh/point_sides: the right side has",
+           "a left point moved off its side, its side mark and boundary edges with it: unequal sides",
+           edited(m, left_point_off_its_side))
     h5case("mesh", "mesh-subdomain-cell-high.h5", "input", "/mesh/subdomain_cell", "a subdomain of cell 7 of 1",
            edited(m, lambda f: f["/mesh/subdomain_cell"].__setitem__(0, 7)))
     h5case("mesh", "mesh-subdomain-fibre-flags.h5", "input", "/mesh/subdomain_is_fibre",

@@ -29,6 +29,9 @@ TEST_P(MeshFileOrders, RoundTripKeepsEverything) {
   EXPECT_EQ(back.mesh.interface_pairs, m.interface_pairs);
   EXPECT_EQ(back.mesh.glue_pairs, m.glue_pairs);
   EXPECT_EQ(back.mesh.boundary_edges, m.boundary_edges);
+  EXPECT_EQ(back.mesh.point_of, m.point_of);
+  EXPECT_EQ(back.mesh.point_sides, m.point_sides);
+  EXPECT_EQ(back.mesh.periodic_pairs, m.periodic_pairs);
   EXPECT_EQ(back.mesh.subdomains.size(), m.subdomains.size());
   EXPECT_EQ(back.scene_text, scene.text);
   EXPECT_EQ(geometry_mismatch(back.mesh, scene), "");
@@ -115,6 +118,72 @@ TEST(MeshFile, CorruptOrForeignFilesAreRefused) {
         << e.what();
   }
   EXPECT_THROW(read_mesh(dir / "absent.h5"), InputError);
+}
+
+// A file whose periodic partners are broken, or whose sides are unequal, is refused with one
+// line naming the file, the dataset and what is wrong.
+TEST(MeshFile, BrokenPartnersAndUnequalSidesAreRefused) {
+  testing::ScratchDir dir;
+  const Scene scene = parse_scene(testing::scene_text(1, 1, 1, 0.3), dir / "s.toml");
+  const mesh::Mesh m = mesh::build_mesh(scene.geometry);
+  write_mesh(m, scene, dir / "mesh.h5");
+  const auto refused = [&](const std::string& name, const auto& edit, const std::string& message) {
+    std::filesystem::copy_file(dir / "mesh.h5", dir / name);
+    {
+      File f = File::open_write(dir / name);
+      edit(f);
+    }
+    try {
+      read_mesh(dir / name);
+      ADD_FAILURE() << name << " accepted";
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.what(), (dir / name).string() + ": " + message);
+    }
+  };
+  std::vector<std::int64_t> pairs;
+  for (const auto& [p, q, side] : m.periodic_pairs) pairs.insert(pairs.end(), {p, q, side});
+  const auto write_pairs = [](File& f, std::vector<std::int64_t> rows) {
+    f.remove("/mesh/periodic_pairs");
+    f.write("/mesh/periodic_pairs", rows, {rows.size() / 3, 3});
+  };
+  auto swapped = pairs;
+  std::swap(swapped[1 * 3 + 1], swapped[2 * 3 + 1]);
+  refused(
+      "swapped.h5", [&](File& f) { write_pairs(f, swapped); },
+      "/mesh/periodic_pairs: pair 1: the partner of a point on the right side is not its copy on the left side");
+  refused(
+      "short.h5",
+      [&](File& f) {
+        write_pairs(f, {pairs.begin(), pairs.end() - 3});
+      },
+      "/mesh/periodic_pairs: point " + std::to_string(m.periodic_pairs.back().partner) +
+          " on the bottom side is not in exactly one pair");
+  auto far = pairs;
+  far[0] = 100000;
+  refused(
+      "range.h5", [&](File& f) { write_pairs(f, far); },
+      "/mesh/periodic_pairs: point 100000 out of range [0, " + std::to_string(m.n_points()) + ")");
+  // A left point moved off the side with its mark and its boundary edges: the left side one point
+  // short of the right.
+  const int v = mesh::point_nodes(m)[mesh::side_points(m, mesh::left)[1]];
+  refused(
+      "unequal.h5",
+      [&](File& f) {
+        auto nodes = f.read_doubles("/mesh/nodes", {any_extent, 2});
+        nodes[2 * v] = 1e-3;
+        f.remove("/mesh/nodes");
+        f.write("/mesh/nodes", nodes, {nodes.size() / 2, 2});
+        auto sides = f.read_ints("/mesh/point_sides", {any_extent});
+        sides[m.point_of[v]] = 0;
+        f.remove("/mesh/point_sides");
+        f.write("/mesh/point_sides", sides, {sides.size()});
+        std::vector<std::int64_t> edges;  // p2: (a, b, mid)
+        for (const mesh::Edge& e : m.boundary_edges[mesh::left])
+          if (e.a != v && e.b != v && e.mid != v) edges.insert(edges.end(), {e.a, e.b, e.mid});
+        f.remove("/mesh/boundary/left");
+        f.write("/mesh/boundary/left", edges, {edges.size() / 3, 3});
+      },
+      "/mesh/point_sides: the right side has 9 points, the left side 8");
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include <set>
 
 #include "fem/element.hpp"
+#include "mesh/points_check.hpp"
 
 namespace dualcell::mesh {
 namespace {
@@ -54,6 +55,42 @@ TEST(Mesh, PairsCoincideAndAreCounted) {
       EXPECT_NE(a, b);
     }
   }
+}
+
+// The points, sides and periodic pairs the mapped mesher takes from its grid are those the
+// coordinates say, p1 and p2, one cell and several, the fibre off centre.
+TEST(Mesh, PointsSidesAndPeriodicPairsAreWhatTheCoordinatesSay) {
+  for (auto [ex, ey, k, element] :
+       {std::tuple{1, 1, 1, Element::p1}, {3, 2, 2, Element::p1}, {2, 3, 2, Element::p2}, {1, 2, 3, Element::p2}}) {
+    Geometry g = geometry(ex, ey, k, 0.3, 0.05, -0.02);
+    g.element = element;
+    const Mesh m = build_mesh(g);
+    SCOPED_TRACE(std::to_string(ex) + "x" + std::to_string(ey) + " degree " + std::to_string(k));
+    testing::expect_points_match_coordinates(m, 1e-12);
+    // Every side has (cells · 4k · order) + 1 points, and glued copies are one point.
+    const int o = element_order(element);
+    EXPECT_EQ(side_points(m, left).size(), std::size_t(ey * 4 * k * o + 1));
+    EXPECT_EQ(side_points(m, bottom).size(), std::size_t(ex * 4 * k * o + 1));
+    EXPECT_EQ(m.n_points(), m.n_nodes() - static_cast<int>(m.glue_pairs.size()));
+  }
+}
+
+// What point_problem refuses: a left side with a point more than the right.
+TEST(Mesh, UnequalSidesAndBrokenPairsAreProblems) {
+  Mesh m = build_mesh(geometry(1, 1, 1, 0.3));
+  ASSERT_EQ(point_problem(m), "");
+  Mesh broken = m;
+  std::swap(broken.periodic_pairs[1].partner, broken.periodic_pairs[2].partner);
+  EXPECT_EQ(point_problem(broken),
+            "periodic_pairs: pair 1: the partner of a point on the right side is not its copy on the left side");
+  broken = m;
+  broken.periodic_pairs.pop_back();
+  EXPECT_NE(point_problem(broken).find("side is not in exactly one pair"), std::string::npos);
+  // A left point moved off the side, its mark with it: the left side is one point short.
+  const int v = point_nodes(m)[side_points(m, left)[1]];
+  m.nodes[v].x() = 1e-3;
+  m.point_sides[m.point_of[v]] = 0;
+  EXPECT_EQ(point_problem(m), "point_sides: the right side has 5 points, the left side 4");
 }
 
 TEST(Mesh, NodeSubdomainsAndPairsAreConsistent) {

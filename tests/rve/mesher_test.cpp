@@ -20,6 +20,7 @@
 #include "feti/solver.hpp"
 #include "law/condensed.hpp"
 #include "mesh/mesh.hpp"
+#include "mesh/points_check.hpp"
 #include "test_util.hpp"
 
 namespace dualcell::rve {
@@ -161,6 +162,8 @@ TEST(RveMesher, ARandomRveMeshCoversItsFibresAndItsSidesMatch) {
     EXPECT_NEAR((mesh.nodes[f] - mesh.fibre_centres[k]).norm(), mesh.fibre_radii[k], 1e-12);
     EXPECT_EQ(mesh.nodes[f], mesh.nodes[m]);
   }
+  // The points, sides and periodic pairs the mesher took from gmsh are what the coordinates say.
+  testing::expect_points_match_coordinates(mesh, 1e-9);
   for (const auto& [from, to, axis] : {std::tuple{mesh::left, mesh::right, 1}, {mesh::bottom, mesh::top, 0}}) {
     std::vector<double> a, b;
     for (const auto& e : mesh.boundary_edges[from]) a.push_back(mesh.nodes[e.a][axis]);
