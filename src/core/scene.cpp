@@ -135,9 +135,9 @@ void validate_rve(const Checker& c, const Scene& scene) {
       r_mean += f.radius / geo.fibres.size();
     }
   }
-  // The mesh budget: elements of edge h = π r_mean / (4 k) (as a mapped cell's rim), about
-  // 2.3 area / h² triangles, (2k)² more nodes per corner node for p2.
-  const double h = std::numbers::pi * r_mean / (4 * geo.degree);
+  // The mesh budget: elements of edge h (rve_element_size), about 2.3 area / h² triangles, (2k)²
+  // more nodes per corner node for p2.
+  const double h = rve_element_size(r_mean, geo.degree);
   const double nodes = 1.2 * geo.size[0] * geo.size[1] / (h * h) * (geo.element == Element::p2 ? 4 : 1);
   if (nodes > max_mesh_nodes) {
     std::ostringstream s;
@@ -150,6 +150,12 @@ void validate_rve(const Checker& c, const Scene& scene) {
     c.fail("load", "boundary", to_string(scene.load.boundary),
            "an RVE (size = [Lx, Ly]) is periodic: boundary = \"periodic\"");
 }
+
+}  // namespace
+
+double rve_element_size(double mean_radius, int degree) { return std::numbers::pi * mean_radius / (4 * degree); }
+
+namespace {
 
 void validate_geometry(const Checker& c, const Scene& scene) {
   const Geometry& geo = scene.geometry;

@@ -73,6 +73,13 @@ struct Geometry {
   double height() const { return rve() ? size[1] : cells[1] * cell_size; }
 };
 
+// The element size of an RVE's mesh, h = π r̄/(4k) with r̄ the fibres' mean radius and k the
+// degree: the edge of a mapped cell's rim elements at the same degree (docs/method.md §16b). The
+// mesher takes the mean of the fibres it meshes; the scene's check, which runs before random
+// fibres exist, the scene's mean (a list's mean, or the nominal mean of random radii, which the
+// volume fraction then scales a little).
+double rve_element_size(double mean_radius, int degree);
+
 // Interface strengths per unit interface length (force/length); 0 = no adhesion (docs/method.md §1, §4).
 struct Interface {
   double normal_strength = 0;

@@ -35,7 +35,7 @@ BondState intact_bonds(const mesh::Mesh& mesh, const Interface& interface) {
 
 Eigen::Vector2d interface_normal(const mesh::Mesh& mesh, int p) {
   const Eigen::Vector2d& x = mesh.nodes[mesh.interface_pairs[p][0]];
-  const int f = mesh.interface_cell[p];
+  const int f = mesh.interface_fibre[p];
   return (x - mesh.fibre_centres[f]) / mesh.fibre_radii[f];
 }
 

@@ -298,12 +298,12 @@ void ContactSolver::recover(const DualProblem& dual, const Eigen::VectorXd& f, c
   }
 
   const mesh::Mesh& mesh = setup_.mesh();
-  std::vector<int> fibre_of_cell(mesh.n_fibres(), -1);
+  std::vector<int> subdomain_of_fibre(mesh.n_fibres(), -1);
   for (int s = 0; s < static_cast<int>(mesh.subdomains.size()); ++s)
-    if (mesh.subdomains[s].is_fibre) fibre_of_cell[mesh.subdomains[s].cell] = s;
+    if (mesh.subdomains[s].is_fibre) subdomain_of_fibre[mesh.subdomains[s].fibre] = s;
   std::vector<std::vector<int>> pairs_of_fibre(n_subdomains);
   for (int p = 0; p < static_cast<int>(mesh.interface_pairs.size()); ++p)
-    pairs_of_fibre[fibre_of_cell[mesh.interface_cell[p]]].push_back(p);
+    pairs_of_fibre[subdomain_of_fibre[mesh.interface_fibre[p]]].push_back(p);
   const Eigen::VectorXd Bu = con.B * u;
   for (int s = 0; s < n_subdomains; ++s) {
     if (!subs[s].is_fibre) continue;

@@ -128,7 +128,7 @@ void check_structure(const mesh::Mesh& m, const std::vector<std::int64_t>& is_fi
   const auto cells = static_cast<std::size_t>(rve ? m.n_fibres() : m.n_cells());
   std::vector<int> fibre_of(cells, -1), matrix_of(cells, -1);
   for (std::size_t s = 0; s < m.subdomains.size(); ++s) {
-    const int c = m.subdomains[s].cell;
+    const int c = rve ? m.subdomains[s].fibre : m.subdomains[s].cell;
     const bool rve_matrix = rve && is_fibre[s] == 0;
     if ((rve_matrix ? c != -1 : (c < 0 || static_cast<std::size_t>(c) >= cells)) ||
         (is_fibre[s] != 0 && is_fibre[s] != 1))
@@ -168,7 +168,7 @@ void check_structure(const mesh::Mesh& m, const std::vector<std::int64_t>& is_fi
   const auto coincide = [&](int u, int v) { return (m.nodes[u] - m.nodes[v]).norm() <= tol; };
   for (std::size_t p = 0; p < m.interface_pairs.size(); ++p) {
     const auto [f, mn] = m.interface_pairs[p];
-    const int c = m.interface_cell[p];
+    const int c = m.interface_fibre[p];
     if (owner[f] != fibre_of[c] || is_fibre[owner[mn]] || (!rve && owner[mn] != matrix_of[c]) || !coincide(f, mn))
       throw InputError(where + "/mesh/interface_pairs: pair " + std::to_string(p) +
                        " does not join coinciding fibre and matrix nodes of cell " + std::to_string(c));
@@ -255,7 +255,7 @@ void write_mesh(const mesh::Mesh& mesh, const Scene& scene, const std::filesyste
     std::vector<std::int64_t> is_fibre, cell, node_range, triangle_range;
     for (const auto& s : mesh.subdomains) {
       is_fibre.push_back(s.is_fibre);
-      cell.push_back(s.cell);
+      cell.push_back(mesh.geometry.rve() ? s.fibre : s.cell);  // the format's subdomain_cell
       node_range.insert(node_range.end(), {s.node_begin, s.node_end});
       triangle_range.insert(triangle_range.end(), {s.triangle_begin, s.triangle_end});
     }
@@ -266,8 +266,8 @@ void write_mesh(const mesh::Mesh& mesh, const Scene& scene, const std::filesyste
     f.write("/mesh/fibre_centres", flatten(mesh.fibre_centres), {mesh.fibre_centres.size(), 2});
     f.write("/mesh/fibre_radii", mesh.fibre_radii, {mesh.fibre_radii.size()});
     f.write("/mesh/interface_pairs", flatten(mesh.interface_pairs), {mesh.interface_pairs.size(), 2});
-    f.write("/mesh/interface_cell", std::vector<std::int64_t>(mesh.interface_cell.begin(), mesh.interface_cell.end()),
-            {mesh.interface_cell.size()});
+    f.write("/mesh/interface_cell", std::vector<std::int64_t>(mesh.interface_fibre.begin(), mesh.interface_fibre.end()),
+            {mesh.interface_fibre.size()});
     f.write("/mesh/glue_pairs", flatten(mesh.glue_pairs), {mesh.glue_pairs.size(), 2});
     for (int side = 0; side < 4; ++side)
       f.write(std::string("/mesh/boundary/") + mesh::side_names[side], flatten(mesh.boundary_edges[side], E),
@@ -343,8 +343,16 @@ MeshFile read_mesh(const std::filesystem::path& h5) {
   const auto tri_range = rows_of<2>(f, "/mesh/subdomain_triangles", static_cast<std::int64_t>(T) + 1, S);
   int next_node = 0, next_tri = 0;
   for (std::size_t s = 0; s < S; ++s) {
-    mesh::Subdomain sub{is_fibre[s] != 0, static_cast<int>(cell[s]), node_range[s][0],
-                        node_range[s][1], tri_range[s][0],           tri_range[s][1]};
+    // subdomain_cell holds the mapped block's cell (a fibre's row of fibre_centres is its cell),
+    // or an RVE's fibre piece (−1 for the matrix).
+    const int stored = static_cast<int>(cell[s]);
+    mesh::Subdomain sub{is_fibre[s] != 0,
+                        is_fibre[s] != 0 ? stored : -1,
+                        m.geometry.rve() ? -1 : stored,
+                        node_range[s][0],
+                        node_range[s][1],
+                        tri_range[s][0],
+                        tri_range[s][1]};
     if (sub.node_begin != next_node || sub.node_end <= sub.node_begin || sub.triangle_begin != next_tri ||
         sub.triangle_end <= sub.triangle_begin)
       throw InputError(where + "/mesh/subdomain_nodes or subdomain_triangles: subdomain " + std::to_string(s) +
@@ -367,7 +375,7 @@ MeshFile read_mesh(const std::filesystem::path& h5) {
   for (auto c : f.read_ints("/mesh/interface_cell", {m.interface_pairs.size()}, " like /mesh/interface_pairs")) {
     if (c < 0 || c >= static_cast<std::int64_t>(m.fibre_centres.size()))
       throw InputError(where + "/mesh/interface_cell: index out of range");
-    m.interface_cell.push_back(static_cast<int>(c));
+    m.interface_fibre.push_back(static_cast<int>(c));
   }
   m.glue_pairs = rows_of<2>(f, "/mesh/glue_pairs", N);
   for (int side = 0; side < 4; ++side) {

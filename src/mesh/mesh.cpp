@@ -124,7 +124,7 @@ std::vector<int> add_matrix(Mesh& mesh, std::vector<char>& keep, BlockPoints& po
                             int cell, const Eigen::Vector2d& cell_centre, const Eigen::Vector2d& c) {
   const int k = g.k, n = g.n, o = g.o;
   const double a = g.a, r = g.r;
-  Subdomain matrix{false, cell, mesh.n_nodes(), 0, static_cast<int>(mesh.triangles.size()), 0};
+  Subdomain matrix{false, -1, cell, mesh.n_nodes(), 0, static_cast<int>(mesh.triangles.size()), 0};
   std::vector<int> grid((n + 1) * (n + 1), -1);
   for (int j = 0; j <= n; ++j) {
     for (int i = 0; i <= n; ++i) {
@@ -170,7 +170,8 @@ std::vector<int> add_matrix(Mesh& mesh, std::vector<char>& keep, BlockPoints& po
 std::vector<int> add_fibre(Mesh& mesh, std::vector<char>& keep, const FineGrid& g, int cell, const Eigen::Vector2d& c) {
   const int k = g.k, o = g.o, m = 2 * k;
   const double r = g.r;
-  Subdomain fibre{true, cell, mesh.n_nodes(), 0, static_cast<int>(mesh.triangles.size()), 0};
+  // One fibre per cell, in cell order: the fibre's row of fibre_centres is its cell.
+  Subdomain fibre{true, cell, cell, mesh.n_nodes(), 0, static_cast<int>(mesh.triangles.size()), 0};
   std::vector<int> fgrid((m + 1) * (m + 1));
   for (int j = 0; j <= m; ++j) {
     for (int i = 0; i <= m; ++i) {
@@ -214,7 +215,7 @@ void add_interface_pairs(Mesh& mesh, const FineGrid& g, int cell, const std::vec
   std::sort(ring.begin(), ring.end());
   for (const auto& [pos, pair] : ring) {
     mesh.interface_pairs.push_back(pair);
-    mesh.interface_cell.push_back(cell);
+    mesh.interface_fibre.push_back(cell);
   }
 }
 
@@ -483,7 +484,7 @@ std::vector<RimEdge> interface_edges(const Mesh& mesh) {
   int begin = 0;
   while (begin < n) {
     int end = begin;
-    while (end < n && mesh.interface_cell[end] == mesh.interface_cell[begin]) ++end;
+    while (end < n && mesh.interface_fibre[end] == mesh.interface_fibre[begin]) ++end;
     const int m = end - begin;
     for (int i = 0; i + o <= m; i += o) {
       const Edge pairs{begin + i, begin + (i + o) % m, o == 1 ? -1 : begin + i + 1};

@@ -38,9 +38,12 @@ namespace dualcell::mesh {
 
 struct Subdomain {
   bool is_fibre = false;
-  // The mapped block: the cell cx + ex*cy. An RVE: a fibre piece's index into
-  // Mesh::fibre_centres; −1 for the matrix's subdomains.
-  int cell = 0;
+  // A fibre subdomain's circle: its row of Mesh::fibre_centres (an RVE's fibre cut by the edges
+  // is one piece per side, each a fibre of its own); −1 for the matrix.
+  int fibre = -1;
+  // The mapped block's cell cx + ex·cy that the subdomain fills (its fibre or its matrix); −1 in
+  // an RVE.
+  int cell = -1;
   int node_begin = 0;  // rows [node_begin, node_end) of Mesh::nodes
   int node_end = 0;
   int triangle_begin = 0;  // rows [triangle_begin, triangle_end) of Mesh::triangles
@@ -116,7 +119,7 @@ struct Mesh {
   std::vector<Eigen::Vector2d> fibre_centres;
   std::vector<double> fibre_radii;
   std::vector<std::array<int, 2>> interface_pairs;  // (fibre node, matrix node)
-  std::vector<int> interface_cell;                  // fibre (index into fibre_centres) of each interface pair
+  std::vector<int> interface_fibre;                 // fibre (index into fibre_centres) of each interface pair
   std::vector<std::array<int, 2>> glue_pairs;       // (matrix node, matrix node of a neighbour)
   // Outer boundary edges per Side, oriented counter-clockwise around the block, so the
   // outward normal of edge (a, b) is (b - a) rotated by -90°.

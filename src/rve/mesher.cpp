@@ -55,8 +55,14 @@ struct GmshSession {
   GmshSession& operator=(const GmshSession&) = delete;
 };
 
+// The smallest element is h/smallest_element_divisor: the size field refines narrow gaps down to
+// it and no further. A gap narrower than h/narrowest_gap_divisor is refused: its elements, that
+// smallest size across a gap five times narrower, would be slivers.
+constexpr double smallest_element_divisor = 10;
+constexpr double narrowest_gap_divisor = 50;
+
 // The mesh size at a point: h, or the sum of the distances to the two nearest fibre surfaces
-// where that is smaller (a narrow gap), not below h/10.
+// where that is smaller (a narrow gap), not below h/smallest_element_divisor.
 class SizeField {
  public:
   SizeField(const Microstructure& m, double h) : h_(h) {
@@ -74,7 +80,7 @@ class SizeField {
       else if (d < d2)
         d2 = d;
     }
-    return std::min(h_, std::max(d1 + d2, h_ / 10));
+    return std::min(h_, std::max(d1 + d2, h_ / smallest_element_divisor));
   }
 
  private:
@@ -282,7 +288,7 @@ void add_pairs(mesh::Mesh& mesh, const std::map<std::size_t, std::vector<std::pa
     std::sort(rim[piece].begin(), rim[piece].end());
     for (const auto& [angle, pair] : rim[piece]) {
       mesh.interface_pairs.push_back(pair);
-      mesh.interface_cell.push_back(static_cast<int>(piece));
+      mesh.interface_fibre.push_back(static_cast<int>(piece));
     }
   }
 }
@@ -329,7 +335,7 @@ mesh::Mesh collect_mesh(const Geometry& geometry, const Microstructure& m, const
   for (int s = 0; s < static_cast<int>(rows_of.size()); ++s) {
     mesh::Subdomain sub;
     sub.is_fibre = s >= n_matrix;
-    sub.cell = sub.is_fibre ? s - n_matrix : -1;
+    sub.fibre = sub.is_fibre ? s - n_matrix : -1;
     sub.node_begin = mesh.n_nodes();
     sub.triangle_begin = static_cast<int>(mesh.triangles.size());
     std::unordered_map<std::size_t, int> local;
@@ -372,17 +378,6 @@ mesh::Mesh collect_mesh(const Geometry& geometry, const Microstructure& m, const
 
 }  // namespace
 
-Microstructure microstructure_of(const Geometry& geometry, const std::string& where) {
-  if (geometry.layout == FibreLayout::random)
-    return generate_random(geometry.size[0], geometry.size[1], geometry.random, where + ": [geometry]");
-  Microstructure m;
-  m.Lx = geometry.size[0];
-  m.Ly = geometry.size[1];
-  for (const FibreCircle& f : geometry.fibres) m.fibres.push_back({{f.centre[0], f.centre[1]}, f.radius});
-  check(m, geometry.random.min_gap, where + ": [[fibres]]");
-  return m;
-}
-
 mesh::Mesh build_rve_mesh(const Geometry& geometry, int subdomain_dofs, const std::string& where, MeshReport* report) {
   MeshReport local;
   MeshReport& r = report ? *report : local;
@@ -390,24 +385,24 @@ mesh::Mesh build_rve_mesh(const Geometry& geometry, int subdomain_dofs, const st
   r.fibres = statistics(m);
   double r_mean = 0;
   for (const Fibre& f : m.fibres) r_mean += f.radius / m.fibres.size();
-  const double h = std::numbers::pi * r_mean / (4 * geometry.degree);
+  const double h = rve_element_size(r_mean, geometry.degree);
   r.element_size = h;
-  // The size field stops refining at h/10: a gap narrower than h/50 would get elements of
+  // The size field stops refining at the smallest element: a narrower gap would get elements of
   // angles near 0 (and a gap of 0 none at all).
   const double narrowest = std::min(r.fibres.gap_min, r.fibres.edge_gap_min);
-  if (narrowest < h / 50)
+  if (narrowest < h / narrowest_gap_divisor)
     throw InputError(where + ": the narrowest gap (between fibres, to an edge, or a sliver of a fibre an edge cuts), " +
                      formatted("%.3g", narrowest) + ", is too narrow to mesh at degree " +
                      std::to_string(geometry.degree) + " (elements of h = " + formatted("%.3g", h) +
                      ", at least h/50 needed): raise min_gap or the degree");
-  // A fibre far smaller than the smallest element (h/10) is not resolved, and gmsh's OpenCASCADE
+  // A fibre far smaller than the smallest element is not resolved, and gmsh's OpenCASCADE
   // projections fail on it inside a parallel region, where no error can be caught.
   for (std::size_t i = 0; i < m.fibres.size(); ++i)
-    if (m.fibres[i].radius < h / 10)
-      throw InputError(where + ": fibre " + std::to_string(i + 1) + " has radius " +
-                       formatted("%.3g", m.fibres[i].radius) + ", below h/10 = " + formatted("%.3g", h / 10) +
-                       ", the smallest element at degree " + std::to_string(geometry.degree) +
-                       " (h = pi x mean radius / (4 degree)): raise the degree or leave it out");
+    if (m.fibres[i].radius < h / smallest_element_divisor)
+      throw InputError(
+          where + ": fibre " + std::to_string(i + 1) + " has radius " + formatted("%.3g", m.fibres[i].radius) +
+          ", below h/10 = " + formatted("%.3g", h / smallest_element_divisor) + ", the smallest element at degree " +
+          std::to_string(geometry.degree) + " (h = pi x mean radius / (4 degree)): raise the degree or leave it out");
   const std::vector<Image> images = images_in(m);
   const Clock::time_point start = Clock::now();
   try {
@@ -425,7 +420,7 @@ mesh::Mesh build_rve_mesh(const Geometry& geometry, int subdomain_dofs, const st
       gmsh::option::setNumber("Mesh.MeshSizeFromCurvature", 0);
       gmsh::option::setNumber("Mesh.MeshSizeExtendFromBoundary", 0);
       gmsh::option::setNumber("Mesh.MeshSizeMax", h);
-      gmsh::option::setNumber("Mesh.MeshSizeMin", h / 10);
+      gmsh::option::setNumber("Mesh.MeshSizeMin", h / smallest_element_divisor);
       const SizeField size(m, h);
       gmsh::model::mesh::setSizeCallback([&size](int, int, double x, double y, double) { return size(x, y); });
       gmsh::model::mesh::generate(2);

@@ -33,10 +33,6 @@ struct MeshReport {
   double seconds_gmsh = 0, seconds_split = 0;
 };
 
-// The fibres of an RVE geometry: the list, checked (rve::check), or random fibres generated
-// (rve::generate_random). `where` names the scene in messages.
-Microstructure microstructure_of(const Geometry& geometry, const std::string& where);
-
 // The mesh of an RVE geometry (geometry.rve()); subdomain_dofs as above. An InputError naming
 // `where` for fibres that cannot be meshed or a gmsh failure (nothing is kept of gmsh's state).
 mesh::Mesh build_rve_mesh(const Geometry& geometry, int subdomain_dofs, const std::string& where,

@@ -237,4 +237,15 @@ Microstructure generate_random(double Lx, double Ly, const RandomFibres& spec, c
   return m;
 }
 
+Microstructure microstructure_of(const Geometry& geometry, const std::string& where) {
+  if (geometry.layout == FibreLayout::random)
+    return generate_random(geometry.size[0], geometry.size[1], geometry.random, where + ": [geometry]");
+  Microstructure m;
+  m.Lx = geometry.size[0];
+  m.Ly = geometry.size[1];
+  for (const FibreCircle& f : geometry.fibres) m.fibres.push_back({{f.centre[0], f.centre[1]}, f.radius});
+  check(m, geometry.random.min_gap, where + ": [[fibres]]");
+  return m;
+}
+
 }  // namespace dualcell::rve

@@ -59,4 +59,8 @@ void check(const Microstructure& m, double min_gap, const std::string& where);
 // spec is out of range, or, naming the volume fraction reached, when the fibres jam.
 Microstructure generate_random(double Lx, double Ly, const RandomFibres& spec, const std::string& where);
 
+// The fibres of an RVE geometry: the list, checked (rve::check), or random fibres generated
+// (rve::generate_random). `where` names the scene in messages.
+Microstructure microstructure_of(const Geometry& geometry, const std::string& where);
+
 }  // namespace dualcell::rve

@@ -318,7 +318,7 @@ TEST_P(ContactSolverOrders, TensionAgainstHolesAndBonded) {
       Eigen::MatrixXd fit(0, 3);
       Eigen::VectorXd rim(0), fibre_rim(0);
       for (std::size_t p = 0; p < m.interface_pairs.size(); ++p) {
-        if (m.interface_cell[p] != sub.cell) continue;
+        if (m.interface_fibre[p] != sub.fibre) continue;
         const auto [fn, mn] = m.interface_pairs[p];
         fit.conservativeResize(fit.rows() + 2, 3);
         fit.bottomRows<2>() = R.middleRows<2>(2 * (fn - sub.node_begin));
@@ -352,7 +352,7 @@ TEST_P(ContactSolverOrders, TensionAgainstHolesAndBonded) {
       if (t.normal_force[p] <= 0) continue;
       const Eigen::Vector2d n = interface_normal(m, static_cast<int>(p));
       EXPECT_GT(std::abs(n.y()), std::abs(n.x())) << "contact at angle " << std::atan2(n.y(), n.x()) * 180 / M_PI;
-      (n.y() > 0 ? upper : lower)[m.interface_cell[p]]++;
+      (n.y() > 0 ? upper : lower)[m.interface_fibre[p]]++;
     }
     for (int c = 0; c < m.n_cells(); ++c) {
       EXPECT_GE(upper[c], 1) << to_string(boundary) << ", cell " << c;

@@ -46,7 +46,7 @@ TEST(Mesh, PairsCoincideAndAreCounted) {
     EXPECT_EQ(m.glue_pairs.size(), std::size_t(glue));
     for (const auto& [f, mnode] : m.interface_pairs) EXPECT_EQ(m.nodes[f], m.nodes[mnode]);  // bitwise
     for (std::size_t p = 0; p < m.interface_pairs.size(); ++p) {
-      const Eigen::Vector2d c = m.fibre_centres[m.interface_cell[p]];
+      const Eigen::Vector2d c = m.fibre_centres[m.interface_fibre[p]];
       // Round-off of coordinates of size ~cells·cell_size: a few ulps of 4.
       EXPECT_NEAR((m.nodes[m.interface_pairs[p][0]] - c).norm(), 0.3, 1e-14);
     }

@@ -158,7 +158,7 @@ TEST(RveMesher, ARandomRveMeshCoversItsFibresAndItsSidesMatch) {
   for (std::size_t p = 0; p < mesh.interface_pairs.size(); ++p) {
     const auto [f, m] = mesh.interface_pairs[p];
     EXPECT_FALSE(std::abs(mesh.nodes[f].x() - 1) < 1e-12 || std::abs(mesh.nodes[f].y() - 1) < 1e-12) << p;
-    const int k = mesh.interface_cell[p];
+    const int k = mesh.interface_fibre[p];
     EXPECT_NEAR((mesh.nodes[f] - mesh.fibre_centres[k]).norm(), mesh.fibre_radii[k], 1e-12);
     EXPECT_EQ(mesh.nodes[f], mesh.nodes[m]);
   }
