@@ -1,9 +1,8 @@
 #!/bin/sh
 # Builds CalculiX ccx from Debian's own source package with dualcell's user material
 # (src/umat/dualcell_umat.c) in place of ccx's example umat, once, into DIR/ccx. The umat's
-# exact law (src/umat/cell_umat.h) is C++: its sources (the cell's text file, the law, the dense
-# QP; Eigen only) are compiled into DIR/source/dualcell_cell.a, linked after ccx's own archive
-# with libstdc++.
+# exact law (src/umat/cell_umat.h) is C++: its sources are compiled into
+# DIR/source/dualcell_cell.a by umat_archive.sh, linked after ccx's own archive with libstdc++.
 #
 #   build_ccx_umat.sh DIR UMAT.c
 #
@@ -15,7 +14,7 @@
 set -eu
 dir=$1
 umat=$(cd "$(dirname "$2")" && pwd)/$(basename "$2")
-src_root=$(cd "$(dirname "$umat")/.." && pwd)
+tools=$(cd "$(dirname "$0")" && pwd)
 mkdir -p "$dir"
 dir=$(cd "$dir" && pwd)
 if [ ! -d "$dir/source" ]; then
@@ -43,12 +42,8 @@ if grep -q '^umat\.f \\$' Makefile.inc; then
 fi
 cp "$umat" dualcell_umat.c
 cp "$(dirname "$umat")/cell_umat.h" cell_umat.h
-# The exact law's C++ objects, and the archive first among ccx's libraries (once).
-rm -f dualcell_cell.a
-for f in umat/cell_umat law/condensed law/cell_text qp/dense_qp; do
-  g++ -std=c++20 -O2 -DNDEBUG -I"$src_root" -I/usr/include/eigen3 -c "$src_root/$f.cpp" -o "dualcell_$(basename $f).o"
-done
-ar rcs dualcell_cell.a dualcell_cell_umat.o dualcell_condensed.o dualcell_cell_text.o dualcell_dense_qp.o
+# The exact law's C++ archive (umat_archive.sh), first among ccx's libraries (once).
+"$tools/umat_archive.sh" "$dir/source"
 grep -q 'dualcell_cell.a' Makefile || sed -i 's/^LIBS = /LIBS = dualcell_cell.a -lstdc++ /' Makefile
 grep -q 'dualcell_cell.a' Makefile || { echo "build_ccx_umat.sh: no 'LIBS = ' line in ccx's Makefile" >&2; exit 1; }
 rm -f "ccx_$version"
