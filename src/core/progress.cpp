@@ -11,6 +11,21 @@
 
 namespace dualcell {
 
+void GeometricEta::observe(long step, double distance, double seconds) {
+  if (step == 1) first_step_ = step, first_distance_ = distance, first_seconds_ = seconds;
+  last_step_ = step, last_distance_ = distance, last_seconds_ = seconds;
+}
+
+std::string GeometricEta::left(double now) const {
+  if (last_step_ < 3 || first_step_ != 1 || !(last_distance_ > 1) || !(first_distance_ > last_distance_)) return "";
+  const double steps = static_cast<double>(last_step_ - first_step_);
+  const double rate = std::pow(last_distance_ / first_distance_, 1 / steps);
+  if (!(rate < 0.95)) return "";
+  const double per_step = (last_seconds_ - first_seconds_) / steps;
+  const double steps_left = std::log(last_distance_) / -std::log(rate);
+  return ", ~" + seconds_text(std::max(0.0, steps_left * per_step - (now - last_seconds_))) + " left";
+}
+
 namespace {
 
 // Where the in-place line must stop so that it never wraps (a wrapped line cannot be rewritten).

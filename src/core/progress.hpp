@@ -16,6 +16,21 @@ namespace dualcell {
 // "12.3 s", "4 min 05 s", "2 h 03 min": a duration as a person reads it.
 std::string seconds_text(double seconds);
 
+// The time left of an iteration whose distance to convergence (a residual over its tolerance, > 1
+// until it converges) falls about geometrically per step, from the rate seen since step 1: the
+// estimate of the QP's progress line.
+class GeometricEta {
+ public:
+  void observe(long step, double distance, double seconds);
+  // ", ~<time> left" at `now`, or "" while it cannot tell (before step 3, not falling, or falling
+  // by less than 5 % a step, where the estimate would swing).
+  std::string left(double now) const;
+
+ private:
+  long first_step_ = 0, last_step_ = 0;
+  double first_distance_ = 0, last_distance_ = 0, first_seconds_ = 0, last_seconds_ = 0;
+};
+
 class Progress {
  public:
   Progress(std::string stage, bool enabled);

@@ -111,10 +111,11 @@ Eigen::SparseMatrix<double> DualProblem::with_joint_null_modes(const Eigen::Spar
   // a dense symmetric eigenproblem of 288 MB, O(n³) work.
   constexpr Eigen::Index dense_limit = 6000;
   if (GGt.rows() > dense_limit)
-    throw InputError("the coarse matrix GG^T is singular (a rigid motion no row sees: an RVE's fibre cut by the "
-                     "edges) and has " +
-                     std::to_string(GGt.rows()) + " rows, more than the " + std::to_string(dense_limit) +
-                     " whose null space is found densely: use larger subdomains ([solver] subdomain_dofs)");
+    throw InputError(
+        "the coarse matrix GG^T is singular (a rigid motion no row sees: an RVE's fibre cut by the "
+        "edges) and has " +
+        std::to_string(GGt.rows()) + " rows, more than the " + std::to_string(dense_limit) +
+        " whose null space is found densely: use larger subdomains ([solver] subdomain_dofs)");
   const NullSplit split = split_null_space(Eigen::MatrixXd(GGt));
   const double largest = split.largest;
   Eigen::SparseMatrix<double> out = GGt;
