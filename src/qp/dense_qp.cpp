@@ -25,6 +25,9 @@ constexpr double pinned_round_off = 1e-8;
 constexpr double round_off_move = 1e-12;
 // Corrections of the warm start before the method falls back to x = 0.
 constexpr int max_guesses = 6;
+// A subproblem's solution this close to its bounds (relative to 1 + |x|) is feasible: round-off
+// of the LU solve, far below any step the method takes.
+constexpr double feasibility_slack = 1e-12;
 
 }  // namespace
 
@@ -144,6 +147,121 @@ void DenseActiveSet::solve_subproblem(const Eigen::VectorXd& b, const Eigen::Vec
   for (int q = 0; q < r; ++q) mu(kept_rows_[q]) = rhs(n_F + q);
 }
 
+namespace {
+
+// The working set `set` and x at its bounds; a bound that is infinite cannot hold a variable.
+void hold(const Eigen::VectorXd& l, const Eigen::VectorXd& u, std::vector<Bound>& set, Eigen::VectorXd& x) {
+  for (Eigen::Index i = 0; i < x.size(); ++i) {
+    if (l(i) == u(i)) set[i] = Bound::lower;  // a fixed variable is held from the start
+    if (set[i] == Bound::lower && !std::isfinite(l(i))) set[i] = Bound::free;
+    if (set[i] == Bound::upper && !std::isfinite(u(i))) set[i] = Bound::free;
+    x(i) = set[i] == Bound::lower ? l(i) : set[i] == Bound::upper ? u(i) : x(i);
+  }
+}
+
+}  // namespace
+
+bool DenseActiveSet::refactorise(DenseQpResult& out) {
+  // The kept factorisation serves while the free set is the same (A and C are this object's).
+  bool same = factorised_;
+  if (same) {
+    int j = 0;
+    for (Eigen::Index i = 0; i < A_.rows() && same; ++i)
+      if (working_[i] == Bound::free) same = j < static_cast<int>(free_.size()) && free_[j++] == i;
+    same = same && j == static_cast<int>(free_.size());
+  }
+  if (!same) {
+    factorise();
+    ++out.factorisations;
+  }
+  return factorised_;
+}
+
+bool DenseActiveSet::feasible(const Eigen::VectorXd& l, const Eigen::VectorXd& u, const Eigen::VectorXd& x_free) const {
+  for (std::size_t j = 0; j < free_.size(); ++j) {
+    const int i = free_[j];
+    const double slack = feasibility_slack * (1 + std::abs(x_free(j)));
+    if (x_free(j) < l(i) - slack || x_free(j) > u(i) + slack) return false;
+  }
+  return true;
+}
+
+bool DenseActiveSet::warm_start(const Eigen::VectorXd& b, const Eigen::VectorXd& l, const Eigen::VectorXd& u,
+                                Eigen::VectorXd& x, Eigen::VectorXd& x_free, Eigen::VectorXd& mu, DenseQpResult& out) {
+  const Eigen::MatrixXd &A = A_, &C = C_;
+  const Eigen::Index n = A.rows();
+  for (int guess = 0; guess <= max_guesses; ++guess) {
+    hold(l, u, working_, x);
+    free_a_basis();
+    if (!refactorise(out)) break;
+    solve_subproblem(b, x, x_free, mu);
+    ++out.iterations;
+    if (feasible(l, u, x_free)) {
+      for (std::size_t j = 0; j < free_.size(); ++j) x(free_[j]) = std::clamp(x_free(j), l(free_[j]), u(free_[j]));
+      return true;
+    }
+    Eigen::VectorXd trial = x;
+    for (std::size_t j = 0; j < free_.size(); ++j) trial(free_[j]) = x_free(j);
+    Eigen::VectorXd nu = A * trial - b;
+    if (C.rows() > 0) nu.noalias() += C.transpose() * mu;
+    for (Eigen::Index i = 0; i < n; ++i) {
+      if (working_[i] == Bound::free) {
+        if (trial(i) < l(i)) working_[i] = Bound::lower;
+        if (trial(i) > u(i)) working_[i] = Bound::upper;
+      } else if ((working_[i] == Bound::lower && nu(i) < 0) || (working_[i] == Bound::upper && nu(i) > 0)) {
+        if (l(i) != u(i)) working_[i] = Bound::free;
+      }
+    }
+  }
+  return false;
+}
+
+bool DenseActiveSet::step_towards(const Eigen::VectorXd& l, const Eigen::VectorXd& u, const Eigen::VectorXd& x_free,
+                                  double b_scale, Eigen::VectorXd& x) {
+  // A move of round-off size (a variable the rows of C pin, at 0 up to round-off) blocks
+  // nothing: holding it would make the working set dependent.
+  const double x_scale = std::max({x.lpNorm<Eigen::Infinity>(), x_free.lpNorm<Eigen::Infinity>(), b_scale});
+  double step = 1;
+  int blocking = -1;
+  Bound blocking_bound = Bound::free;
+  for (std::size_t j = 0; j < free_.size(); ++j) {
+    const int i = free_[j];
+    double d = x_free(j) - x(i);
+    if (pinned_[j] || std::abs(d) <= round_off_move * x_scale) d = 0;
+    if (d < 0 && std::isfinite(l(i)) && (l(i) - x(i)) / d < step)
+      step = std::max(0.0, (l(i) - x(i)) / d), blocking = i, blocking_bound = Bound::lower;
+    if (d > 0 && std::isfinite(u(i)) && (u(i) - x(i)) / d < step)
+      step = std::max(0.0, (u(i) - x(i)) / d), blocking = i, blocking_bound = Bound::upper;
+  }
+  for (std::size_t j = 0; j < free_.size(); ++j)
+    if (!pinned_[j]) x(free_[j]) += step * (x_free(j) - x(free_[j]));
+  if (blocking < 0) return false;
+  working_[blocking] = blocking_bound;
+  x(blocking) = blocking_bound == Bound::lower ? l(blocking) : u(blocking);
+  return true;
+}
+
+int DenseActiveSet::bound_to_release(const Eigen::VectorXd& b, const Eigen::VectorXd& l, const Eigen::VectorXd& u,
+                                     const Eigen::VectorXd& x, const Eigen::VectorXd& mu,
+                                     Eigen::VectorXd& nu_out) const {
+  const Eigen::MatrixXd &A = A_, &C = C_;
+  const Eigen::Index n = A.rows();
+  nu_out.setZero(n);
+  int release = -1;
+  double worst = 0;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if (working_[i] == Bound::free) continue;
+    double nu = A.col(i).dot(x) - b(i), terms = A.col(i).cwiseAbs().dot(x.cwiseAbs()) + std::abs(b(i));
+    if (C.rows() > 0) nu += C.col(i).dot(mu), terms += C.col(i).cwiseAbs().dot(mu.cwiseAbs());
+    nu_out(i) = nu;
+    if (l(i) == u(i)) continue;  // a fixed variable: its multiplier has either sign
+    const double wrong = working_[i] == Bound::lower ? -nu : nu;
+    const double relative = wrong / std::max(terms, std::numeric_limits<double>::min());
+    if (relative > multiplier_round_off && relative > worst) worst = relative, release = static_cast<int>(i);
+  }
+  return release;
+}
+
 DenseQpResult DenseActiveSet::solve(const Eigen::VectorXd& b, const Eigen::VectorXd& l, const Eigen::VectorXd& u,
                                     std::vector<Bound>& active) {
   const Eigen::MatrixXd &A = A_, &C = C_;
@@ -159,39 +277,6 @@ DenseQpResult DenseActiveSet::solve(const Eigen::VectorXd& b, const Eigen::Vecto
   }
   if (static_cast<Eigen::Index>(active.size()) != n) active.assign(n, Bound::free);
 
-  // The working set and x at its bounds; a bound that is infinite cannot hold a variable.
-  const auto hold = [&](std::vector<Bound>& set, Eigen::VectorXd& x) {
-    for (Eigen::Index i = 0; i < n; ++i) {
-      if (l(i) == u(i)) set[i] = Bound::lower;  // a fixed variable is held from the start
-      if (set[i] == Bound::lower && !std::isfinite(l(i))) set[i] = Bound::free;
-      if (set[i] == Bound::upper && !std::isfinite(u(i))) set[i] = Bound::free;
-      x(i) = set[i] == Bound::lower ? l(i) : set[i] == Bound::upper ? u(i) : x(i);
-    }
-  };
-  const auto refactorise = [&] {
-    // The kept factorisation serves while the free set is the same (A and C are this object's).
-    bool same = factorised_;
-    if (same) {
-      int j = 0;
-      for (Eigen::Index i = 0; i < n && same; ++i)
-        if (working_[i] == Bound::free) same = j < static_cast<int>(free_.size()) && free_[j++] == i;
-      same = same && j == static_cast<int>(free_.size());
-    }
-    if (!same) {
-      factorise();
-      ++out.factorisations;
-    }
-    return factorised_;
-  };
-  const auto feasible = [&](const Eigen::VectorXd& x_free) {
-    for (std::size_t j = 0; j < free_.size(); ++j) {
-      const int i = free_[j];
-      const double slack = 1e-12 * (1 + std::abs(x_free(j)));
-      if (x_free(j) < l(i) - slack || x_free(j) > u(i) + slack) return false;
-    }
-    return true;
-  };
-
   Eigen::VectorXd x = Eigen::VectorXd::Zero(n), x_free, mu;
   // Warm start: the given set (none: every variable free) and up to max_guesses corrections of it
   // in the manner of block principal pivoting (Júdice & Pires): a variable its subproblem puts
@@ -199,31 +284,7 @@ DenseQpResult DenseActiveSet::solve(const Eigen::VectorXd& b, const Eigen::Vecto
   // first guess whose subproblem's solution is feasible starts the primal method; along a path
   // that is usually the given set itself, one solve.
   working_ = active;
-  bool at_subproblem_solution = false;
-  for (int guess = 0; guess <= max_guesses && !at_subproblem_solution; ++guess) {
-    hold(working_, x);
-    free_a_basis();
-    if (!refactorise()) break;
-    solve_subproblem(b, x, x_free, mu);
-    ++out.iterations;
-    if (feasible(x_free)) {
-      for (std::size_t j = 0; j < free_.size(); ++j) x(free_[j]) = std::clamp(x_free(j), l(free_[j]), u(free_[j]));
-      at_subproblem_solution = true;
-      break;
-    }
-    Eigen::VectorXd trial = x;
-    for (std::size_t j = 0; j < free_.size(); ++j) trial(free_[j]) = x_free(j);
-    Eigen::VectorXd nu = A * trial - b;
-    if (C.rows() > 0) nu.noalias() += C.transpose() * mu;
-    for (Eigen::Index i = 0; i < n; ++i) {
-      if (working_[i] == Bound::free) {
-        if (trial(i) < l(i)) working_[i] = Bound::lower;
-        if (trial(i) > u(i)) working_[i] = Bound::upper;
-      } else if ((working_[i] == Bound::lower && nu(i) < 0) || (working_[i] == Bound::upper && nu(i) > 0)) {
-        if (l(i) != u(i)) working_[i] = Bound::free;
-      }
-    }
-  }
+  bool at_subproblem_solution = warm_start(b, l, u, x, x_free, mu, out);
   if (!at_subproblem_solution) {
     // Cold start from x = 0, every variable with a bound at zero held there: the method then
     // releases what the multipliers ask for (a step from 0 towards a free subproblem's solution
@@ -240,53 +301,21 @@ DenseQpResult DenseActiveSet::solve(const Eigen::VectorXd& b, const Eigen::Vecto
   const int max_iterations = 10 * static_cast<int>(n) + 50;
   while (out.iterations <= max_iterations) {
     if (!at_subproblem_solution) {
-      if (!refactorise()) {
+      if (!refactorise(out)) {
         out.message = "the KKT system of the free set is singular (A not positive definite on ker C)";
         return out;
       }
       solve_subproblem(b, x, x_free, mu);
       ++out.iterations;
-      // Step from x towards the subproblem's solution, as far as the bounds allow.
-      // A move of round-off size (a variable the rows of C pin, at 0 up to round-off) blocks
-      // nothing: holding it would make the working set dependent.
-      const double x_scale = std::max({x.lpNorm<Eigen::Infinity>(), x_free.lpNorm<Eigen::Infinity>(), b_scale});
-      double step = 1;
-      int blocking = -1;
-      Bound blocking_bound = Bound::free;
-      for (std::size_t j = 0; j < free_.size(); ++j) {
-        const int i = free_[j];
-        double d = x_free(j) - x(i);
-        if (pinned_[j] || std::abs(d) <= round_off_move * x_scale) d = 0;
-        if (d < 0 && std::isfinite(l(i)) && (l(i) - x(i)) / d < step)
-          step = std::max(0.0, (l(i) - x(i)) / d), blocking = i, blocking_bound = Bound::lower;
-        if (d > 0 && std::isfinite(u(i)) && (u(i) - x(i)) / d < step)
-          step = std::max(0.0, (u(i) - x(i)) / d), blocking = i, blocking_bound = Bound::upper;
-      }
-      for (std::size_t j = 0; j < free_.size(); ++j)
-        if (!pinned_[j]) x(free_[j]) += step * (x_free(j) - x(free_[j]));
-      if (blocking >= 0) {
-        working_[blocking] = blocking_bound;
-        x(blocking) = blocking_bound == Bound::lower ? l(blocking) : u(blocking);
-        continue;
-      }
+      // Step from x towards the subproblem's solution, as far as the bounds allow; a bound met
+      // joins the working set and the next subproblem is solved.
+      if (step_towards(l, u, x_free, b_scale, x)) continue;
       at_subproblem_solution = true;
     }
     // At the subproblem's solution: the multipliers of the held bounds (zero where free), each
     // counted as wrong only beyond the round-off of the terms that make it up. Held variables
     // only: n per held variable, nothing for a problem with none held.
-    out.nu.setZero(n);
-    int release = -1;
-    double worst = 0;
-    for (Eigen::Index i = 0; i < n; ++i) {
-      if (working_[i] == Bound::free) continue;
-      double nu = A.col(i).dot(x) - b(i), terms = A.col(i).cwiseAbs().dot(x.cwiseAbs()) + std::abs(b(i));
-      if (C.rows() > 0) nu += C.col(i).dot(mu), terms += C.col(i).cwiseAbs().dot(mu.cwiseAbs());
-      out.nu(i) = nu;
-      if (l(i) == u(i)) continue;  // a fixed variable: its multiplier has either sign
-      const double wrong = working_[i] == Bound::lower ? -nu : nu;
-      const double relative = wrong / std::max(terms, std::numeric_limits<double>::min());
-      if (relative > multiplier_round_off && relative > worst) worst = relative, release = static_cast<int>(i);
-    }
+    const int release = bound_to_release(b, l, u, x, mu, out.nu);
     if (release < 0) {
       out.x = x;
       out.mu = mu;

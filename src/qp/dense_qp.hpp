@@ -79,6 +79,23 @@ class DenseActiveSet {
   void solve_subproblem(const Eigen::VectorXd& b, const Eigen::VectorXd& x, Eigen::VectorXd& x_free,
                         Eigen::VectorXd& mu) const;
   void lu_solve(Eigen::VectorXd& rhs) const;
+  // Factorises the working set's free set unless the kept factorisation is of the same one;
+  // false when singular.
+  bool refactorise(DenseQpResult& out);
+  // Whether the free variables of a subproblem's solution lie within their bounds.
+  bool feasible(const Eigen::VectorXd& l, const Eigen::VectorXd& u, const Eigen::VectorXd& x_free) const;
+  // The warm start from working_ (see the file comment); true when it ends at a subproblem's
+  // feasible solution, which x then holds.
+  bool warm_start(const Eigen::VectorXd& b, const Eigen::VectorXd& l, const Eigen::VectorXd& u, Eigen::VectorXd& x,
+                  Eigen::VectorXd& x_free, Eigen::VectorXd& mu, DenseQpResult& out);
+  // Moves x towards the subproblem's solution x_free as far as the bounds allow; true when a
+  // bound blocked the step (its variable joins the working set).
+  bool step_towards(const Eigen::VectorXd& l, const Eigen::VectorXd& u, const Eigen::VectorXd& x_free, double b_scale,
+                    Eigen::VectorXd& x);
+  // At a subproblem's solution: the multipliers ν of the held bounds into nu, and the held bound
+  // whose multiplier has the wrong sign by the most beyond round-off (−1: none, x is optimal).
+  int bound_to_release(const Eigen::VectorXd& b, const Eigen::VectorXd& l, const Eigen::VectorXd& u,
+                       const Eigen::VectorXd& x, const Eigen::VectorXd& mu, Eigen::VectorXd& nu) const;
 
   const Eigen::MatrixXd& A_;
   const Eigen::MatrixXd& C_;
