@@ -107,6 +107,108 @@ void set_rows(law::CondensedCell& cell, const Constraints& con, const std::vecto
 
 }  // namespace
 
+namespace {
+
+// The rigid-body modes as rows of G and e and as columns of T.alpha, split into M, those the rows
+// E other than the interface see (the matrix, the macro DOFs), and N, those only interface rows
+// see (the fibres). A combination of modes the E rows see one by one may still escape them
+// jointly (an RVE's fibre cut by the edges: its pieces spinning together about its centre, which
+// the periodic rows between them do not see): such combinations Z, the null space of G_ME G_MEᵀ,
+// join N, and M keeps its complement W.
+struct Modes {
+  Eigen::MatrixXd G_M, G_N, e_M, e_N, alpha_M, alpha_N;
+};
+
+Modes split_modes(const Eigen::MatrixXd& G, const std::vector<int>& E, const MacroLoad& load, const StrainMap& T,
+                  int n_macro) {
+  const int m = static_cast<int>(G.cols());
+  std::vector<int> M, N;
+  for (Eigen::Index g = 0; g < G.rows(); ++g) {
+    bool seen = false;
+    for (int r : E) seen = seen || G(g, r) != 0;
+    (seen ? M : N).push_back(static_cast<int>(g));
+  }
+  Modes out{pick(G, M, all(m)),
+            pick(G, N, all(m)),
+            pick(load.e, M, all(n_macro)),
+            pick(load.e, N, all(n_macro)),
+            pick(T.alpha, all(n_macro), M),
+            pick(T.alpha, all(n_macro), N)};
+  const Eigen::MatrixXd G_ME = pick(G, M, E);
+  const NullSplit split = split_null_space(G_ME * G_ME.transpose());
+  if (split.null.cols() == 0) return out;
+  // A combination no row sees at all (that spin also escapes the interface's normal rows) is
+  // no constraint: the dual problem leaves it undetermined (DualProblem::with_joint_null_modes)
+  // and so does the law; it must carry no load and move no boundary.
+  std::vector<int> constrained;
+  for (Eigen::Index j = 0; j < split.null.cols(); ++j) {
+    const Eigen::VectorXd z = split.null.col(j);
+    if ((z.transpose() * out.G_M).norm() > null_mode_tolerance * out.G_M.norm()) {
+      constrained.push_back(static_cast<int>(j));
+      continue;
+    }
+    if ((z.transpose() * out.e_M).norm() > load_round_off * std::max(load.e.norm(), 1e-300) ||
+        (out.alpha_M * z).norm() > null_mode_tolerance * T.alpha.norm())
+      throw InputError("a rigid motion no row sees is loaded or moves the cell's boundary: this cell has no law");
+  }
+  const Eigen::MatrixXd& W = split.range;
+  const Eigen::MatrixXd Z = pick(split.null, all(M.size()), constrained);
+  const auto stack = [](const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
+    Eigen::MatrixXd c(a.rows() + b.rows(), a.cols());
+    c << a, b;
+    return c;
+  };
+  const auto beside = [](const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
+    Eigen::MatrixXd c(a.rows(), a.cols() + b.cols());
+    c << a, b;
+    return c;
+  };
+  out.G_N = stack(out.G_N, Z.transpose() * out.G_M);
+  out.e_N = stack(out.e_N, Z.transpose() * out.e_M);
+  out.alpha_N = beside(out.alpha_N, out.alpha_M * Z);
+  out.G_M = W.transpose() * out.G_M;
+  out.e_M = W.transpose() * out.e_M;
+  out.alpha_M = out.alpha_M * W;
+  return out;
+}
+
+// The cell on its interface rows I, with λ_E and α_M eliminated (docs/method.md §16a), in the
+// scaled rows: H = ∂(opening)/∂p, Y = ∂(opening)/∂σ̄, E_p = ∂ε̄/∂p, S₀ = ∂ε̄/∂σ̄.
+struct Eliminated {
+  Eigen::MatrixXd H, Y, E_p, S0;
+};
+
+Eliminated eliminate(const Eigen::MatrixXd& F, const Modes& modes, const MacroLoad& load, const StrainMap& T,
+                     const std::vector<int>& I, const std::vector<int>& E, int n_macro) {
+  const Eigen::MatrixXd& D = load.D;
+  const int mE = static_cast<int>(E.size()), nM = static_cast<int>(modes.G_M.rows());
+  const int nI = static_cast<int>(I.size());
+  const std::vector<int> rows_M = all(nM);
+  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(mE + nM, mE + nM);
+  K.topLeftCorner(mE, mE) = pick(F, E, E);
+  K.topRightCorner(mE, nM) = pick(modes.G_M, rows_M, E).transpose();
+  K.bottomLeftCorner(nM, mE) = pick(modes.G_M, rows_M, E);
+  Eigen::MatrixXd rhs_p(mE + nM, nI), rhs_s(mE + nM, n_macro);
+  rhs_p << -pick(F, E, I), -pick(modes.G_M, rows_M, I);
+  rhs_s << pick(D, E, all(n_macro)), modes.e_M;
+  const Eigen::PartialPivLU<Eigen::MatrixXd> lu(K);
+  const Eigen::MatrixXd X_p = lu.solve(rhs_p), X_s = lu.solve(rhs_s);
+  const double solve_error = std::max((K * X_p - rhs_p).norm() / std::max(rhs_p.norm(), 1e-300),
+                                      (K * X_s - rhs_s).norm() / std::max(rhs_s.norm(), 1e-300));
+  if (!(solve_error < elimination_tolerance))
+    throw InputError("the cell's rows other than the interface do not hold it (the eliminated system is singular)");
+  const auto X_pE = X_p.topRows(mE), X_pM = X_p.bottomRows(nM), X_sE = X_s.topRows(mE), X_sM = X_s.bottomRows(nM);
+  const Eigen::MatrixXd F_IE = pick(F, I, E), G_MI = pick(modes.G_M, rows_M, I);
+  Eliminated out;
+  out.H = pick(F, I, I) + F_IE * X_pE + G_MI.transpose() * X_pM;
+  out.Y = pick(D, I, all(n_macro)) - F_IE * X_sE - G_MI.transpose() * X_sM;
+  out.E_p = pick(T.lambda, all(n_macro), I) + pick(T.lambda, all(n_macro), E) * X_pE - modes.alpha_M * X_pM;
+  out.S0 = T.sigma + pick(T.lambda, all(n_macro), E) * X_sE - modes.alpha_M * X_sM;
+  return out;
+}
+
+}  // namespace
+
 law::CondensedCell condense(const FetiSetup& setup, int max_rows) {
   const auto start = std::chrono::steady_clock::now();
   const Scene& scene = setup.scene();
@@ -129,100 +231,25 @@ law::CondensedCell condense(const FetiSetup& setup, int max_rows) {
 
   law::CondensedCell cell;
   const Eigen::MatrixXd F = dual.explicit_F();
-  const Eigen::MatrixXd G = Eigen::MatrixXd(dual.G());
-  // The modes the other rows see (M: the matrix, the macro DOFs), and those only interface rows
-  // see (N: the fibres).
-  std::vector<int> M, N;
-  for (Eigen::Index g = 0; g < G.rows(); ++g) {
-    bool seen = false;
-    for (int r : E) seen = seen || G(g, r) != 0;
-    (seen ? M : N).push_back(static_cast<int>(g));
-  }
   const MacroLoad load = macro_load(setup, dual, n_macro);
-  const Eigen::MatrixXd& D = load.D;
   const StrainMap T = strain_map(setup, dual, load, n_macro);
-  // The modes as rows of G, of e and as columns of T.alpha, split into what the other rows see
-  // and what they do not. A combination of modes the other rows see one by one may still escape
-  // them jointly (an RVE's fibre cut by the edges: its pieces spinning together about its centre,
-  // which the periodic rows between them do not see): such combinations Z, the null space of
-  // G_ME G_MEᵀ, join N, and M keeps its complement W.
-  Eigen::MatrixXd G_M = pick(G, M, all(m)), G_N = pick(G, N, all(m));
-  Eigen::MatrixXd e_M = pick(load.e, M, all(n_macro)), e_N = pick(load.e, N, all(n_macro));
-  Eigen::MatrixXd alpha_M = pick(T.alpha, all(n_macro), M), alpha_N = pick(T.alpha, all(n_macro), N);
-  {
-    const Eigen::MatrixXd G_ME = pick(G, M, E);
-    const NullSplit split = split_null_space(G_ME * G_ME.transpose());
-    // A combination no row sees at all (that spin also escapes the interface's normal rows) is
-    // no constraint: the dual problem leaves it undetermined (DualProblem::with_joint_null_modes)
-    // and so does the law; it must carry no load and move no boundary.
-    std::vector<int> constrained;
-    for (Eigen::Index j = 0; j < split.null.cols(); ++j) {
-      const Eigen::VectorXd z = split.null.col(j);
-      if ((z.transpose() * G_M).norm() > null_mode_tolerance * G_M.norm()) {
-        constrained.push_back(static_cast<int>(j));
-        continue;
-      }
-      if ((z.transpose() * e_M).norm() > load_round_off * std::max(load.e.norm(), 1e-300) ||
-          (alpha_M * z).norm() > null_mode_tolerance * T.alpha.norm())
-        throw InputError("a rigid motion no row sees is loaded or moves the cell's boundary: this cell has no law");
-    }
-    if (split.null.cols() > 0) {
-      const Eigen::MatrixXd& W = split.range;
-      const Eigen::MatrixXd Z = pick(split.null, all(M.size()), constrained);
-      const auto stack = [](const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
-        Eigen::MatrixXd out(a.rows() + b.rows(), a.cols());
-        out << a, b;
-        return out;
-      };
-      const auto beside = [](const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
-        Eigen::MatrixXd out(a.rows(), a.cols() + b.cols());
-        out << a, b;
-        return out;
-      };
-      G_N = stack(G_N, Z.transpose() * G_M);
-      e_N = stack(e_N, Z.transpose() * e_M);
-      alpha_N = beside(alpha_N, alpha_M * Z);
-      G_M = W.transpose() * G_M;
-      e_M = W.transpose() * e_M;
-      alpha_M = alpha_M * W;
-    }
-  }
-  for (Eigen::Index g = 0; g < e_N.rows(); ++g)
-    if (e_N.row(g).norm() > load_round_off * std::max(load.e.norm(), 1e-300))
+  const Modes modes = split_modes(Eigen::MatrixXd(dual.G()), E, load, T, n_macro);
+  for (Eigen::Index g = 0; g < modes.e_N.rows(); ++g)
+    if (modes.e_N.row(g).norm() > load_round_off * std::max(load.e.norm(), 1e-300))
       throw InputError("a macro stress loads a body held only by interface rows: this cell has no condensed law");
   cell.operator_applications = 2 * n_macro;  // d and the strain map; F comes from the subdomains' blocks
-
-  // Eliminate λ_E and α_M.
-  const int mE = static_cast<int>(E.size()), nM = static_cast<int>(G_M.rows()), nI = static_cast<int>(I.size());
-  const std::vector<int> rows_M = all(nM);
-  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(mE + nM, mE + nM);
-  K.topLeftCorner(mE, mE) = pick(F, E, E);
-  K.topRightCorner(mE, nM) = pick(G_M, rows_M, E).transpose();
-  K.bottomLeftCorner(nM, mE) = pick(G_M, rows_M, E);
-  Eigen::MatrixXd rhs_p(mE + nM, nI), rhs_s(mE + nM, n_macro);
-  rhs_p << -pick(F, E, I), -pick(G_M, rows_M, I);
-  rhs_s << pick(D, E, all(n_macro)), e_M;
-  const Eigen::PartialPivLU<Eigen::MatrixXd> lu(K);
-  const Eigen::MatrixXd X_p = lu.solve(rhs_p), X_s = lu.solve(rhs_s);
-  const double solve_error = std::max((K * X_p - rhs_p).norm() / std::max(rhs_p.norm(), 1e-300),
-                                      (K * X_s - rhs_s).norm() / std::max(rhs_s.norm(), 1e-300));
-  if (!(solve_error < elimination_tolerance))
-    throw InputError("the cell's rows other than the interface do not hold it (the eliminated system is singular)");
-  const auto X_pE = X_p.topRows(mE), X_pM = X_p.bottomRows(nM), X_sE = X_s.topRows(mE), X_sM = X_s.bottomRows(nM);
-  const Eigen::MatrixXd F_IE = pick(F, I, E), G_MI = pick(G_M, rows_M, I);
-  Eigen::MatrixXd H = pick(F, I, I) + F_IE * X_pE + G_MI.transpose() * X_pM;
-  Eigen::MatrixXd Y = pick(D, I, all(n_macro)) - F_IE * X_sE - G_MI.transpose() * X_sM;
-  Eigen::MatrixXd E_p = pick(T.lambda, all(n_macro), I) + pick(T.lambda, all(n_macro), E) * X_pE - alpha_M * X_pM;
-  Eigen::MatrixXd S0 = T.sigma + pick(T.lambda, all(n_macro), E) * X_sE - alpha_M * X_sM;
-  if (alpha_N.cols() > 0 && alpha_N.norm() > null_mode_tolerance * T.alpha.norm())
+  Eliminated x = eliminate(F, modes, load, T, I, E, n_macro);
+  if (modes.alpha_N.cols() > 0 && modes.alpha_N.norm() > null_mode_tolerance * T.alpha.norm())
     throw InputError("a body held only by interface rows moves the cell's boundary: this cell has no condensed law");
 
   // Physical interface forces p = w λ_scaled: H, Y, E_p and G scaled by 1/w.
+  const int nI = static_cast<int>(I.size());
   Eigen::VectorXd inverse_weight(nI);
   for (int i = 0; i < nI; ++i) inverse_weight(i) = 1 / con.weight(I[i]);
-  H = inverse_weight.asDiagonal() * H * inverse_weight.asDiagonal();
-  Y = inverse_weight.asDiagonal() * Y;
-  E_p = E_p * inverse_weight.asDiagonal();
+  const Eigen::MatrixXd H = inverse_weight.asDiagonal() * x.H * inverse_weight.asDiagonal();
+  const Eigen::MatrixXd Y = inverse_weight.asDiagonal() * x.Y;
+  const Eigen::MatrixXd E_p = x.E_p * inverse_weight.asDiagonal();
+  const Eigen::MatrixXd& S0 = x.S0;
   const double volume = setup.volume();
   // Reciprocity: the strain's dependence on p is the opening's on σ̄, |Ω| E_p = −Yᵀ; with the
   // symmetry of H and S₀ this is the symmetry of 𝓗.
@@ -235,7 +262,7 @@ law::CondensedCell condense(const FetiSetup& setup, int max_rows) {
   cell.S0 = 0.5 * (S0 + S0.transpose());
   cell.H = 0.5 * (H + H.transpose());
   cell.Y = 0.5 * (Y - volume * E_p.transpose());
-  cell.G = pick(G_N, all(G_N.rows()), I) * inverse_weight.asDiagonal();
+  cell.G = pick(modes.G_N, all(modes.G_N.rows()), I) * inverse_weight.asDiagonal();
   cell.n_pairs = static_cast<int>(mesh.interface_pairs.size());
   cell.bonded = intact;
   set_rows(cell, con, I);
