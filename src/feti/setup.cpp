@@ -83,10 +83,35 @@ FetiSetup::FetiSetup(const mesh::Mesh& mesh, const Scene& scene, int threads, in
   };
   phase("assembly");
   const auto t0 = Clock::now();
-  const int n_subdomains = static_cast<int>(mesh.subdomains.size());
   const bool periodic = scene.load.boundary == Boundary::periodic;
-  subdomains_.resize(n_subdomains + (periodic ? 1 : 0));
+  subdomains_.resize(mesh.subdomains.size() + (periodic ? 1 : 0));
   n_dofs_ = mesh.dim_u() + (periodic ? 3 : 0);
+  set_owners();
+  assemble(min_dofs_per_thread);
+  seconds_assembly = seconds_since(t0);
+
+  const DualOperator dual_operator = scene.solver.dual_operator;
+  const bool dirichlet = scene.solver.preconditioner == Preconditioner::dirichlet;
+  Eigen::SparseMatrix<double, Eigen::RowMajor> intact_B;
+  if (dirichlet || dual_operator != DualOperator::implicit) intact_B = set_boundaries();
+  const auto t1 = Clock::now();
+  phase("factorisation");
+  factorise_all(dual_operator == DualOperator::explicit_, dirichlet);
+  seconds_factorisation = seconds_since(t1);
+
+  // The explicit operators where they pay (everywhere, or nowhere, as the scene says).
+  if (dual_operator == DualOperator::implicit) return;
+  const auto t2 = Clock::now();
+  phase("explicit dual operators");
+  form_explicit_operators(intact_B, dual_operator == DualOperator::explicit_, expected_qps);
+  seconds_explicit = seconds_since(t2);
+  for (double n : group_.gather(std::vector<double>{static_cast<double>(owned_explicit())}))
+    explicit_subdomains_ += static_cast<int>(n);
+}
+
+void FetiSetup::set_owners() {
+  const mesh::Mesh& mesh = mesh_;
+  const int n_subdomains = static_cast<int>(mesh.subdomains.size());
   // Owners: contiguous runs of subdomains, balanced by DOFs (the factorisation and every K⁺
   // grow with them); a subdomain goes to the rank its middle DOF falls in. Contiguous and in
   // rank order, so that a sum over a row's subdomains in subdomain order is a sum of the ranks'
@@ -101,6 +126,13 @@ FetiSetup::FetiSetup(const mesh::Mesh& mesh, const Scene& scene, int threads, in
   owned_end_ = static_cast<int>(
       std::find_if(owner_.begin() + owned_begin_, owner_.end(), [&](int r) { return r != group_.rank(); }) -
       owner_.begin());
+}
+
+void FetiSetup::assemble(int min_dofs_per_thread) {
+  const mesh::Mesh& mesh = mesh_;
+  const Scene& scene = scene_;
+  const int n_subdomains = static_cast<int>(mesh.subdomains.size());
+  const bool periodic = scene.load.boundary == Boundary::periodic;
   // Every rank knows every subdomain's place and rigid modes (G is built from them); the
   // stiffness only where it is owned.
   for (int s = 0; s < n_subdomains; ++s) {
@@ -134,28 +166,28 @@ FetiSetup::FetiSetup(const mesh::Mesh& mesh, const Scene& scene, int threads, in
   subdomain_of_dof_.assign(n_dofs_, -1);
   for (const FloatingSubdomain& sub : subdomains_)
     for (int d = 0; d < sub.n_dofs; ++d) subdomain_of_dof_[sub.dof_begin + d] = sub.index;
-  seconds_assembly = seconds_since(t0);
+}
 
-  const DualOperator dual_operator = scene.solver.dual_operator;
-  const bool dirichlet = scene.solver.preconditioner == Preconditioner::dirichlet;
-  Eigen::SparseMatrix<double, Eigen::RowMajor> intact_B;
-  if (dirichlet || dual_operator != DualOperator::implicit) intact_B = set_boundaries();
+namespace {
 
-  // K⁺ once per mesh and material: the factorisations every load case reuses. Subdomains are
-  // small (hundreds to a few thousand DOFs), where a simplicial factor is as fast as a
-  // supernodal one and needs no BLAS; K⁺ is then applied with plain triangular sweeps. AMD
-  // only: the factorisations run concurrently, and METIS's random state is not known to be
-  // thread-safe. (A supernodal factor's many small BLAS calls were measured slower here, and
-  // erratic: OpenBLAS's threads yielding on a shared machine.)
-  const linalg::CholmodOptions subdomain_factor_options{linalg::FactorKind::simplicial, linalg::Ordering::amd};
-  const auto t1 = Clock::now();
-  phase("factorisation");
-  const bool all_explicit = dual_operator == DualOperator::explicit_;
-  const auto factorise = [&](FloatingSubdomain& sub, bool boundary_last) {
-    const std::span<const Eigen::Index> last =
-        boundary_last ? std::span<const Eigen::Index>(sub.boundary_dofs) : std::span<const Eigen::Index>();
-    sub.K_plus = std::make_unique<linalg::FixingNodeInverse>(sub.K, sub.fixing_dofs, subdomain_factor_options, last);
-  };
+// K⁺ once per mesh and material: the factorisations every load case reuses. Subdomains are
+// small (hundreds to a few thousand DOFs), where a simplicial factor is as fast as a supernodal
+// one and needs no BLAS; K⁺ is then applied with plain triangular sweeps. AMD only: the
+// factorisations run concurrently, and METIS's random state is not known to be thread-safe. (A
+// supernodal factor's many small BLAS calls were measured slower here, and erratic: OpenBLAS's
+// threads yielding on a shared machine.)
+const linalg::CholmodOptions subdomain_factor_options{linalg::FactorKind::simplicial, linalg::Ordering::amd};
+
+// K⁺ of sub, with its boundary DOFs ordered last when the explicit operator needs them there.
+void factorise(FloatingSubdomain& sub, bool boundary_last) {
+  const std::span<const Eigen::Index> last =
+      boundary_last ? std::span<const Eigen::Index>(sub.boundary_dofs) : std::span<const Eigen::Index>();
+  sub.K_plus = std::make_unique<linalg::FixingNodeInverse>(sub.K, sub.fixing_dofs, subdomain_factor_options, last);
+}
+
+}  // namespace
+
+void FetiSetup::factorise_all(bool all_explicit, bool dirichlet) {
   for_each_subdomain([&](int s) {
     FloatingSubdomain& sub = subdomains_[s];
     if (sub.is_macro) return;
@@ -164,13 +196,12 @@ FetiSetup::FetiSetup(const mesh::Mesh& mesh, const Scene& scene, int threads, in
       sub.K_ii_inverse =
           std::make_unique<linalg::FixingNodeInverse>(sub.K, sub.boundary_dofs, subdomain_factor_options);
   });
-  seconds_factorisation = seconds_since(t1);
+}
 
-  // The explicit operators where they pay (everywhere, or nowhere, as the scene says): the
-  // factor again with the boundary DOFs last (already so with "explicit"), then K⁺(b, b).
-  if (dual_operator == DualOperator::implicit) return;
-  const auto t2 = Clock::now();
-  phase("explicit dual operators");
+void FetiSetup::form_explicit_operators(const Eigen::SparseMatrix<double, Eigen::RowMajor>& intact_B, bool all_explicit,
+                                        double expected_qps) {
+  const Scene& scene = scene_;
+  // The factor again with the boundary DOFs last (already so with "explicit"), then K⁺(b, b).
   const bool fixed_rows = !scene.interface.has_adhesion();
   const std::vector<LocalRows> intact_rows = fixed_rows ? split_rows(intact_B) : std::vector<LocalRows>();
   for_each_subdomain([&](int s) {
@@ -186,9 +217,6 @@ FetiSetup::FetiSetup(const mesh::Mesh& mesh, const Scene& scene, int threads, in
       sub.K_plus_bb = Eigen::MatrixXd();
     }
   });
-  seconds_explicit = seconds_since(t2);
-  for (double n : group_.gather(std::vector<double>{static_cast<double>(owned_explicit())}))
-    explicit_subdomains_ += static_cast<int>(n);
 }
 
 std::vector<FetiSetup::LocalRows> FetiSetup::split_rows(const Eigen::SparseMatrix<double, Eigen::RowMajor>& B) const {

@@ -153,6 +153,14 @@ class FetiSetup {
  private:
   // FloatingSubdomain::boundary_dofs and n_rows from the rows of the intact bonds (returned).
   Eigen::SparseMatrix<double, Eigen::RowMajor> set_boundaries();
+  // The constructor's steps: the ranks' subdomains (owner_), every subdomain's place and rigid
+  // modes and the owned ones' stiffness, their K⁺ (and K_ii⁻¹ for the Dirichlet preconditioner),
+  // and the explicit operators where they pay (or everywhere: all_explicit).
+  void set_owners();
+  void assemble(int min_dofs_per_thread);
+  void factorise_all(bool all_explicit, bool dirichlet);
+  void form_explicit_operators(const Eigen::SparseMatrix<double, Eigen::RowMajor>& intact_B, bool all_explicit,
+                               double expected_qps);
 
   const mesh::Mesh& mesh_;
   Scene scene_;

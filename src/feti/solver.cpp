@@ -25,6 +25,65 @@ double seconds_since(Clock::time_point t) { return std::chrono::duration<double>
 // 1e-14 is a few hundred ulps of its terms, below which SMALBE stagnates instead of converging.
 constexpr double min_qp_tolerance = 1e-14;
 
+// SMALBE's options from the scene's solver settings, at the dual tolerance `tolerance`, for A = PFP
+// of norm norm_PFP.
+qp::SmalbeOptions smalbe_options(const SolverSettings& settings, double tolerance, double norm_PFP) {
+  qp::SmalbeOptions options;
+  options.relative_tolerance = tolerance;
+  options.equality_tolerance = tolerance;
+  options.max_outer_iterations = settings.max_outer_iterations;
+  options.max_operator_applications = settings.max_operator_applications;
+  options.rho0_factor = settings.rho_factor;
+  options.rho_growth = settings.rho_growth;
+  options.rho_patience = settings.rho_patience;
+  options.inner.Gamma = settings.Gamma;
+  options.inner.norm_A = norm_PFP;
+  options.inner.max_iterations = settings.max_operator_applications;
+  options.projected_operator = true;  // A = PFP: ‖A + ρQ‖ = max(‖A‖, ρ)
+  return options;
+}
+
+// The QP's progress line: the last outer iteration's stopping quantities against their
+// tolerance, F applications so far, and what is left at the rate their distance to convergence,
+// max(‖gᴾ‖, ‖Gλ−e‖)/tol, has fallen per outer iteration (GeometricEta).
+class QpProgressLine {
+ public:
+  QpProgressLine(Progress& progress, int rows, double tolerance)
+      : progress_(progress), rows_(rows), tolerance_(tolerance) {}
+  // One application of F: one clock read, a line when one is due.
+  void applied() {
+    ++applications_;
+    progress_.update([&] { return text(); });
+  }
+  void outer(const qp::OuterReport& r) {
+    last_ = r;
+    eta_.observe(r.outer_iterations, std::max(r.projected_gradient, r.equality_residual) / tolerance_,
+                 progress_.seconds());
+  }
+
+ private:
+  std::string text() const {
+    char line[320];
+    const double now = progress_.seconds();
+    if (last_.outer_iterations == 0)
+      std::snprintf(line, sizeof line, "QP (%d rows): %ld F applications, %s", rows_, applications_,
+                    seconds_text(now).c_str());
+    else
+      std::snprintf(line, sizeof line,
+                    "QP (%d rows): outer %ld, |gP| %.1e, |G l - e| %.1e (tol %.0e), %ld F applications, %s%s", rows_,
+                    last_.outer_iterations, last_.projected_gradient, last_.equality_residual, tolerance_,
+                    applications_, seconds_text(now).c_str(), eta_.left(now).c_str());
+    return line;
+  }
+
+  Progress& progress_;
+  int rows_;
+  double tolerance_;
+  long applications_ = 0;
+  qp::OuterReport last_{};
+  GeometricEta eta_;
+};
+
 }  // namespace
 
 // ‖PFP‖ by qp::estimate_norm (20 applications from a fixed start vector): part of building a
@@ -126,53 +185,15 @@ Solution ContactSolver::solve_problem(const DualProblem& dual, double norm_PFP, 
   if (warm_lambda && warm_lambda->size() == m) lambda_shift = warm_lambda->cwiseQuotient(con.weight) - lambda0;
 
   const SolverSettings& settings = setup_.scene().solver;
-  qp::SmalbeOptions options;
-  options.relative_tolerance = out.qp_tolerance;
-  options.equality_tolerance = out.qp_tolerance;
-  options.max_outer_iterations = settings.max_outer_iterations;
-  options.max_operator_applications = settings.max_operator_applications;
-  options.rho0_factor = settings.rho_factor;
-  options.rho_growth = settings.rho_growth;
-  options.rho_patience = settings.rho_patience;
-  options.inner.Gamma = settings.Gamma;
-  options.inner.norm_A = norm_PFP;
-  options.inner.max_iterations = settings.max_operator_applications;
-  options.projected_operator = true;  // A = PFP: ‖A + ρQ‖ = max(‖A‖, ρ)
-  // Progress: per application of F one clock read; the line (the last outer iteration's
-  // stopping quantities against their tolerance, F so far, and what is left at the rate their
-  // distance to convergence, max(‖gᴾ‖, ‖Gλ−e‖)/tol, has fallen per outer iteration) is formed
-  // only when one is due.
-  long applications = 0;
-  qp::OuterReport last{};
-  GeometricEta eta;
-  const auto qp_line = [&] {
-    char text[320];
-    const double tol = out.qp_tolerance;
-    const double now = progress_->seconds();
-    const std::string left = eta.left(now);
-    if (last.outer_iterations == 0)
-      std::snprintf(text, sizeof text, "QP (%d rows): %ld F applications, %s", m, applications,
-                    seconds_text(now).c_str());
-    else
-      std::snprintf(text, sizeof text,
-                    "QP (%d rows): outer %ld, |gP| %.1e, |G l - e| %.1e (tol %.0e), %ld F applications, %s%s", m,
-                    last.outer_iterations, last.projected_gradient, last.equality_residual, tol, applications,
-                    seconds_text(now).c_str(), left.c_str());
-    return std::string(text);
-  };
+  qp::SmalbeOptions options = smalbe_options(settings, out.qp_tolerance, norm_PFP);
+  // Progress: per application of F one clock read; the line is formed only when one is due.
+  std::optional<QpProgressLine> line;
+  if (progress_) line.emplace(*progress_, m, out.qp_tolerance);
   options.A_plus_shifted_Q = [&](const Eigen::VectorXd& x, double shift, Eigen::VectorXd& y) {
     A_plus_shifted_Q(x, shift, y);
-    if (progress_) {
-      ++applications;
-      progress_->update(qp_line);
-    }
+    if (line) line->applied();
   };
-  if (progress_)
-    options.on_outer = [&](const qp::OuterReport& r) {
-      last = r;
-      eta.observe(r.outer_iterations, std::max(r.projected_gradient, r.equality_residual) / out.qp_tolerance,
-                  progress_->seconds());
-    };
+  if (line) options.on_outer = [&](const qp::OuterReport& r) { line->outer(r); };
   // The preconditioner of PFP on Im P: P M⁻¹ P, fused with SMALBE's Q/ρ like A + ρQ.
   std::optional<ProjectedPlusShiftedQ> M_plus_shifted_Q;
   if (settings.preconditioner != Preconditioner::none) {
