@@ -13,7 +13,7 @@
 #include "feti/solver.hpp"
 #include "io/law_export.hpp"
 #include "law/cell_text.hpp"
-#include "law/umat_signature.hpp"
+#include "umat/umat_signature.hpp"
 #include "mesh/mesh.hpp"
 #include "test_util.hpp"
 

@@ -9,7 +9,7 @@
 #include <random>
 
 #include "io/law_export.hpp"
-#include "law/umat_signature.hpp"
+#include "umat/umat_signature.hpp"
 
 namespace dualcell::law {
 namespace {
