@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "fem/assembly.hpp"
+#include "feti/constraints.hpp"
 
 namespace dualcell::feti {
 
@@ -42,6 +43,18 @@ Eigen::Vector3d average_stress(const mesh::Mesh& mesh, const Material& fibre, co
   const fem::ElementStresses stress = fem::element_stresses(mesh, fibre, matrix, u);
   const Eigen::Vector3d sum = stress.average.transpose() * stress.area;  // Σ_t ∫_t σ dA
   return sum / (mesh.block_width() * mesh.block_height());
+}
+
+SolutionFields solution_fields(const mesh::Mesh& mesh, const Scene& scene, const Eigen::VectorXd& u) {
+  SolutionFields out;
+  out.stress = fem::element_stresses(mesh, scene.fibre, scene.matrix, u);
+  out.opening.reserve(mesh.interface_pairs.size());
+  for (std::size_t p = 0; p < mesh.interface_pairs.size(); ++p) {
+    const auto [fn, mn] = mesh.interface_pairs[p];
+    const Eigen::Vector2d n = interface_normal(mesh, static_cast<int>(p));
+    out.opening.push_back(n.dot(u.segment<2>(2 * mn) - u.segment<2>(2 * fn)));
+  }
+  return out;
 }
 
 }  // namespace dualcell::feti

@@ -1,8 +1,10 @@
 #pragma once
 // Homogenised quantities (docs/method.md §12).
 #include <Eigen/Core>
+#include <vector>
 
 #include "core/scene.hpp"
+#include "fem/assembly.hpp"
 #include "mesh/mesh.hpp"
 
 namespace dualcell::feti {
@@ -20,5 +22,14 @@ Eigen::MatrixXd boundary_strain_matrix(const mesh::Mesh& mesh, int n_dofs);
 // equilibrium (Hill–Mandel); returns (σxx, σyy, σxy).
 Eigen::Vector3d average_stress(const mesh::Mesh& mesh, const Material& fibre, const Material& matrix,
                                const Eigen::VectorXd& u);
+
+// The fields a solution shows besides u and the pairs' forces (solution.h5, computed here so that
+// its writer only writes): every element's stress, at its centroid and its volume average, and
+// every interface pair's opening n·(u_m − u_f), > 0 where it is open.
+struct SolutionFields {
+  fem::ElementStresses stress;
+  std::vector<double> opening;
+};
+SolutionFields solution_fields(const mesh::Mesh& mesh, const Scene& scene, const Eigen::VectorXd& u);
 
 }  // namespace dualcell::feti

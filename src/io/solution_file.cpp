@@ -3,7 +3,6 @@
 #include <iterator>
 
 #include "core/error.hpp"
-#include "fem/assembly.hpp"
 #include "io/atomic_output.hpp"
 #include "io/hdf5.hpp"
 #include "io/provenance.hpp"
@@ -18,8 +17,8 @@ std::vector<double> to_vector(const Eigen::VectorXd& v) { return {v.data(), v.da
 }  // namespace
 
 void write_solution(const std::filesystem::path& h5, const mesh::Mesh& mesh, const Scene& scene,
-                    const feti::Solution& s, const Provenance& provenance, const LoadSteps* steps,
-                    const RankTable* ranks) {
+                    const feti::Solution& s, const feti::SolutionFields& fields, const Provenance& provenance,
+                    const LoadSteps* steps, const RankTable* ranks) {
   const std::filesystem::path xdmf = xdmf_beside(h5);
   AtomicOutputs outputs;
   outputs.add(h5);
@@ -50,7 +49,7 @@ void write_solution(const std::filesystem::path& h5, const mesh::Mesh& mesh, con
     f.write("/solution/deformed_nodes", deformed, {N, 2});
     f.write_attribute("/solution/deformed_nodes", "exaggeration", scale);
     // Per triangle: the stress at the centroid and its volume average (equal for p1).
-    const fem::ElementStresses stress = fem::element_stresses(mesh, scene.fibre, scene.matrix, s.u);
+    const fem::ElementStresses& stress = fields.stress;
     const auto rows = [](const Eigen::MatrixXd& m) {
       std::vector<double> out;
       for (Eigen::Index t = 0; t < m.rows(); ++t)
@@ -60,17 +59,14 @@ void write_solution(const std::filesystem::path& h5, const mesh::Mesh& mesh, con
     f.write("/solution/element_stress", rows(stress.centroid), {T, 3});
     f.write("/solution/element_stress_average", rows(stress.average), {T, 3});
 
-    std::vector<double> lambda, gap;
+    std::vector<double> lambda;
     std::vector<std::int64_t> bonded;
     for (hsize_t p = 0; p < P; ++p) {
       lambda.insert(lambda.end(), {s.normal_force[p], s.tangential_force[p]});
-      const auto [fn, mn] = mesh.interface_pairs[p];
-      const Eigen::Vector2d n = feti::interface_normal(mesh, static_cast<int>(p));
-      gap.push_back(n.dot(s.u.segment<2>(2 * mn) - s.u.segment<2>(2 * fn)));
       bonded.push_back(s.bonds.empty() ? 0 : s.bonds[p]);
     }
     f.write("/interface/lambda", lambda, {P, 2});
-    f.write("/interface/opening", gap, {P});
+    f.write("/interface/opening", fields.opening, {P});
     f.write("/interface/bonded", bonded, {P});
 
     f.write("/macro/stress", std::vector<double>{s.sigma(0), s.sigma(1), s.sigma(2)}, {3});

@@ -8,6 +8,7 @@
 
 #include "core/provenance.hpp"
 #include "core/scene.hpp"
+#include "feti/macro.hpp"
 #include "feti/solver.hpp"
 #include "mesh/mesh.hpp"
 
@@ -117,11 +118,11 @@ inline const RankColumn rank_columns[] = {
 std::vector<double> pack(const RankEntry& entry);
 RankTable unpack_rank_table(const std::vector<double>& packed);  // the gathered packs, in rank order
 
-// `provenance` names the mesh (mesh_file, mesh_hash); the scene's text is taken from `scene`.
-// `steps`, when given, is written to /steps.
+// `fields`: feti::solution_fields of the solution. `provenance` names the mesh (mesh_file,
+// mesh_hash); the scene's text is taken from `scene`. `steps`, when given, is written to /steps.
 void write_solution(const std::filesystem::path& h5, const mesh::Mesh& mesh, const Scene& scene,
-                    const feti::Solution& solution, const Provenance& provenance, const LoadSteps* steps = nullptr,
-                    const RankTable* ranks = nullptr);
+                    const feti::Solution& solution, const feti::SolutionFields& fields, const Provenance& provenance,
+                    const LoadSteps* steps = nullptr, const RankTable* ranks = nullptr);
 
 // The bond state stored in a solution file (/interface/bonded), checked against the mesh: the
 // file must have been solved on the mesh whose hash is `mesh_hash`.

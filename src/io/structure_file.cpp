@@ -44,33 +44,28 @@ void write_structure(const std::filesystem::path& out, const structure::Structur
     f.write("/mesh/cell", std::vector<std::int64_t>(mesh.cell.begin(), mesh.cell.end()), {T});
     f.write_attribute("/mesh", "element", std::string(per == 3 ? "p1" : "p2"));
 
-    // Per step: the report as columns, the fields in /steps/NNN.
+    // Per step: the report as columns (structure_step_columns, the reactions), the fields in
+    // /steps/NNN.
     f.create_group("/steps");
-    std::vector<double> factor, energy, decrease, residual, watch, reactions;
-    std::vector<std::int64_t> newton, rounds, fused, broken_points, converged, open;
-    for (const auto& s : steps) {
-      factor.push_back(s.factor), energy.push_back(s.energy), decrease.push_back(s.energy_decrease);
-      residual.push_back(s.residual);
-      watch.push_back(s.watch_displacement(0)), watch.push_back(s.watch_displacement(1));
-      for (const auto& R : s.reactions) reactions.push_back(R(0)), reactions.push_back(R(1));
-      newton.push_back(s.newton_steps), rounds.push_back(s.fuse_rounds), fused.push_back(s.newly_fused_cells);
-      open.push_back(s.open_triangles);
-      broken_points.push_back(s.newly_broken_units);
-      converged.push_back(s.converged ? 1 : 0);
-    }
-    f.write("/steps/factor", factor, {S});
     f.write_attribute("/steps", "first_fuse_factor", first_fuse_factor);
-    f.write("/steps/energy", energy, {S});
-    f.write("/steps/energy_decrease", decrease, {S});
-    f.write("/steps/residual", residual, {S});
-    f.write("/steps/watch_displacement", watch, {S, 2});
+    for (const StructureStepColumn& c : structure_step_columns) {
+      const std::string name = std::string("/steps/") + c.name;
+      std::vector<double> reals;
+      std::vector<std::int64_t> ints;
+      for (const auto& s : steps) {
+        if (c.real) reals.push_back(s.*c.real);
+        if (c.vector) reals.insert(reals.end(), {(s.*c.vector)(0), (s.*c.vector)(1)});
+        if (c.count) ints.push_back(s.*c.count);
+        if (c.flag) ints.push_back(s.*c.flag ? 1 : 0);
+      }
+      if (c.real) f.write(name, reals, {S});
+      if (c.vector) f.write(name, reals, {S, 2});
+      if (c.count || c.flag) f.write(name, ints, {S});
+    }
+    std::vector<double> reactions;
+    for (const auto& s : steps)
+      for (const auto& R : s.reactions) reactions.push_back(R(0)), reactions.push_back(R(1));
     f.write("/steps/reactions", reactions, {S, 10});
-    f.write("/steps/newton_steps", newton, {S});
-    f.write("/steps/fuse_rounds", rounds, {S});
-    f.write("/steps/newly_fused_cells", fused, {S});
-    f.write("/steps/newly_broken", broken_points, {S});
-    f.write("/steps/open_triangles", open, {S});
-    f.write("/steps/converged", converged, {S});
     std::vector<XdmfGrid> grids;
     for (std::size_t k = 0; k < steps.size(); ++k) {
       const auto& s = steps[k];

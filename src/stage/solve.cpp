@@ -145,7 +145,8 @@ SolveOutcome run_solve(const SolveOptions& options) {
     Provenance provenance;
     provenance.mesh_file = in.mesh_file;
     provenance.mesh_hash = in.mesh_hash;
-    io::write_solution(options.out, in.mesh, in.scene, outcome.solution, provenance,
+    const feti::SolutionFields fields = feti::solution_fields(in.mesh, in.scene, outcome.solution.u);
+    io::write_solution(options.out, in.mesh, in.scene, outcome.solution, fields, provenance,
                        outcome.steps ? &*outcome.steps : nullptr, &outcome.ranks);
     outcome.written = true;
   }

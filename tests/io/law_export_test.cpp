@@ -1,6 +1,8 @@
 // dualcell-export: the 3D constants reproduce the plane-strain law (algebra, then the real
 // CalculiX solver on a small plane-strain model), JSON read by Python, CSV with one row per
 // direction, and refusals of bad law files and inadmissible laws that leave no output.
+#include "io/law_export.hpp"
+
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -11,7 +13,6 @@
 #include "core/error.hpp"
 #include "core/exit_codes.hpp"
 #include "io/hdf5.hpp"
-#include "io/law_export.hpp"
 #include "io/law_file.hpp"
 #include "law/synthetic_law.hpp"
 #include "test_util.hpp"
