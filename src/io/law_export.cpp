@@ -4,10 +4,12 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <type_traits>
 
 #include "core/error.hpp"
 #include "core/json.hpp"
 #include "core/text.hpp"
+#include "law/condensed_members.hpp"
 #include "law/fields.hpp"
 
 namespace dualcell::io {
@@ -117,25 +119,21 @@ std::string json_vector(const Eigen::VectorXd& v) {
 void add_exact_law(JsonObject& o, const Law& law) {
   o.add_text("cell_note", law.cell_note);
   if (!law.cell) return;
-  const law::CondensedCell& c = *law.cell;
-  o.add("cell", JsonObject()
-                    .add("n_macro", std::to_string(c.n_macro))
-                    .add("n_pairs", std::to_string(c.n_pairs))
-                    .add("volume", json_number(c.volume))
-                    .add("S0", json_rows(c.S0))
-                    .add("Y", json_rows(c.Y))
-                    .add("H", json_rows(c.H))
-                    .add("G", json_rows(c.G))
-                    .add("tangential", json_ints(c.tangential))
-                    .add("pair", json_ints(c.pair))
-                    .add("lower_bonded", json_vector(c.lower_bonded))
-                    .add("upper_bonded", json_vector(c.upper_bonded))
-                    .add("lower_broken", json_vector(c.lower_broken))
-                    .add("upper_broken", json_vector(c.upper_broken))
-                    .add("bonded", json_ints(c.bonded))
-                    .add("reciprocity_error", json_number(c.reciprocity_error))
-                    .add("bytes", std::to_string(c.bytes()))
-                    .str(4));
+  JsonObject cell;
+  law::for_each_member(*law.cell, [&](const law::Member& m, const auto& value) {
+    using T = std::remove_cvref_t<decltype(value)>;
+    if constexpr (law::CountMember<T>)
+      cell.add(m.name, std::to_string(value));
+    else if constexpr (law::RealMember<T>)
+      cell.add(m.name, json_number(value));
+    else if constexpr (std::is_same_v<T, Eigen::VectorXd>)
+      cell.add(m.name, json_vector(value));
+    else if constexpr (law::ArrayMember<T>)
+      cell.add(m.name, json_rows(value));
+    else if constexpr (law::ListMember<T>)
+      cell.add(m.name, json_ints(value));
+  });
+  o.add("cell", cell.add("bytes", std::to_string(law.cell->bytes())).str(4));
   const law::CellReplay& r = law.cell_replay;
   o.add("cell_replay", JsonObject()
                            .add("points", std::to_string(r.points))

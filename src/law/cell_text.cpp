@@ -5,6 +5,9 @@
 #include <istream>
 #include <limits>
 #include <ostream>
+#include <type_traits>
+
+#include "law/condensed_members.hpp"
 
 namespace dualcell::law {
 
@@ -89,22 +92,21 @@ bool read_list(std::istream& in, const char* key, Eigen::Index n, std::vector<T>
 
 void write_cell_text(std::ostream& out, const CondensedCell& cell) {
   out << header << '\n';
-  out << "n_macro " << cell.n_macro << '\n';
-  out << "volume " << number(cell.volume) << '\n';
-  out << "rows " << cell.n_rows() << '\n';
-  out << "pairs " << cell.n_pairs << '\n';
-  out << "fibre_modes " << cell.G.rows() << '\n';
-  write_matrix(out, "S0", cell.S0);
-  write_matrix(out, "Y", cell.Y);
-  write_matrix(out, "H", cell.H);
-  write_matrix(out, "G", cell.G);
-  write_list(out, "tangential", cell.tangential);
-  write_list(out, "pair", cell.pair);
-  write_values(out, "lower_bonded", cell.lower_bonded.data(), cell.lower_bonded.size());
-  write_values(out, "upper_bonded", cell.upper_bonded.data(), cell.upper_bonded.size());
-  write_values(out, "lower_broken", cell.lower_broken.data(), cell.lower_broken.size());
-  write_values(out, "upper_broken", cell.upper_broken.data(), cell.upper_broken.size());
-  write_list(out, "bonded", cell.bonded);
+  for_each_member(cell, [&](const Member& m, const auto& value) {
+    using T = std::remove_cvref_t<decltype(value)>;
+    const char* key = m.text ? m.text : m.name;
+    if (m.measured) return;
+    if constexpr (CountMember<T>)
+      out << key << ' ' << value << '\n';
+    else if constexpr (std::is_same_v<T, TextSize>)
+      out << key << ' ' << extent(cell, m.sizes) << '\n';
+    else if constexpr (RealMember<T>)
+      out << key << ' ' << number(value) << '\n';
+    else if constexpr (ArrayMember<T>)
+      write_matrix(out, key, value);
+    else if constexpr (ListMember<T>)
+      write_list(out, key, value);
+  });
 }
 
 CondensedCell read_cell_text(std::istream& in, std::string& error) {
@@ -114,29 +116,34 @@ CondensedCell read_cell_text(std::istream& in, std::string& error) {
     error = "the first line is not '" + std::string(header) + "'";
     return {};
   }
-  double sizes[5];
-  const char* keys[5] = {"n_macro", "volume", "rows", "pairs", "fibre_modes"};
-  for (int k = 0; k < 5; ++k)
-    if (!read_values(in, keys[k], &sizes[k], 1, error)) return {};
-  for (int k : {0, 2, 3, 4})
-    if (!(sizes[k] >= 0 && sizes[k] <= 1e6 && sizes[k] == std::floor(sizes[k]))) {
-      error = std::string(keys[k]) + ": " + number(sizes[k]) + " is not a count in [0, 1e6]";
-      return {};
+  // The extents as the text states them, before the arrays.
+  Eigen::Index size[5] = {1, 0, 0, 0, 0};
+  bool ok = true;
+  for_each_member(cell, [&](const Member& m, auto&& value) {
+    using T = std::remove_cvref_t<decltype(value)>;
+    const char* key = m.text ? m.text : m.name;
+    if (!ok || m.measured) return;
+    if constexpr (CountMember<T> || std::is_same_v<T, TextSize>) {
+      double count = 0;
+      ok = read_values(in, key, &count, 1, error);
+      if (ok && !(count >= 0 && count <= 1e6 && count == std::floor(count))) {
+        error = std::string(key) + ": " + number(count) + " is not a count in [0, 1e6]";
+        ok = false;
+      }
+      if (m.sizes != Extent::one) size[static_cast<int>(m.sizes)] = static_cast<Eigen::Index>(count);
+      if constexpr (CountMember<T>) value = static_cast<T>(count);
+    } else if constexpr (RealMember<T>) {
+      ok = read_values(in, key, &value, 1, error);
+    } else if constexpr (ArrayMember<T>) {
+      const Eigen::Index rows = size[static_cast<int>(m.rows)], cols = size[static_cast<int>(m.cols)];
+      Eigen::MatrixXd M;
+      ok = read_matrix(in, key, rows, cols, M, error);
+      value = M;
+    } else if constexpr (ListMember<T>) {
+      ok = read_list(in, key, size[static_cast<int>(m.rows)], value, error);
     }
-  cell.n_macro = static_cast<int>(sizes[0]);
-  cell.volume = sizes[1];
-  const Eigen::Index m = cell.n_macro, n = static_cast<Eigen::Index>(sizes[2]), k = static_cast<Eigen::Index>(sizes[4]);
-  cell.n_pairs = static_cast<int>(sizes[3]);
-  cell.lower_bonded.resize(n), cell.upper_bonded.resize(n), cell.lower_broken.resize(n), cell.upper_broken.resize(n);
-  if (!read_matrix(in, "S0", m, m, cell.S0, error) || !read_matrix(in, "Y", n, m, cell.Y, error) ||
-      !read_matrix(in, "H", n, n, cell.H, error) || !read_matrix(in, "G", k, n, cell.G, error) ||
-      !read_list(in, "tangential", n, cell.tangential, error) || !read_list(in, "pair", n, cell.pair, error) ||
-      !read_values(in, "lower_bonded", cell.lower_bonded.data(), n, error) ||
-      !read_values(in, "upper_bonded", cell.upper_bonded.data(), n, error) ||
-      !read_values(in, "lower_broken", cell.lower_broken.data(), n, error) ||
-      !read_values(in, "upper_broken", cell.upper_broken.data(), n, error) ||
-      !read_list(in, "bonded", cell.n_pairs, cell.bonded, error))
-    return {};
+  });
+  if (!ok) return {};
   std::string rest;
   if (in >> rest) {
     error = "'" + rest + "' after the last keyword";

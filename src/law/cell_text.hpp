@@ -4,7 +4,9 @@
 // --format umat --form cell` writes it. Layout (README.md, "The law in CalculiX"): a first line
 // "dualcell cell law 1", then one keyword per line followed by its numbers, whitespace
 // separated, matrices row by row, doubles with 17 significant digits (so that the file gives
-// the same law bit for bit), infinite bounds as "inf" / "-inf":
+// the same law bit for bit), infinite bounds as "inf" / "-inf"; the keywords are the members of
+// law::for_each_member (law/condensed_members.hpp) in its order, but for what the condensation
+// measured:
 //
 //   n_macro m | volume |Ω| | rows n | pairs P | fibre_modes k
 //   S0 (m·m) | Y (n·m) | H (n·n) | G (k·n)

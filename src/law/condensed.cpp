@@ -12,10 +12,6 @@ namespace {
 constexpr double inf = std::numeric_limits<double>::infinity();
 constexpr double nan = std::numeric_limits<double>::quiet_NaN();
 
-bool symmetric(const Eigen::MatrixXd& M) {
-  return M.rows() == M.cols() && (M - M.transpose()).norm() <= 1e-12 * std::max(M.norm(), 1e-300);
-}
-
 // A cell without shear (the symmetry boundary): its γxy and the tangent's shear entries are NaN.
 void mark_no_shear(CellResponse& out) {
   out.strain(2) = nan;
@@ -29,42 +25,6 @@ bool CondensedCell::adhesion() const {
   for (int r = 0; r < n_rows(); ++r)
     if (lower_bonded(r) != lower_broken(r) || upper_bonded(r) != upper_broken(r)) return true;
   return false;
-}
-
-std::size_t CondensedCell::bytes() const {
-  const auto size = [](const Eigen::MatrixXd& M) { return static_cast<std::size_t>(M.size()) * sizeof(double); };
-  return size(S0) + size(Y) + size(H) + size(G) + 4 * static_cast<std::size_t>(n_rows()) * sizeof(double) +
-         static_cast<std::size_t>(n_rows()) * (sizeof(int) + 1) + static_cast<std::size_t>(n_pairs);
-}
-
-std::string consistency_problem(const CondensedCell& cell) {
-  const int n = cell.n_rows(), m = cell.n_macro;
-  if (m != 2 && m != 3) return "n_macro is " + std::to_string(m) + ", not 2 or 3";
-  if (!(cell.volume > 0) || !std::isfinite(cell.volume)) return "the volume is not positive and finite";
-  if (cell.S0.rows() != m || cell.S0.cols() != m) return "S0 is not n_macro × n_macro";
-  if (cell.Y.rows() != n || cell.Y.cols() != m) return "Y is not n_rows × n_macro";
-  if (cell.H.rows() != n || cell.H.cols() != n) return "H is not n_rows × n_rows";
-  if (cell.G.cols() != n && cell.G.rows() > 0) return "G does not have n_rows columns";
-  if (static_cast<int>(cell.tangential.size()) != n) return "the row kinds are not one per row";
-  for (const auto* v : {&cell.lower_bonded, &cell.upper_bonded, &cell.lower_broken, &cell.upper_broken})
-    if (v->size() != n) return "the bounds are not one per row";
-  if (static_cast<int>(cell.bonded.size()) != cell.n_pairs) return "the bond state is not one per pair";
-  if (!cell.S0.allFinite() || !cell.Y.allFinite() || !cell.H.allFinite() || !cell.G.allFinite())
-    return "non-finite entries";
-  if (!symmetric(cell.S0) || !symmetric(cell.H)) return "S0 or H is not symmetric";
-  if (Eigen::LLT<Eigen::MatrixXd>(cell.S0).info() != Eigen::Success) return "S0 is not positive definite";
-  for (int r = 0; r < n; ++r) {
-    if (cell.pair[r] < 0 || cell.pair[r] >= cell.n_pairs) return "row " + std::to_string(r) + " names no pair";
-    if (cell.tangential[r] > 1) return "row " + std::to_string(r) + " has an unknown kind";
-    for (const auto& [lo, hi] :
-         {std::pair{cell.lower_bonded(r), cell.upper_bonded(r)}, std::pair{cell.lower_broken(r), cell.upper_broken(r)}})
-      if (std::isnan(lo) || std::isnan(hi) || lo > 0 || hi < 0)
-        return "row " + std::to_string(r) + ": its bounds do not hold 0";
-    const bond::Bounds rule = bond::bounds(cell.kind(r), bond::State::broken, 0, 0, 0);
-    if (cell.lower_broken(r) != rule.lower || cell.upper_broken(r) != rule.upper)
-      return "row " + std::to_string(r) + ": its broken bounds are not the bond rule's (docs/method.md §11)";
-  }
-  return "";
 }
 
 namespace {

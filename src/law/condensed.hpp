@@ -57,12 +57,13 @@ struct CondensedCell {
   bond::Bounds bonded_bounds(int r) const { return {lower_bonded(r), upper_bonded(r)}; }
   bond::Bounds broken_bounds(int r) const { return {lower_broken(r), upper_broken(r)}; }
   bool adhesion() const;
-  // Bytes of the matrices.
+  // Bytes of the arrays (every array member of law/condensed_members.hpp).
   std::size_t bytes() const;
 };
 
 // Empty when the cell is usable (sizes agree, everything finite, S₀ and H symmetric, bounds
-// ordered with 0 within them); otherwise what is wrong.
+// ordered with 0 within them: the rules of its member table, law/condensed_members.hpp, and the
+// broken bounds the bond rule's); otherwise what is wrong, "member: what" where one member is.
 std::string consistency_problem(const CondensedCell& cell);
 
 // One unit of material that follows the exact law: its bond state and the active set of its

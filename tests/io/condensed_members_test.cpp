@@ -1,0 +1,143 @@
+// Every member of law::CondensedCell's table (law/condensed_members.hpp) reaches every format of
+// the cell and comes back: law.h5 (/law/cell, the group sweep.h5 has too), the cell's text (the
+// members of the law; not what the condensation measured) and the JSON export. The cell's every
+// member differs from a default cell's, so a member that a writer or reader leaves out comes
+// back different and fails here, by name.
+#include "law/condensed_members.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <map>
+#include <sstream>
+#include <type_traits>
+
+#include "io/law_export.hpp"
+#include "io/law_file.hpp"
+#include "law/bond.hpp"
+#include "law/cell_text.hpp"
+#include "law/synthetic_law.hpp"
+#include "test_util.hpp"
+
+namespace dualcell::io {
+namespace {
+
+using law::CondensedCell;
+
+// A small consistent cell: 2 macro components (3 is the default), 2 pairs of a normal and a tangential row, one
+// fibre mode; every member set, none to its default.
+CondensedCell distinct_cell() {
+  CondensedCell c;
+  c.n_macro = 2;
+  c.volume = 2.5;
+  c.n_pairs = 2;
+  c.S0 = Eigen::Matrix2d{{2, 0.1}, {0.1, 3}};
+  c.Y.resize(4, 2);
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 2; ++j) c.Y(i, j) = 0.1 * (i + 1) + 0.01 * (j + 1);
+  const Eigen::MatrixXd A = c.Y * c.Y.transpose();
+  c.H = A + Eigen::MatrixXd::Identity(4, 4);
+  c.G = Eigen::RowVector4d{1, 2, 3, 4};
+  c.tangential = {0, 1, 0, 1};
+  c.pair = {0, 0, 1, 1};
+  c.lower_bonded.resize(4), c.upper_bonded.resize(4), c.lower_broken.resize(4), c.upper_broken.resize(4);
+  for (int r = 0; r < 4; ++r) {
+    const auto kind = c.kind(r);
+    const law::bond::Bounds bonded = law::bond::bounds(kind, law::bond::State::intact, 0.5 + r, 0.25 + r, 1.5);
+    const law::bond::Bounds broken = law::bond::bounds(kind, law::bond::State::broken, 0, 0, 0);
+    c.lower_bonded(r) = bonded.lower, c.upper_bonded(r) = bonded.upper;
+    c.lower_broken(r) = broken.lower, c.upper_broken(r) = broken.upper;
+  }
+  c.bonded = {1, 0};
+  c.reciprocity_error = 3e-13;
+  c.seconds = 0.125;
+  c.operator_applications = 17;
+  return c;
+}
+
+// Each member's values as bytes (with the shape of an array), by name.
+std::map<std::string, std::string> members(const CondensedCell& cell, bool law_only = false) {
+  std::map<std::string, std::string> out;
+  law::for_each_member(cell, [&](const law::Member& m, const auto& value) {
+    using T = std::remove_cvref_t<decltype(value)>;
+    const auto bytes = [](const void* p, std::size_t n) { return std::string(static_cast<const char*>(p), n); };
+    if (law_only && m.measured) return;
+    if constexpr (law::CountMember<T> || law::RealMember<T>)
+      out[m.name] = bytes(&value, sizeof value);
+    else if constexpr (law::ArrayMember<T>)
+      out[m.name] = std::to_string(value.rows()) + "x" + std::to_string(value.cols()) + ":" +
+                    bytes(value.data(), sizeof(double) * static_cast<std::size_t>(value.size()));
+    else if constexpr (law::ListMember<T>)
+      out[m.name] = bytes(value.data(), sizeof(typename T::value_type) * value.size());
+  });
+  return out;
+}
+
+void expect_same_members(const CondensedCell& back, const CondensedCell& cell, const char* format,
+                         bool law_only = false) {
+  const auto expected = members(cell, law_only), found = members(back, law_only);
+  for (const auto& [name, value] : expected) EXPECT_EQ(found.at(name), value) << format << ": " << name;
+}
+
+TEST(CondensedMembers, EveryMemberDiffersFromADefaultCellAndTheCellIsConsistent) {
+  const CondensedCell cell = distinct_cell();
+  ASSERT_EQ(law::consistency_problem(cell), "");
+  const auto defaults = members(CondensedCell{});
+  for (const auto& [name, value] : members(cell)) EXPECT_NE(defaults.at(name), value) << name;
+}
+
+TEST(CondensedMembers, EveryMemberReachesLawH5AndBack) {
+  testing::ScratchDir dir;
+  law::Law law = testing::synthetic_law();
+  law.cell = distinct_cell();
+  write_law(dir / "law.h5", law);
+  expect_same_members(*read_law(dir / "law.h5").cell, *law.cell, "law.h5");
+}
+
+TEST(CondensedMembers, EveryMemberOfTheLawReachesTheCellTextAndBack) {
+  const CondensedCell cell = distinct_cell();
+  std::ostringstream out;
+  law::write_cell_text(out, cell);
+  std::istringstream in(out.str());
+  std::string error;
+  const CondensedCell back = law::read_cell_text(in, error);
+  ASSERT_EQ(error, "");
+  expect_same_members(back, cell, "cell text", true);
+}
+
+TEST(CondensedMembers, EveryMemberReachesTheJson) {
+  law::Law law = testing::synthetic_law();
+  law.cell = distinct_cell();
+  const std::string json = law_json(law);
+  const std::string cell = json.substr(json.find("\"cell\": {"));
+  law::for_each_member(*law.cell, [&](const law::Member& m, const auto& value) {
+    if constexpr (!std::is_same_v<std::remove_cvref_t<decltype(value)>, law::TextSize>) {
+      EXPECT_NE(cell.find("\"" + std::string(m.name) + "\": "), std::string::npos) << m.name;
+    }
+  });
+}
+
+// The messages the readers give come from the table's rules: the member, then what.
+TEST(CondensedMembers, ConsistencyNamesTheMemberAndTheRule) {
+  CondensedCell cell = distinct_cell();
+  cell.pair[3] = 7;
+  EXPECT_EQ(law::consistency_problem(cell), "pair: 7 is not a pair index (row 3)");
+  cell = distinct_cell();
+  cell.H(0, 1) += 1;
+  EXPECT_EQ(law::consistency_problem(cell), "S0 or H is not symmetric");
+  cell = distinct_cell();
+  cell.Y(2, 1) = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(law::consistency_problem(cell), "non-finite entries");
+  cell = distinct_cell();
+  cell.lower_bonded(1) = 0.5;
+  EXPECT_EQ(law::consistency_problem(cell), "lower_bonded: row 1: its bounds do not hold 0");
+  cell = distinct_cell();
+  cell.bonded.pop_back();
+  EXPECT_EQ(law::consistency_problem(cell), "bonded is not n_pairs long");
+  cell = distinct_cell();
+  cell.n_macro = 4;
+  EXPECT_EQ(law::consistency_problem(cell), "n_macro is 4, not in [2, 3]");
+}
+
+}  // namespace
+}  // namespace dualcell::io
