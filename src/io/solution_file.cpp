@@ -79,8 +79,10 @@ void write_solution(const std::filesystem::path& h5, const mesh::Mesh& mesh, con
     f.write_attribute("/solver", "message", s.qp.message);
     f.write_attribute("/solver", "primal_ok", std::int64_t{s.primal_ok});
     f.write_attribute("/solver", "primal_message", s.primal_message);
+    for (const qp::CounterField& field : qp::counter_fields)
+      f.write_attribute("/solver", field.name, std::int64_t{s.counters.*field.count});
     for (const auto& field : solver_count_fields)
-      f.write_attribute("/solver", field.attribute, std::int64_t{field.of(s)});
+      f.write_attribute("/solver", field.attribute, std::int64_t{s.*field.count});
     f.write_attribute("/solver", "dim_u", std::int64_t{mesh.dim_u()});
     for (const auto& field : solver_seconds_fields)
       f.write_attribute("/solver", field.attribute, s.seconds.*field.seconds);

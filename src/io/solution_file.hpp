@@ -15,24 +15,16 @@
 namespace dualcell::io {
 
 // The counters of a solve, written as integer attributes of /solver: those of the QPs
-// (Solution::counters) and those of the solve itself (exactly one member pointer set).
+// (Solution::counters, qp::counter_fields) and these of the solve itself.
 struct SolverCountField {
   const char* attribute;
-  long qp::Counters::*qp_count = nullptr;
-  long feti::Solution::*count = nullptr;
-  long of(const feti::Solution& s) const { return qp_count ? s.counters.*qp_count : s.*count; }
+  long feti::Solution::*count;
 };
 inline constexpr SolverCountField solver_count_fields[] = {
-    {"outer_iterations", &qp::Counters::outer_iterations},
-    {"operator_applications", &qp::Counters::operator_applications},
-    {"cg_steps", &qp::Counters::cg_steps},
-    {"expansion_steps", &qp::Counters::expansion_steps},
-    {"proportioning_steps", &qp::Counters::proportioning_steps},
-    {"preconditioner_applications", &qp::Counters::preconditioner_applications},
-    {"debond_rounds", nullptr, &feti::Solution::debond_rounds},
-    {"newly_broken", nullptr, &feti::Solution::newly_broken},
-    {"dim_lambda", nullptr, &feti::Solution::n_rows},
-    {"tightenings", nullptr, &feti::Solution::tightenings},
+    {"debond_rounds", &feti::Solution::debond_rounds},
+    {"newly_broken", &feti::Solution::newly_broken},
+    {"dim_lambda", &feti::Solution::n_rows},
+    {"tightenings", &feti::Solution::tightenings},
 };
 
 // Seconds per phase, as float attributes of /solver.

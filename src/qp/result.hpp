@@ -24,16 +24,28 @@ struct Counters {
   long preconditioner_applications = 0;  // applications of the preconditioner, not of A
   long outer_iterations = 0;             // SMALBE only
   // The work of two solves together (e.g. the QPs of one load, before and after breaks).
-  Counters& operator+=(const Counters& other) {
-    cg_steps += other.cg_steps;
-    expansion_steps += other.expansion_steps;
-    proportioning_steps += other.proportioning_steps;
-    operator_applications += other.operator_applications;
-    preconditioner_applications += other.preconditioner_applications;
-    outer_iterations += other.outer_iterations;
-    return *this;
-  }
+  Counters& operator+=(const Counters& other);
 };
+
+// The counters by name, listed once: the adder and every writer (solution.h5's /solver
+// attributes, the benchmark's JSON) walk this table; a new counter is one line here.
+struct CounterField {
+  const char* name;
+  long Counters::*count;
+};
+inline constexpr CounterField counter_fields[] = {
+    {"outer_iterations", &Counters::outer_iterations},
+    {"operator_applications", &Counters::operator_applications},
+    {"cg_steps", &Counters::cg_steps},
+    {"expansion_steps", &Counters::expansion_steps},
+    {"proportioning_steps", &Counters::proportioning_steps},
+    {"preconditioner_applications", &Counters::preconditioner_applications},
+};
+
+inline Counters& Counters::operator+=(const Counters& other) {
+  for (const CounterField& field : counter_fields) this->*field.count += other.*field.count;
+  return *this;
+}
 
 // Residuals are of the returned x and a gradient recomputed as A x - b (+ m for SMALBE), never a
 // recursively updated one. They are NaN when not computable (invalid_input, non_finite).
