@@ -36,7 +36,7 @@ def main(argv):
     work = os.path.dirname(os.path.abspath(out))
     mesh = os.path.join(work, "mesh.h5")
     mesh_command = [os.path.join(bin_dir, "dualcell-mesh"), "--quiet", "--config", scene, "--out", mesh]
-    mesh_seconds = min(common.run(mesh_command)[1] for _ in range(repeat))
+    mesh_seconds = min(common.run(mesh_command).seconds for _ in range(repeat))
     with h5py.File(mesh, "r") as f:
         nodes = f["/mesh/nodes"].shape[0]
     rows = [HEADER]
@@ -44,7 +44,7 @@ def main(argv):
         solution = os.path.join(work, f"solution{'+' if load > 0 else '-'}.h5")
         command = [os.path.join(bin_dir, "dualcell-solve"), "--quiet", "--config", scene, "--mesh", mesh, "--stress",
                    f"{load!r},0,0", "--out", solution]
-        seconds = min(common.run(command)[1] for _ in range(repeat))
+        seconds = min(common.run(command).seconds for _ in range(repeat))
         with h5py.File(solution, "r") as f:
             strain = f["/macro/strain"][:]
         rows.append(f"dualcell,{element},{degree},{nodes},{2 * nodes},{load!r},{load / strain[0]!r},"

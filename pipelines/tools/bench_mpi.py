@@ -42,7 +42,7 @@ def write(outdir, name, lines):
 
 
 def same_but_seconds(a, b):
-    done, _ = common.run(["h5diff", a, b], check=False)
+    done = common.run(["h5diff", a, b], check=False)
     if done.returncode > 1:
         sys.exit(f"bench_mpi.py: h5diff failed: {done.stderr}")
     others = [l for l in done.stdout.splitlines()
@@ -57,7 +57,8 @@ def sweep(bindir, scene, outdir, ranks, repeat, cores):
     env = dict(os.environ, OMP_NUM_THREADS="1", OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
     sweep = [os.path.join(bindir, "dualcell-sweep"), "--quiet", "--threads", "1", "--config", scene, "--mesh", mesh]
 
-    def timed(prefix, out):
+    def repeated(prefix, out):
+        """The wall seconds (common.run) of REPEAT fresh sweeps under the launcher `prefix`."""
         times = []
         for _ in range(repeat):
             for stale in (out, out + ".parts"):
@@ -65,21 +66,22 @@ def sweep(bindir, scene, outdir, ranks, repeat, cores):
                     shutil.rmtree(stale)
                 elif os.path.exists(stale):
                     os.remove(stale)
-            times.append(common.run(prefix + sweep + ["--out", out], env)[1])
+            times.append(common.run(prefix + sweep + ["--out", out], env).seconds)
             print(f"bench_mpi.py: {os.path.basename(out)}: {times[-1]:.2f} s", file=sys.stderr)
         return times
 
     serial_out = os.path.join(outdir, "serial.h5")
-    rows = [("serial (no launcher)", 1, timed([], serial_out), True)]
+    rows = [("serial (no launcher)", 1, repeated([], serial_out), True)]
     for p in ranks:
         out = os.path.join(outdir, f"ranks-{p}.h5")
-        times = timed(["mpiexec", "-n", str(p), "--oversubscribe"], out)
+        times = repeated(["mpiexec", "-n", str(p), "--oversubscribe"], out)
         rows.append((f"mpiexec -n {p}", p, times, same_but_seconds(serial_out, out)))
     # Over TCP with OpenMPI's pt2pt one-sided component, as on a cluster without RDMA: the path
     # counter's fetch-and-add is served only when rank 0 enters MPI (SharedCounter::serve).
     p = min(cores, max(ranks))
     out = os.path.join(outdir, f"ranks-{p}-tcp.h5")
-    times = timed(["mpiexec", "-n", str(p), "--oversubscribe", "--mca", "osc", "pt2pt", "--mca", "btl", "tcp,self"], out)
+    times = repeated(["mpiexec", "-n", str(p), "--oversubscribe", "--mca", "osc", "pt2pt", "--mca", "btl", "tcp,self"],
+                     out)
     rows.append((f"mpiexec -n {p}, TCP (osc pt2pt)", p, times, same_but_seconds(serial_out, out)))
     base = min(rows[0][2])
     with h5py.File(serial_out, "r") as f:
@@ -135,11 +137,12 @@ def solve(bindir, scene, stress, outdir, ranks, repeat, cores):
     command = [os.path.join(bindir, "dualcell-solve"), "--quiet", "--threads", "1", "--config", scene, "--mesh", mesh,
                "--stress", stress]
 
-    def timed(prefix, out):
-        """The wall seconds of each run; `out` is the fastest run's solution."""
+    def repeated(prefix, out):
+        """The wall seconds (common.run) of REPEAT solves under the launcher `prefix`; `out` is the
+        fastest run's solution."""
         times = []
         for k in range(repeat):
-            times.append(common.run(prefix + command + ["--out", f"{out}.{k}.h5"], env)[1])
+            times.append(common.run(prefix + command + ["--out", f"{out}.{k}.h5"], env).seconds)
             print(f"bench_mpi.py: {os.path.basename(out)} run {k + 1}: {times[-1]:.2f} s", file=sys.stderr)
         best = times.index(min(times))
         for k in range(repeat):
@@ -152,10 +155,10 @@ def solve(bindir, scene, stress, outdir, ranks, repeat, cores):
         return times
 
     serial_out = os.path.join(outdir, "solve-serial.h5")
-    runs = [("serial (no launcher)", 1, serial_out, timed([], serial_out))]
+    runs = [("serial (no launcher)", 1, serial_out, repeated([], serial_out))]
     for p in ranks:
         out = os.path.join(outdir, f"solve-ranks-{p}.h5")
-        runs.append((f"mpiexec -n {p}", p, out, timed(["mpiexec", "-n", str(p), "--oversubscribe"], out)))
+        runs.append((f"mpiexec -n {p}", p, out, repeated(["mpiexec", "-n", str(p), "--oversubscribe"], out)))
     base = min(runs[0][3])
     with h5py.File(serial_out, "r") as f:
         dofs, m = int(f["/solver"].attrs["dim_u"]), int(f["/solver"].attrs["dim_lambda"])

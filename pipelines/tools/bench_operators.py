@@ -54,7 +54,7 @@ def main(argv):
         solution = os.path.join(work, f"solve-{operator}.h5")
         solve = [binary("dualcell-solve"), "--quiet", "--config", scene, "--mesh", mesh, "--stress", "0.02,0,0",
                  "--out", solution]
-        solve_seconds = min(common.run(solve)[1] for _ in range(args.repeat))
+        solve_seconds = min(common.run(solve).seconds for _ in range(args.repeat))
         with h5py.File(solution, "r") as f:
             explicit = int(f["/solver"].attrs["explicit_subdomains"])
             subdomains = int(f["/solver"].attrs["subdomains"])
@@ -64,7 +64,7 @@ def main(argv):
             if os.path.exists(sweep_out):
                 os.remove(sweep_out)
             sweep_seconds.append(common.run([binary("dualcell-sweep"), "--quiet", "--config", scene, "--mesh", mesh,
-                                             "--out", sweep_out])[1])
+                                             "--out", sweep_out]).seconds)
         with h5py.File(sweep_out, "r") as f:
             paths = int(f.attrs["n_paths"])
         rows.append((operator, f"{explicit} of {subdomains}", solve_seconds, min(sweep_seconds), paths))

@@ -15,15 +15,13 @@ The RVE is the RVE study's first realisation of that size (rve_study.scene_text,
    against the same solve at tolerance 1e-8, the scenes' default), and a
    `dualcell-sweep` of the contact RVE over --sphere directions of the stress sphere (magnitude
    1e-2): seconds and peak memory of each whole command.
-Each command's peak memory is its resident set (os.wait4's ru_maxrss). Writes OUT_DIR/rve.md
-and rve.csv atomically; the RVE's files stay in OUT_DIR/rve-N<n>/.
+Each command is measured by common.run: its wall seconds and, as its peak memory, its resident set
+(os.wait4's ru_maxrss). Writes OUT_DIR/rve.md and rve.csv atomically; the RVE's files stay in
+OUT_DIR/rve-N<n>/.
 """
 import csv
 import io
 import os
-import subprocess
-import tempfile
-import time
 
 import h5py
 
@@ -34,23 +32,6 @@ TOLERANCES = (1e-4, 1e-5, 1e-6, 1e-7, 1e-8)
 REFERENCE_TOLERANCE = 1e-10
 # Contact: the scenes' default (below it the 64-fibre QP stagnates at its attainable accuracy).
 CONTACT_REFERENCE_TOLERANCE = 1e-8
-
-
-def timed(command):
-    """Runs command (its stdout discarded); returns (wall seconds, its peak resident MiB, from
-    os.wait4's ru_maxrss of that child alone). A failure raises CommandFailed with its stderr;
-    exit 4 (a solve written whose QP stagnated just short of its tolerance) is not one."""
-    with tempfile.TemporaryFile("w+") as err:
-        start = time.perf_counter()
-        process = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=err)
-        _, status, usage = os.wait4(process.pid, 0)
-        seconds = time.perf_counter() - start
-        process.returncode = os.waitstatus_to_exitcode(status)
-        if process.returncode not in (0, 4):
-            err.seek(0)
-            raise common.CommandFailed(command, subprocess.CompletedProcess(command, process.returncode, "",
-                                                                            err.read()))
-    return seconds, usage.ru_maxrss / 1024
 
 
 def with_solver(text, tolerance):
@@ -82,24 +63,26 @@ def main(argv):
         return path
 
     mesh = os.path.join(folder, "mesh.h5")
-    seconds, peak = timed([stage("dualcell-mesh"), "--quiet", "--config", scene("mesh.toml", bonded), "--out", mesh])
+    meshed = common.run_stage([stage("dualcell-mesh"), "--quiet", "--config", scene("mesh.toml", bonded),
+                               "--out", mesh], mesh)
     with h5py.File(mesh, "r") as f:
         nodes = len(f["mesh/nodes"])
         subdomains = len(f["mesh/subdomain_nodes"])
-    rows.append({"step": "mesh", "tolerance": "", "seconds": seconds, "peak_MiB": peak,
+    rows.append({"step": "mesh", "tolerance": "", "seconds": meshed.seconds, "peak_MiB": meshed.peak_mib,
                  "note": f"{nodes} nodes, {subdomains} subdomains"})
 
     def solve(text, stress, tag, tolerance):
         out = os.path.join(folder, f"{tag}.h5")
-        seconds, peak = timed([stage("dualcell-solve"), "--quiet", "--config",
-                               scene(f"{tag}.toml", with_solver(text, tolerance)), "--mesh", mesh,
-                               "--stress", stress, "--out", out])
+        # Exit 4 (a solve written whose QP stagnated just short of its tolerance) is measured too.
+        solved = common.run_stage([stage("dualcell-solve"), "--quiet", "--config",
+                                   scene(f"{tag}.toml", with_solver(text, tolerance)), "--mesh", mesh,
+                                   "--stress", stress, "--out", out], out, unconverged_kept=True)
         with h5py.File(out, "r") as f:
             strain = f["macro/strain"][:]
             status = common.text(f["solver"].attrs["status"])
             applications = f"{int(f['solver'].attrs['operator_applications'])} F applications" + (
                 "" if status == "converged" else f", {status}")
-        return seconds, peak, strain, applications
+        return solved.seconds, solved.peak_mib, strain, applications
 
     # The tolerance: E = sxx / exx of the bonded RVE against the reference.
     load = 1e-3
@@ -127,10 +110,10 @@ def main(argv):
     sweep = os.path.join(folder, "sweep.h5")
     if os.path.exists(sweep):
         os.remove(sweep)  # a fresh sweep, not a resumed one
-    seconds, peak = timed([stage("dualcell-sweep"), "--quiet", "--config", sweep_scene, "--mesh", mesh,
-                           "--out", sweep])
-    rows.append({"step": f"contact sphere sweep ({args.sphere} paths)", "tolerance": chosen, "seconds": seconds,
-                 "peak_MiB": peak, "note": ""})
+    swept = common.run_stage([stage("dualcell-sweep"), "--quiet", "--config", sweep_scene, "--mesh", mesh,
+                              "--out", sweep], sweep, unconverged_kept=True)
+    rows.append({"step": f"contact sphere sweep ({args.sphere} paths)", "tolerance": chosen, "seconds": swept.seconds,
+                 "peak_MiB": swept.peak_mib, "note": ""})
 
     lines = [f"{args.fibres} fibres, v_f {args.volume_fraction}, p2 at degree {args.degree}; E of the bonded RVE "
              f"to {args.accuracy:g} from tolerance {chosen:g} (reference: tolerance {REFERENCE_TOLERANCE:g})", "",

@@ -408,8 +408,8 @@ def main(argv):
             for stale in (".dat", ".sta", ".frd", ".cvg"):
                 if os.path.exists(os.path.join(work, job + stale)):
                     os.remove(os.path.join(work, job + stale))
-            done, run_seconds = common.run([args.ccx, "-i", job], env, check=False, cwd=work, stderr=subprocess.STDOUT)
-            seconds = min(seconds, run_seconds)
+            done = common.run([args.ccx, "-i", job], env, check=False, cwd=work, stderr=subprocess.STDOUT)
+            seconds = min(seconds, done.seconds)
             with open(os.path.join(work, job + ".log"), "w") as f:
                 f.write(done.stdout)
             errors = [line.strip() for line in done.stdout.splitlines() if "*ERROR" in line]

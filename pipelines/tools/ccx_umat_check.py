@@ -64,10 +64,10 @@ def run_ccx(ccx, work, deck, card):
         f.write(deck)
     env = dict(os.environ, OMP_NUM_THREADS="1", CCX_NPROC_EQUATION_SOLVER="1", CCX_NPROC_RESULTS="1",
                CCX_NPROC_STIFFNESS="1", DUALCELL_CELL_DIR=os.path.dirname(os.path.abspath(card)))
-    run, seconds = common.run([os.path.abspath(ccx), "job"], env, check=False, cwd=work)
+    run = common.run([os.path.abspath(ccx), "job"], env, check=False, cwd=work)
     if run.returncode != 0 or "ERROR" in run.stdout:
         sys.exit(f"ccx_umat_check.py: ccx failed in {work}:\n{run.stdout[-2000:]}{run.stderr[-1000:]}")
-    return open(os.path.join(work, "job.dat")).read(), seconds
+    return open(os.path.join(work, "job.dat")).read(), run.seconds
 
 
 def dat_blocks(dat, what):

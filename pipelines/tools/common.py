@@ -1,5 +1,5 @@
-"""What the pipeline's Python tools share: the command line, running a stage, atomic writes and
-a script's error convention (one line on stderr, exit 1).
+"""What the pipeline's Python tools share: the command line, running and timing a command,
+atomic writes and a script's error convention (one line on stderr, exit 1).
 
 The tools import it as a sibling (`import common`): a script run as `python3 tools/x.py` has its
 own folder first on sys.path, so no sys.path edit is needed.
@@ -10,6 +10,7 @@ import os
 import re
 import subprocess
 import sys
+import tempfile
 import time
 
 # What a script's main raises for a bad input, a missing file or a failed command: main_guard
@@ -57,19 +58,67 @@ def text(value):
     return value.decode() if isinstance(value, bytes) else str(value)
 
 
-def run(command, env=None, check=True, **options):
-    """Runs `command` (a list of words) and returns (its subprocess.CompletedProcess, its wall
-    seconds by time.perf_counter). Its stdout and stderr are captured as text; `options` go to
-    subprocess.run (cwd, input, stderr=subprocess.STDOUT, ...). A non-zero exit raises
-    CommandFailed ('<command>: exit <status>: <its stderr>') unless `check` is false: then the
-    caller judges the result."""
-    options = {"stdout": subprocess.PIPE, "stderr": subprocess.PIPE, "text": True, **options}
-    start = time.perf_counter()
-    done = subprocess.run(command, env=env, **options)
-    seconds = time.perf_counter() - start
+class Finished(subprocess.CompletedProcess):
+    """A command that ran (subprocess.CompletedProcess) and what it cost: `seconds`, its wall time
+    (time.perf_counter), and `peak_mib`, its peak resident memory in MiB (os.wait4's ru_maxrss of
+    that child and the children it waited for, not of this process)."""
+
+    def __init__(self, command, returncode, stdout, stderr, seconds, peak_mib):
+        super().__init__(command, returncode, stdout, stderr)
+        self.seconds = seconds
+        self.peak_mib = peak_mib
+
+
+def run(command, env=None, check=True, input=None, stdout=subprocess.PIPE, stderr=subprocess.PIPE, **options):
+    """Runs `command` (a list of words) and returns its Finished: the exit status, its stdout and
+    stderr as text, its wall seconds and peak memory. The one way the tools run and time a command.
+    stdout and stderr are captured unless given (None: this process's, subprocess.DEVNULL,
+    stderr=subprocess.STDOUT); `input` is text for its stdin; `options` go to subprocess.Popen
+    (cwd, ...). A non-zero exit raises CommandFailed ('<command>: exit <status>: <its stderr>')
+    unless `check` is false: then the caller judges the result."""
+    # Captured output goes to files, not pipes: the child is reaped by os.wait4 (its own peak
+    # memory, which subprocess.run's wait does not give), so nothing may wait on full pipes.
+    with tempfile.TemporaryFile("w+") as out, tempfile.TemporaryFile("w+") as err:
+        start = time.perf_counter()
+        process = subprocess.Popen(command, env=env, stdin=subprocess.PIPE if input is not None else None,
+                                   stdout=out if stdout == subprocess.PIPE else stdout,
+                                   stderr=err if stderr == subprocess.PIPE else stderr, text=True, **options)
+        if input is not None:
+            # A child that exits without reading all of it (gnuplot on an error) is judged by its
+            # exit status, as subprocess.run does.
+            with contextlib.suppress(BrokenPipeError):
+                with process.stdin:
+                    process.stdin.write(input)
+        _, status, usage = os.wait4(process.pid, 0)
+        seconds = time.perf_counter() - start
+        process.returncode = os.waitstatus_to_exitcode(status)  # reaped: Popen must not wait again
+        out.seek(0)
+        err.seek(0)
+        done = Finished(command, process.returncode, out.read() if stdout == subprocess.PIPE else None,
+                        err.read() if stderr == subprocess.PIPE else None, seconds, usage.ru_maxrss / 1024)
     if check and done.returncode != 0:
         raise CommandFailed(command, done)
-    return done, seconds
+    return done
+
+
+# The exit status of a stage that wrote its output without converging everywhere: a sweep's
+# steps marked as not converged (the fit uses the converged ones), a solve whose QP stagnated
+# just short of its tolerance. It says so on stderr.
+NOT_CONVERGED = 4
+
+
+def run_stage(command, out, unconverged_kept=False, **options):
+    """Runs a dualcell stage `command` writing `out` (run's Finished, its output captured). With
+    `unconverged_kept`, exit NOT_CONVERGED is no failure: `out` is kept (what make would delete
+    with a failed rule). What the stage said on stderr (that note, a scene's warnings: the callers
+    run stages --quiet, so nothing else) is passed on after the file it concerns. Any other
+    non-zero exit raises CommandFailed."""
+    done = run(command, check=False, **options)
+    if done.returncode != 0 and not (unconverged_kept and done.returncode == NOT_CONVERGED):
+        raise CommandFailed(command, done)
+    if done.stderr and done.stderr.strip():
+        print(f"{os.path.basename(sys.argv[0])}: {out}: {done.stderr.strip()}", file=sys.stderr)
+    return done
 
 
 def write_atomic(path, content):
@@ -88,3 +137,9 @@ def write_atomic(path, content):
         with contextlib.suppress(FileNotFoundError):
             os.remove(tmp)
         raise
+
+
+def write_seconds(path, seconds):
+    """Writes a measured wall time to `path` as the tables read it (tools/convergence_table.py,
+    tools/structures.py): the seconds on one line, to six significant digits."""
+    write_atomic(path, f"{seconds:.6g}\n")

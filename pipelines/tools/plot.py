@@ -46,7 +46,7 @@ def gnuplot(script, outbase, data_files):
 
             def draw(partial):
                 full = f"set terminal {terminal}\nset output '{partial}'\n" + script
-                run, _ = common.run(["gnuplot"], check=False, input=full, cwd=tmp)
+                run = common.run(["gnuplot"], check=False, input=full, cwd=tmp)
                 if run.returncode != 0 or not os.path.exists(partial):
                     sys.exit(f"plot.py: gnuplot failed for {target}: {run.stderr.strip()}")
             common.write_atomic(target, draw)  # the partial file is removed when gnuplot fails
