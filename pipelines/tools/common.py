@@ -1,5 +1,6 @@
-"""What the pipeline's Python tools share: the command line, running and timing a command,
-atomic writes and a script's error convention (one line on stderr, exit 1).
+"""What the pipeline's Python tools share: the command line, running and timing a command, the
+mesh -> sweep -> fit chain, atomic writes and a script's error convention (one line on stderr,
+exit 1).
 
 The tools import it as a sibling (`import common`): a script run as `python3 tools/x.py` has its
 own folder first on sys.path, so no sys.path edit is needed.
@@ -119,6 +120,19 @@ def run_stage(command, out, unconverged_kept=False, **options):
     if done.stderr and done.stderr.strip():
         print(f"{os.path.basename(sys.argv[0])}: {out}: {done.stderr.strip()}", file=sys.stderr)
     return done
+
+
+def law_chain(bin_dir, scene, folder):
+    """mesh -> sweep -> fit of `scene` (a scene file) into `folder`: mesh.h5, sweep.h5 and law.h5,
+    the stages run --quiet from `bin_dir`, a sweep that did not converge everywhere kept
+    (run_stage). The one spelling of the chain (make's law_chain, the RVE study). Returns the
+    stages' Finished by name: mesh, sweep, fit."""
+    stage = lambda name: os.path.join(bin_dir, f"dualcell-{name}")  # noqa: E731
+    mesh, sweep, law = (os.path.join(folder, name) for name in ("mesh.h5", "sweep.h5", "law.h5"))
+    return {"mesh": run_stage([stage("mesh"), "--quiet", "--config", scene, "--out", mesh], mesh),
+            "sweep": run_stage([stage("sweep"), "--quiet", "--config", scene, "--mesh", mesh, "--out", sweep], sweep,
+                               unconverged_kept=True),
+            "fit": run_stage([stage("fit"), "--quiet", "--sweep", sweep, "--out", law], law)}
 
 
 def write_atomic(path, content):

@@ -69,19 +69,15 @@ def debond(bin_dir, folder, load):
 
 
 def run_case(bin_dir, folder, text):
-    """mesh -> sweep -> fit in folder; skipped when law.h5 is there (a finished case)."""
+    """The scene `text` through mesh -> sweep -> fit in folder (common.law_chain); skipped when
+    law.h5 is there (a finished case)."""
     law = os.path.join(folder, "law.h5")
     if os.path.exists(law):
         return law
     os.makedirs(folder, exist_ok=True)
     scene = os.path.join(folder, "scene.toml")
     common.write_atomic(scene, text)
-    mesh, sweep = os.path.join(folder, "mesh.h5"), os.path.join(folder, "sweep.h5")
-    common.run_stage([os.path.join(bin_dir, "dualcell-mesh"), "--quiet", "--config", scene, "--out", mesh], mesh)
-    # Exit 4: written, with steps marked as not converged (the fit uses the converged ones).
-    common.run_stage([os.path.join(bin_dir, "dualcell-sweep"), "--quiet", "--config", scene, "--mesh", mesh,
-                      "--out", sweep], sweep, unconverged_kept=True)
-    common.run_stage([os.path.join(bin_dir, "dualcell-fit"), "--quiet", "--sweep", sweep, "--out", law], law)
+    common.law_chain(bin_dir, scene, folder)
     return law
 
 
