@@ -44,8 +44,10 @@ TEST(SolutionFile, EveryFieldComesBackAsWritten) {
   write_solution(file, mesh, scene, s, fields, provenance, nullptr, &ranks);
 
   const File f = File::open_read(file);
+  for (const qp::CounterField& field : qp::counter_fields)
+    EXPECT_EQ(f.read_int_attribute_value("/solver", field.name), s.counters.*field.count) << field.name;
   for (const SolverCountField& field : solver_count_fields)
-    EXPECT_EQ(f.read_int_attribute_value("/solver", field.attribute), field.of(s)) << field.attribute;
+    EXPECT_EQ(f.read_int_attribute_value("/solver", field.attribute), s.*field.count) << field.attribute;
   for (const SolverSecondsField& field : solver_seconds_fields)
     EXPECT_EQ(f.read_double_attribute_value("/solver", field.attribute), s.seconds.*field.seconds) << field.attribute;
   for (const KktField& field : kkt_fields)
