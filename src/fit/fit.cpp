@@ -308,7 +308,7 @@ void check_against_cell(law::Law& law, const std::vector<ConePoint>& bonded, con
   const law::CondensedCell& cell = *law.cell;
   keep_better(law.cone, law.cone_check, law::sample_cell(cell, 1000),
               fit_cone_to_cell(cell, bonded, n_directions, Fitted::bonded));
-  if (!law.cone_check.stress.empty()) law::set_exact_polar(cell, law.cone_check);
+  if (!law.cone_check.directions.empty()) law.cone_check.polar = law::exact_polar(cell);
   // Past the fuse each direction runs its cascade, tens of factorisations (0.03 s at 256 rows):
   // fewer directions: about 280 to check and 250 others to fit (15 and 14 rings: no direction in
   // common; with the symmetry images 1000 points to fit).
@@ -361,7 +361,7 @@ law::ConeCheck check_held_out(const std::vector<sweep::PathResult>& paths, const
     const law::ConeCheck part = refit.ok ? law::check_cone(refit.law, held) : law::ConeCheck{};
     for (std::size_t i = 0; i < held.direction.size(); ++i) {
       const double error = refit.ok ? part.error[i] : std::numeric_limits<double>::infinity();
-      check.stress.push_back(held.direction[i]);
+      check.directions.push_back(held.direction[i]);
       check.error.push_back(error);
       if (std::isnan(error)) continue;
       sum += error * error;
@@ -443,6 +443,10 @@ law::Law fit_law(const std::vector<sweep::PathResult>& paths, const sweep::Sweep
     if (law.cone.ok) law.cone_check = check_held_out(paths, directions, bonded);
     if (law.cone_after_fuse.ok) law.cone_after_fuse_check = check_held_out(paths, directions, debonded);
   }
+  // The compact laws' curves for the polar picture, from the laws kept (derived data, stored by
+  // the fit so that no writer or picture re-implements a law).
+  for (law::ConeFit* fit : {&law.cone, &law.cone_after_fuse})
+    if (fit->ok) fit->polar = law::cone_polar(fit->law);
   law.constituents = header.constituents;
   law.provenance = header.provenance;
   law.provenance.code_version = code_version;  // the fit's

@@ -152,17 +152,17 @@ void add_cone_checks(JsonObject& o, const Law& law) {
   const auto check_json = [](const law::ConeCheck& k) {
     return JsonObject()
         .add_text("against", law::checked_against_text(k.against))
-        .add("directions", std::to_string(k.stress.size()))
+        .add("directions", std::to_string(k.directions.size()))
         .add("max_error", json_number(k.max_error))
         .add("rms_error", json_number(k.rms_error))
         .add("worst", json_array(std::vector<double>{k.worst(0), k.worst(1), k.worst(2)}));
   };
-  if (law.cone_check.stress.empty()) return;
+  if (law.cone_check.directions.empty()) return;
   o.add("cone_check", check_json(law.cone_check)
                           .add("sweep_fit_max_error", json_number(law.cone_check.sweep_fit_max_error))
                           .add("sweep_fit_rms_error", json_number(law.cone_check.sweep_fit_rms_error))
                           .str(4));
-  if (!law.cone_after_fuse_check.stress.empty())
+  if (!law.cone_after_fuse_check.directions.empty())
     o.add("cone_after_fuse_check", check_json(law.cone_after_fuse_check).str(4));
 }
 

@@ -53,6 +53,14 @@ void write_compliance(File& f, const std::string& prefix, const ComplianceFit& f
 // /law/<name>/: C_c (3×3), q (K×3), beta (K), relative_residual, one_plane_residual,
 // struts_residual, direction_residual (one per direction), n_points, ok (1: a fitted law; 0:
 // none, attribute message says why); attribute form.
+// /law/<name>/polar_deg, polar_E_tension, polar_E_compression (law::PolarModuli), when there are any.
+void write_polar(File& f, const std::string& name, const law::PolarModuli& polar) {
+  if (polar.empty()) return;
+  f.write(object(name + "/polar_deg"), polar.deg, {polar.deg.size()});
+  f.write(object(name + "/polar_E_tension"), polar.E_tension, {polar.deg.size()});
+  f.write(object(name + "/polar_E_compression"), polar.E_compression, {polar.deg.size()});
+}
+
 void write_cone(File& f, const std::string& name, const law::ConeFit& fit, std::size_t n_directions) {
   f.create_group(object(name));
   f.write(object(name + "/C_c"), row_major(fit.law.C_c), {3, 3});
@@ -70,19 +78,7 @@ void write_cone(File& f, const std::string& name, const law::ConeFit& fit, std::
   write_count(f, name + "/ok", fit.ok ? 1 : 0);
   f.write_attribute(object(name), "message", fit.message);
   f.write_attribute(object(name), "form", fit.form);
-  // The law's apparent moduli around the whole circle (law::apparent_modulus), for the polar
-  // picture: derived data, written so that no picture re-implements the law.
-  if (fit.ok) {
-    std::vector<double> theta, tension, compression;
-    for (int t = 0; t <= 360; t += 2) {
-      theta.push_back(t);
-      tension.push_back(law::apparent_modulus(fit.law, t, 1));
-      compression.push_back(law::apparent_modulus(fit.law, t, -1));
-    }
-    f.write(object(name + "/polar_deg"), theta, {theta.size()});
-    f.write(object(name + "/polar_E_tension"), tension, {theta.size()});
-    f.write(object(name + "/polar_E_compression"), compression, {theta.size()});
-  }
+  write_polar(f, name, fit.polar);
 }
 
 // Reads /law/<name> with the shape-checked reads of File; refusals name the file and the object.
@@ -135,6 +131,17 @@ ComplianceFit read_compliance(const Reader& r, const std::string& prefix, hsize_
   return fit;
 }
 
+law::PolarModuli read_polar(const File& f, const Reader& r, const std::string& name) {
+  law::PolarModuli polar;
+  if (!f.exists(object(name + "/polar_deg"))) return polar;
+  Shape found;
+  polar.deg = f.read_doubles(object(name + "/polar_deg"), {any_extent}, "", &found);
+  const std::string like = " like " + object(name + "/polar_deg");
+  polar.E_tension = r.doubles(name + "/polar_E_tension", {found[0]}, like.c_str());
+  polar.E_compression = r.doubles(name + "/polar_E_compression", {found[0]}, like.c_str());
+  return polar;
+}
+
 law::ConeFit read_cone(const File& f, const Reader& r, const std::string& name, hsize_t n_directions) {
   law::ConeFit fit;
   fit.law.C_c = r.matrix(name + "/C_c");
@@ -154,6 +161,7 @@ law::ConeFit read_cone(const File& f, const Reader& r, const std::string& name, 
   fit.ok = r.count(name + "/ok", 0, 1) == 1;
   fit.message = f.read_string_attribute(object(name), "message");
   fit.form = f.read_string_attribute(object(name), "form");
+  fit.polar = read_polar(f, r, name);
   // A law a structure code will evaluate: refuse one that is not admissible.
   if (fit.ok) {
     const std::string problem = law::admissibility_problem(fit.law);
@@ -170,18 +178,15 @@ void write_cone_check(File& f, const std::string& name, const law::ConeCheck& c)
   f.create_group(object(name));
   f.write_attribute(object(name), "against", law::checked_against_text(c.against));
   std::vector<double> stress;
-  for (const auto& N : c.stress) stress.insert(stress.end(), N.data(), N.data() + 3);
-  f.write(object(name + "/stress"), stress, {c.stress.size(), 3});
+  for (const auto& N : c.directions) stress.insert(stress.end(), N.data(), N.data() + 3);
+  f.write(object(name + "/stress"), stress, {c.directions.size(), 3});
   f.write(object(name + "/error"), c.error, {c.error.size()});
   write_scalar(f, name + "/max_error", c.max_error);
   write_scalar(f, name + "/rms_error", c.rms_error);
   f.write(object(name + "/worst"), std::vector<double>{c.worst(0), c.worst(1), c.worst(2)}, {3});
   write_scalar(f, name + "/sweep_fit_max_error", c.sweep_fit_max_error);
   write_scalar(f, name + "/sweep_fit_rms_error", c.sweep_fit_rms_error);
-  if (c.polar_deg.empty()) return;
-  f.write(object(name + "/polar_deg"), c.polar_deg, {c.polar_deg.size()});
-  f.write(object(name + "/polar_E_tension"), c.polar_E_tension, {c.polar_deg.size()});
-  f.write(object(name + "/polar_E_compression"), c.polar_E_compression, {c.polar_deg.size()});
+  write_polar(f, name, c.polar);
 }
 
 law::ConeCheck read_cone_check(const File& f, const Reader& r, const std::string& name) {
@@ -199,7 +204,7 @@ law::ConeCheck read_cone_check(const File& f, const Reader& r, const std::string
   Shape found;
   const auto stress = f.read_doubles(object(name + "/stress"), {any_extent, 3}, "", &found);
   const hsize_t K = found[0];
-  for (hsize_t k = 0; k < K; ++k) c.stress.emplace_back(stress[3 * k], stress[3 * k + 1], stress[3 * k + 2]);
+  for (hsize_t k = 0; k < K; ++k) c.directions.emplace_back(stress[3 * k], stress[3 * k + 1], stress[3 * k + 2]);
   c.error = r.doubles(name + "/error", {K}, (" like " + object(name + "/stress")).c_str());
   c.max_error = r.scalar(name + "/max_error");
   c.rms_error = r.scalar(name + "/rms_error");
@@ -207,11 +212,7 @@ law::ConeCheck read_cone_check(const File& f, const Reader& r, const std::string
   c.worst = {worst[0], worst[1], worst[2]};
   c.sweep_fit_max_error = r.scalar(name + "/sweep_fit_max_error");
   c.sweep_fit_rms_error = r.scalar(name + "/sweep_fit_rms_error");
-  if (!f.exists(object(name + "/polar_deg"))) return c;
-  c.polar_deg = f.read_doubles(object(name + "/polar_deg"), {any_extent}, "", &found);
-  const std::string like = " like " + object(name + "/polar_deg");
-  c.polar_E_tension = r.doubles(name + "/polar_E_tension", {found[0]}, like.c_str());
-  c.polar_E_compression = r.doubles(name + "/polar_E_compression", {found[0]}, like.c_str());
+  c.polar = read_polar(f, r, name);
   return c;
 }
 
@@ -259,8 +260,8 @@ void write_law(const std::filesystem::path& file, const Law& law) {
       write_count(f, "cell_replay/break_mismatches", c.break_mismatches);
       write_scalar(f, "cell_replay/limit", c.limit);
     }
-    if (!law.cone_check.stress.empty()) write_cone_check(f, "cone_check", law.cone_check);
-    if (!law.cone_after_fuse_check.stress.empty())
+    if (!law.cone_check.directions.empty()) write_cone_check(f, "cone_check", law.cone_check);
+    if (!law.cone_after_fuse_check.directions.empty())
       write_cone_check(f, "cone_after_fuse_check", law.cone_after_fuse_check);
     f.write_attribute(group, "cell_note", law.cell_note);
     f.write_attribute(group, "units", law.units);

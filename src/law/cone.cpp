@@ -64,4 +64,8 @@ double apparent_modulus(const ConeLaw& law, double theta_deg, double sign) {
   return sign / (c * c * e(0) + s * s * e(1) + c * s * e(2));
 }
 
+PolarModuli cone_polar(const ConeLaw& law) {
+  return polar_moduli([&](double theta_deg, double sign) { return apparent_modulus(law, theta_deg, sign); });
+}
+
 }  // namespace dualcell::law

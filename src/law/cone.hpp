@@ -18,6 +18,8 @@
 #include <string>
 #include <vector>
 
+#include "law/polar.hpp"
+
 namespace dualcell::law {
 
 // At most this many planes (the open ones of a strain fit in a 32-bit mask).
@@ -48,7 +50,12 @@ struct ConeFit {
   std::string message;  // why not, when not ok
   // The relative residual of each form tried (NaN where that form gave no admissible law).
   double one_plane_residual = 0, struts_residual = 0;
+  // When ok: the law's apparent moduli around the circle (polar_moduli of apparent_modulus).
+  PolarModuli polar;
 };
+
+// The apparent moduli of the law around the circle, for ConeFit::polar.
+PolarModuli cone_polar(const ConeLaw& law);
 
 // Stress, consistent tangent, energy and side of the law at strain ε (engineering shear).
 ConeState evaluate(const ConeLaw& law, const Eigen::Vector3d& strain);

@@ -101,7 +101,7 @@ CheckedAgainst checked_against_from(const std::string& text) {
 
 ConeCheck check_cone(const ConeLaw& cone, const CellSample& sample) {
   ConeCheck check;
-  check.stress = sample.direction;
+  check.directions = sample.direction;
   double sum = 0;
   int counted = 0;
   for (std::size_t i = 0; i < sample.direction.size(); ++i) {
@@ -120,37 +120,25 @@ ConeCheck check_cone(const ConeLaw& cone, const CellSample& sample) {
   return check;
 }
 
-void set_exact_polar(const CondensedCell& cell, ConeCheck& check) {
+PolarModuli exact_polar(const CondensedCell& cell) {
   CellEvaluator evaluator(cell);
   const bool adhesion = cell.adhesion();
   CellHistory history = evaluator.unloaded();
-  const auto load = [&](const Eigen::Vector3d& N) {
-    if (!adhesion) return 1.0;
-    const double onset = evaluator.onset(N);
-    return std::isfinite(onset) ? 0.5 * onset : 1.0;
-  };
-  const auto exact_strain = [&](const Eigen::Vector3d& sigma, bool& ok) {
+  return polar_moduli([&](double theta_deg, double sign) {
+    const double t = theta_deg * std::numbers::pi / 180, c = std::cos(t), si = std::sin(t);
+    const Eigen::Vector3d N = sign * Eigen::Vector3d(c * c, si * si, c * si);
+    double s = 1;
+    if (adhesion) {
+      const double onset = evaluator.onset(N);
+      if (std::isfinite(onset)) s = 0.5 * onset;
+    }
     history.bonded = cell.bonded;
-    const CellResponse r = evaluator.at_stress(sigma, history);
-    ok = r.ok && r.broken == 0;
+    const CellResponse r = evaluator.at_stress(s * N, history);
+    if (!r.ok || r.broken != 0) return std::numeric_limits<double>::quiet_NaN();
     Eigen::Vector3d e = r.strain;
     if (cell.n_macro == 2) e(2) = 0;
-    return e;
-  };
-  // The exact law's apparent moduli around the circle.
-  for (int deg = 0; deg < 180; ++deg) {
-    const double t = deg * std::numbers::pi / 180, c = std::cos(t), si = std::sin(t);
-    const Eigen::Vector3d N(c * c, si * si, c * si);
-    check.polar_deg.push_back(deg);
-    for (const double sign : {1.0, -1.0}) {
-      bool ok = false;
-      const double s = load(sign * N);
-      const Eigen::Vector3d e = exact_strain(s * sign * N, ok);
-      const double E =
-          ok ? sign * s / (c * c * e(0) + si * si * e(1) + c * si * e(2)) : std::numeric_limits<double>::quiet_NaN();
-      (sign > 0 ? check.polar_E_tension : check.polar_E_compression).push_back(E);
-    }
-  }
+    return sign * s / (c * c * e(0) + si * si * e(1) + c * si * e(2));
+  });
 }
 
 }  // namespace dualcell::law

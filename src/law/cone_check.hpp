@@ -16,6 +16,7 @@
 
 #include "law/condensed.hpp"
 #include "law/cone.hpp"
+#include "law/polar.hpp"
 
 namespace dualcell::law {
 
@@ -29,17 +30,16 @@ CheckedAgainst checked_against_from(const std::string& text);  // throws std::in
 
 struct ConeCheck {
   CheckedAgainst against = CheckedAgainst::exact_law;
-  std::vector<Eigen::Vector3d> stress;  // the unit directions N, in the order evaluated
-  std::vector<double> error;            // per direction
+  std::vector<Eigen::Vector3d> directions;  // the unit stress directions N, in the order evaluated
+  std::vector<double> error;                // per direction
   double max_error = 0, rms_error = 0;
   Eigen::Vector3d worst = Eigen::Vector3d::Zero();  // the N of max_error
   // The same for the law fitted to the sweep's points (fit/cone_fit.hpp, fit_cone), measured on the
   // same directions, whichever law was kept (NaN where there was none).
   double sweep_fit_max_error = std::numeric_limits<double>::quiet_NaN();
   double sweep_fit_rms_error = std::numeric_limits<double>::quiet_NaN();
-  // The exact law's apparent plane-strain moduli around the circle (uniaxial n⊗n, n =
-  // (cos θ, sin θ), as law::apparent_modulus gives the compact law's), θ = 0, 1, …, 179°.
-  std::vector<double> polar_deg, polar_E_tension, polar_E_compression;
+  // Against the exact law: the exact law's apparent moduli around the circle (exact_polar).
+  PolarModuli polar;
 };
 
 // The exact law sampled at about `n` unit stress directions N (n on the sphere of (σxx, σyy,
@@ -67,7 +67,8 @@ CellSample sample_cell_past_fuse(const CondensedCell& cell, int n, double factor
 
 // The check over a sample of the exact law (sample_cell); polar_* are left empty.
 ConeCheck check_cone(const ConeLaw& cone, const CellSample& sample);
-// The exact law's apparent moduli for ConeCheck::polar_*.
-void set_exact_polar(const CondensedCell& cell, ConeCheck& check);
+// The exact law's apparent moduli around the circle (polar_moduli), each from the intact cell at
+// the load s = 1 (½ s*(N) with adhesion, so that no bond breaks); NaN where an evaluation fails.
+PolarModuli exact_polar(const CondensedCell& cell);
 
 }  // namespace dualcell::law

@@ -96,7 +96,7 @@ std::string export_law(const ExportOptions& options) {
     case io::ExportFormat::umat: {
       // The umat carries the law past the fuse where the law has an onset surface: both checked,
       // and a law that was not measured at all (no exact law, one direction) is not vouched for.
-      if (!options.force && law.cone.ok && law.cone_check.stress.empty())
+      if (!options.force && law.cone.ok && law.cone_check.directions.empty())
         throw InputError(options.law_file.string() +
                          ": the cone-wise law was measured neither against an exact law nor on held-out "
                          "sweep directions (" +
@@ -104,7 +104,7 @@ std::string export_law(const ExportOptions& options) {
                          "): not exported (--force writes it anyway)");
       for (const auto* check : {&law.cone_check, &law.cone_after_fuse_check}) {
         const law::ConeCheck& c = *check;
-        if (options.force || c.stress.empty() || c.max_error <= options.max_law_error) continue;
+        if (options.force || c.directions.empty() || c.max_error <= options.max_law_error) continue;
         char text_[400];
         std::snprintf(text_, sizeof text_,
                       "the cone-wise law%s misses %s by %.1f %% of stress at sxx,syy,sxy = %.3f,%.3f,%.3f, "
@@ -172,14 +172,14 @@ void print_fit_summary(const std::filesystem::path& sweep_file, const std::files
     std::printf("  exact law: none (%s)\n", law.cell_note.c_str());
   }
   for (const auto* check : {&law.cone_check, &law.cone_after_fuse_check}) {
-    if (check->stress.empty()) continue;
+    if (check->directions.empty()) continue;
     const law::ConeCheck& c = *check;
     const bool exact = c.against == law::CheckedAgainst::exact_law;
     std::printf(
         "  cone-wise law%s against %s%s at %zu %s: stress error max %.1f %% (at sxx,syy,sxy = %.3f,%.3f,%.3f), "
         "rms %.1f %%\n",
         check == &law.cone_check ? "" : " after the fuse", law::checked_against_text(c.against),
-        check == &law.cone_check || !exact ? "" : " at twice its onset", c.stress.size(),
+        check == &law.cone_check || !exact ? "" : " at twice its onset", c.directions.size(),
         exact ? "stress directions" : "points, each fitted without its direction", 100 * c.max_error, c.worst(0),
         c.worst(1), c.worst(2), 100 * c.rms_error);
   }

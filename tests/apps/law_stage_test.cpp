@@ -79,7 +79,7 @@ TEST(LawStage, DualcellLawGivesBackTheSweepInBothDirections) {
   EXPECT_LE(law.cell_replay.max_error, 1e-7);
   EXPECT_NE(run.fit_output.find("exact law: the cell on"), std::string::npos) << run.fit_output;
   EXPECT_NE(run.fit_output.find("cone-wise law against the exact law at"), std::string::npos);
-  EXPECT_GT(law.cone_check.stress.size(), 900u);
+  EXPECT_GT(law.cone_check.directions.size(), 900u);
 
   const auto paths = io::read_sweep(run.sweep);
   std::ofstream stress(run.dir / "stress.csv");
@@ -167,9 +167,9 @@ TEST(LawStage, AboveTheCheckedRowsTheCompactLawIsMeasuredOnHeldOutDirections) {
   EXPECT_EQ(held.cone_check.against, law::CheckedAgainst::held_out_directions);
   // 3 directions × 2 signs, one magnitude: each held out once; the 6 sphere paths (no direction)
   // are always among the fitted points.
-  EXPECT_EQ(held.cone_check.stress.size(), 6u);
+  EXPECT_EQ(held.cone_check.directions.size(), 6u);
   EXPECT_GT(held.cone_check.max_error, 0);
-  EXPECT_TRUE(held.cone_check.polar_deg.empty());
+  EXPECT_TRUE(held.cone_check.polar.empty());
 }
 
 // A compact law that misses the exact one is not exported as a umat, with the error and where;
@@ -177,7 +177,7 @@ TEST(LawStage, AboveTheCheckedRowsTheCompactLawIsMeasuredOnHeldOutDirections) {
 TEST(LawStage, ExportRefusesACompactLawThatMissesTheExactOne) {
   StagesRun run(contact_scene);
   const law::Law law = io::read_law(run.law);
-  ASSERT_FALSE(law.cone_check.stress.empty());
+  ASSERT_FALSE(law.cone_check.directions.empty());
   ASSERT_GT(law.cone_check.max_error, 0.02) << "this cell's cone-wise law misses by more than 2 %";
   const std::string export_umat =
       bin("dualcell-export") + " --law " + q(run.law) + " --format umat --form cone --out " + q(run.dir / "u.inp");
@@ -204,7 +204,7 @@ TEST(LawStage, TheLawPastTheFuseIsMeasuredAndItsErrorRefusesTheUmat) {
   ASSERT_TRUE(law.cell.has_value()) << law.cell_note;
   ASSERT_TRUE(law.cone_after_fuse.ok) << law.cone_after_fuse.message;
   const law::ConeCheck& c = law.cone_after_fuse_check;
-  ASSERT_GT(c.stress.size(), 250u);
+  ASSERT_GT(c.directions.size(), 250u);
   EXPECT_NE(run.fit_output.find("cone-wise law after the fuse against the exact law at twice its onset"),
             std::string::npos)
       << run.fit_output;
@@ -257,7 +257,7 @@ TEST(LawStage, TheJsonExportCarriesTheExactLaw) {
          << "assert c['Y'][3][2] == " << c.Y(3, 2) << " and c['n_pairs'] == " << c.n_pairs << "\n"
          << "assert None in c['upper_broken'] and c['lower_broken'][0] == 0\n"
          << "assert d['cell_replay']['points'] == " << law.cell_replay.points << "\n"
-         << "assert d['cone_check']['directions'] == " << law.cone_check.stress.size() << "\n"
+         << "assert d['cone_check']['directions'] == " << law.cone_check.directions.size() << "\n"
          << "assert d['cone_check']['max_error'] == " << law.cone_check.max_error << "\n";
   std::ofstream(run.dir / "check.py") << script.str();
   const auto checked = run_command("/usr/bin/python3 " + q(run.dir / "check.py") + " " + q(run.dir / "law.json"));

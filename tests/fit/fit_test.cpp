@@ -137,7 +137,7 @@ TEST(Fit, WithoutAnExactLawTheCompactLawIsMeasuredOnHeldOutDirections) {
   const law::Law exact_form = fit_law(own, {});
   ASSERT_TRUE(exact_form.cone.ok);
   EXPECT_EQ(exact_form.cone_check.against, law::CheckedAgainst::held_out_directions);
-  EXPECT_EQ(exact_form.cone_check.stress.size(), directions.size() * 2 * 5);  // every point held out once
+  EXPECT_EQ(exact_form.cone_check.directions.size(), directions.size() * 2 * 5);  // every point held out once
   // The fit's own tolerance on exact data is 1e-8 of the residual (cone_fit_test).
   EXPECT_LT(exact_form.cone_check.max_error, 1e-6);
 
@@ -150,7 +150,7 @@ TEST(Fit, WithoutAnExactLawTheCompactLawIsMeasuredOnHeldOutDirections) {
   const law::Law law = fit_law(paths, {});
   ASSERT_TRUE(law.cone.ok);
   const law::ConeCheck& k = law.cone_check;
-  ASSERT_EQ(k.stress.size(), directions.size() * 2 * 5);
+  ASSERT_EQ(k.directions.size(), directions.size() * 2 * 5);
   EXPECT_GT(k.max_error, law.cone.relative_residual) << "held-out points are harder than the fitted ones";
   // Independently: the sweep without one direction's paths through fit_law, its law at them.
   for (std::size_t d = 0; d < directions.size(); ++d) {
@@ -164,13 +164,13 @@ TEST(Fit, WithoutAnExactLawTheCompactLawIsMeasuredOnHeldOutDirections) {
         const double error = (law::evaluate(without.cone.law, strain).stress - step.stress).norm() / step.stress.norm();
         const Eigen::Vector3d N = step.stress.normalized();
         bool found = false;
-        for (std::size_t i = 0; i < k.stress.size() && !found; ++i)
-          if ((k.stress[i] - N).norm() < 1e-12 && std::abs(k.error[i] - error) <= 1e-9 * (1 + error)) found = true;
+        for (std::size_t i = 0; i < k.directions.size() && !found; ++i)
+          if ((k.directions[i] - N).norm() < 1e-12 && std::abs(k.error[i] - error) <= 1e-9 * (1 + error)) found = true;
         EXPECT_TRUE(found) << "direction " << directions[d] << ", load " << step.load << ": error " << error;
       }
   }
   // One direction: nothing to hold out, no check (and no umat without --force).
-  EXPECT_TRUE(fit_law(synthetic(S_t, S_c, {0}, 0, 1), {}).cone_check.stress.empty());
+  EXPECT_TRUE(fit_law(synthetic(S_t, S_c, {0}, 0, 1), {}).cone_check.directions.empty());
 
   testing::ScratchDir dir;
   law::Law file = law;  // with the provenance and constituents a law file carries
