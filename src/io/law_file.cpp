@@ -7,9 +7,9 @@
 #include "core/error.hpp"
 #include "io/atomic_output.hpp"
 #include "io/condensed_group.hpp"
+#include "io/file_root.hpp"
 #include "io/hdf5.hpp"
 #include "io/onset_group.hpp"
-#include "io/provenance.hpp"
 #include "law/fields.hpp"
 
 namespace dualcell::io {

@@ -3,7 +3,7 @@
 // "law.h5 layout"). One group /law holds every field of Law under its own name: per-direction
 // datasets of D entries, the two 3×3 compliances with their standard errors and quality, the
 // cone-wise linear form, and the constituents as attributes; the root holds the format and the
-// provenance (io/provenance.hpp).
+// provenance (io/file_root.hpp).
 #include <filesystem>
 
 #include "law/law.hpp"

@@ -7,8 +7,8 @@
 #include "core/error.hpp"
 #include "core/text.hpp"
 #include "io/atomic_output.hpp"
+#include "io/file_root.hpp"
 #include "io/hdf5.hpp"
-#include "io/provenance.hpp"
 #include "io/xdmf.hpp"
 
 namespace dualcell::io {

@@ -4,8 +4,8 @@
 
 #include "core/error.hpp"
 #include "io/atomic_output.hpp"
+#include "io/file_root.hpp"
 #include "io/hdf5.hpp"
-#include "io/provenance.hpp"
 #include "io/xdmf.hpp"
 
 namespace dualcell::io {

@@ -3,8 +3,8 @@
 #include <cstdio>
 
 #include "io/atomic_output.hpp"
+#include "io/file_root.hpp"
 #include "io/hdf5.hpp"
-#include "io/provenance.hpp"
 #include "io/xdmf.hpp"
 
 namespace dualcell::io {

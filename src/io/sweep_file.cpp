@@ -6,10 +6,10 @@
 #include "core/error.hpp"
 #include "io/atomic_output.hpp"
 #include "io/condensed_group.hpp"
+#include "io/file_root.hpp"
 #include "io/hash.hpp"
 #include "io/hdf5.hpp"
 #include "io/onset_group.hpp"
-#include "io/provenance.hpp"
 
 namespace dualcell::io {
 

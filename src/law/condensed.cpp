@@ -156,15 +156,15 @@ CellResponse CellEvaluator::at_stress(const Eigen::Vector3d& sigma, CellHistory&
   return out;
 }
 
-CellResponse CellEvaluator::at_strain(const Eigen::Vector3d& strain, CellHistory& h, Bonds bonds) {
+CellResponse CellEvaluator::at_strain(const Eigen::Vector3d& strain, CellHistory& h, BondMode bonds) {
   CellResponse out;
   check_shear(strain, out);
   if (!out.message.empty()) return out;
   const int m = cell_.n_macro, n = cell_.n_rows();
   if (h.active.size() != static_cast<std::size_t>(m + n)) h.active.clear();
   Eigen::VectorXd z;
-  out = cascade(h, bonds == Bonds::cascade, [&](CellResponse& r) {
-    set_bounds(h.bonded, m, bonds == Bonds::lifted);
+  out = cascade(h, bonds == BondMode::cascade, [&](CellResponse& r) {
+    set_bounds(h.bonded, m, bonds == BondMode::lifted);
     b_ = Eigen::VectorXd::Zero(m + n);
     b_.head(m) = cell_.volume * strain.head(m);
     const qp::DenseQpResult qp = strain_qp_.solve(b_, lower_, upper_, h.active);

@@ -78,7 +78,7 @@ struct CellHistory {
 // bonded row at its strength then carries its strength and no more (a trial state, e.g. a
 // Newton iterate of a structure, which must not break anything); `lifted` is the intact cell
 // with the strengths of its bonded rows removed (linear in the load: the onset's scaling).
-enum class Bonds { cascade, held, lifted };
+enum class BondMode { cascade, held, lifted };
 
 struct CellResponse {
   Eigen::Vector3d stress = Eigen::Vector3d::Zero();   // σ̄ (σxy = 0 with n_macro = 2)
@@ -110,7 +110,7 @@ class CellEvaluator {
   // The response to a macro stress σ̄ (stress-driven) or a macro strain ε̄ (strain-driven,
   // engineering shear), from the history h, which is updated (breaks are irreversible).
   CellResponse at_stress(const Eigen::Vector3d& sigma, CellHistory& h);
-  CellResponse at_strain(const Eigen::Vector3d& strain, CellHistory& h, Bonds bonds = Bonds::cascade);
+  CellResponse at_strain(const Eigen::Vector3d& strain, CellHistory& h, BondMode bonds = BondMode::cascade);
   // The load factor s* at which the first bond of the unloaded cell breaks under s·σ̄ (+inf
   // without adhesion or when no bond ever reaches its strength along σ̄): the bonded cell with
   // its strengths lifted is homogeneous of degree one in σ̄, so s* = min over bonded rows of

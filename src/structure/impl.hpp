@@ -31,8 +31,8 @@ struct HomogenisedStructure::Impl {
   std::vector<std::vector<int>> cell_triangles;
   std::vector<double> strength_use;  // per point, exact law: CellResponse::strength_use
   std::vector<std::unique_ptr<law::CellEvaluator>> evaluators;
-  int threads = 1;                            // the exact law's evaluators: one per OpenMP thread
-  law::Bonds trial_bonds = law::Bonds::held;  // what a Newton iterate does with the bonds
+  int threads = 1;                                  // the exact law's evaluators: one per OpenMP thread
+  law::BondMode trial_bonds = law::BondMode::held;  // what a Newton iterate does with the bonds
   // An exact-law evaluation failed (its QP) in the step being solved, and why: the step is then
   // not converged and says so (StepResult::message).
   bool point_failed = false;

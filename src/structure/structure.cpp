@@ -59,7 +59,7 @@ int HomogenisedStructure::Impl::break_bonds() {
 #pragma omp parallel for schedule(static) num_threads(threads) reduction(+ : broke)
     for (int c = 0; c < C; ++c) {
       const law::CellResponse r =
-          evaluators[omp_get_thread_num()]->at_strain(cell_strain(c), cell_history[c], law::Bonds::cascade);
+          evaluators[omp_get_thread_num()]->at_strain(cell_strain(c), cell_history[c], law::BondMode::cascade);
       if (!r.ok) note_failure(r);
       if (!r.ok || r.newly_broken == 0) continue;
       ++broke;
@@ -73,8 +73,8 @@ int HomogenisedStructure::Impl::break_bonds() {
   for (int t = 0; t < T; ++t)
     for (std::size_t k = 0; k < points[t].size(); ++k) {
       const int i = first_point[t] + static_cast<int>(k);
-      const law::CellResponse r =
-          evaluators[omp_get_thread_num()]->at_strain(strain_at(u, t, points[t][k]), history[i], law::Bonds::cascade);
+      const law::CellResponse r = evaluators[omp_get_thread_num()]->at_strain(strain_at(u, t, points[t][k]), history[i],
+                                                                              law::BondMode::cascade);
       if (!r.ok) note_failure(r);
       broke += r.ok && r.newly_broken > 0;
     }
@@ -97,11 +97,11 @@ double HomogenisedStructure::first_fuse_factor() {
     for (auto& h : s.history) h = s.evaluators[0]->unloaded();
     for (auto& h : s.cell_history) h = s.evaluators[0]->unloaded();
   }
-  s.trial_bonds = law::Bonds::lifted;
+  s.trial_bonds = law::BondMode::lifted;
   s.u.setZero();
   StepResult probe;
   s.newton(1.0, probe);
-  s.trial_bonds = law::Bonds::held;
+  s.trial_bonds = law::BondMode::held;
   double phi = 0;
   if (!s.exact()) {
     for (const Eigen::Vector3d& sigma : s.cell_average_stress())
@@ -110,7 +110,7 @@ double HomogenisedStructure::first_fuse_factor() {
     for (std::size_t c = 0; c < s.cell_history.size(); ++c) {
       law::CellHistory h = s.evaluators[0]->unloaded();
       phi = std::max(
-          phi, s.evaluators[0]->at_strain(s.cell_strain(static_cast<int>(c)), h, law::Bonds::lifted).strength_use);
+          phi, s.evaluators[0]->at_strain(s.cell_strain(static_cast<int>(c)), h, law::BondMode::lifted).strength_use);
     }
   } else {
     for (std::size_t i = 0; i < s.history.size(); ++i) phi = std::max(phi, s.strength_use[i]);

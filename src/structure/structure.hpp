@@ -6,7 +6,7 @@
 //   surface (law/onset.hpp) switches to the law past the fuse, irreversibly;
 // - the exact law (law/condensed.hpp) at every quadrature point, with the bond history of its
 //   cell (StructureScene::bond_unit: the cell's debond cascade runs at its mean strain) or of
-//   the point itself; a Newton iterate holds every bond state (Bonds::held), and once a step has
+//   the point itself; a Newton iterate holds every bond state (BondMode::held), and once a step has
 //   converged each unit runs its debond cascade; where a bond broke, the step is solved again,
 //   until nothing more breaks.
 //
@@ -103,7 +103,7 @@ class HomogenisedStructure {
   // when no cell ever fuses along the load (or the law has no onset surface); NaN when that
   // solve did not converge. The structure's state is left as it was. Exact law: the first
   // bond of any point reaches its strength, from one solve at t = 1 with the strengths lifted
-  // (Bonds::lifted: the intact cells are linear in the load, so every force scales with t).
+  // (BondMode::lifted: the intact cells are linear in the load, so every force scales with t).
   double first_fuse_factor();
   const StructureMesh& mesh() const;
   const std::vector<std::uint8_t>& fused_cells() const;

@@ -171,19 +171,19 @@ TEST(ExactLawStructure, TheCellsEnergyHasTheStressAsItsGradient) {
     const Eigen::Vector3d strains[] = {{2e-3, -1e-3, 5e-4}, {-1e-3, -2e-3, 1e-3}, {3e-3, 2e-3, 0}};
     for (const Eigen::Vector3d& e : strains) {
       law::CellHistory h = law.unloaded();
-      const law::CellResponse r = law.at_strain(e, h, law::Bonds::held);
+      const law::CellResponse r = law.at_strain(e, h, law::BondMode::held);
       ASSERT_TRUE(r.ok) << r.message;
       EXPECT_EQ(h.bonded, cell->bonded);
       const Eigen::Vector3d delta = Eigen::Vector3d(0.3, -0.5, 0.8).normalized();
       const double step = 1e-6 * e.norm();
       law::CellHistory hp = law.unloaded(), hm = law.unloaded();
-      const double Wp = law.at_strain(e + step * delta, hp, law::Bonds::held).energy;
-      const double Wm = law.at_strain(e - step * delta, hm, law::Bonds::held).energy;
+      const double Wp = law.at_strain(e + step * delta, hp, law::BondMode::held).energy;
+      const double Wm = law.at_strain(e - step * delta, hm, law::BondMode::held).energy;
       EXPECT_NEAR((Wp - Wm) / (2 * step), r.stress.dot(delta), 1e-6 * r.stress.norm()) << e.transpose();
       EXPECT_GT(r.energy, 0);
       law::CellHistory lifted = law.unloaded();
-      const law::CellResponse one = law.at_strain(e, lifted, law::Bonds::lifted);
-      const law::CellResponse two = law.at_strain(2 * e, lifted, law::Bonds::lifted);
+      const law::CellResponse one = law.at_strain(e, lifted, law::BondMode::lifted);
+      const law::CellResponse two = law.at_strain(2 * e, lifted, law::BondMode::lifted);
       EXPECT_LE((two.stress - 2 * one.stress).norm(), 1e-10 * two.stress.norm());
       EXPECT_NEAR(two.strength_use, 2 * one.strength_use, 1e-10 * two.strength_use + 1e-300);
     }

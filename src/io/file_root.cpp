@@ -1,4 +1,4 @@
-#include "io/provenance.hpp"
+#include "io/file_root.hpp"
 
 #include <string_view>
 
