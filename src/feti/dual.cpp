@@ -10,6 +10,11 @@
 
 namespace dualcell::feti {
 
+namespace {
+// An entry of a unit eigenvector below this is round-off of the dense eigensolver.
+constexpr double unit_vector_round_off = 1e-14;
+}  // namespace
+
 DualProblem::DualProblem(const FetiSetup& setup, Constraints constraints)
     : setup_(setup), constraints_(std::move(constraints)) {
   const auto& subs = setup.subdomains();
@@ -36,7 +41,7 @@ DualProblem::DualProblem(const FetiSetup& setup, Constraints constraints)
     const double largest = eig.eigenvalues().maxCoeff();
     std::vector<int> keep;
     for (int j = 0; j < 3; ++j)
-      if (eig.eigenvalues()(j) > 1e-10 * largest) keep.push_back(j);
+      if (eig.eigenvalues()(j) > null_mode_tolerance * largest) keep.push_back(j);
     Eigen::MatrixXd V(3, keep.size());
     for (std::size_t j = 0; j < keep.size(); ++j) V.col(j) = eig.eigenvectors().col(keep[j]);
     // Keep R itself where nothing is dropped, so that G is exactly Rᵀ Bᵀ in the usual case.
@@ -121,9 +126,11 @@ Eigen::SparseMatrix<double> DualProblem::with_joint_null_modes(const Eigen::Spar
   Eigen::SparseMatrix<double> out = GGt;
   for (Eigen::Index j = 0; j < split.null.cols(); ++j) {
     const Eigen::VectorXd z = split.null.col(j);
-    std::vector<Eigen::Index> support;  // a cut fibre's pieces: a few entries
+    // A cut fibre's pieces: a few entries; the others are the eigensolver's round-off (of a unit
+    // vector), left out so that Z Zᵀ stays as sparse as GGᵀ.
+    std::vector<Eigen::Index> support;
     for (Eigen::Index a = 0; a < z.size(); ++a)
-      if (std::abs(z(a)) > 1e-14) support.push_back(a);
+      if (std::abs(z(a)) > unit_vector_round_off) support.push_back(a);
     std::vector<Eigen::Triplet<double>> t;
     for (Eigen::Index a : support)
       for (Eigen::Index b : support) t.emplace_back(a, b, largest * z(a) * z(b));

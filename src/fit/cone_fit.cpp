@@ -18,6 +18,25 @@ namespace dualcell::fit {
 
 namespace {
 
+// The fit's round-off cuts, relative to unit vectors or to the terms they compare:
+// - spd_floor: a stiffness's eigenvalues floored at this fraction of the largest, so that it has
+//   a Cholesky factor;
+// - nlinear_*: GSL's trust-region driver on the one-plane form (steps, gradient and cost);
+// - nnls_round_off: a gradient entry of the nonnegative least squares below this share of ‖A‖‖b‖;
+// - same_direction: two points' strain directions within this are one direction (a path's
+//   points repeat the same three equations);
+// - same_normal: two unit plane normals within this are the same (an orbit's images computed by
+//   rotations differ by round-off only); same_matrix likewise two symmetries of the cell;
+// - tie: the struts win only when they lower the cost by more than this fraction.
+constexpr double spd_floor = 1e-6;
+constexpr int nlinear_max_iterations = 500;
+constexpr double nlinear_tolerance = 1e-12;
+constexpr double nnls_round_off = 1e-12;
+constexpr double same_direction = 1e-6;
+constexpr double same_normal = 1e-9;
+constexpr double same_matrix = 1e-12;
+constexpr double tie = 1e-9;
+
 constexpr int n_parameters = 9;
 
 law::ConeLaw law_of(const double* p) {
@@ -87,7 +106,7 @@ Eigen::Matrix3d linear_fit(const std::vector<ConePoint>& points) {
   C0 = 0.5 * (C0 + C0.transpose());
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(C0);
   const double top = std::max(eig.eigenvalues().cwiseAbs().maxCoeff(), 1e-300);
-  return eig.eigenvectors() * eig.eigenvalues().cwiseMax(1e-6 * top).asDiagonal() * eig.eigenvectors().transpose();
+  return eig.eigenvectors() * eig.eigenvalues().cwiseMax(spd_floor * top).asDiagonal() * eig.eigenvectors().transpose();
 }
 
 // One free plane: GSL nlinear from 64 starting normals (and the guess); the smallest admissible
@@ -124,7 +143,8 @@ double fit_one_plane(const std::vector<ConePoint>& points, const Eigen::Vector3d
     gsl_vector_view x = gsl_vector_view_array(p, n_parameters);
     if (gsl_multifit_nlinear_init(&x.vector, &fdf, w.get()) != GSL_SUCCESS) continue;
     int info = 0;
-    gsl_multifit_nlinear_driver(500, 1e-12, 1e-12, 1e-12, nullptr, nullptr, &info, w.get());
+    gsl_multifit_nlinear_driver(nlinear_max_iterations, nlinear_tolerance, nlinear_tolerance, nlinear_tolerance,
+                                nullptr, nullptr, &info, w.get());
     const law::ConeLaw candidate = law_of(gsl_multifit_nlinear_position(w.get())->data);
     const double c_value = cost(points, candidate);
     if (std::isfinite(c_value) && c_value < best && law::admissibility_problem(candidate).empty()) {
@@ -142,7 +162,7 @@ Eigen::VectorXd nonnegative_least_squares(const Eigen::MatrixXd& A, const Eigen:
   const Eigen::Index n = A.cols();
   Eigen::VectorXd x = Eigen::VectorXd::Zero(n);
   std::vector<bool> passive(n, false);
-  const double tolerance = 1e-12 * std::max(A.norm() * b.norm(), 1e-300);
+  const double tolerance = nnls_round_off * std::max(A.norm() * b.norm(), 1e-300);
   const auto solve_passive = [&] {
     std::vector<Eigen::Index> columns;
     for (Eigen::Index j = 0; j < n; ++j)
@@ -237,7 +257,8 @@ double fit_struts(const std::vector<ConePoint>& points, law::ConeLaw& out) {
   std::vector<Eigen::Vector3d> distinct;
   for (const auto& p : points) {
     const Eigen::Vector3d u = p.strain.normalized();
-    if (std::none_of(distinct.begin(), distinct.end(), [&](const Eigen::Vector3d& v) { return (u - v).norm() < 1e-6; }))
+    if (std::none_of(distinct.begin(), distinct.end(),
+                     [&](const Eigen::Vector3d& v) { return (u - v).norm() < same_direction; }))
       distinct.push_back(u);
   }
   if (3 * distinct.size() <= 6 + n_struts) return std::numeric_limits<double>::infinity();
@@ -290,7 +311,7 @@ std::vector<Eigen::Matrix3d> cell_symmetries(const law::CondensedCell& cell, con
     }
     if (!holds) continue;
     bool known = false;
-    for (const auto& G : group) known = known || (G - R).norm() < 1e-12;
+    for (const auto& G : group) known = known || (G - R).norm() < same_matrix;
     if (!known) group.push_back(R);
   }
   return group;
@@ -387,7 +408,7 @@ law::ConeFit fit_cone_to_cell(const law::CondensedCell& cell, const std::vector<
   const auto known = [&](const Eigen::Vector3d& q) {
     for (const auto& orbit : orbits)
       for (const Eigen::Vector3d& p : orbit)
-        if ((p - q).norm() < 1e-9) return true;
+        if ((p - q).norm() < same_normal) return true;
     return false;
   };
   for (int k = 0; k < n_candidates; ++k) {
@@ -398,7 +419,7 @@ law::ConeFit fit_cone_to_cell(const law::CondensedCell& cell, const std::vector<
     for (const Eigen::Matrix3d& R : group) {
       const Eigen::Vector3d image = R * q;
       bool seen = false;
-      for (const Eigen::Vector3d& p : orbit) seen = seen || (p - image).norm() < 1e-9;
+      for (const Eigen::Vector3d& p : orbit) seen = seen || (p - image).norm() < same_normal;
       if (!seen) orbit.push_back(image);
     }
     orbits.push_back(orbit);
@@ -445,7 +466,7 @@ law::ConeFit fit_cone(const std::vector<ConePoint>& points, int n_directions, co
     return out;
   }
   // The better form; the one plane where they tie (fewer parameters).
-  const bool take_struts = struts_cost < one_plane_cost * (1 - 1e-9);
+  const bool take_struts = struts_cost < one_plane_cost * (1 - tie);
   out.law = take_struts ? struts : one_plane;
   out.form = take_struts ? "compression struts" : "one plane";
   out.relative_residual = residual_of(take_struts ? struts_cost : one_plane_cost);

@@ -23,6 +23,13 @@ namespace dualcell::fit {
 
 namespace {
 
+// The compliance fit's design: a singular value below rank_cut of the largest is round-off (the
+// directions do not determine that combination; the truncated SVD drops it alike), and an entry
+// of S whose unit vector has at least undetermined_share in that null space is not determined
+// (NaN) rather than set by round-off.
+constexpr double rank_cut = 1e-10;
+constexpr double undetermined_share = 1e-8;
+
 constexpr double nan = std::numeric_limits<double>::quiet_NaN();
 
 // RAII for the GSL objects used here.
@@ -129,7 +136,7 @@ law::ComplianceFit fit_compliance(const std::vector<sweep::PathResult>& paths, i
   Eigen::JacobiSVD<Eigen::MatrixXd> svd(X, Eigen::ComputeFullV);
   int rank = 0;
   for (int j = 0; j < svd.singularValues().size(); ++j)
-    rank += svd.singularValues()(j) > 1e-10 * svd.singularValues()(0);
+    rank += svd.singularValues()(j) > rank_cut * svd.singularValues()(0);
   out.rank = rank;
   const Eigen::MatrixXd null = svd.matrixV().rightCols(6 - rank);
 
@@ -148,11 +155,11 @@ law::ComplianceFit fit_compliance(const std::vector<sweep::PathResult>& paths, i
     gsl_multifit_linear(gX.get(), gy.get(), c.get(), cov.get(), &chisq, work.get());
   } else {
     size_t gsl_rank = 0;
-    gsl_multifit_linear_tsvd(gX.get(), gy.get(), 1e-10, c.get(), cov.get(), &chisq, &gsl_rank, work.get());
+    gsl_multifit_linear_tsvd(gX.get(), gy.get(), rank_cut, c.get(), cov.get(), &chisq, &gsl_rank, work.get());
   }
   Eigen::Matrix<double, 6, 1> p, p_se;
   for (int j = 0; j < 6; ++j) {
-    const bool determined = null.cols() == 0 || null.row(j).lpNorm<Eigen::Infinity>() < 1e-8;
+    const bool determined = null.cols() == 0 || null.row(j).lpNorm<Eigen::Infinity>() < undetermined_share;
     p(j) = determined ? gsl_vector_get(c.get(), j) : nan;
     // With as many equations as unknowns there is no residual to estimate an error from.
     p_se(j) = determined && rows > rank ? std::sqrt(gsl_matrix_get(cov.get(), j, j)) : nan;
