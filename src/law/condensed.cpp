@@ -118,6 +118,19 @@ CellResponse CellEvaluator::cascade(CellHistory& h, bool breaks, Solve&& solve) 
   return out;
 }
 
+bool CellEvaluator::solve_qp(qp::DenseActiveSet& qp, std::vector<qp::Bound>& active, CellResponse& r,
+                             Eigen::VectorXd& x) {
+  const qp::DenseQpResult result = qp.solve(b_, lower_, upper_, active);
+  r.iterations += result.iterations;
+  r.factorisations += result.factorisations;
+  if (!result.converged) {
+    r.message = "the cell's QP: " + result.message;
+    return false;
+  }
+  x = result.x;
+  return true;
+}
+
 CellResponse CellEvaluator::at_stress(const Eigen::Vector3d& sigma, CellHistory& h) {
   CellResponse out;
   check_shear(sigma, out);
@@ -128,15 +141,7 @@ CellResponse CellEvaluator::at_stress(const Eigen::Vector3d& sigma, CellHistory&
   out = cascade(h, true, [&](CellResponse& r) {
     set_bounds(h.bonded, 0);
     b_ = cell_.Y * sigma.head(m);
-    const qp::DenseQpResult qp = stress_qp_.solve(b_, lower_, upper_, h.active);
-    r.iterations += qp.iterations;
-    r.factorisations += qp.factorisations;
-    if (!qp.converged) {
-      r.message = "the cell's QP: " + qp.message;
-      return false;
-    }
-    r.forces = qp.x;
-    return true;
+    return solve_qp(stress_qp_, h.active, r, r.forces);
   });
   if (!out.ok) return out;
   out.stress.head(m) = sigma.head(m);
@@ -167,15 +172,8 @@ CellResponse CellEvaluator::at_strain(const Eigen::Vector3d& strain, CellHistory
     set_bounds(h.bonded, m, bonds == BondMode::lifted);
     b_ = Eigen::VectorXd::Zero(m + n);
     b_.head(m) = cell_.volume * strain.head(m);
-    const qp::DenseQpResult qp = strain_qp_.solve(b_, lower_, upper_, h.active);
-    r.iterations += qp.iterations;
-    r.factorisations += qp.factorisations;
-    if (!qp.converged) {
-      r.message = "the cell's QP: " + qp.message;
-      return false;
-    }
-    z = qp.x;
-    r.forces = qp.x.tail(n);
+    if (!solve_qp(strain_qp_, h.active, r, z)) return false;
+    r.forces = z.tail(n);
     return true;
   });
   if (!out.ok) return out;

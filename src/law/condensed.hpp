@@ -123,6 +123,9 @@ class CellEvaluator {
   void set_bounds(const std::vector<std::uint8_t>& bonded, int offset, bool lifted = false);
   double strength_use(const Eigen::VectorXd& forces, const std::vector<std::uint8_t>& bonded) const;
   void check_shear(const Eigen::Vector3d& v, CellResponse& out) const;
+  // One QP of the cascade with the bounds and linear term set (lower_, upper_, b_): its counts
+  // into r, its solution into x; false, with r.message, when it did not converge.
+  bool solve_qp(qp::DenseActiveSet& qp, std::vector<qp::Bound>& active, CellResponse& r, Eigen::VectorXd& x);
 
   const CondensedCell& cell_;
   const Eigen::MatrixXd energy_;       // 𝓗
