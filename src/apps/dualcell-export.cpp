@@ -10,7 +10,7 @@
 #include <cstdio>
 
 #include "apps/options.hpp"
-#include "stage/law.hpp"
+#include "stage/export.hpp"
 #include "stage/stage.hpp"
 
 int main(int argc, char** argv) {

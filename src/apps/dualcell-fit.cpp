@@ -10,7 +10,7 @@
 //   dualcell-fit --sweep sweep.h5 --out law.h5
 
 #include "apps/options.hpp"
-#include "stage/law.hpp"
+#include "stage/fit.hpp"
 #include "stage/stage.hpp"
 
 int main(int argc, char** argv) {

@@ -13,7 +13,7 @@
 
 #include "apps/options.hpp"
 #include "core/error.hpp"
-#include "stage/law.hpp"
+#include "stage/evaluate.hpp"
 #include "stage/stage.hpp"
 
 int main(int argc, char** argv) {

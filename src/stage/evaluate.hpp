@@ -1,0 +1,26 @@
+#pragma once
+// The law's evaluation as one call (dualcell-law): a law.h5 at the points of a CSV file.
+#include <filesystem>
+
+namespace dualcell::stage {
+
+// dualcell-law: a law evaluated at the points of a CSV file (io/points_csv.hpp), strain- or
+// stress-driven, in its exact form (the condensed cell, /law/cell) or its compact one (the
+// cone-wise law with the fuse, /law/cone and /law/cone_after_fuse as the umat evaluates it).
+enum class LawForm { cell, cone };
+struct LawPointsOptions {
+  std::filesystem::path law_file, points_file, out;
+  bool strain_driven = true;
+  LawForm form = LawForm::cell;
+};
+struct LawPointsSummary {
+  int rows = 0, paths = 0;     // paths: loading paths with history (rows without a path count one each)
+  double seconds = 0;          // of the evaluations alone
+  long qp_iterations = 0;      // the cell form's active-set subproblems, all rows
+  long qp_factorisations = 0;  // of which needed a new factorisation
+};
+// Writes `out` atomically: per input row the other quantity, dσ/dε (9 entries, row by row,
+// engineering shear) and the broken bonds (cell: pairs broken; cone: 1 once fused).
+LawPointsSummary evaluate_law(const LawPointsOptions& options);
+
+}  // namespace dualcell::stage

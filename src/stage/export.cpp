@@ -1,0 +1,103 @@
+#include "stage/export.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <optional>
+#include <sstream>
+
+#include "core/error.hpp"
+#include "core/text.hpp"
+#include "fit/fit.hpp"
+#include "io/atomic_output.hpp"
+#include "io/hash.hpp"
+#include "io/law_file.hpp"
+#include "io/points_csv.hpp"
+#include "io/sweep_file.hpp"
+#include "law/cell_text.hpp"
+
+namespace dualcell::stage {
+
+namespace {
+
+std::string describe(const law::Law& law, io::ExportFormat format, const std::string& name) {
+  switch (format) {
+    case io::ExportFormat::json:
+      return "JSON, " + std::to_string(law.directions.size()) + " directions";
+    case io::ExportFormat::csv:
+      return "CSV, " + std::to_string(law.directions.size()) + " rows";
+    case io::ExportFormat::calculix:
+      return "CalculiX, materials " + name + "_TENSION and " + name + "_COMPRESSION";
+    case io::ExportFormat::umat:
+      return "user material ABAQUS_" + name + " for dualcell's umat";
+  }
+  return "";
+}
+
+}  // namespace
+
+std::string export_law(const ExportOptions& options) {
+  if (!options.form.empty() && options.format != io::ExportFormat::umat)
+    throw InputError("--form " + options.form + ": only for --format umat (the other formats carry the fitted laws)");
+  if (options.form != "" && options.form != "cell" && options.form != "cone")
+    throw InputError("--form " + options.form + ": must be \"cell\" (the exact law) or \"cone\"");
+  io::check_outputs({options.out}, {options.law_file});
+  const law::Law law = io::read_law(options.law_file);
+  const std::string form = options.form.empty() ? (law.cell ? "cell" : "cone") : options.form;
+  if (options.format == io::ExportFormat::umat && form == "cell") {
+    // Two files, committed together: the card and the cell it names.
+    const std::filesystem::path cell_file = options.out.parent_path() / io::umat_cell_file(options.cell_id);
+    io::check_outputs({options.out, cell_file}, {options.law_file});
+    const std::string card = io::law_umat_cell(law, options.name, options.cell_id, options.law_file.string());
+    std::ostringstream cell_text;
+    law::write_cell_text(cell_text, *law.cell);
+    io::AtomicOutputs outputs;
+    outputs.add(options.out);
+    outputs.add(cell_file);
+    outputs.write(options.out, card);
+    outputs.write(cell_file, cell_text.str());
+    outputs.commit();
+    return "user material ABAQUS_" + options.name + " for dualcell's umat, the exact law (" +
+           std::to_string(law.cell->n_rows()) + " interface rows) in " + cell_file.string();
+  }
+  std::string text;
+  switch (options.format) {
+    case io::ExportFormat::json:
+      text = io::law_json(law);
+      break;
+    case io::ExportFormat::csv:
+      text = io::law_csv(law);
+      break;
+    case io::ExportFormat::calculix:
+      text = io::law_calculix(law, options.name, options.law_file.string());
+      break;
+    case io::ExportFormat::umat: {
+      // The umat carries the law past the fuse where the law has an onset surface: both checked,
+      // and a law that was not measured at all (no exact law, one direction) is not vouched for.
+      if (!options.force && law.cone.ok && law.cone_check.directions.empty())
+        throw InputError(options.law_file.string() +
+                         ": the cone-wise law was measured neither against an exact law nor on held-out "
+                         "sweep directions (" +
+                         (law.cell_note.empty() ? std::string("the sweep has one direction") : law.cell_note) +
+                         "): not exported (--force writes it anyway)");
+      for (const auto* check : {&law.cone_check, &law.cone_after_fuse_check}) {
+        const law::ConeCheck& c = *check;
+        if (options.force || c.directions.empty() || c.max_error <= options.max_law_error) continue;
+        char text_[400];
+        std::snprintf(text_, sizeof text_,
+                      "the cone-wise law%s misses %s by %.1f %% of stress at sxx,syy,sxy = %.3f,%.3f,%.3f, "
+                      "more than --max-law-error %.3g %%: not exported (--force writes it anyway)",
+                      check == &law.cone_check ? "" : " after the fuse", law::checked_against_text(c.against),
+                      100 * c.max_error, c.worst(0), c.worst(1), c.worst(2), 100 * options.max_law_error);
+        throw InputError(options.law_file.string() + ": " + text_);
+      }
+      text = io::law_umat(law, options.name, options.law_file.string());
+      break;
+    }
+  }
+  io::write_output(options.out, text);
+  return describe(law, options.format, options.name);
+}
+
+}  // namespace dualcell::stage

@@ -1,0 +1,29 @@
+#pragma once
+// The export stage as one call (dualcell-export): a law.h5 to JSON, CSV, CalculiX cards or the
+// umat's card (conversions in io/law_export.hpp).
+#include <filesystem>
+#include <string>
+
+#include "io/law_export.hpp"
+
+namespace dualcell::stage {
+
+struct ExportOptions {
+  std::filesystem::path law_file, out;
+  io::ExportFormat format = io::ExportFormat::json;
+  std::string name = "DUALCELL";  // CalculiX material base name: a letter, then letters, digits, _
+  // The umat carries the compact cone-wise law: refused when it misses the exact law by more
+  // than this (the largest relative stress error of /law/cone_check), unless forced.
+  double max_law_error = 0.02;
+  bool force = false;
+  // umat: "cell" (the exact law, its cell in io::umat_cell_file(cell_id) beside `out`), "cone",
+  // or "" for the exact law where law.h5 has one.
+  std::string form;
+  int cell_id = 1;
+};
+
+// Reads law_file, converts, writes `out` atomically (nothing is left behind on any error) and
+// returns a one-line description of what was written.
+std::string export_law(const ExportOptions& options);
+
+}  // namespace dualcell::stage

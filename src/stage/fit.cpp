@@ -1,0 +1,107 @@
+#include "stage/fit.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <optional>
+#include <sstream>
+
+#include "core/error.hpp"
+#include "core/text.hpp"
+#include "fit/fit.hpp"
+#include "io/atomic_output.hpp"
+#include "io/hash.hpp"
+#include "io/law_file.hpp"
+#include "io/points_csv.hpp"
+#include "io/sweep_file.hpp"
+#include "law/cell_text.hpp"
+
+namespace dualcell::stage {
+
+law::Law run_fit(const std::filesystem::path& sweep_file, const std::filesystem::path& out) {
+  io::check_outputs({out}, {sweep_file});
+  const io::SweepHeader header = io::read_sweep_header(sweep_file);
+  const std::vector<sweep::PathResult> paths = io::read_sweep(sweep_file);
+  law::Law law = fit::fit_law(paths, header);
+  // The exact law must give back the sweep it came from; one that does not is not written.
+  if (law.cell && !law.cell_replay.ok()) {
+    const law::CellReplay& c = law.cell_replay;
+    char text[300];
+    std::snprintf(text, sizeof text,
+                  "the exact law misses the sweep's point (path %d, step %d) by %.3g relative, more than %.3g "
+                  "(1e3 × the sweep's QP tolerance): the condensation is wrong for this cell",
+                  c.worst_path, c.worst_step, c.max_error, c.limit);
+    throw InputError(sweep_file.string() + ": " + text);
+  }
+  law.provenance.sweep_file = sweep_file.string();
+  law.provenance.sweep_hash = io::file_hash(sweep_file);
+  io::write_law(out, law);
+  return law;
+}
+
+void print_fit_summary(const std::filesystem::path& sweep_file, const std::filesystem::path& out, const law::Law& law) {
+  std::printf("dualcell-fit: %s -> %s (%zu directions)\n", sweep_file.c_str(), out.c_str(), law.directions.size());
+  std::printf("  %8s %12s %10s %12s %10s %8s %8s %8s %12s %10s\n", "theta", "E_tension", "se", "E_compress", "se",
+              "Ec/Et", "nu_t", "nu_c", "fuse_stress", "jump x");
+  for (const auto& d : law.directions)
+    std::printf("  %8.2f %12.5g %10.2e %12.5g %10.2e %8.4f %8.4f %8.4f %12.5g %10.3g\n", d.direction_deg, d.E_tension,
+                d.E_tension_se, d.E_compression, d.E_compression_se, d.E_compression / d.E_tension, d.nu_tension,
+                d.nu_compression, d.fuse_stress, d.fuse_strain_ratio);
+  for (const auto* fit : {&law.tension, &law.compression}) {
+    std::printf("  S_%s (engineering shear), rank %d, relative residual %.2e, %s:\n",
+                fit == &law.tension ? "tension" : "compression", fit->rank, fit->relative_residual,
+                fit->rank < 6 ? "not all entries determined by these directions"
+                              : (fit->symmetric_positive_definite ? "SPD" : "NOT positive definite"));
+    for (int i = 0; i < 3; ++i) std::printf("    %14.6e %14.6e %14.6e\n", fit->S(i, 0), fit->S(i, 1), fit->S(i, 2));
+  }
+  if (!std::isnan(law.cone_rank_one_ratio))
+    std::printf("  cone-wise linear (Curnier-He-Zysset): rank-one ratio %.3f -> %s\n", law.cone_rank_one_ratio,
+                law.cone_wise_linear ? "yes" : "no (the stiffness jump is not rank-one)");
+  for (const auto* cone : {&law.cone, &law.cone_after_fuse}) {
+    const char* name = cone == &law.cone ? "cone-wise law" : "cone-wise law after the fuse";
+    if (!cone->ok) {
+      std::printf("  %s: none (%s)\n", name, cone->message.c_str());
+      continue;
+    }
+    std::printf("  %s: %s, %zu planes, relative residual %.3g over %d points (one plane %.3g, struts %.3g)\n", name,
+                cone->form.c_str(), cone->law.q.size(), cone->relative_residual, cone->n_points,
+                cone->one_plane_residual, cone->struts_residual);
+    std::printf("    %8s %12s %12s\n", "theta", "E_tension", "E_compress");
+    for (const auto& d : law.directions)
+      std::printf("    %8.2f %12.5g %12.5g\n", d.direction_deg, law::apparent_modulus(cone->law, d.direction_deg, 1),
+                  law::apparent_modulus(cone->law, d.direction_deg, -1));
+  }
+  if (law.onset.linear) {
+    const law::OnsetCheck check = law::check_against_sweep(law.onset);
+    std::printf("  onset surface: %ld facets; predicts the onset of %d swept paths to %.2e relative\n",
+                static_cast<long>(law.onset.facets.rows()), check.paths, check.worst_relative);
+  } else {
+    std::printf("  onset surface: none (%s)\n", law.onset.message.c_str());
+  }
+  if (law.cell) {
+    const law::CellReplay& c = law.cell_replay;
+    std::printf(
+        "  exact law: the cell on %d interface rows; replays the sweep's %d points to max %.2e, rms %.2e "
+        "(limit %.1e), broken bonds %s\n",
+        law.cell->n_rows(), c.points, c.max_error, c.rms_error, c.limit,
+        c.break_mismatches == 0 ? "the same at every point"
+                                : (std::to_string(c.break_mismatches) + " points differ").c_str());
+  } else {
+    std::printf("  exact law: none (%s)\n", law.cell_note.c_str());
+  }
+  for (const auto* check : {&law.cone_check, &law.cone_after_fuse_check}) {
+    if (check->directions.empty()) continue;
+    const law::ConeCheck& c = *check;
+    const bool exact = c.against == law::CheckedAgainst::exact_law;
+    std::printf(
+        "  cone-wise law%s against %s%s at %zu %s: stress error max %.1f %% (at sxx,syy,sxy = %.3f,%.3f,%.3f), "
+        "rms %.1f %%\n",
+        check == &law.cone_check ? "" : " after the fuse", law::checked_against_text(c.against),
+        check == &law.cone_check || !exact ? "" : " at twice its onset", c.directions.size(),
+        exact ? "stress directions" : "points, each fitted without its direction", 100 * c.max_error, c.worst(0),
+        c.worst(1), c.worst(2), 100 * c.rms_error);
+  }
+}
+
+}  // namespace dualcell::stage
