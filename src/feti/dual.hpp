@@ -46,6 +46,53 @@ struct NullSplit {
 };
 NullSplit split_null_space(const Eigen::MatrixXd& A);
 
+// Wall time spent in apply_F (and d), apply_Q and apply_preconditioner (a profile for the
+// performance report; one clock read per call, nothing per subdomain), and of that the time in
+// the exchanges between ranks, their count and the bytes this rank received (zero on one rank).
+struct OperatorProfile {
+  double F = 0, Q = 0, preconditioner = 0;
+  double communication = 0;
+  long exchanges = 0;
+  double bytes_received = 0;
+  // Member by member (operator_profile_fields): a sum of profiles, and what was spent between
+  // two readings of the same one.
+  OperatorProfile& operator+=(const OperatorProfile& other);
+  OperatorProfile operator-(const OperatorProfile& before) const;
+};
+// Its members, listed once (exactly one member pointer set): walked by += and −, by solution.h5
+// (the seconds, as /solver seconds_qp_<name>) and by the tests.
+struct OperatorProfileField {
+  const char* name;
+  double OperatorProfile::*seconds = nullptr;  // wall seconds
+  long OperatorProfile::*count = nullptr;
+  double OperatorProfile::*amount = nullptr;  // a quantity that is not seconds (bytes)
+};
+inline constexpr OperatorProfileField operator_profile_fields[] = {
+    {"F", &OperatorProfile::F},
+    {"Q", &OperatorProfile::Q},
+    {"preconditioner", &OperatorProfile::preconditioner},
+    {"communication", &OperatorProfile::communication},
+    {"exchanges", nullptr, &OperatorProfile::exchanges},
+    {"bytes_received", nullptr, nullptr, &OperatorProfile::bytes_received},
+};
+inline OperatorProfile& OperatorProfile::operator+=(const OperatorProfile& other) {
+  for (const OperatorProfileField& field : operator_profile_fields) {
+    if (field.seconds) this->*field.seconds += other.*field.seconds;
+    if (field.count) this->*field.count += other.*field.count;
+    if (field.amount) this->*field.amount += other.*field.amount;
+  }
+  return *this;
+}
+inline OperatorProfile OperatorProfile::operator-(const OperatorProfile& before) const {
+  OperatorProfile out = *this;
+  for (const OperatorProfileField& field : operator_profile_fields) {
+    if (field.seconds) out.*field.seconds -= before.*field.seconds;
+    if (field.count) out.*field.count -= before.*field.count;
+    if (field.amount) out.*field.amount -= before.*field.amount;
+  }
+  return out;
+}
+
 class DualProblem {
  public:
   DualProblem(const FetiSetup& setup, Constraints constraints);
@@ -93,16 +140,7 @@ class DualProblem {
   void apply_preconditioner(const Eigen::VectorXd& x, Eigen::VectorXd& y) const;
   // y = Q x = Gᵀ(GGᵀ)⁻¹G x.
   void apply_Q(const Eigen::VectorXd& x, Eigen::VectorXd& y) const;
-  // Wall time spent in apply_F (and d), apply_Q and apply_preconditioner since construction (a
-  // profile for the performance report; one clock read per call, nothing per subdomain), and
-  // of that the time in the exchanges between ranks, their count and the bytes this rank
-  // received (zero on one rank).
-  struct Profile {
-    double F = 0, Q = 0, preconditioner = 0;
-    double communication = 0;
-    long exchanges = 0;
-    double bytes_received = 0;
-  };
+  using Profile = OperatorProfile;
   const Profile& profile() const { return profile_; }
   // d = B K⁺ f − t·c (t the load factor of the prescribed displacements, FetiSetup::load_factor).
   Eigen::VectorXd d(const Eigen::VectorXd& f, double t) const;

@@ -208,12 +208,7 @@ Solution ContactSolver::solve_problem(const DualProblem& dual, double norm_PFP, 
   if (warm_multiplier && warm_multiplier->size() == m) multiplier = *warm_multiplier;
   out.qp = qp::smalbe(A, Q, b, lower, upper, lambda_shift, multiplier, options);
   out.seconds.qp = seconds_since(t_qp);
-  out.seconds.qp_F = dual.profile().F - profile_before.F;
-  out.seconds.qp_Q = dual.profile().Q - profile_before.Q;
-  out.seconds.qp_preconditioner = dual.profile().preconditioner - profile_before.preconditioner;
-  out.seconds.qp_communication = dual.profile().communication - profile_before.communication;
-  out.seconds.exchanges = dual.profile().exchanges - profile_before.exchanges;
-  out.seconds.bytes_received = dual.profile().bytes_received - profile_before.bytes_received;
+  out.seconds.in_qp = dual.profile() - profile_before;
   out.counters = out.qp.counters;
   out.counters.operator_applications += extra_applications;
 

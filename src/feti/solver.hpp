@@ -41,25 +41,35 @@ struct Timings {
   double dual_setup = 0;                   // B, G, GGᵀ for the bond states used
   double qp = 0, recovery = 0;
   // Inside qp: the applications of F, of the projector Q (coarse problem) and of the
-  // preconditioner M⁻¹ (wall time, all threads); the rest of qp is the QP's vector work.
-  double qp_F = 0, qp_Q = 0, qp_preconditioner = 0;
-  // Over the ranks of a group (docs/method.md §16), this rank's: of qp_F and qp_preconditioner
-  // the seconds in the exchanges between ranks, their number and the bytes received (0 alone).
-  double qp_communication = 0;
-  long exchanges = 0;
-  double bytes_received = 0;
-  // Adds another QP's (qp, recovery and everything inside qp) to this one's.
-  void add_qp(const Timings& other) {
-    qp += other.qp;
-    qp_F += other.qp_F;
-    qp_Q += other.qp_Q;
-    qp_preconditioner += other.qp_preconditioner;
-    qp_communication += other.qp_communication;
-    exchanges += other.exchanges;
-    bytes_received += other.bytes_received;
-    recovery += other.recovery;
-  }
+  // preconditioner M⁻¹ (wall time, all threads; the rest of qp is the QP's vector work), and
+  // over the ranks of a group (docs/method.md §16) this rank's seconds in the exchanges between
+  // ranks, their number and the bytes received (0 alone).
+  OperatorProfile in_qp;
+  // Adds another QP's (the members of timing_fields that accumulate per QP, and in_qp) to this
+  // one's.
+  void add_qp(const Timings& other);
 };
+// Timings' seconds, listed once: per_qp marks those a QP accumulates (Timings::add_qp), the
+// others are the solver's setup, once; solution.h5 writes each as /solver seconds_<name>, and
+// in_qp's as seconds_qp_<name>.
+struct TimingField {
+  const char* name;
+  double Timings::*seconds;
+  bool per_qp;
+};
+inline constexpr TimingField timing_fields[] = {
+    {"assembly", &Timings::assembly, false},
+    {"factorisation", &Timings::factorisation, false},
+    {"explicit_operators", &Timings::explicit_operators, false},
+    {"dual_setup", &Timings::dual_setup, false},
+    {"qp", &Timings::qp, true},
+    {"recovery", &Timings::recovery, true},
+};
+inline void Timings::add_qp(const Timings& other) {
+  for (const TimingField& field : timing_fields)
+    if (field.per_qp) this->*field.seconds += other.*field.seconds;
+  in_qp += other.in_qp;
+}
 
 struct Solution {
   Eigen::Vector3d sigma = Eigen::Vector3d::Zero();           // applied (σxx, σyy, σxy)

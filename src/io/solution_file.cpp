@@ -84,8 +84,11 @@ void write_solution(const std::filesystem::path& h5, const mesh::Mesh& mesh, con
     for (const auto& field : solver_count_fields)
       f.write_attribute("/solver", field.attribute, std::int64_t{s.*field.count});
     f.write_attribute("/solver", "dim_u", std::int64_t{mesh.dim_u()});
-    for (const auto& field : solver_seconds_fields)
-      f.write_attribute("/solver", field.attribute, s.seconds.*field.seconds);
+    for (const feti::TimingField& field : feti::timing_fields)
+      f.write_attribute("/solver", std::string("seconds_") + field.name, s.seconds.*field.seconds);
+    for (const feti::OperatorProfileField& field : feti::operator_profile_fields)
+      if (field.seconds)
+        f.write_attribute("/solver", std::string("seconds_qp_") + field.name, s.seconds.in_qp.*field.seconds);
     f.write_attribute("/solver", "preconditioner", std::string(to_string(scene.solver.preconditioner)));
     f.write_attribute("/solver", "dual_operator", std::string(to_string(scene.solver.dual_operator)));
     f.write_attribute("/solver", "subdomains", std::int64_t{s.subdomains});

@@ -81,10 +81,10 @@ io::RankEntry rank_entry(const feti::ContactSolver& solver, const feti::Timings&
   e.subdomain_bytes = static_cast<std::int64_t>(setup.owned_bytes());
   e.peak_rss_bytes = static_cast<std::int64_t>(par::peak_rss_bytes());
   e.seconds_setup = setup.seconds_assembly + setup.seconds_factorisation + setup.seconds_explicit;
-  e.seconds_apply = t.qp_F + t.qp_preconditioner - t.qp_communication;
-  e.seconds_communication = t.qp_communication;
-  e.exchanges = t.exchanges;
-  e.bytes_received = static_cast<std::int64_t>(t.bytes_received);
+  e.seconds_apply = t.in_qp.F + t.in_qp.preconditioner - t.in_qp.communication;
+  e.seconds_communication = t.in_qp.communication;
+  e.exchanges = t.in_qp.exchanges;
+  e.bytes_received = static_cast<std::int64_t>(t.in_qp.bytes_received);
   return e;
 }
 
@@ -206,7 +206,7 @@ void print_solve_summary(const SolveOptions& options, const SolveOutcome& outcom
       "  seconds: assembly %.3f, factorisation %.3f, explicit F_s %.3f, dual setup %.3f, QP %.3f (F %.3f, Q %.3f, "
       "M^-1 %.3f), recovery %.3f; %d thread(s)\n",
       s.seconds.assembly, s.seconds.factorisation, s.seconds.explicit_operators, s.seconds.dual_setup, s.seconds.qp,
-      s.seconds.qp_F, s.seconds.qp_Q, s.seconds.qp_preconditioner, s.seconds.recovery, outcome.threads_used);
+      s.seconds.in_qp.F, s.seconds.in_qp.Q, s.seconds.in_qp.preconditioner, s.seconds.recovery, outcome.threads_used);
   if (scene.solver.preconditioner != Preconditioner::none)
     std::printf("  preconditioner %s: %ld applications\n", to_string(scene.solver.preconditioner),
                 s.counters.preconditioner_applications);

@@ -102,9 +102,9 @@ std::string run_json(const Run& r) {
 
 std::string phase_row(const char* name, const Run& r) {
   const feti::Timings& t = r.phases;
-  const double rest = t.qp - t.qp_F - t.qp_Q - t.qp_preconditioner;
+  const double rest = t.qp - t.in_qp.F - t.in_qp.Q - t.in_qp.preconditioner;
   return format("| %s | %d | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f |\n", name, r.threads, t.assembly,
-                t.factorisation, t.dual_setup, t.qp_F, t.qp_Q, t.qp_preconditioner, rest, t.recovery);
+                t.factorisation, t.dual_setup, t.in_qp.F, t.in_qp.Q, t.in_qp.preconditioner, rest, t.recovery);
 }
 
 void progress(const char* what) { std::fprintf(stderr, "dualcell-bench: %s\n", what); }

@@ -1,5 +1,6 @@
 // solution.h5 written and read back (io/solution_file.hpp): a real solve with adhesion and some
-// bonds broken, every attribute of io::solver_count_fields, solver_seconds_fields, kkt_fields,
+// bonds broken, every attribute of qp::counter_fields, io::solver_count_fields, the seconds of
+// feti::timing_fields and operator_profile_fields, io::kkt_fields,
 // every column of rank_columns, u, the macro quantities, the fields (feti::solution_fields) and
 // the bond state (io::read_bonds, the reader dualcell-solve --bonds uses) as written, bit for
 // bit. The test walks the tables, so a field added to them is checked without an edit here.
@@ -48,8 +49,15 @@ TEST(SolutionFile, EveryFieldComesBackAsWritten) {
     EXPECT_EQ(f.read_int_attribute_value("/solver", field.name), s.counters.*field.count) << field.name;
   for (const SolverCountField& field : solver_count_fields)
     EXPECT_EQ(f.read_int_attribute_value("/solver", field.attribute), s.*field.count) << field.attribute;
-  for (const SolverSecondsField& field : solver_seconds_fields)
-    EXPECT_EQ(f.read_double_attribute_value("/solver", field.attribute), s.seconds.*field.seconds) << field.attribute;
+  for (const feti::TimingField& field : feti::timing_fields)
+    EXPECT_EQ(f.read_double_attribute_value("/solver", std::string("seconds_") + field.name), s.seconds.*field.seconds)
+        << field.name;
+  for (const feti::OperatorProfileField& field : feti::operator_profile_fields)
+    if (field.seconds) {
+      EXPECT_EQ(f.read_double_attribute_value("/solver", std::string("seconds_qp_") + field.name),
+                s.seconds.in_qp.*field.seconds)
+          << field.name;
+    }
   for (const KktField& field : kkt_fields)
     EXPECT_EQ(f.read_double_attribute_value("/kkt", field.attribute), s.kkt.*field.value) << field.attribute;
   for (const RankColumn& c : rank_columns) {
