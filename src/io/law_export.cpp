@@ -134,16 +134,12 @@ void add_exact_law(JsonObject& o, const Law& law) {
       cell.add(m.name, json_ints(value));
   });
   o.add("cell", cell.add("bytes", std::to_string(law.cell->bytes())).str(4));
-  const law::CellReplay& r = law.cell_replay;
-  o.add("cell_replay", JsonObject()
-                           .add("points", std::to_string(r.points))
-                           .add("max_error", json_number(r.max_error))
-                           .add("rms_error", json_number(r.rms_error))
-                           .add("limit", json_number(r.limit))
-                           .add("worst_path", std::to_string(r.worst_path))
-                           .add("worst_step", std::to_string(r.worst_step))
-                           .add("break_mismatches", std::to_string(r.break_mismatches))
-                           .str(4));
+  JsonObject replay;
+  for (const law::CellReplayField& field : law::cell_replay_fields) {
+    if (field.count) replay.add(field.name, std::to_string(law.cell_replay.*field.count));
+    if (field.value) replay.add(field.name, json_number(law.cell_replay.*field.value));
+  }
+  o.add("cell_replay", replay.str(4));
 }
 
 // The compact laws' checks (/law/cone_check, /law/cone_after_fuse_check), against the exact law

@@ -250,15 +250,12 @@ void write_law(const std::filesystem::path& file, const Law& law) {
     write_onset(f, object("onset"), law.onset);
     if (law.cell) {
       write_condensed(f, object("cell"), *law.cell);
-      const law::CellReplay& c = law.cell_replay;
       f.create_group(object("cell_replay"));
-      write_count(f, "cell_replay/points", c.points);
-      write_scalar(f, "cell_replay/max_error", c.max_error);
-      write_scalar(f, "cell_replay/rms_error", c.rms_error);
-      write_count(f, "cell_replay/worst_path", c.worst_path);
-      write_count(f, "cell_replay/worst_step", c.worst_step);
-      write_count(f, "cell_replay/break_mismatches", c.break_mismatches);
-      write_scalar(f, "cell_replay/limit", c.limit);
+      for (const law::CellReplayField& field : law::cell_replay_fields) {
+        const std::string name = std::string("cell_replay/") + field.name;
+        if (field.count) write_count(f, name, law.cell_replay.*field.count);
+        if (field.value) write_scalar(f, name, law.cell_replay.*field.value);
+      }
     }
     if (!law.cone_check.directions.empty()) write_cone_check(f, "cone_check", law.cone_check);
     if (!law.cone_after_fuse_check.directions.empty())
@@ -309,14 +306,13 @@ Law read_law(const std::filesystem::path& file) {
   law.onset = read_onset(f, object("onset"));
   if (f.exists(object("cell"))) {
     law.cell = read_condensed(f, object("cell"));
-    law::CellReplay& c = law.cell_replay;
-    c.points = static_cast<int>(r.count("cell_replay/points", 0, std::numeric_limits<int>::max()));
-    c.max_error = r.scalar("cell_replay/max_error");
-    c.rms_error = r.scalar("cell_replay/rms_error");
-    c.worst_path = static_cast<int>(r.count("cell_replay/worst_path", -1, std::numeric_limits<int>::max()));
-    c.worst_step = static_cast<int>(r.count("cell_replay/worst_step", -1, std::numeric_limits<int>::max()));
-    c.break_mismatches = static_cast<int>(r.count("cell_replay/break_mismatches", 0, std::numeric_limits<int>::max()));
-    c.limit = r.scalar("cell_replay/limit");
+    for (const law::CellReplayField& field : law::cell_replay_fields) {
+      const std::string name = std::string("cell_replay/") + field.name;
+      if (field.count)
+        law.cell_replay.*field.count =
+            static_cast<int>(r.count(name, field.min_count, std::numeric_limits<int>::max()));
+      if (field.value) law.cell_replay.*field.value = r.scalar(name);
+    }
   }
   if (f.exists(object("cone_check"))) law.cone_check = read_cone_check(f, r, "cone_check");
   if (f.exists(object("cone_after_fuse_check")))

@@ -63,6 +63,23 @@ struct CellReplay {
   double limit = std::numeric_limits<double>::quiet_NaN();
   bool ok() const { return points > 0 && max_error <= limit; }
 };
+// Its members, listed once (exactly one member pointer set): law.h5's /law/cell_replay (written,
+// and read with counts checked to be at least min_count) and the JSON walk it.
+struct CellReplayField {
+  const char* name;
+  int CellReplay::*count = nullptr;
+  int min_count = 0;  // −1 where "none" is a value (the worst point of a replay without points)
+  double CellReplay::*value = nullptr;
+};
+inline constexpr CellReplayField cell_replay_fields[] = {
+    {"points", &CellReplay::points},
+    {"max_error", nullptr, 0, &CellReplay::max_error},
+    {"rms_error", nullptr, 0, &CellReplay::rms_error},
+    {"worst_path", &CellReplay::worst_path, -1},
+    {"worst_step", &CellReplay::worst_step, -1},
+    {"break_mismatches", &CellReplay::break_mismatches},
+    {"limit", nullptr, 0, &CellReplay::limit},
+};
 
 struct Law {
   std::vector<DirectionLaw> directions;  // ascending direction_deg

@@ -117,6 +117,31 @@ TEST(CondensedMembers, EveryMemberReachesTheJson) {
   });
 }
 
+// The exact law's replay check (law::cell_replay_fields) beside it: every member its own value,
+// through law.h5 and back and into the JSON.
+TEST(CellReplayFields, EveryMemberReachesLawH5AndTheJson) {
+  testing::ScratchDir dir;
+  law::Law law = testing::synthetic_law();
+  law.cell = distinct_cell();
+  int k = 3;
+  for (const law::CellReplayField& field : law::cell_replay_fields) {
+    if (field.count) law.cell_replay.*field.count = k++;
+    if (field.value) law.cell_replay.*field.value = 0.25 * k++;
+  }
+  write_law(dir / "law.h5", law);
+  const law::Law back = read_law(dir / "law.h5");
+  const std::string json = law_json(law);
+  const std::string replay = json.substr(json.find("\"cell_replay\": {"));
+  for (const law::CellReplayField& field : law::cell_replay_fields) {
+    if (field.count) {
+      EXPECT_EQ(back.cell_replay.*field.count, law.cell_replay.*field.count) << field.name;
+    } else {
+      EXPECT_EQ(back.cell_replay.*field.value, law.cell_replay.*field.value) << field.name;
+    }
+    EXPECT_NE(replay.find("\"" + std::string(field.name) + "\": "), std::string::npos) << field.name;
+  }
+}
+
 // The messages the readers give come from the table's rules: the member, then what.
 TEST(CondensedMembers, ConsistencyNamesTheMemberAndTheRule) {
   CondensedCell cell = distinct_cell();
