@@ -14,6 +14,63 @@ namespace {
 
 std::vector<double> to_vector(const Eigen::VectorXd& v) { return {v.data(), v.data() + v.size()}; }
 
+// /solver: how the solve ended, its counts (qp::counter_fields, solver_count_fields), its seconds
+// (feti::timing_fields, operator_profile_fields) and settings; /kkt: its KKT residuals.
+void write_solver(File& f, const mesh::Mesh& mesh, const Scene& scene, const feti::Solution& s) {
+  f.create_group("/solver");
+  f.write_attribute("/solver", "status", std::string(qp::to_string(s.qp.status)));
+  f.write_attribute("/solver", "message", s.qp.message);
+  f.write_attribute("/solver", "primal_ok", std::int64_t{s.primal_ok});
+  f.write_attribute("/solver", "primal_message", s.primal_message);
+  for (const qp::CounterField& field : qp::counter_fields)
+    f.write_attribute("/solver", field.name, std::int64_t{s.counters.*field.count});
+  for (const auto& field : solver_count_fields)
+    f.write_attribute("/solver", field.attribute, std::int64_t{s.*field.count});
+  f.write_attribute("/solver", "dim_u", std::int64_t{mesh.dim_u()});
+  for (const feti::TimingField& field : feti::timing_fields)
+    f.write_attribute("/solver", std::string("seconds_") + field.name, s.seconds.*field.seconds);
+  for (const feti::OperatorProfileField& field : feti::operator_profile_fields)
+    if (field.seconds)
+      f.write_attribute("/solver", std::string("seconds_qp_") + field.name, s.seconds.in_qp.*field.seconds);
+  f.write_attribute("/solver", "preconditioner", std::string(to_string(scene.solver.preconditioner)));
+  f.write_attribute("/solver", "dual_operator", std::string(to_string(scene.solver.dual_operator)));
+  f.write_attribute("/solver", "subdomains", std::int64_t{s.subdomains});
+  f.write_attribute("/solver", "explicit_subdomains", std::int64_t{s.explicit_subdomains});
+  f.write_attribute("/solver", "tolerance", scene.solver.tolerance);
+  f.write_attribute("/solver", "qp_tolerance", s.qp_tolerance);
+  f.create_group("/kkt");
+  for (const auto& field : kkt_fields) f.write_attribute("/kkt", field.attribute, s.kkt.*field.value);
+}
+
+// /ranks: one row per rank that shared the solve (rank_columns).
+void write_ranks(File& f, const RankTable& ranks) {
+  const hsize_t R = ranks.size();
+  for (const RankColumn& c : rank_columns) {
+    const std::string name = std::string("/ranks/") + c.name;
+    if (c.count) {
+      std::vector<std::int64_t> column;
+      for (const RankEntry& e : ranks) column.push_back(e.*c.count);
+      f.write(name, column, {R});
+    } else {
+      std::vector<double> column;
+      for (const RankEntry& e : ranks) column.push_back(e.*c.seconds);
+      f.write(name, column, {R});
+    }
+  }
+}
+
+// /steps: the load steps of a block with Boundary::edges.
+void write_steps(File& f, const LoadSteps& steps) {
+  const hsize_t S = steps.factor.size();
+  f.write("/steps/factor", steps.factor, {S});
+  f.write("/steps/watch_displacement", steps.watch_displacement, {S, 2});
+  f.write("/steps/newly_broken", steps.newly_broken, {S});
+  f.write("/steps/broken", steps.broken, {S});
+  f.write("/steps/converged", steps.converged, {S});
+  f.write("/steps/operator_applications", steps.operator_applications, {S});
+  f.write_attribute("/steps", "first_break_factor", steps.first_break_factor);
+}
+
 }  // namespace
 
 void write_solution(const std::filesystem::path& h5, const mesh::Mesh& mesh, const Scene& scene,
@@ -74,56 +131,9 @@ void write_solution(const std::filesystem::path& h5, const mesh::Mesh& mesh, con
     f.write("/macro/average_stress", std::vector<double>{s.average_stress(0), s.average_stress(1), s.average_stress(2)},
             {3});
 
-    f.create_group("/solver");
-    f.write_attribute("/solver", "status", std::string(qp::to_string(s.qp.status)));
-    f.write_attribute("/solver", "message", s.qp.message);
-    f.write_attribute("/solver", "primal_ok", std::int64_t{s.primal_ok});
-    f.write_attribute("/solver", "primal_message", s.primal_message);
-    for (const qp::CounterField& field : qp::counter_fields)
-      f.write_attribute("/solver", field.name, std::int64_t{s.counters.*field.count});
-    for (const auto& field : solver_count_fields)
-      f.write_attribute("/solver", field.attribute, std::int64_t{s.*field.count});
-    f.write_attribute("/solver", "dim_u", std::int64_t{mesh.dim_u()});
-    for (const feti::TimingField& field : feti::timing_fields)
-      f.write_attribute("/solver", std::string("seconds_") + field.name, s.seconds.*field.seconds);
-    for (const feti::OperatorProfileField& field : feti::operator_profile_fields)
-      if (field.seconds)
-        f.write_attribute("/solver", std::string("seconds_qp_") + field.name, s.seconds.in_qp.*field.seconds);
-    f.write_attribute("/solver", "preconditioner", std::string(to_string(scene.solver.preconditioner)));
-    f.write_attribute("/solver", "dual_operator", std::string(to_string(scene.solver.dual_operator)));
-    f.write_attribute("/solver", "subdomains", std::int64_t{s.subdomains});
-    f.write_attribute("/solver", "explicit_subdomains", std::int64_t{s.explicit_subdomains});
-    f.write_attribute("/solver", "tolerance", scene.solver.tolerance);
-    f.write_attribute("/solver", "qp_tolerance", s.qp_tolerance);
-    f.create_group("/kkt");
-    for (const auto& field : kkt_fields) f.write_attribute("/kkt", field.attribute, s.kkt.*field.value);
-
-    if (ranks) {
-      const hsize_t R = ranks->size();
-      for (const RankColumn& c : rank_columns) {
-        const std::string name = std::string("/ranks/") + c.name;
-        if (c.count) {
-          std::vector<std::int64_t> column;
-          for (const RankEntry& e : *ranks) column.push_back(e.*c.count);
-          f.write(name, column, {R});
-        } else {
-          std::vector<double> column;
-          for (const RankEntry& e : *ranks) column.push_back(e.*c.seconds);
-          f.write(name, column, {R});
-        }
-      }
-    }
-
-    if (steps) {
-      const hsize_t S = steps->factor.size();
-      f.write("/steps/factor", steps->factor, {S});
-      f.write("/steps/watch_displacement", steps->watch_displacement, {S, 2});
-      f.write("/steps/newly_broken", steps->newly_broken, {S});
-      f.write("/steps/broken", steps->broken, {S});
-      f.write("/steps/converged", steps->converged, {S});
-      f.write("/steps/operator_applications", steps->operator_applications, {S});
-      f.write_attribute("/steps", "first_break_factor", steps->first_break_factor);
-    }
+    write_solver(f, mesh, scene, s);
+    if (ranks) write_ranks(f, *ranks);
+    if (steps) write_steps(f, *steps);
 
     Provenance p = provenance;
     p.scene_text = scene.text;
