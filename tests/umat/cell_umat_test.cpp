@@ -13,9 +13,9 @@
 #include "feti/solver.hpp"
 #include "io/law_export.hpp"
 #include "law/cell_text.hpp"
-#include "umat/umat_signature.hpp"
 #include "mesh/mesh.hpp"
 #include "test_util.hpp"
+#include "umat/umat_signature.hpp"
 
 namespace dualcell::law {
 namespace {
