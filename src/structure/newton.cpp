@@ -79,6 +79,13 @@ void HomogenisedStructure::Impl::newton(double factor, StepResult& out) {
       out.converged = true;
       return;
     }
+    // A non-finite energy or residual (a load beyond the range of doubles) cannot come back to a
+    // finite one: no further step can converge, so stop at the first one, not after
+    // max_newton_steps line searches on NaN.
+    if (!std::isfinite(Pi) || !std::isfinite(out.residual)) {
+      if (out.message.empty()) out.message = "the energy or the residual is not finite";
+      return;
+    }
     if (iteration == scene.max_newton_steps) break;
     if (cholesky.factorize(K) != linalg::CholeskyStatus::ok)
       throw InputError(
