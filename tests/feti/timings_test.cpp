@@ -3,6 +3,8 @@
 // that leaves one out fails by name; and the setup's seconds are not added per QP.
 #include <gtest/gtest.h>
 
+#include <iterator>
+
 #include "feti/solver.hpp"
 
 namespace dualcell::feti {
@@ -17,6 +19,18 @@ OperatorProfile profile_of(double base) {
     if (field.amount) p.*field.amount = (v += 1);
   }
   return p;
+}
+
+// A member added to a record without a row in its table breaks the build here: the structured
+// bindings name every member, and each table has a row per member.
+TEST(Timings, EveryMemberHasItsRow) {
+  auto [F, Q, preconditioner, communication, exchanges, bytes_received] = OperatorProfile{};
+  auto [assembly, factorisation, explicit_operators, dual_setup, qp, recovery, in_qp] = Timings{};
+  (void)F, (void)Q, (void)preconditioner, (void)communication, (void)exchanges, (void)bytes_received;
+  (void)assembly, (void)factorisation, (void)explicit_operators, (void)dual_setup, (void)qp, (void)recovery,
+      (void)in_qp;
+  EXPECT_EQ(std::size(operator_profile_fields), 6u);
+  EXPECT_EQ(std::size(timing_fields), 6u);  // and in_qp, walked by its own table
 }
 
 TEST(OperatorProfile, AddsAndSubtractsEveryMember) {

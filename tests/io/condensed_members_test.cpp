@@ -119,6 +119,14 @@ TEST(CondensedMembers, EveryMemberReachesTheJson) {
 
 // The exact law's replay check (law::cell_replay_fields) beside it: every member its own value,
 // through law.h5 and back and into the JSON.
+TEST(CellReplayFields, EveryMemberHasItsRow) {
+  // A member added without a row breaks the build here (the binding names every member).
+  auto [points, max_error, rms_error, worst_path, worst_step, break_mismatches, limit] = law::CellReplay{};
+  (void)points, (void)max_error, (void)rms_error, (void)worst_path, (void)worst_step, (void)break_mismatches,
+      (void)limit;
+  EXPECT_EQ(std::size(law::cell_replay_fields), 7u);
+}
+
 TEST(CellReplayFields, EveryMemberReachesLawH5AndTheJson) {
   testing::ScratchDir dir;
   law::Law law = testing::synthetic_law();
