@@ -258,7 +258,8 @@ void validate_sweep_and_solver(const Checker& c, const Scene& scene) {
   c.real(
       "solver", "Gamma", so.Gamma, [](double v) { return v > 0 && v <= 1e3; }, "0 < Gamma <= 1e3");
   c.integer("solver", "max_debond_rounds", so.max_debond_rounds, 1, 1000000);
-  c.integer("solver", "subdomain_dofs", so.subdomain_dofs, 100, 10000000);
+  if (so.subdomain_dofs != 0)
+    c.integer("solver", "subdomain_dofs", so.subdomain_dofs, 100, 10000000);  // 0: the matrix whole
 }
 
 // A resolved block must be held against every rigid motion (core/edge_loads.hpp).

@@ -137,9 +137,13 @@ struct SolverSettings {
   int max_debond_rounds = 1000;             // break / re-solve rounds per load (docs/method.md §11)
   Preconditioner preconditioner = Preconditioner::none;
   DualOperator dual_operator = DualOperator::automatic;
-  // An RVE's matrix is split by METIS into subdomains of about this many DOFs (rve/mesher.hpp);
-  // each fibre is a subdomain of its own. The mapped block has one matrix subdomain per cell.
-  int subdomain_dofs = 1500;
+  // 0 (the default): an RVE's matrix is one subdomain; else it is split by METIS into subdomains
+  // of about this many DOFs (rve/mesher.hpp). Each fibre piece is a subdomain of its own; the
+  // mapped block has one matrix subdomain per cell. Why whole: the pieces of a matrix cut between
+  // fibres are webs of thin ligaments, floppy on their own, and their soft modes set ‖F‖; on the
+  // contact ladder (tools/bench_contact.py, 64 fibres) cutting at 1 500 DOFs cost 4.6× the F
+  // applications of the whole matrix bonded and 25× in contact (docs/method.md §16b).
+  int subdomain_dofs = 0;
 };
 
 struct WrittenKey {

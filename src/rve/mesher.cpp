@@ -317,7 +317,8 @@ mesh::Mesh collect_mesh(const Geometry& geometry, const Microstructure& m, const
   std::set<std::size_t> matrix_nodes;
   for (const auto& t : matrix) matrix_nodes.insert(t.begin(), t.end());
   const Clock::time_point split_start = Clock::now();
-  const int n_parts = std::max(1, static_cast<int>(std::lround(2.0 * matrix_nodes.size() / subdomain_dofs)));
+  const int n_parts =
+      subdomain_dofs == 0 ? 1 : std::max(1, static_cast<int>(std::lround(2.0 * matrix_nodes.size() / subdomain_dofs)));
   const auto [part, n_matrix] = split_matrix(matrix, n_parts);
   report.seconds_split = seconds_since(split_start);
 

@@ -11,8 +11,9 @@
 //     where fibres come close: at a point whose two nearest fibre surfaces are d₁ and d₂ away the
 //     size is min(h, max(d₁ + d₂, h/10)), so a narrow gap has elements about as wide as it.
 //     Frontal-Delaunay triangles; for p2 the mid-side nodes of the rims lie on the exact circles.
-//   * Subdomains: every fibre piece one subdomain; the matrix split by METIS into parts of about
-//     [solver] subdomain_dofs DOFs (each connected part a subdomain). Every subdomain has its own
+//   * Subdomains: every fibre piece one subdomain; the matrix whole ([solver] subdomain_dofs = 0,
+//     the default) or split by METIS into parts of about subdomain_dofs DOFs (each connected part
+//     a subdomain). Every subdomain has its own
 //     nodes: interface pairs (fibre node, matrix node) where a fibre meets the matrix, glue pairs
 //     where two matrix subdomains meet (at a node shared by m of them, m − 1 pairs from the first,
 //     so that the gluing rows stay independent).
