@@ -3,7 +3,8 @@
 bonded, in contact and past the first break, on random RVEs and resolved beams.
 
 usage: bench_contact.py BIN_DIR MATERIAL CELL_SCENE OUT_DIR [--fibres 4 16 36 64 144]
-                        [--seeds 1 2 3] [--depths 4 8 16] [--cut-fibres 16] [--adhesion-depths 4]
+                        [--seeds 1 2 3] [--depths 4 8 16] [--cut-fibres 16] [--cuts 3000 1500]
+                        [--adhesion-depths 4]
 
 Cases (each one whole dualcell-mesh + dualcell-solve, its files kept in OUT_DIR/contact/<case>/,
 a finished case not run again):
@@ -11,8 +12,9 @@ a finished case not run again):
   bonded (interface strengths 0.05 under sxx = BONDED_STRESS, far below them), contact (no
   adhesion, sxx = CONTACT_STRESS) and adhesion past the first break (strengths 0.05 under
   sxx = BREAK_STRESS, which breaks most bonds in a cascade of debond rounds).
-- The same RVE (N = --cut-fibres, seed 1) cut into subdomains of half and twice the default
-  subdomain_dofs, bonded and in contact: the count should not depend on the cut.
+- The same RVE (N = --cut-fibres, seed 1) with its matrix cut by METIS into subdomains of about
+  --cuts DOFs (by default the matrix is one subdomain, subdomain_dofs = 0), bonded and in
+  contact: the FETI claim is that the count does not depend on the cut.
 - Resolved beams in bending (tools/structures.py's beam of depth H cells, length 8H, of the cell
   CELL_SCENE): bonded (its strengths raised to BEAM_BONDED_STRENGTH, never reached), contact, and
   for --adhesion-depths the cantilever with adhesion at the fuse load (STEP past the first break).
@@ -38,7 +40,7 @@ BONDED_STRESS = "0.001,0,0"
 CONTACT_STRESS = "0.01,0,0"
 BREAK_STRESS = "0.05,0,0"
 BEAM_BONDED_STRENGTH = 1e3
-DEFAULT_SUBDOMAIN_DOFS = 1500  # core/scene.hpp's SolverSettings::subdomain_dofs
+DEFAULT_SUBDOMAIN_DOFS = 0  # core/scene.hpp's SolverSettings::subdomain_dofs: the matrix whole
 FIELDS = ("operator_applications", "cg_steps", "expansion_steps", "proportioning_steps", "outer_iterations",
           "debond_rounds", "newly_broken", "tightenings")
 KKT = ("relative_projected_gradient", "relative_equality_residual", "max_penetration")
@@ -80,7 +82,7 @@ def with_solver(text, **settings):
     return text + "\n[solver]\n" + "".join(f"{k} = {v!r}\n" for k, v in settings.items())
 
 
-def rve_cases(bin_dir, material, root, fibres, seeds, cut_fibres):
+def rve_cases(bin_dir, material, root, fibres, seeds, cut_fibres, cuts):
     rows = []
     for n in fibres:
         for seed in seeds:
@@ -95,7 +97,7 @@ def rve_cases(bin_dir, material, root, fibres, seeds, cut_fibres):
                 progress(f"bench_contact: RVE N = {n}, seed {seed}, {mode}: "
                                 f"{row['operator_applications']} F applications, {row['seconds']:.1f} s")
     if cut_fibres:
-        for cut in (DEFAULT_SUBDOMAIN_DOFS // 2, DEFAULT_SUBDOMAIN_DOFS * 2):
+        for cut in cuts:
             for mode, bond, stress in (("bonded", True, BONDED_STRESS), ("contact", False, CONTACT_STRESS)):
                 text = with_solver(rve_study.scene_text(material, cut_fibres, 1, 0.5, 2, bond), subdomain_dofs=cut)
                 row = solve_case(bin_dir, os.path.join(root, f"rve-N{cut_fibres}-s1-cut{cut}", mode), text, stress)
@@ -163,7 +165,7 @@ def markdown(rows):
           "same problem; exit 4: written, not converged. RVE: sxx = 1e-3 bonded, 1e-2 in contact, 5e-2 "
           "past the first break (most bonds break); beam: bending (bonded and contact) and the "
           "cantilever's fuse steps (break).", "",
-          "| problem | size | seed | subdomain_dofs | mode | rows | F applications | ratio | CG | expansion | "
+          "| problem | size | seed | subdomain_dofs (0: matrix whole) | mode | rows | F applications | ratio | CG | expansion | "
           "proportioning | outer | debond rounds | QP s | command s | exit | rel. gP | rel. Gl-e |",
           "|---|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
     for r in rows:
@@ -214,11 +216,12 @@ def main(argv):
     parser.add_argument("--seeds", type=int, nargs="*", default=[1, 2, 3])
     parser.add_argument("--depths", type=int, nargs="*", default=[4, 8, 16])
     parser.add_argument("--cut-fibres", type=int, default=16)
+    parser.add_argument("--cuts", type=int, nargs="*", default=[3000, 1500])
     parser.add_argument("--adhesion-depths", type=int, nargs="*", default=[4])
     args = parser.parse_args(argv[1:])
     root = os.path.join(args.out_dir, "contact")
     material = os.path.abspath(args.material)
-    rows = rve_cases(args.bin_dir, material, root, args.fibres, args.seeds, args.cut_fibres)
+    rows = rve_cases(args.bin_dir, material, root, args.fibres, args.seeds, args.cut_fibres, args.cuts)
     rows += beam_cases(args.bin_dir, os.path.abspath(args.cell_scene), root, args.depths, args.adhesion_depths)
     rows = with_ratios(rows)
 
