@@ -79,8 +79,14 @@ DualProblem::DualProblem(const FetiSetup& setup, Constraints constraints)
 
   if (setup.scene().solver.preconditioner != Preconditioner::none) set_preconditioner_scale();
 
-  // GGᵀ: small (3 per subdomain) and sparse (neighbours only); factorised once.
-  const Eigen::SparseMatrix<double> GGt = Eigen::SparseMatrix<double>(G_ * G_.transpose());
+  // (DG)(DG)ᵀ: small (3 per subdomain) and sparse (neighbours only); factorised once.
+  G_row_scale_ = Eigen::VectorXd::Ones(G_rows);
+  for (int i = 0; i < G_rows; ++i) {
+    const double length = G_.row(i).norm();
+    if (length > 0) G_row_scale_(i) = 1 / length;
+  }
+  DG_ = G_row_scale_.asDiagonal() * G_;
+  const Eigen::SparseMatrix<double> GGt = Eigen::SparseMatrix<double>(DG_ * DG_.transpose());
   GGt_ = linalg::SparseCholesky(linalg::CholmodOptions{linalg::FactorKind::simplicial});
   try {
     GGt_.compute(GGt);
@@ -309,9 +315,9 @@ void DualProblem::apply_preconditioner(const Eigen::VectorXd& x, Eigen::VectorXd
 
 void DualProblem::apply_Q(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
   const ScopedTimer timer(profile_.Q);
-  G_scratch_.noalias() = G_ * x;
+  G_scratch_.noalias() = DG_ * x;
   GGt_.solve(G_scratch_, G_solution_);
-  y.noalias() = G_.transpose() * G_solution_;
+  y.noalias() = DG_.transpose() * G_solution_;
 }
 
 Eigen::VectorXd DualProblem::d(const Eigen::VectorXd& f, double t) const {
@@ -341,16 +347,19 @@ Eigen::VectorXd DualProblem::e(const Eigen::VectorXd& f) const {
   return e;
 }
 
+// λ₀ = Gᵀ(GGᵀ)⁻¹e = (DG)ᵀ((DG)(DG)ᵀ)⁻¹ D e.
 Eigen::VectorXd DualProblem::lambda_0(const Eigen::VectorXd& e) const {
-  GGt_.solve(e, G_solution_);
-  return G_.transpose() * G_solution_;
+  G_scratch_ = G_row_scale_.cwiseProduct(e);
+  GGt_.solve(G_scratch_, G_solution_);
+  return DG_.transpose() * G_solution_;
 }
 
 Eigen::VectorXd DualProblem::coarse_solve(const Eigen::VectorXd& r) const {
-  G_scratch_.noalias() = G_ * r;
+  // (GGᵀ)⁻¹G r = D ((DG)(DG)ᵀ)⁻¹ (DG) r.
+  G_scratch_.noalias() = DG_ * r;
   Eigen::VectorXd alpha_hat;
   GGt_.solve(G_scratch_, alpha_hat);
-  return alpha_hat;
+  return G_row_scale_.cwiseProduct(alpha_hat);
 }
 
 Eigen::MatrixXd DualProblem::explicit_F() const {

@@ -15,7 +15,8 @@
 //   R̂_i    | Local::R_hat        | the part of R_i that B sees: a fibre without adhesion
 //          |                     | spins freely about its centre (normal rows cannot see
 //          |                     | it), so that mode is dropped from G and recovered later
-//   GGᵀ    | GGt_                | small sparse SPD, CHOLMOD, factorised once per problem
+//   D      | G_row_scale_        | 1/‖row‖ of each row of G: the coarse solves use DG
+//   GGᵀ    | GGt_                | (DG)(DG)ᵀ: small sparse SPD, CHOLMOD, factorised once per problem
 //
 // No matrix of size dim u or dim λ is ever dense: F and Q are applied as operators.
 //
@@ -179,6 +180,13 @@ class DualProblem {
   Constraints constraints_;
   std::vector<Local> locals_;
   Eigen::SparseMatrix<double, Eigen::RowMajor> G_;
+  // The coarse solves work with DG, D = diag(1/‖G_i‖) (rows of unit length). Q, λ₀ and α̂ do not
+  // depend on the scaling of G's rows, but the factor of GGᵀ does: an RVE's macro rows (entries of
+  // the cell's length on every periodic row) and a small fibre piece's turn differ in length by
+  // orders of magnitude, and unscaled the 144-fibre ladder RVE's Q was applied to 4e-11 of ‖x‖
+  // with G(I − Q)x at 7e-4, leaving Gλ − e at 5e-5 of its terms while the QP saw Qx ≈ 0.
+  Eigen::VectorXd G_row_scale_;
+  Eigen::SparseMatrix<double, Eigen::RowMajor> DG_;
   mutable linalg::SparseCholesky GGt_;
   Eigen::SparseMatrix<double> with_joint_null_modes(const Eigen::SparseMatrix<double>& GGt);
   mutable Eigen::VectorXd G_scratch_, G_solution_;
