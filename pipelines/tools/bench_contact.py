@@ -206,9 +206,15 @@ def picture(rows, outbase):
             points = sorted((r["size"], r["operator_applications"]) for r in rows
                             if (r["problem"], r["mode"], r["cut"]) == (problem, mode, DEFAULT_SUBDOMAIN_DOFS))
             if points:
+                # Every realisation a point, their median per size the line.
                 name = f"{problem}-{mode}.dat"
                 data[name] = "".join(f"{s} {a}\n" for s, a in points)
-                plots.append(f"'{name}' using 1:2 with linespoints pt 7 lc {colour} title '{mode}'")
+                sizes = sorted({s for s, _ in points})
+                data[f"{problem}-{mode}-median.dat"] = "".join(
+                    f"{z} {statistics.median(a for s, a in points if s == z)}\n" for z in sizes)
+                plots.append(f"'{name}' using 1:2 with points pt 7 ps 0.8 lc {colour} notitle")
+                plots.append(f"'{problem}-{mode}-median.dat' using 1:2 with lines lw 2 lc {colour} "
+                             f"title '{mode} (median)'")
         if plots:
             panels.append(f"set xlabel '{label}'\nset ylabel 'F applications'\nplot " + ", ".join(plots) + "\n")
     script = (f"set multiplot layout 1,{len(panels)} title 'F applications per solve'\nset logscale xy\n"
