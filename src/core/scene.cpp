@@ -258,8 +258,9 @@ void validate_sweep_and_solver(const Checker& c, const Scene& scene) {
   c.real(
       "solver", "Gamma", so.Gamma, [](double v) { return v > 0 && v <= 1e3; }, "0 < Gamma <= 1e3");
   c.integer("solver", "max_debond_rounds", so.max_debond_rounds, 1, 1000000);
-  if (so.subdomain_dofs != 0)
-    c.integer("solver", "subdomain_dofs", so.subdomain_dofs, 100, 10000000);  // 0: the matrix whole
+  if (so.subdomain_dofs != 0 && (so.subdomain_dofs < 100 || so.subdomain_dofs > 10000000))
+    c.fail("solver", "subdomain_dofs", std::to_string(so.subdomain_dofs),
+           "out of range: 0 (an RVE's matrix whole) or an integer in [100, 10000000]");
 }
 
 // A resolved block must be held against every rigid motion (core/edge_loads.hpp).

@@ -35,6 +35,7 @@ TEST(Scene, DefaultsAndValues) {
   EXPECT_EQ(s.solver.preconditioner, Preconditioner::none);
   EXPECT_EQ(s.solver.rho_growth, 10.0);
   EXPECT_EQ(s.solver.rho_patience, 5);
+  EXPECT_EQ(s.solver.subdomain_dofs, 0);  // an RVE's matrix whole
   const Scene plain = parse_scene(scene_text(1, 1, 1, 0.3, "[solver]\nrho_growth = 1\nrho_patience = 2\n"), "x.toml");
   EXPECT_EQ(plain.solver.rho_growth, 1.0);
   EXPECT_EQ(plain.solver.rho_patience, 2);
@@ -74,6 +75,8 @@ TEST(Scene, ErrorsNameFileKeyValueAndRange) {
       {scene_text(1, 1, 1, 0.3, "[solver]\nrho_growth = 0.5\n"),
        "[solver] rho_growth = 0.5: out of range: 1 <= rho_growth <= 1e3"},
       {scene_text(1, 1, 1, 0.3, "[solver]\nrho_patience = 0\n"), "[solver] rho_patience = 0: out of range"},
+      {scene_text(1, 1, 1, 0.3, "[solver]\nsubdomain_dofs = 50\n"),
+       "[solver] subdomain_dofs = 50: out of range: 0 (an RVE's matrix whole) or an integer in [100, 10000000]"},
       {scene_text(1, 1, 1, 0.3, "[load\n"), "TOML syntax error"},
       {"[geometry]\nfibre_radius = \"big\"\n", "[geometry] fibre_radius = \"big\": must be a number"},
       {"[geometry]\nfibre_radius = 0.3\n", "missing table [fibre]"},
