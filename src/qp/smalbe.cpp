@@ -207,15 +207,23 @@ Result smalbe(const LinearOperator& A, const LinearOperator& Q, const Eigen::Vec
   // nearly feasible x (‖Qx‖ just above ε_e) asked for ‖gᴾ‖ ≤ ξ‖Qx‖, orders of magnitude below
   // ε_g and below the attainable accuracy: on the contact ladder's 64-fibre RVE the inner
   // solver stagnated there (exit 4), on the 36-fibre one it spent 13 % of its F applications
-  // (tools/bench_contact.py; docs/method.md §7). Q x is formed only when ‖gᴾ‖ ≤ max(η, ε_g).
-  const double gate = std::max(eta, tolerance_g);
+  // (tools/bench_contact.py; docs/method.md §7). Q x is formed only when ε_g < ‖gᴾ‖ ≤ η.
+  bool non_finite_in_stop = false;
   const StoppingTest inner_stop = [&](const Eigen::VectorXd& x_inner, const Eigen::VectorXd&, double gP_norm) {
-    if (gP_norm > gate) {
+    if (gP_norm <= tolerance_g) {
+      return true;
+    }
+    if (gP_norm > eta) {
       return false;
     }
     Q(x_inner, Qx);
     const double Qx_norm = Qx.norm();
-    return gP_norm <= std::min(xi * Qx_norm, eta) || gP_norm <= tolerance_g;
+    if (!std::isfinite(Qx_norm)) {
+      // Ends the inner solve; reported after it, as NaN/Inf anywhere else is.
+      non_finite_in_stop = true;
+      return true;
+    }
+    return gP_norm <= xi * Qx_norm;
   };
 
   double lagrangian_previous = 0.0;
@@ -236,6 +244,9 @@ Result smalbe(const LinearOperator& A, const LinearOperator& Q, const Eigen::Vec
     const Result inner_result = mprgp(A_plus_rho_Q, b_minus_m, l, u, x, inner, inner_stop, work);
     counters += inner_result.counters;  // MPRGP counts no outer iterations
     counters.outer_iterations = k + 1;
+    if (non_finite_in_stop) {
+      return fail_non_finite("Q x in the inner stopping test");
+    }
     if (inner_result.status == Status::non_finite || inner_result.status == Status::invalid_input) {
       result.status = inner_result.status;
       result.message = "smalbe: outer iteration " + std::to_string(k) + ": " + inner_result.message;
