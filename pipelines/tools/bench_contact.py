@@ -87,10 +87,6 @@ def progress(line):
     print(line, file=sys.stderr, flush=True)
 
 
-def with_solver(text, **settings):
-    return text + "\n[solver]\n" + "".join(f"{k} = {v!r}\n" for k, v in settings.items())
-
-
 def rve_cases(bin_dir, material, root, fibres, seeds, cut_fibres, cuts):
     rows = []
     for n in fibres:
@@ -108,7 +104,8 @@ def rve_cases(bin_dir, material, root, fibres, seeds, cut_fibres, cuts):
     if cut_fibres:
         for cut in cuts:
             for mode, bond, stress in (("bonded", True, BONDED_STRESS), ("contact", False, CONTACT_STRESS)):
-                text = with_solver(rve_study.scene_text(material, cut_fibres, 1, 0.5, 2, bond), subdomain_dofs=cut)
+                text = rve_study.with_solver(rve_study.scene_text(material, cut_fibres, 1, 0.5, 2, bond),
+                                             subdomain_dofs=cut)
                 row = solve_case(bin_dir, os.path.join(root, f"rve-N{cut_fibres}-s1-cut{cut}", mode), text, stress)
                 rows.append({"problem": "rve", "size": cut_fibres, "seed": 1, "cut": cut, "mode": mode, **row})
                 progress(f"bench_contact: RVE N = {cut_fibres}, subdomain_dofs {cut}, {mode}: "

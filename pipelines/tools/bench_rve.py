@@ -34,10 +34,6 @@ REFERENCE_TOLERANCE = 1e-10
 CONTACT_REFERENCE_TOLERANCE = 1e-8
 
 
-def with_solver(text, tolerance):
-    return text + f"\n[solver]\ntolerance = {tolerance!r}\n"
-
-
 def main(argv):
     parser = common.Parser(__doc__)
     parser.add_argument("bin_dir")
@@ -75,7 +71,7 @@ def main(argv):
         out = os.path.join(folder, f"{tag}.h5")
         # Exit 4 (a solve written whose QP stagnated just short of its tolerance) is measured too.
         solved = common.run_stage([stage("dualcell-solve"), "--quiet", "--config",
-                                   scene(f"{tag}.toml", with_solver(text, tolerance)), "--mesh", mesh,
+                                   scene(f"{tag}.toml", rve_study.with_solver(text, tolerance=tolerance)), "--mesh", mesh,
                                    "--stress", stress, "--out", out], out, unconverged_kept=True)
         with h5py.File(out, "r") as f:
             strain = f["macro/strain"][:]
@@ -104,9 +100,9 @@ def main(argv):
     seconds, peak, strain, applications = solve(contact, "0.01,0,0", "contact", chosen)
     rows.append({"step": "contact solve", "tolerance": chosen, "seconds": seconds, "peak_MiB": peak,
                  "E_error": abs(contact_reference[0] / strain[0] - 1), "note": applications})
-    sweep_scene = scene("sweep.toml", with_solver(contact.replace(
+    sweep_scene = scene("sweep.toml", rve_study.with_solver(contact.replace(
         "[sweep]\ndirections_deg = [0, 90]\nmagnitudes = [-1e-2, 1e-2]\n",
-        f"[sweep]\nsphere = {args.sphere}\nmagnitudes = [1e-2]\n"), chosen))
+        f"[sweep]\nsphere = {args.sphere}\nmagnitudes = [1e-2]\n"), tolerance=chosen))
     sweep = os.path.join(folder, "sweep.h5")
     if os.path.exists(sweep):
         os.remove(sweep)  # a fresh sweep, not a resumed one

@@ -50,6 +50,11 @@ def scene_text(material, n, seed, vf, degree, bonded):
     return text + "[sweep]\ndirections_deg = [0, 90]\nmagnitudes = [-1e-2, 1e-2]\n"
 
 
+def with_solver(text, **settings):
+    """The scene text with a [solver] table of the given settings (tolerance=1e-5, ...) appended."""
+    return text + "\n[solver]\n" + "".join(f"{k} = {v!r}\n" for k, v in settings.items())
+
+
 # The load of the debonded pictures, over the onset along 0 deg.
 DEBOND_LOAD = 1.2
 
