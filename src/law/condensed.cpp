@@ -27,9 +27,6 @@ bool CondensedCell::adhesion() const {
   return false;
 }
 
-namespace {
-
-// 𝓗 = [|Ω|S₀ −Yᵀ; −Y H] (docs/method.md §16a).
 Eigen::MatrixXd energy_matrix(const CondensedCell& cell) {
   const int n = cell.n_rows(), m = cell.n_macro;
   Eigen::MatrixXd energy(m + n, m + n);
@@ -39,6 +36,8 @@ Eigen::MatrixXd energy_matrix(const CondensedCell& cell) {
   energy.bottomRightCorner(n, n) = cell.H;
   return energy;
 }
+
+namespace {
 
 // The fibres' rows G p = 0 on z = (σ̄, p): [0 G].
 Eigen::MatrixXd strain_rows(const CondensedCell& cell) {

@@ -61,9 +61,14 @@ struct CondensedCell {
   std::size_t bytes() const;
 };
 
+// 𝓗 = [|Ω|S₀ −Yᵀ; −Y H], the energy of the strain-driven law (docs/method.md §16a).
+Eigen::MatrixXd energy_matrix(const CondensedCell& cell);
+
 // Empty when the cell is usable (sizes agree, everything finite, S₀ and H symmetric, bounds
 // ordered with 0 within them: the rules of its member table, law/condensed_members.hpp, and the
-// broken bounds the bond rule's); otherwise what is wrong, "member: what" where one member is.
+// broken bounds the bond rule's; the volume and every matrix's largest entry within 10^±100; 𝓗
+// positive definite on G p = 0, so the law is convex); otherwise what is wrong, "member: what"
+// where one member is.
 std::string consistency_problem(const CondensedCell& cell);
 
 // One unit of material that follows the exact law: its bond state and the active set of its

@@ -3,6 +3,8 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <limits>
 
 namespace dualcell::law {
 
@@ -11,6 +13,25 @@ namespace {
 bool symmetric(const Eigen::MatrixXd& M) {
   return M.rows() == M.cols() && (M - M.transpose()).norm() <= 1e-12 * std::max(M.norm(), 1e-300);
 }
+
+// The volume and every matrix's largest entry lie within 10^±100: the evaluation multiplies up to
+// three of them (|Ω| S₀ ε̄ in the strain-driven QP), which then stay normal doubles (10^±308).
+// Lengths from 10⁻⁵⁰ to 10⁵⁰ in any unit pass.
+constexpr double magnitude_limit = 1e100;
+
+bool in_magnitude(double size) { return size >= 1 / magnitude_limit && size <= magnitude_limit; }
+
+std::string magnitude_text(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g", v);
+  return text;
+}
+
+// The smallest pivot of the Cholesky factor of the equilibrated energy (unit diagonal) that
+// tells a positive definite matrix from a singular one: the factorisation's backward error is a
+// small multiple of N ε (Higham, Accuracy and Stability, §10.1), so a pivot below 64 N ε could be
+// round-off of a zero. The cells of the pipelines have 5e-3 or more.
+double pivot_floor(Eigen::Index N) { return 64.0 * static_cast<double>(N) * std::numeric_limits<double>::epsilon(); }
 
 }  // namespace
 
@@ -77,6 +98,8 @@ std::optional<CellProblem> size_problem(const CondensedCell& cell) {
     } else if constexpr (RealMember<T>) {
       if (m.values == Values::positive && !(value > 0 && std::isfinite(value)))
         report(name + " is not positive and finite");
+      else if (m.values == Values::positive && !in_magnitude(value))
+        report(name + " is " + magnitude_text(value) + ", not within 1e-100 … 1e100");
     } else if constexpr (ArrayMember<T> || ListMember<T>) {
       long rows = static_cast<long>(value.size()), cols = 1;
       if constexpr (ArrayMember<T>) rows = value.rows(), cols = value.cols();
@@ -112,6 +135,12 @@ std::optional<CellProblem> value_problem(const CondensedCell& cell) {
       if (m.values == Values::symmetric_positive_definite && not_definite.empty() && value.allFinite() &&
           Eigen::LLT<Eigen::MatrixXd>(value).info() != Eigen::Success)
         not_definite = m.name;
+      if (m.values >= Values::finite && m.values <= Values::symmetric_positive_definite && value.size() > 0 &&
+          value.allFinite()) {
+        const double size = value.cwiseAbs().maxCoeff();
+        if (size > 0 && !in_magnitude(size))
+          report("its largest entry is " + magnitude_text(size) + ", not within 1e-100 … 1e100");
+      }
       for (Eigen::Index r = 0; r < value.size(); ++r)
         if ((m.values == Values::at_most_zero && !(value.coeff(r) <= 0)) ||
             (m.values == Values::at_least_zero && !(value.coeff(r) >= 0)))
@@ -135,6 +164,43 @@ std::optional<CellProblem> value_problem(const CondensedCell& cell) {
 
 }  // namespace
 
+namespace {
+
+// 𝓗 positive definite on the kernel of the fibres' rows [0 G]: the strain-driven law is then
+// strictly convex on every admissible set, and each of its QPs has one solution. 𝓗 + CᵀC is
+// factorised, equilibrated (𝓗's diagonal scaled to 1, the rows C = [0 G] to unit length): that
+// is positive definite if and only if 𝓗 is on ker C, given 𝓗 positive semidefinite, which a
+// cell's energy is; an indefinite 𝓗 fails either way.
+std::optional<CellProblem> convexity_problem(const CondensedCell& cell) {
+  Eigen::MatrixXd M = energy_matrix(cell);
+  const Eigen::Index N = M.rows(), n = cell.n_rows();
+  Eigen::VectorXd d(N);
+  for (Eigen::Index i = 0; i < N; ++i) {
+    if (!(M(i, i) > 0))
+      return CellProblem{"", "the energy [|Ω|S0 −Yᵀ; −Y H] has a diagonal entry ≤ 0 (row " + std::to_string(i) +
+                                 "): the law is not convex"};
+    d(i) = 1 / std::sqrt(M(i, i));
+  }
+  M = d.asDiagonal() * M * d.asDiagonal();
+  if (cell.G.rows() > 0) {
+    Eigen::MatrixXd C = cell.G * d.tail(n).asDiagonal();
+    for (Eigen::Index g = 0; g < C.rows(); ++g)
+      if (const double norm = C.row(g).norm(); norm > 0) C.row(g) /= norm;
+    M.bottomRightCorner(n, n).noalias() += C.transpose() * C;
+  }
+  Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>> llt(M);
+  const double smallest = llt.info() == Eigen::Success ? M.diagonal().cwiseAbs2().minCoeff() : 0.0;
+  if (!(smallest >= pivot_floor(N)))
+    return CellProblem{"",
+                       "the energy [|Ω|S0 −Yᵀ; −Y H] is not positive definite on G p = 0 (smallest equilibrated "
+                       "pivot " +
+                           magnitude_text(smallest) + ", below " + magnitude_text(pivot_floor(N)) +
+                           "): the law is not convex"};
+  return std::nullopt;
+}
+
+}  // namespace
+
 std::optional<CellProblem> find_problem(const CondensedCell& cell) {
   if (auto problem = size_problem(cell)) return problem;
   if (auto problem = value_problem(cell)) return problem;
@@ -144,7 +210,7 @@ std::optional<CellProblem> find_problem(const CondensedCell& cell) {
       return CellProblem{
           "", "row " + std::to_string(r) + ": its broken bounds are not the bond rule's (docs/method.md §11)"};
   }
-  return std::nullopt;
+  return convexity_problem(cell);
 }
 
 std::string consistency_problem(const CondensedCell& cell) {

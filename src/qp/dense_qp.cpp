@@ -9,8 +9,8 @@ namespace dualcell::qp {
 
 namespace {
 
-// A pivot below this fraction of the largest entry of the KKT matrix: the free set's system is
-// singular (A not positive definite on ker C, or a variable that no row can move).
+// A pivot below this fraction of the largest entry of the equilibrated KKT matrix: the free
+// set's system is singular (A not positive definite on ker C, or a variable that no row can move).
 constexpr double singular_pivot = 1e-13;
 // Rows of C_F independent to this fraction of its largest column norm (QR with column pivoting
 // of C_Fᵀ): a fibre whose rows are all held at bounds leaves its rows of C with no free column.
@@ -81,12 +81,28 @@ void DenseActiveSet::factorise() {
   const int r = static_cast<int>(kept_rows_.size()), k = n_F + r;
   if (kkt_.rows() < k) kkt_.resize(std::max<Eigen::Index>(k, n + n_c), std::max<Eigen::Index>(k, n + n_c));
   if (static_cast<int>(pivot_.size()) < k) pivot_.resize(n + n_c);
+  // The system is factorised equilibrated, S K S with S diagonal: 1/√A_jj on a free variable
+  // (A_jj > 0 on every variable a row can move), 1/‖(C S)_q‖ on a kept row. The scaled A block
+  // has a unit diagonal whatever the units of the variables (a cell's macro stresses beside its
+  // interface forces, its flexibility in any length unit), so the singular-pivot test below
+  // compares like with like; unscaled, a block 10¹³ smaller than another read as singular.
+  if (static_cast<int>(kkt_scale_.size()) < k) kkt_scale_.resize(std::max<Eigen::Index>(k, n + n_c));
+  for (int j = 0; j < n_F; ++j) {
+    const double d = A(free_[j], free_[j]);
+    kkt_scale_(j) = d > 0 && std::isfinite(d) ? 1 / std::sqrt(d) : 1.0;
+  }
+  for (int q = 0; q < r; ++q) {
+    double norm = 0;
+    for (int j = 0; j < n_F; ++j) norm = std::hypot(norm, C(kept_rows_[q], free_[j]) * kkt_scale_(j));
+    kkt_scale_(n_F + q) = norm > 0 ? 1 / norm : 1.0;
+  }
   auto K = kkt_.topLeftCorner(k, k);
   K.setZero();
   for (int j = 0; j < n_F; ++j)
-    for (int i = 0; i < n_F; ++i) K(i, j) = A(free_[i], free_[j]);
+    for (int i = 0; i < n_F; ++i) K(i, j) = kkt_scale_(i) * A(free_[i], free_[j]) * kkt_scale_(j);
   for (int q = 0; q < r; ++q)
-    for (int j = 0; j < n_F; ++j) K(n_F + q, j) = K(j, n_F + q) = C(kept_rows_[q], free_[j]);
+    for (int j = 0; j < n_F; ++j)
+      K(n_F + q, j) = K(j, n_F + q) = kkt_scale_(n_F + q) * C(kept_rows_[q], free_[j]) * kkt_scale_(j);
   // LU with partial pivoting, in place (L unit lower, U upper), by panels of `panel` columns:
   // each panel factorised column by column, then the rows to its right solved with its L and
   // the trailing block updated by one matrix product (the work of a few hundred rows is in that
@@ -119,12 +135,15 @@ void DenseActiveSet::factorise() {
 }
 
 void DenseActiveSet::lu_solve(Eigen::VectorXd& rhs) const {
+  // K x = rhs as (S K S)(S⁻¹ x) = S rhs.
   const int k = static_cast<int>(rhs.size());
+  rhs.array() *= kkt_scale_.head(k).array();
   for (int j = 0; j < k; ++j)
     if (pivot_[j] != j) std::swap(rhs(j), rhs(pivot_[j]));
   const auto K = kkt_.topLeftCorner(k, k);
   K.triangularView<Eigen::UnitLower>().solveInPlace(rhs);
   K.triangularView<Eigen::Upper>().solveInPlace(rhs);
+  rhs.array() *= kkt_scale_.head(k).array();
 }
 
 void DenseActiveSet::solve_subproblem(const Eigen::VectorXd& b, const Eigen::VectorXd& x, Eigen::VectorXd& x_free,
@@ -337,13 +356,13 @@ Eigen::MatrixXd DenseActiveSet::sensitivity(const Eigen::MatrixXd& db) const {
   const int n_F = static_cast<int>(free_.size()), r = static_cast<int>(kept_rows_.size()), k = n_F + r;
   // All columns at once: the triangular solves with a block right-hand side.
   Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(k, db.cols());
-  for (int j = 0; j < n_F; ++j) rhs.row(j) = db.row(free_[j]);
+  for (int j = 0; j < n_F; ++j) rhs.row(j) = kkt_scale_(j) * db.row(free_[j]);
   for (int j = 0; j < k; ++j)
     if (pivot_[j] != j) rhs.row(j).swap(rhs.row(pivot_[j]));
   const auto K = kkt_.topLeftCorner(k, k);
   K.triangularView<Eigen::UnitLower>().solveInPlace(rhs);
   K.triangularView<Eigen::Upper>().solveInPlace(rhs);
-  for (int j = 0; j < n_F; ++j) dx.row(free_[j]) = rhs.row(j);
+  for (int j = 0; j < n_F; ++j) dx.row(free_[j]) = kkt_scale_(j) * rhs.row(j);
   return dx;
 }
 

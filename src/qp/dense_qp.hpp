@@ -10,12 +10,12 @@
 // needs.
 //
 // Each iteration solves the equality-constrained problem with the variables of the working set
-// held at their bounds (the KKT system of the free ones, factorised by LU with partial
-// pivoting), then either steps to the first bound met (which joins the working set) or, at the
-// solution of that subproblem, releases the bound whose multiplier has the wrong sign by the
-// most (Nocedal & Wright, Numerical Optimization, §16.5). Every step keeps x feasible and does
-// not increase the objective; a working set never repeats once the objective has decreased,
-// so the method terminates.
+// held at their bounds (the KKT system of the free ones, equilibrated and factorised by LU
+// with partial pivoting), then either steps to the first bound met (which joins the working
+// set) or, at the solution of that subproblem, releases the bound whose multiplier has the
+// wrong sign by the most (Nocedal & Wright, Numerical Optimization, §16.5). Every step keeps x
+// feasible and does not increase the objective; a working set never repeats once the objective
+// has decreased, so the method terminates.
 //
 // Warm start: `active` in is the previous answer's active set. It is tried first as it stands
 // (the common case along a path: the same set, one solve); while its subproblem's solution is not
@@ -102,8 +102,9 @@ class DenseActiveSet {
   double A_max_ = -1;           // max |A_ij|, once (−1: not yet)
   std::vector<Bound> working_;  // the working set of the kept factorisation
   std::vector<int> free_, kept_rows_;
-  std::vector<char> pinned_;  // per free variable: fixed by the rows of C (it cannot move)
-  Eigen::MatrixXd kkt_;       // LU factors in place (unit lower, upper)
+  std::vector<char> pinned_;   // per free variable: fixed by the rows of C (it cannot move)
+  Eigen::MatrixXd kkt_;        // LU factors of S K S in place (unit lower, upper)
+  Eigen::VectorXd kkt_scale_;  // S, the equilibration of the KKT system (factorise)
   std::vector<int> pivot_;
   mutable Eigen::VectorXd rhs_;  // the subproblem's right-hand side, kept between calls
   bool factorised_ = false;

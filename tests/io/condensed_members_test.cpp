@@ -170,6 +170,37 @@ TEST(CondensedMembers, ConsistencyNamesTheMemberAndTheRule) {
   cell = distinct_cell();
   cell.n_macro = 4;
   EXPECT_EQ(law::consistency_problem(cell), "n_macro is 4, not in [2, 3]");
+  cell = distinct_cell();
+  cell.volume = 1e-150;
+  EXPECT_EQ(law::consistency_problem(cell), "volume is 1e-150, not within 1e-100 … 1e100");
+  cell = distinct_cell();
+  cell.Y *= 1e200;
+  EXPECT_EQ(law::consistency_problem(cell), "Y: its largest entry is 4.2e+199, not within 1e-100 … 1e100");
+}
+
+// A law read from a file is convex or refused: 𝓗 = [|Ω|S0 −Yᵀ; −Y H] positive definite on G p = 0.
+TEST(CondensedMembers, ANonConvexCellIsRefused) {
+  CondensedCell cell = distinct_cell();
+  cell.H = -cell.H;  // negative definite: its diagonal already says so
+  EXPECT_EQ(law::consistency_problem(cell),
+            "the energy [|Ω|S0 −Yᵀ; −Y H] has a diagonal entry ≤ 0 (row 2): the law is not convex");
+  // Every block positive definite on its own, the coupling too strong: |Ω|S0 − Yᵀ H⁻¹ Y is not.
+  cell = distinct_cell();
+  cell.S0 *= 1e-3;
+  EXPECT_NE(law::consistency_problem(cell).find("is not positive definite on G p = 0"), std::string::npos)
+      << law::consistency_problem(cell);
+  // Singular on ker G (a row of H repeated with its Y row: two rows that open as one).
+  cell = distinct_cell();
+  cell.H.row(3) = cell.H.row(2);
+  cell.H.col(3) = cell.H.col(2);
+  cell.Y.row(3) = cell.Y.row(2);
+  cell.G(0, 3) = cell.G(0, 2);
+  EXPECT_NE(law::consistency_problem(cell).find("is not positive definite on G p = 0"), std::string::npos)
+      << law::consistency_problem(cell);
+  // The same cell in other units of length: still convex (the check is equilibrated).
+  cell = distinct_cell();
+  cell.S0 *= 1e40, cell.volume *= 1e-40;
+  EXPECT_EQ(law::consistency_problem(cell), "");
 }
 
 }  // namespace

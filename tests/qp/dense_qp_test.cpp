@@ -136,6 +136,36 @@ TEST(DenseActiveSet, SensitivityIsTheDerivativeAtTheActiveSet) {
   EXPECT_LE((r2.x - r.x - dx.col(0)).norm(), 1e-12 * r.x.norm());
 }
 
+// A change of the variables' units, x = D x' with D diagonal (a cell's macro stresses beside its
+// interface forces, in any length unit), is the same problem: A' = DAD, b' = Db, l' = D⁻¹l,
+// C' = CD, and its solution is D⁻¹x with the same active set. Half the variables in units 10¹²
+// larger puts A's blocks 10²⁴ apart, which an unequilibrated pivot test reads as singular.
+TEST(DenseActiveSet, TheUnitsOfTheVariablesDoNotMatter) {
+  for (const double unit : {1e-12, 1e12}) {
+    const Problem p = random_problem(30, 2, 11, true);
+    Eigen::VectorXd d = Eigen::VectorXd::Ones(30);
+    d.head(15).setConstant(unit);
+    Problem q = p;
+    q.A = d.asDiagonal() * p.A * d.asDiagonal();
+    q.C = p.C * d.asDiagonal();
+    q.b = d.asDiagonal() * p.b;
+    q.l = p.l.cwiseQuotient(d);
+    q.u = p.u.cwiseQuotient(d);
+    DenseActiveSet qp(p.A, p.C), scaled(q.A, q.C);
+    std::vector<Bound> active, scaled_active;
+    const DenseQpResult r = qp.solve(p.b, p.l, p.u, active);
+    const DenseQpResult rs = scaled.solve(q.b, q.l, q.u, scaled_active);
+    ASSERT_TRUE(r.converged) << r.message;
+    ASSERT_TRUE(rs.converged) << unit << ": " << rs.message;
+    EXPECT_EQ(scaled_active, active) << unit;
+    // Both exact to round-off of an LU of size 30 on a matrix of condition ≲ 1e4 once equilibrated.
+    EXPECT_LE((d.asDiagonal() * rs.x - r.x).norm(), 1e-9 * r.x.norm()) << unit;
+    const Eigen::MatrixXd dx = qp.sensitivity(Eigen::MatrixXd::Identity(30, 3));
+    const Eigen::MatrixXd dx_scaled = scaled.sensitivity(d.asDiagonal() * Eigen::MatrixXd::Identity(30, 3));
+    EXPECT_LE((d.asDiagonal() * dx_scaled - dx).norm(), 1e-9 * dx.norm()) << unit;
+  }
+}
+
 TEST(DenseActiveSet, RefusesWhatItCannotSolve) {
   Problem p = random_problem(6, 1, 3, false);
   DenseActiveSet qp(p.A, p.C);
