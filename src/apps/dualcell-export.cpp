@@ -37,7 +37,8 @@ int main(int argc, char** argv) {
                  "directions (law.h5 /law/cone_check, /law/cone_after_fuse_check) exceeds this fraction, or that "
                  "was measured against neither")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 1e300));
+      ->check(CLI::Range(0.0, 1.0))
+      ->check(dualcell::finite_number);
   app.add_flag("--force", force, "umat: write the cone-wise law whatever its measured error");
   std::string form;
   int cell_id = 1;

@@ -5,11 +5,23 @@
 // help once. The other ranks stop quietly with 0, so that the launcher waits for the first
 // rank's message instead of aborting the job when another rank's error code arrives first.
 #include <CLI/CLI.hpp>
+#include <cmath>
 #include <optional>
+#include <string>
 
 #include "par/parallel.hpp"
 
 namespace dualcell {
+
+// A number option that must be finite: CLI::Range lets NaN through (every comparison with it
+// is false). Used beside the range: ->check(CLI::Range(a, b))->check(finite_number).
+inline const CLI::Validator finite_number(
+    [](std::string& text) {
+      double value = 0;
+      return CLI::detail::lexical_cast(text, value) && std::isfinite(value) ? std::string()
+                                                                            : "'" + text + "' is not a finite number";
+    },
+    "FINITE");
 
 // The exit code when the stage must stop here (help shown, or an option error), else nothing.
 inline std::optional<int> parse_options(CLI::App& app, int argc, char** argv) {

@@ -23,8 +23,8 @@ namespace dualcell::feti {
 // Beyond this many rows of B the dense condensation no longer pays: F (summed from the
 // subdomains' blocks F_s) and the eliminated system are dense, 8·rows² bytes each (72 MB at 3000
 // rows), and the law's QP evaluates a dense matrix of the interface rows at every material point;
-// the compact law stands alone there.
-inline constexpr int max_condensed_rows = 3000;
+// the compact law stands alone there. The law's readers refuse more interface rows than this.
+inline constexpr int max_condensed_rows = law::max_cell_rows;
 
 // Every rank of setup.group() must call it (it applies F). An InputError, saying why, for a
 // scene that has no cell law (the edges boundary; a body force: the law would not be

@@ -12,6 +12,7 @@
 #include <cstring>
 #include <stdexcept>
 #include <system_error>
+#include <utility>
 
 #include "core/error.hpp"
 
@@ -144,35 +145,64 @@ AtomicOutputs::Entry& AtomicOutputs::entry(const fs::path& target) {
   throw std::logic_error("AtomicOutputs: " + target.string() + " was not registered");
 }
 
-void AtomicOutputs::write(const fs::path& target, std::string_view bytes) {
-  Entry& e = entry(target);
-  const int fd = ::open(e.temporary.c_str(), O_WRONLY | O_TRUNC | O_CLOEXEC);
-  if (fd < 0) cannot_write(target, "cannot write", errno);
+namespace {
+
+// Every byte to fd, or 0; otherwise the errno of the failure (the descriptor stays open).
+int write_all(int fd, std::string_view bytes) {
   const char* p = bytes.data();
   std::size_t left = bytes.size();
   while (left > 0) {
     const ssize_t n = ::write(fd, p, left);
     if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) {
-      const int error = n < 0 ? errno : EIO;
-      ::close(fd);
-      cannot_write(target, "cannot write", error);
-    }
+    if (n <= 0) return n < 0 ? errno : EIO;
     p += n;
     left -= static_cast<std::size_t>(n);
   }
+  return 0;
+}
+
+// fsync (a pipe or a special file cannot: EINVAL is no failure) and close; 0 or the errno.
+int sync_and_close(int fd) {
   if (::fsync(fd) != 0 && errno != EINVAL) {
     const int error = errno;
     ::close(fd);
+    return error;
+  }
+  return ::close(fd) != 0 ? errno : 0;
+}
+
+}  // namespace
+
+void AtomicOutputs::write(const fs::path& target, std::string_view bytes) {
+  Entry& e = entry(target);
+  const int fd = ::open(e.temporary.c_str(), O_WRONLY | O_TRUNC | O_CLOEXEC);
+  if (fd < 0) cannot_write(target, "cannot write", errno);
+  if (const int error = write_all(fd, bytes)) {
+    ::close(fd);
     cannot_write(target, "cannot write", error);
   }
-  if (::close(fd) != 0) cannot_write(target, "cannot write", errno);
+  if (const int error = sync_and_close(fd)) cannot_write(target, "cannot write", error);
   e.written = true;
 }
 
+void AtomicOutputs::append(const fs::path& target, std::string_view bytes) {
+  Entry& e = entry(target);
+  if (e.appending < 0) {
+    e.appending = ::open(e.temporary.c_str(), O_WRONLY | O_TRUNC | O_CLOEXEC);
+    if (e.appending < 0) cannot_write(target, "cannot write", errno);
+  }
+  if (const int error = write_all(e.appending, bytes)) cannot_write(target, "cannot write", error);
+}
+
 void AtomicOutputs::commit() {
-  for (const Entry& e : files_)
+  for (Entry& e : files_) {
+    if (e.appending >= 0) {
+      const int fd = std::exchange(e.appending, -1);
+      if (const int error = sync_and_close(fd)) cannot_write(e.target, "cannot write", error);
+      e.written = true;
+    }
     if (!e.written) throw std::logic_error("AtomicOutputs: " + e.target.string() + " committed without being written");
+  }
   std::vector<fs::path> folders;
   for (const Entry& e : files_) {
     std::error_code ec;
@@ -186,6 +216,8 @@ void AtomicOutputs::commit() {
 }
 
 AtomicOutputs::~AtomicOutputs() {
+  for (const Entry& e : files_)
+    if (e.appending >= 0) ::close(e.appending);
   if (committed_) return;
   for (const Entry& e : files_) {
     std::error_code ec;

@@ -29,6 +29,9 @@ class AtomicOutputs {
   void add(const std::filesystem::path& target);
   // Writes the whole content of a registered target to its temporary, checked and fsync'ed.
   void write(const std::filesystem::path& target, std::string_view bytes);
+  // Appends to a registered target's temporary (an output written as it is computed, not held
+  // whole); commit() syncs it. Not mixed with write() for one target.
+  void append(const std::filesystem::path& target, std::string_view bytes);
   // Renames every temporary onto its target (all must have been written), then syncs the folders.
   void commit();
 
@@ -36,6 +39,7 @@ class AtomicOutputs {
   struct Entry {
     std::filesystem::path target, temporary;
     bool written = false;
+    int appending = -1;  // the temporary's descriptor while append() writes it
   };
   Entry& entry(const std::filesystem::path& target);
   std::vector<Entry> files_;

@@ -62,6 +62,17 @@ law::CondensedCell read_condensed(const File& f, const std::string& group) {
     const auto i = static_cast<std::size_t>(e);
     if (size[i] == any_extent) size[i] = found, like[i] = " like " + from;
   };
+  // An array's declared shape against its extents' limits, before a byte of it is read: a file
+  // declaring 40 000 rows would otherwise have H (12.8 GB) allocated before anything says no.
+  const auto refuse_beyond_limits = [&](const std::string& name, const law::Member& m) {
+    if (!f.exists(name)) return;  // the read says what is missing
+    const Shape dims = f.shape(name);
+    const law::Extent extents[2] = {m.rows, m.cols};
+    for (std::size_t d = 0; d < dims.size() && d < 2; ++d)
+      if (static_cast<long double>(dims[d]) > law::extent_limit(extents[d]))
+        fail(name, "declares " + std::to_string(dims[d]) + " " + law::extent_name(extents[d]) + ", at most " +
+                       std::to_string(law::extent_limit(extents[d])) + " (the largest cell the condensation forms)");
+  };
   law::for_each_member(cell, [&](const law::Member& m, auto&& value) {
     using T = std::remove_cvref_t<decltype(value)>;
     const std::string name = group + "/" + m.name;
@@ -77,6 +88,7 @@ law::CondensedCell read_condensed(const File& f, const std::string& group) {
     } else if constexpr (law::RealMember<T>) {
       value = f.read_doubles(name, {1})[0];
     } else if constexpr (law::ArrayMember<T>) {
+      refuse_beyond_limits(name, m);
       Shape found;
       const std::string why = like[rows].empty() ? like[cols] : like[rows];
       if (m.cols == law::Extent::one) {
@@ -88,6 +100,7 @@ law::CondensedCell read_condensed(const File& f, const std::string& group) {
       }
       known(m.rows, found[0], name);
     } else if constexpr (law::ListMember<T>) {
+      refuse_beyond_limits(name, m);
       Shape found;
       for (const std::int64_t v : f.read_ints(name, {size[rows]}, like[rows], &found)) {
         using Entry = typename T::value_type;

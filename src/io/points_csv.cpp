@@ -2,7 +2,7 @@
 
 #include <charconv>
 #include <cmath>
-#include <fstream>
+#include <string_view>
 #include <system_error>
 
 #include "core/error.hpp"
@@ -12,24 +12,27 @@ namespace dualcell::io {
 
 namespace {
 
-std::string trimmed(const std::string& s) {
+std::string_view trimmed(std::string_view s) {
   const auto first = s.find_first_not_of(" \t\r");
-  if (first == std::string::npos) return "";
+  if (first == std::string_view::npos) return {};
   return s.substr(first, s.find_last_not_of(" \t\r") - first + 1);
 }
 
-std::vector<std::string> fields(const std::string& line) {
-  std::vector<std::string> out;
+std::vector<std::string_view> fields(std::string_view line) {
+  std::vector<std::string_view> out;
   std::size_t start = 0;
   for (;;) {
     const std::size_t comma = line.find(',', start);
-    out.push_back(trimmed(line.substr(start, comma == std::string::npos ? std::string::npos : comma - start)));
-    if (comma == std::string::npos) return out;
+    out.push_back(
+        trimmed(line.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start)));
+    if (comma == std::string_view::npos) return out;
     start = comma + 1;
   }
 }
 
-bool number(const std::string& text, double& value) {
+// A number as C and CSV files write it, a leading + allowed ("+0.001").
+bool number(std::string_view text, double& value) {
+  if (text.size() > 1 && text[0] == '+' && text[1] != '-' && text[1] != '+') text.remove_prefix(1);
   const char* end = text.data() + text.size();
   const auto [ptr, ec] = std::from_chars(text.data(), end, value);
   return ec == std::errc() && ptr == end && !text.empty();
@@ -37,57 +40,72 @@ bool number(const std::string& text, double& value) {
 
 }  // namespace
 
-LawPoints read_points_csv(const std::filesystem::path& file) {
+PointsReader::PointsReader(const std::filesystem::path& file) : file_(file), line_(max_points_line + 1) {
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(file, ec)) throw InputError(file.string() + ": not a regular file");
-  std::ifstream in(file);
-  if (!in) throw InputError(file.string() + ": cannot read");
-  LawPoints points;
-  std::string line;
-  int number_of_line = 0, columns = 0;
-  bool first_row = true;
-  while (std::getline(in, line)) {
-    ++number_of_line;
-    const std::string text = trimmed(line);
+  const auto status = std::filesystem::status(file, ec);
+  if (!std::filesystem::exists(status)) throw InputError(file.string() + ": no such file");
+  if (!std::filesystem::is_regular_file(status)) throw InputError(file.string() + ": not a regular file");
+  const std::uintmax_t bytes = std::filesystem::file_size(file, ec);
+  if (!ec && bytes > max_points_bytes)
+    throw InputError(file.string() + ": " + formatted("%.3g", static_cast<double>(bytes)) +
+                     " bytes, more than the 1 GiB a points file may have (split it)");
+  in_.open(file);
+  if (!in_) throw InputError(file.string() + ": cannot read");
+}
+
+bool PointsReader::next(LawPoint& point) {
+  for (;;) {
+    in_.getline(line_.data(), static_cast<std::streamsize>(line_.size()));
+    const std::streamsize got = in_.gcount();
+    if (in_.fail() && !in_.eof() && got == static_cast<std::streamsize>(line_.size()) - 1)
+      throw InputError(file_.string() + ":" + std::to_string(number_of_line_ + 1) + ": a line longer than " +
+                       std::to_string(max_points_line) + " bytes");
+    if (got == 0 && !in_) {
+      if (rows_ == 0) throw InputError(file_.string() + ": no rows");
+      return false;
+    }
+    ++number_of_line_;
+    // gcount counts the newline that getline consumed; the text ends before it.
+    std::string_view raw(line_.data(), static_cast<std::size_t>(got));
+    if (!raw.empty() && raw.back() == '\0') raw.remove_suffix(1);
+    const std::string_view text = trimmed(raw);
     if (text.empty() || text[0] == '#') continue;
-    const std::vector<std::string> f = fields(text);
-    const std::string where = file.string() + ":" + std::to_string(number_of_line) + ": ";
+    const std::vector<std::string_view> f = fields(text);
+    const std::string where = file_.string() + ":" + std::to_string(number_of_line_) + ": ";
     double value = 0;
-    if (first_row) {
-      first_row = false;
+    if (first_row_) {
+      first_row_ = false;
       // A header: none of its fields is a number; it names the columns.
       bool any_number = false;
-      for (const std::string& field : f) any_number = any_number || number(field, value);
+      for (const std::string_view field : f) any_number = any_number || number(field, value);
       if (!any_number) {
         if (f.size() != 3 && f.size() != 4)
           throw InputError(where + "a header of " + std::to_string(f.size()) +
                            " columns, expected 3 or 4 (path first)");
-        columns = static_cast<int>(f.size());
-        if (columns == 4 && f[0] != "path")
-          throw InputError(where + "a header of 4 columns must start with 'path', not '" + clipped(f[0]) + "'");
+        columns_ = static_cast<int>(f.size());
+        if (columns_ == 4 && f[0] != "path")
+          throw InputError(where + "a header of 4 columns must start with 'path', not '" + clipped(std::string(f[0])) +
+                           "'");
         continue;
       }
     }
-    if (columns == 0) columns = static_cast<int>(f.size());
-    if (columns != 3 && columns != 4)
+    if (columns_ == 0) columns_ = static_cast<int>(f.size());
+    if (columns_ != 3 && columns_ != 4)
       throw InputError(where + std::to_string(f.size()) + " columns, expected 3 numbers or a path and 3 numbers");
-    if (static_cast<int>(f.size()) != columns)
-      throw InputError(where + std::to_string(f.size()) + " columns, expected " + std::to_string(columns) +
+    if (static_cast<int>(f.size()) != columns_)
+      throw InputError(where + std::to_string(f.size()) + " columns, expected " + std::to_string(columns_) +
                        " like the first row");
-    points.has_path = columns == 4;
-    Eigen::Vector3d v;
     for (int k = 0; k < 3; ++k) {
-      const std::string& field = f[columns - 3 + k];
-      if (!number(field, v(k)) || !std::isfinite(v(k)))
-        throw InputError(where + "column " + std::to_string(columns - 2 + k) + " = '" + clipped(field) +
+      const std::string_view field = f[columns_ - 3 + k];
+      if (!number(field, point.value(k)) || !std::isfinite(point.value(k)))
+        throw InputError(where + "column " + std::to_string(columns_ - 2 + k) + " = '" + clipped(std::string(field)) +
                          "' is not a finite number");
     }
-    points.path.push_back(columns == 4 ? f[0] : "");
-    points.value.push_back(v);
-    points.line.push_back(number_of_line);
+    point.path = columns_ == 4 ? std::string(f[0]) : std::string();
+    point.line = number_of_line_;
+    ++rows_;
+    return true;
   }
-  if (points.value.empty()) throw InputError(file.string() + ": no rows");
-  return points;
 }
 
 }  // namespace dualcell::io

@@ -126,8 +126,11 @@ CondensedCell read_cell_text(std::istream& in, std::string& error) {
     if constexpr (CountMember<T> || std::is_same_v<T, TextSize>) {
       double count = 0;
       ok = read_values(in, key, &count, 1, error);
-      if (ok && !(count >= 0 && count <= 1e6 && count == std::floor(count))) {
-        error = std::string(key) + ": " + number(count) + " is not a count in [0, 1e6]";
+      // The count's range before any array is allocated from it (rows: max_cell_rows).
+      if (ok &&
+          !(count >= static_cast<double>(m.lo) && count <= static_cast<double>(m.hi) && count == std::floor(count))) {
+        error = std::string(key) + ": " + number(count) + " is not a count in [" + std::to_string(m.lo) + ", " +
+                std::to_string(m.hi) + "]";
         ok = false;
       }
       if (m.sizes != Extent::one) size[static_cast<int>(m.sizes)] = static_cast<Eigen::Index>(count);

@@ -30,6 +30,11 @@
 
 namespace dualcell::law {
 
+// The most interface rows a cell's law has: the condensation forms dense matrices of its rows
+// (feti::max_condensed_rows), and each evaluation factorises one of that size (8·n² bytes, 72 MB
+// at 3000 rows; about a second). A law file that declares more is refused before it is read.
+inline constexpr int max_cell_rows = 3000;
+
 struct CondensedCell {
   int n_macro = 3;  // 3: σ̄ = (σxx, σyy, σxy); 2: (σxx, σyy), the symmetry boundary (no shear)
   double volume = 0;

@@ -47,6 +47,20 @@ std::size_t CondensedCell::bytes() const {
   return bytes;
 }
 
+long extent_limit(Extent e) {
+  switch (e) {
+    case Extent::one:
+      return 1;
+    case Extent::macro:
+      return 3;
+    case Extent::rows:
+    case Extent::pairs:
+    case Extent::fibre_modes:
+      return max_cell_rows;
+  }
+  return 0;
+}
+
 long extent(const CondensedCell& cell, Extent e) {
   switch (e) {
     case Extent::one:

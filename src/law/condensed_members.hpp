@@ -38,7 +38,8 @@ struct Member {
   const char* name;  // in law.h5 and sweep.h5 (/cell/<name>) and the JSON; the cell's text keyword
   Extent rows = Extent::one, cols = Extent::one;  // the shape; a list (std::vector, VectorXd): rows
   Values values = Values::any;
-  // Counts: the range they must lie in, and the extent they are (n_macro is m).
+  // Counts: the range they must lie in, and the extent they are (n_macro is m). An extent's
+  // range is that of its count (rows, pairs and fibre modes: at most max_cell_rows).
   long lo = 0, hi = std::numeric_limits<long>::max();
   Extent sizes = Extent::one;
   // The keyword in the cell's text when it differs from name; what the condensation measured is
@@ -60,10 +61,9 @@ void for_each_member(Cell& cell, Visit&& visit) {
   using enum Extent;
   visit(Member{.name = "n_macro", .lo = 2, .hi = 3, .sizes = macro}, cell.n_macro);
   visit(Member{.name = "volume", .values = Values::positive}, cell.volume);
-  visit(Member{.name = "rows", .sizes = rows}, TextSize{});
-  visit(Member{.name = "n_pairs", .hi = std::numeric_limits<int>::max(), .sizes = pairs, .text = "pairs"},
-        cell.n_pairs);
-  visit(Member{.name = "fibre_modes", .sizes = fibre_modes}, TextSize{});
+  visit(Member{.name = "rows", .hi = max_cell_rows, .sizes = rows}, TextSize{});
+  visit(Member{.name = "n_pairs", .hi = max_cell_rows, .sizes = pairs, .text = "pairs"}, cell.n_pairs);
+  visit(Member{.name = "fibre_modes", .hi = max_cell_rows, .sizes = fibre_modes}, TextSize{});
   visit(Member{.name = "S0", .rows = macro, .cols = macro, .values = Values::symmetric_positive_definite}, cell.S0);
   visit(Member{.name = "Y", .rows = rows, .cols = macro, .values = Values::finite}, cell.Y);
   visit(Member{.name = "H", .rows = rows, .cols = rows, .values = Values::symmetric}, cell.H);
@@ -100,6 +100,8 @@ struct CellProblem {
 };
 std::optional<CellProblem> find_problem(const CondensedCell& cell);
 
+// The largest value an extent may take (rows, pairs, fibre modes: max_cell_rows; n_macro: 3).
+long extent_limit(Extent e);
 // The value of an extent for the cell as it stands (fibre_modes: G's rows).
 long extent(const CondensedCell& cell, Extent e);
 // "n_macro", "n_rows", "n_pairs", "fibre_modes": how messages name an extent.

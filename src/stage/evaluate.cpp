@@ -47,46 +47,76 @@ ConeResponse cone_at(const law::Law& law, const Eigen::Vector3d& value, bool str
 
 }  // namespace
 
+// The histories of the paths held at once (one per path value seen): at most this many bytes.
+constexpr std::size_t max_history_bytes = std::size_t{1} << 30;
+// Output is appended in pieces of about this size, so it is never held whole.
+constexpr std::size_t output_piece = std::size_t{1} << 20;
+
 LawPointsSummary evaluate_law(const LawPointsOptions& options) {
   io::check_outputs({options.out}, {options.law_file, options.points_file});
   const law::Law law = io::read_law(options.law_file);
-  const io::LawPoints points = io::read_points_csv(options.points_file);
+  io::PointsReader points(options.points_file);
   const bool cell_form = options.form == LawForm::cell;
   if (cell_form && !law.cell)
-    throw InputError(options.law_file.string() + ": has no exact law (" + law.cell_note +
-                     "): use --form cone for the compact one");
+    throw InputError(options.law_file.string() + ": has no exact law" +
+                     (law.cell_note.empty() ? std::string() : " (" + law.cell_note + ")") +
+                     ": use --form cone for the compact one");
   if (!cell_form && !law.cone.ok)
-    throw InputError(options.law_file.string() + ": has no cone-wise law (" + law.cone.message + ")");
+    throw InputError(options.law_file.string() + ": has no cone-wise law" +
+                     (law.cone.message.empty() ? std::string() : " (" + law.cone.message + ")"));
 
-  std::string out = points.has_path ? "path," : "";
-  out += options.strain_driven ? "sxx,syy,sxy" : "exx,eyy,gxy";
-  for (int i = 1; i <= 3; ++i)
-    for (int j = 1; j <= 3; ++j) {
-      out.append(",C");
-      out.push_back(static_cast<char>('0' + i));
-      out.push_back(static_cast<char>('0' + j));
-    }
-  out += cell_form ? ",broken_pairs\n" : ",fused\n";
+  io::AtomicOutputs outputs;
+  outputs.add(options.out);
+  std::string out;
+  out.reserve(output_piece + 4096);
 
   LawPointsSummary summary;
   std::optional<law::CellEvaluator> evaluator;
   if (cell_form) evaluator.emplace(*law.cell);
+  // What one path's history holds: its bond state, its active set and the map's node.
+  const std::size_t history_bytes =
+      cell_form ? static_cast<std::size_t>(law.cell->n_pairs + law.cell->n_macro + law.cell->n_rows()) + 128 : 64;
+  std::size_t held_bytes = 0;
   std::map<std::string, law::CellHistory> histories;
   std::map<std::string, bool> fused_paths;
+  // The stress (strain) and tangent entries a cell without shear leaves NaN (n_macro = 2).
+  const int n_finite = cell_form ? law.cell->n_macro : 3;
   double seconds = 0;
-  for (std::size_t i = 0; i < points.value.size(); ++i) {
-    const Eigen::Vector3d& v = points.value[i];
+  io::LawPoint point;
+  bool header = true;
+  while (points.next(point)) {
+    if (header) {
+      out += points.has_path() ? "path," : "";
+      out += options.strain_driven ? "sxx,syy,sxy" : "exx,eyy,gxy";
+      for (int i = 1; i <= 3; ++i)
+        for (int j = 1; j <= 3; ++j) {
+          out.append(",C");
+          out.push_back(static_cast<char>('0' + i));
+          out.push_back(static_cast<char>('0' + j));
+        }
+      out += cell_form ? ",broken_pairs\n" : ",fused\n";
+      header = false;
+    }
+    const std::string where = options.points_file.string() + ":" + std::to_string(point.line) + ": ";
+    const Eigen::Vector3d& v = point.value;
+    if (points.has_path() && !(cell_form ? histories.count(point.path) : fused_paths.count(point.path))) {
+      held_bytes += history_bytes + point.path.size();
+      if (held_bytes > max_history_bytes)
+        throw InputError(where + "path '" + clipped(point.path) + "' is the " +
+                         std::to_string((cell_form ? histories.size() : fused_paths.size()) + 1) +
+                         "th path held at once; their histories would pass the 1 GiB dualcell-law keeps (split the "
+                         "file by path)");
+    }
     Eigen::Vector3d other;
     Eigen::Matrix3d tangent;
     long broken = 0;
     const auto t0 = std::chrono::steady_clock::now();
     if (cell_form) {
       law::CellHistory fresh;
-      law::CellHistory& h = points.has_path ? histories.try_emplace(points.path[i], evaluator->unloaded()).first->second
-                                            : (fresh = evaluator->unloaded());
+      law::CellHistory& h = points.has_path() ? histories.try_emplace(point.path, evaluator->unloaded()).first->second
+                                              : (fresh = evaluator->unloaded());
       const law::CellResponse r = options.strain_driven ? evaluator->at_strain(v, h) : evaluator->at_stress(v, h);
-      if (!r.ok)
-        throw InputError(options.points_file.string() + ":" + std::to_string(points.line[i]) + ": " + r.message);
+      if (!r.ok) throw InputError(where + r.message);
       other = options.strain_driven ? r.stress : r.strain;
       tangent = r.tangent;
       broken = r.broken;
@@ -94,24 +124,34 @@ LawPointsSummary evaluate_law(const LawPointsOptions& options) {
       summary.qp_factorisations += r.factorisations;
     } else {
       bool fresh = false;
-      bool& fused = points.has_path ? fused_paths[points.path[i]] : fresh;
+      bool& fused = points.has_path() ? fused_paths[point.path] : fresh;
       const ConeResponse r = cone_at(law, v, options.strain_driven, fused);
       other = options.strain_driven ? r.stress : r.strain;
       tangent = r.tangent;
       broken = fused ? 1 : 0;
     }
     seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    // No NaN or Inf leaves with exit 0: an input this large overflows the law's answer.
+    if (!other.head(n_finite).allFinite() || !tangent.topLeftCorner(n_finite, n_finite).allFinite())
+      throw InputError(where + "the law's answer at (" + shortest(v(0)) + ", " + shortest(v(1)) + ", " +
+                       shortest(v(2)) + ") is not finite (the input is beyond what the law carries in doubles)");
+    ++summary.rows;
     // Appended piece by piece (GCC 12 warns falsely on chains of string concatenation).
-    if (points.has_path) out.append(points.path[i]).push_back(',');
+    if (points.has_path()) out.append(point.path).push_back(',');
     for (int k = 0; k < 3; ++k) out.append(csv_number(other(k))).push_back(',');
     for (int a = 0; a < 3; ++a)
       for (int b = 0; b < 3; ++b) out.append(csv_number(tangent(a, b))).push_back(',');
     out.append(std::to_string(broken)).push_back('\n');
+    if (out.size() >= output_piece) {
+      outputs.append(options.out, out);
+      out.clear();
+    }
   }
-  summary.rows = static_cast<int>(points.value.size());
-  summary.paths = points.has_path ? static_cast<int>(cell_form ? histories.size() : fused_paths.size()) : summary.rows;
+  outputs.append(options.out, out);
+  outputs.commit();
+  summary.paths =
+      points.has_path() ? static_cast<int>(cell_form ? histories.size() : fused_paths.size()) : summary.rows;
   summary.seconds = seconds;
-  io::write_output(options.out, out);
   return summary;
 }
 

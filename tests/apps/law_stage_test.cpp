@@ -13,6 +13,7 @@
 #include "core/strain.hpp"
 #include "fit/fit.hpp"
 #include "io/law_file.hpp"
+#include "io/points_csv.hpp"
 #include "io/sweep_file.hpp"
 #include "law/condensed.hpp"
 #include "law/cone.hpp"
@@ -139,13 +140,49 @@ TEST(LawStage, DualcellLawRefusesBadPointsWithTheLine) {
       {"a,b\n", "a header of 2 columns"},
       {"name,sxx,syy,sxy\n", "must start with 'path'"},
       {"# nothing\n\n", "p.csv: no rows"},
+      // Read and evaluated a row at a time: a bad row after good ones leaves no output either.
+      {"0.1,0,0\n0.2,0,0\n0.1,0,x\n", "p.csv:3: column 3 = 'x' is not a finite number"},
+  };
+  const auto nothing_written = [&] {
+    for (const auto& e : std::filesystem::directory_iterator(run.dir.path()))
+      if (e.path().filename().string().rfind("o.csv", 0) == 0) return false;
+    return true;
   };
   for (const auto& c : cases) {
     const auto r = try_points(c.text);
     EXPECT_EQ(r.exit_code, exit_input_error) << c.text;
     EXPECT_NE(r.output.find(c.message), std::string::npos) << c.text << " gave " << r.output;
-    EXPECT_FALSE(std::filesystem::exists(run.dir / "o.csv")) << c.text;
+    EXPECT_TRUE(nothing_written()) << c.text;
   }
+  // A line beyond io::max_points_line (a 50 MB line of commas took 2.2 GB before its refusal)
+  // is refused when its first 4 KiB are read.
+  const auto long_line = try_points("0.1,0,0\n" + std::string(io::max_points_line + 1, ','));
+  EXPECT_EQ(long_line.exit_code, exit_input_error);
+  EXPECT_NE(long_line.output.find("p.csv:2: a line longer than 4096 bytes"), std::string::npos) << long_line.output;
+  const std::string at_the_limit = "0.1,0,0" + std::string(io::max_points_line - 7, ' ') + "\n";
+  EXPECT_EQ(try_points(at_the_limit).exit_code, exit_ok);
+  std::filesystem::remove(run.dir / "o.csv");
+  // A file beyond io::max_points_bytes, refused by its size before a line is read (sparse here).
+  const auto huge = run.dir.write("huge.csv", "0.1,0,0\n");
+  std::filesystem::resize_file(huge, io::max_points_bytes + 1);
+  const auto too_big = run_command(bin("dualcell-law") + " --law " + q(run.law) + " --stress " + q(huge) + " --out " +
+                                   q(run.dir / "o.csv"));
+  EXPECT_EQ(too_big.exit_code, exit_input_error);
+  EXPECT_NE(too_big.output.find("more than the 1 GiB a points file may have"), std::string::npos) << too_big.output;
+  EXPECT_TRUE(nothing_written());
+  const auto missing = run_command(bin("dualcell-law") + " --law " + q(run.law) + " --stress " +
+                                   q(run.dir / "none.csv") + " --out " + q(run.dir / "o.csv"));
+  EXPECT_NE(missing.output.find("none.csv: no such file"), std::string::npos) << missing.output;
+  // C and CSV writers may write a leading +.
+  EXPECT_EQ(try_points("+0.001,0,-0.001\n").exit_code, exit_ok);
+  std::filesystem::remove(run.dir / "o.csv");
+  // An answer that overflows (the cone-wise law at a strain of −1e308 both ways) is an error, not
+  // an Inf written with exit 0.
+  const auto overflow = try_points("-1e308,-1e308,0\n", " --form cone --strain ");
+  EXPECT_EQ(overflow.exit_code, exit_input_error);
+  EXPECT_NE(overflow.output.find("p.csv:1: the law's answer at (-1e+308, -1e+308, 0) is not finite"), std::string::npos)
+      << overflow.output;
+  EXPECT_TRUE(nothing_written());
   const auto neither = run_command(bin("dualcell-law") + " --law " + q(run.law) + " --out " + q(run.dir / "o.csv"));
   EXPECT_EQ(neither.exit_code, exit_input_error);
   EXPECT_NE(neither.output.find("one of --strain and --stress is required"), std::string::npos) << neither.output;
