@@ -39,7 +39,9 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1.0))
       ->check(dualcell::finite_number);
-  app.add_flag("--force", force, "umat: write the cone-wise law whatever its measured error");
+  app.add_flag("--force", force,
+               "umat: write the cone-wise law whatever its measured error; replace a cell file that holds "
+               "another cell under --cell-id");
   std::string form;
   int cell_id = 1;
   app.add_option("--form", form,

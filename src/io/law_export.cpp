@@ -384,7 +384,8 @@ std::string law_umat(const Law& law, const std::string& name, const std::string&
 
 std::string umat_cell_file(int id) { return "dualcell-cell-" + std::to_string(id) + ".txt"; }
 
-std::string law_umat_cell(const Law& law, const std::string& name, int id, const std::string& source) {
+std::string law_umat_cell(const Law& law, const std::string& name, int id, std::uint64_t cell_hash,
+                          const std::string& source) {
   check_name(name);
   if (!law.cell)
     throw InputError(source + ": /law/cell: no exact law (" + one_line(law.cell_note) +
@@ -406,11 +407,13 @@ std::string law_umat_cell(const Law& law, const std::string& name, int id, const
       "** E33, G13, G23 (rule of mixtures). Each material point carries its bonds (state variables 2 to " +
       std::to_string(1 + cell.n_pairs) +
       ",\n** 1 where a pair broke) and the warm start of its QP (src/umat/cell_umat.h).\n"
-      "** Constants: layout 2, law id, E33, G13, G23.\n";
+      "** Constants: layout 2, law id, E33, G13, G23, the cell file's hash (FNV-1a, high and low 32 bits:\n"
+      "** a file replaced after this card was written is refused, not mixed with it).\n";
   out += "*MATERIAL, NAME=ABAQUS_" + name + "\n";
-  out += "*USER MATERIAL, CONSTANTS=5\n";
+  out += "*USER MATERIAL, CONSTANTS=7\n";
   out += card_number(2) + ", " + card_number(id) + ", " + card_number(z.E3) + ", " + card_number(z.G_longitudinal) +
-         ", " + card_number(z.G_longitudinal) + "\n";
+         ", " + card_number(z.G_longitudinal) + ", " + card_number(static_cast<double>(cell_hash >> 32)) + ", " +
+         card_number(static_cast<double>(cell_hash & 0xffffffffULL)) + "\n";
   out += "*DEPVAR\n" + std::to_string(depvar) + "\n";
   return out;
 }

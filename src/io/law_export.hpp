@@ -2,6 +2,7 @@
 // The exports of a law.h5 (README.md, "Stage: dualcell-export"): JSON for scripts, CSV with one
 // row per direction, CalculiX/Abaqus material cards (the 3D materials of law/solid.hpp) and the
 // constants of dualcell's umat.
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -34,9 +35,11 @@ std::vector<double> umat_constants(const law::Law& law, const std::string& file)
 // lines stating the layout, axes, units and provenance.
 std::string law_umat(const law::Law& law, const std::string& name, const std::string& source);
 // The exact law for the same umat (layout 2): the card ABAQUS_<name> with constants 2, `id`,
-// E33, G13, G23 and *DEPVAR 1 + pairs + 3 + rows (src/umat/cell_umat.h); the cell itself goes to
-// the file umat_cell_file(id) beside the card (law/cell_text.hpp). Refuses a law without one.
-std::string law_umat_cell(const law::Law& law, const std::string& name, int id, const std::string& source);
+// E33, G13, G23, the cell file's hash (text_hash_value of its text, high and low 32 bits)
+// and *DEPVAR 1 + pairs + 3 + rows (src/umat/cell_umat.h); the cell itself goes to the file
+// umat_cell_file(id) beside the card (law/cell_text.hpp). Refuses a law without one.
+std::string law_umat_cell(const law::Law& law, const std::string& name, int id, std::uint64_t cell_hash,
+                          const std::string& source);
 std::string umat_cell_file(int id);
 
 }  // namespace dualcell::io

@@ -4,10 +4,10 @@
 #include <cstdio>
 
 #include "core/error.hpp"
+#include "core/hash.hpp"
 #include "io/atomic_output.hpp"
 #include "io/condensed_group.hpp"
 #include "io/file_root.hpp"
-#include "io/hash.hpp"
 #include "io/hdf5.hpp"
 #include "io/onset_group.hpp"
 

@@ -8,10 +8,10 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/hash.hpp"
 #include "core/text.hpp"
 #include "fit/fit.hpp"
 #include "io/atomic_output.hpp"
-#include "io/hash.hpp"
 #include "io/law_file.hpp"
 #include "io/points_csv.hpp"
 #include "io/sweep_file.hpp"

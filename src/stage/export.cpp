@@ -8,10 +8,10 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/hash.hpp"
 #include "core/text.hpp"
 #include "fit/fit.hpp"
 #include "io/atomic_output.hpp"
-#include "io/hash.hpp"
 #include "io/law_file.hpp"
 #include "io/points_csv.hpp"
 #include "io/sweep_file.hpp"
@@ -49,9 +49,19 @@ std::string export_law(const ExportOptions& options) {
     // Two files, committed together: the card and the cell it names.
     const std::filesystem::path cell_file = options.out.parent_path() / io::umat_cell_file(options.cell_id);
     io::check_outputs({options.out, cell_file}, {options.law_file});
-    const std::string card = io::law_umat_cell(law, options.name, options.cell_id, options.law_file.string());
     std::ostringstream cell_text;
     law::write_cell_text(cell_text, *law.cell);
+    const std::uint64_t cell_hash = text_hash_value(cell_text.str());
+    // Another cell under the same id: a card written before names that file (by its hash, which
+    // the umat checks), so replacing it would break that card's analysis.
+    std::error_code ec;
+    if (!options.force && std::filesystem::is_regular_file(cell_file, ec) &&
+        file_hash(cell_file) != text_hash(cell_text.str()))
+      throw InputError(cell_file.string() +
+                       ": holds another cell (a card written before names it by its hash): "
+                       "choose another --cell-id, or --force to replace it");
+    const std::string card =
+        io::law_umat_cell(law, options.name, options.cell_id, cell_hash, options.law_file.string());
     io::AtomicOutputs outputs;
     outputs.add(options.out);
     outputs.add(cell_file);

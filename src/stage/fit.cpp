@@ -8,10 +8,10 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/hash.hpp"
 #include "core/text.hpp"
 #include "fit/fit.hpp"
 #include "io/atomic_output.hpp"
-#include "io/hash.hpp"
 #include "io/law_file.hpp"
 #include "io/points_csv.hpp"
 #include "io/sweep_file.hpp"
@@ -35,7 +35,7 @@ law::Law run_fit(const std::filesystem::path& sweep_file, const std::filesystem:
     throw InputError(sweep_file.string() + ": " + text);
   }
   law.provenance.sweep_file = sweep_file.string();
-  law.provenance.sweep_hash = io::file_hash(sweep_file);
+  law.provenance.sweep_hash = file_hash(sweep_file);
   io::write_law(out, law);
   return law;
 }

@@ -6,7 +6,7 @@
 #include <string>
 
 #include "core/error.hpp"
-#include "io/hash.hpp"
+#include "core/hash.hpp"
 #include "io/mesh_file.hpp"
 #include "par/parallel.hpp"
 
@@ -94,7 +94,7 @@ SceneAndMesh load_scene_and_mesh(const char* stage, const std::string& scene_fil
   if (!mismatch.empty())
     throw InputError(mesh_file + ": made from a different scene than " + scene_file + ": " + mismatch);
   in.mesh_file = mesh_file;
-  in.mesh_hash = io::file_hash(mesh_file);
+  in.mesh_hash = file_hash(mesh_file);
   return in;
 }
 

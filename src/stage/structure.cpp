@@ -5,10 +5,10 @@
 #include <cstdio>
 
 #include "core/error.hpp"
+#include "core/hash.hpp"
 #include "core/structure_scene.hpp"
 #include "core/text.hpp"
 #include "io/atomic_output.hpp"
-#include "io/hash.hpp"
 #include "io/law_file.hpp"
 #include "io/structure_file.hpp"
 
@@ -96,7 +96,7 @@ StructureSummary run_structure(const StructureOptions& options) {
   provenance.scene_text = scene.text;
   provenance.scene_file = options.scene_file.string();
   provenance.law_file = options.law_file.string();
-  provenance.law_hash = io::file_hash(options.law_file);
+  provenance.law_hash = file_hash(options.law_file);
   io::write_structure(options.out, mesh, summary.steps, summary.first_fuse_factor, summary.law_form,
                       law.cell ? summary.bond_unit : std::string(), provenance);
   summary.seconds = std::chrono::duration<double>(Clock::now() - t0).count();

@@ -1,13 +1,19 @@
 #include "umat/cell_umat.h"
 
+#include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <map>
 #include <memory>
 #include <mutex>
+#include <set>
+#include <sstream>
 #include <string>
+#include <utility>
 
+#include "core/hash.hpp"
 #include "law/cell_text.hpp"
 #include "law/condensed.hpp"
 
@@ -18,7 +24,8 @@ using dualcell::law::CondensedCell;
 // The laws read so far (or the reason one could not be), shared by every thread.
 struct Loaded {
   std::shared_ptr<const CondensedCell> cell;
-  std::string error;
+  std::uint64_t hash = 0;  // of the file's text
+  std::string path, error;
 };
 
 std::mutex laws_mutex;
@@ -27,27 +34,56 @@ std::map<int, Loaded>& laws() {
   return loaded;
 }
 
+// Once per law and kind of failure: a message for every material point would flood the log.
+void tell_once(int id, const char* kind, const std::string& message) {
+  static std::mutex told_mutex;
+  static std::set<std::pair<int, std::string>> told;
+  const std::lock_guard<std::mutex> lock(told_mutex);
+  if (told.insert({id, kind}).second) std::fprintf(stderr, "dualcell umat: %s\n", message.c_str());
+}
+
 const Loaded& load(int id) {
   const std::lock_guard<std::mutex> lock(laws_mutex);
   auto [it, fresh] = laws().try_emplace(id);
   if (!fresh) return it->second;
+  Loaded& law = it->second;
   const char* dir = std::getenv("DUALCELL_CELL_DIR");
-  const std::string path = std::string(dir && *dir ? dir : ".") + "/dualcell-cell-" + std::to_string(id) + ".txt";
-  std::ifstream in(path);
+  law.path = std::string(dir && *dir ? dir : ".") + "/dualcell-cell-" + std::to_string(id) + ".txt";
   std::string error;
-  if (!in) {
-    error = "cannot be opened";
-  } else {
-    CondensedCell cell = dualcell::law::read_cell_text(in, error);
-    if (error.empty() && cell.n_macro != 3)
-      error = "the cell carries no shear (n_macro 2): a material point needs all three";
-    if (error.empty()) it->second.cell = std::make_shared<const CondensedCell>(std::move(cell));
+  try {
+    std::ifstream in(law.path, std::ios::binary);
+    if (!in) {
+      error = "cannot be opened";
+    } else {
+      // Read whole to hash it: at most max_cell_rows rows, a few hundred MB of text at worst.
+      std::ostringstream text;
+      text << in.rdbuf();
+      law.hash = dualcell::text_hash_value(text.str());
+      std::istringstream parse(text.str());
+      CondensedCell cell = dualcell::law::read_cell_text(parse, error);
+      if (error.empty() && cell.n_macro != 3)
+        error = "the cell carries no shear (n_macro 2): a material point needs all three";
+      if (error.empty()) law.cell = std::make_shared<const CondensedCell>(std::move(cell));
+    }
+  } catch (const std::bad_alloc&) {
+    error = "out of memory while reading it";
+  } catch (const std::exception& e) {
+    error = e.what();
   }
   if (!error.empty()) {
-    it->second.error = path + ": " + error;
-    std::fprintf(stderr, "dualcell umat: %s\n", it->second.error.c_str());
+    law.cell.reset();
+    law.error = law.path + ": " + error;
+    std::fprintf(stderr, "dualcell umat: %s\n", law.error.c_str());
   }
-  return it->second;
+  return law;
+}
+
+// The card's two constants back to the hash: each an integer in [0, 2³²).
+bool card_hash(const double constants[2], std::uint64_t& hash) {
+  for (int i = 0; i < 2; ++i)
+    if (!(constants[i] >= 0 && constants[i] < 4294967296.0 && constants[i] == std::floor(constants[i]))) return false;
+  hash = static_cast<std::uint64_t>(constants[0]) << 32 | static_cast<std::uint64_t>(constants[1]);
+  return true;
 }
 
 int statev_needed(const CondensedCell& cell) { return 1 + cell.n_pairs + cell.n_macro + cell.n_rows(); }
@@ -55,21 +91,40 @@ int statev_needed(const CondensedCell& cell) { return 1 + cell.n_pairs + cell.n_
 }  // namespace
 
 extern "C" int dualcell_cell_statev(int id) {
-  const Loaded& law = load(id);
-  return law.cell ? statev_needed(*law.cell) : -1;
+  try {
+    const Loaded& law = load(id);
+    return law.cell ? statev_needed(*law.cell) : -1;
+  } catch (...) {
+    return -1;
+  }
 }
 
-extern "C" int dualcell_cell_law(int id, const double e[3], double* statev, int nstatv, double s[3], double D[9],
-                                 double* W) {
+namespace {
+
+int cell_law(int id, const double hash_constants[2], const double e[3], double* statev, int nstatv, double s[3],
+             double D[9], double* W) {
   const Loaded& law = load(id);
   if (!law.cell) return 1;
+  std::uint64_t expected = 0;
+  if (!card_hash(hash_constants, expected)) {
+    tell_once(id, "hash",
+              "law " + std::to_string(id) +
+                  ": the card's constants 6 and 7 are not a cell file's hash (a card written before "
+                  "the hash: export the law again)");
+    return 1;
+  }
+  if (expected != law.hash) {
+    char text[160];
+    std::snprintf(text, sizeof text, ": its hash is %016llx, the card's %016llx: the file was replaced after the card",
+                  static_cast<unsigned long long>(law.hash), static_cast<unsigned long long>(expected));
+    tell_once(id, "hash", law.path + text + " was written (export them together)");
+    return 1;
+  }
   const CondensedCell& cell = *law.cell;
   if (nstatv < statev_needed(cell)) {
-    static std::once_flag told;
-    std::call_once(told, [&] {
-      std::fprintf(stderr, "dualcell umat: law %d needs %d state variables (*DEPVAR), the material has %d\n", id,
-                   statev_needed(cell), nstatv);
-    });
+    tell_once(id, "depvar",
+              "law " + std::to_string(id) + " needs " + std::to_string(statev_needed(cell)) +
+                  " state variables (*DEPVAR), the material has " + std::to_string(nstatv));
     return 1;
   }
   thread_local std::map<int, std::unique_ptr<dualcell::law::CellEvaluator>> evaluators;
@@ -92,8 +147,11 @@ extern "C" int dualcell_cell_law(int id, const double e[3], double* statev, int 
 
   const dualcell::law::CellResponse r = evaluator->at_strain(Eigen::Vector3d(e[0], e[1], e[2]), h);
   if (!r.ok) {
-    static std::once_flag told;
-    std::call_once(told, [&] { std::fprintf(stderr, "dualcell umat: law %d: %s\n", id, r.message.c_str()); });
+    tell_once(id, "qp", "law " + std::to_string(id) + ": " + r.message);
+    return 1;
+  }
+  if (!r.stress.allFinite() || !r.tangent.allFinite() || !std::isfinite(r.energy)) {
+    tell_once(id, "finite", "law " + std::to_string(id) + ": a non-finite stress or tangent (a strain beyond the law)");
     return 1;
   }
   for (int i = 0; i < 3; ++i) {
@@ -106,4 +164,23 @@ extern "C" int dualcell_cell_law(int id, const double e[3], double* statev, int 
   for (int j = 0; j < unknowns; ++j)
     statev[1 + cell.n_pairs + j] = j < static_cast<int>(h.active.size()) ? static_cast<double>(h.active[j]) : 0;
   return 0;
+}
+
+}  // namespace
+
+// Nothing escapes into the calling code (C or Fortran, which cannot catch it: an exception there
+// would abort the whole analysis): every failure is a line and a return of 1, and the umat asks
+// for a smaller increment.
+extern "C" int dualcell_cell_law(int id, const double hash[2], const double e[3], double* statev, int nstatv,
+                                 double s[3], double D[9], double* W) {
+  try {
+    return cell_law(id, hash, e, statev, nstatv, s, D, W);
+  } catch (const std::bad_alloc&) {
+    tell_once(id, "memory", "law " + std::to_string(id) + ": out of memory");
+  } catch (const std::exception& error) {
+    tell_once(id, "exception", "law " + std::to_string(id) + ": " + error.what());
+  } catch (...) {
+    tell_once(id, "exception", "law " + std::to_string(id) + ": an unknown failure");
+  }
+  return 1;
 }

@@ -21,10 +21,15 @@ int dualcell_cell_statev(int id);
 
 /* The law `id` at the in-plane strain e = (ε11, ε22, γ12) from the state `statev` (nstatv
  * entries), which is updated: the debond cascade of the point at e (bonds break within 1e-7 of
- * their strength and never heal). Writes σ = (σ11, σ22, σ12), the tangent D = dσ/dε row by row
- * and the strain energy per unit volume W. Returns 0, or 1 when the file cannot be read, the
- * state is too short or the cell's QP fails (the reason on stderr, once per law). */
-int dualcell_cell_law(int id, const double e[3], double* statev, int nstatv, double s[3], double D[9], double* W);
+ * their strength and never heal). `hash`: the card's constants 6 and 7, the file's hash
+ * (FNV-1a of its text, high and low 32 bits); a file whose hash differs was replaced after the
+ * card was written and is refused. Writes σ = (σ11, σ22, σ12), the tangent D = dσ/dε row by row
+ * and the strain energy per unit volume W. Returns 0, or 1 when the file cannot be read or is
+ * not the card's, the state is too short, the cell's QP fails, the answer is not finite or
+ * anything else fails (memory included: nothing is thrown into the caller); the reason on
+ * stderr, once per law and kind. */
+int dualcell_cell_law(int id, const double hash[2], const double e[3], double* statev, int nstatv, double s[3],
+                      double D[9], double* W);
 
 #ifdef __cplusplus
 }

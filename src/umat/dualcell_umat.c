@@ -13,8 +13,9 @@
  *
  * Constants (*USER MATERIAL, CONSTANTS = n, written by dualcell-export --format umat):
  * layout 2, the exact law: 1: 2   2: id, the law's file dualcell-cell-<id>.txt (cell_umat.h)
- *   3–5: E33, G13, G23; the state variables as cell_umat.h says (the debond cascade of the
- *   material point, kept by the code for converged increments only).
+ *   3–5: E33, G13, G23   6–7: that file's hash (high and low 32 bits; a replaced file is refused);
+ *   the state variables as cell_umat.h says (the debond cascade of the material point, kept by
+ *   the code for converged increments only).
  * layout 1, the cone-wise law:
  *   1: layout version (1)       2: K_b, planes of the bonded law     3: K_a, planes past the fuse
  *   4: F, onset facets (0: no fuse)   5–7: E33, G13, G23
@@ -78,10 +79,14 @@ void umat_(double* stress, double* statev, double* ddsdde, double* sse, double* 
   for (int i = 0; i < 6; ++i) e6[i] = stran[i] + dstran[i];
   const double e[3] = {e6[0], e6[1], e6[3]}; /* ε11, ε22, γ12 */
   double s[3], D[3][3], W, E33, G13, G23;
-  if (n == 6 && props[0] == 2 && *nprops >= 5) {
+  if (n == 6 && props[0] == 2) {
+    if (*nprops < 7) {
+      *pnewdt = 0.25; /* a card without the cell file's hash (written before it): refused */
+      return;
+    }
     E33 = props[2], G13 = props[3], G23 = props[4];
     double D9[9];
-    if (dualcell_cell_law((int)props[1], e, statev, *nstatv, s, D9, &W) != 0) {
+    if (dualcell_cell_law((int)props[1], props + 5, e, statev, *nstatv, s, D9, &W) != 0) {
       *pnewdt = 0.25; /* no law or a failed QP: ask for a smaller increment, which fails visibly */
       return;
     }

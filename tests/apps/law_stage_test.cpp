@@ -276,6 +276,27 @@ TEST(LawStage, TheLawPastTheFuseIsMeasuredAndItsErrorRefusesTheUmat) {
 
 // The JSON export carries the exact law and its checks, the same numbers as law.h5 (17 digits);
 // an unbounded row's bound is null.
+// The exact law's umat is two files, the card naming the cell file by its id and its hash. The
+// same law again under the same id rewrites the same file; another cell under that id is refused
+// (a card written before names the file there), unless --force.
+TEST(LawStage, ExportKeepsACellFileThatAnotherCardNames) {
+  StagesRun run(contact_scene);
+  const std::string export_cell = bin("dualcell-export") + " --law " + q(run.law) + " --format umat --form cell --out ";
+  ASSERT_EQ(run_command(export_cell + q(run.dir / "a.inp")).exit_code, exit_ok);
+  const auto cell_file = run.dir / "dualcell-cell-1.txt";
+  ASSERT_TRUE(std::filesystem::exists(cell_file));
+  EXPECT_EQ(run_command(export_cell + q(run.dir / "b.inp")).exit_code, exit_ok) << "the same cell: the same file";
+  run.dir.write("dualcell-cell-1.txt", "another cell\n");
+  const auto refused = run_command(export_cell + q(run.dir / "c.inp"));
+  EXPECT_EQ(refused.exit_code, exit_input_error);
+  EXPECT_NE(refused.output.find("dualcell-cell-1.txt: holds another cell"), std::string::npos) << refused.output;
+  EXPECT_FALSE(std::filesystem::exists(run.dir / "c.inp"));
+  std::ifstream kept(cell_file);
+  EXPECT_EQ(std::string((std::istreambuf_iterator<char>(kept)), std::istreambuf_iterator<char>()), "another cell\n");
+  EXPECT_EQ(run_command(export_cell + q(run.dir / "c.inp") + " --force").exit_code, exit_ok);
+  EXPECT_EQ(run_command(export_cell + q(run.dir / "d.inp") + " --cell-id 2").exit_code, exit_ok);
+}
+
 TEST(LawStage, TheJsonExportCarriesTheExactLaw) {
   StagesRun run(contact_scene);
   const law::Law law = io::read_law(run.law);

@@ -9,6 +9,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "core/hash.hpp"
+#include "core/text.hpp"
 #include "feti/condense.hpp"
 #include "feti/solver.hpp"
 #include "io/law_export.hpp"
@@ -98,20 +100,25 @@ TEST(CellUmat, EqualsTheLibraryAlongAPathThroughTheCascade) {
   testing::ScratchDir dir;
   setenv("DUALCELL_CELL_DIR", dir.path().c_str(), 1);
   const CondensedCell cell = adhesive_cell();
-  std::ofstream(dir / io::umat_cell_file(7001)) << [&] {
+  const std::string text = [&] {
     std::ostringstream out;
     write_cell_text(out, cell);
     return out.str();
   }();
+  std::ofstream(dir / io::umat_cell_file(7001)) << text;
   // The card's constants, as dualcell-export writes them.
   Law law;
   law.constituents = {30.0, 0.22, 1.0, 0.35, 0.28, 1.0};
   law.cell = cell;
-  const std::string card = io::law_umat_cell(law, "CELL", 7001, "law.h5");
+  const std::uint64_t hash = text_hash_value(text);
+  const std::string card = io::law_umat_cell(law, "CELL", 7001, hash, "law.h5");
   const std::string depvar = std::string("*DEPVAR\n").append(std::to_string(1 + cell.n_pairs + 3 + cell.n_rows()));
   ASSERT_NE(card.find(depvar), std::string::npos) << card;
   const OutOfPlane z = rule_of_mixtures(law);
-  const std::vector<double> props = {2, 7001, z.E3, z.G_longitudinal, z.G_longitudinal};
+  const double high = static_cast<double>(hash >> 32), low = static_cast<double>(hash & 0xffffffffULL);
+  const std::vector<double> props = {2, 7001, z.E3, z.G_longitudinal, z.G_longitudinal, high, low};
+  ASSERT_NE(card.find("CONSTANTS=7"), std::string::npos) << card;
+  ASSERT_NE(card.find(formatted("%.12e", high) + ", " + formatted("%.12e", low)), std::string::npos) << card;
   std::vector<double> statev(1 + cell.n_pairs + 3 + cell.n_rows(), 0.0);
 
   CellEvaluator library(cell);
@@ -140,9 +147,48 @@ TEST(CellUmat, EqualsTheLibraryAlongAPathThroughTheCascade) {
 
   // A law whose file is missing, and a state too short: a smaller increment asked, nothing else.
   std::vector<double> state(statev.size(), 0.0);
-  EXPECT_EQ(call({2, 7002, 1, 1, 1}, direction * 1e-3, state).pnewdt, 0.25);
+  EXPECT_EQ(call({2, 7002, 1, 1, 1, 0, 0}, direction * 1e-3, state).pnewdt, 0.25);
   std::vector<double> short_state(3, 0.0);
   EXPECT_EQ(call(props, direction * 1e-3, short_state).pnewdt, 0.25);
+  // A card written before the hash (5 constants), and one whose hash is not the file's: refused.
+  EXPECT_EQ(call({2, 7001, z.E3, z.G_longitudinal, z.G_longitudinal}, direction * 1e-3, state).pnewdt, 0.25);
+  std::vector<double> other = props;
+  other[6] = low == 0 ? 1 : low - 1;
+  EXPECT_EQ(call(other, direction * 1e-3, state).pnewdt, 0.25);
+  other[6] = 0.5;  // not an integer: no hash at all
+  EXPECT_EQ(call(other, direction * 1e-3, state).pnewdt, 0.25);
+}
+
+// A cell file replaced after its card was written (another law exported under the same id,
+// --force) is refused by the card that named the first one, not mixed with it; and a file that
+// declares a million rows is refused by its count, where it once aborted the whole analysis with
+// std::bad_alloc.
+TEST(CellUmat, AReplacedOrOversizedCellFileIsRefusedNotMixed) {
+  testing::ScratchDir dir;
+  setenv("DUALCELL_CELL_DIR", dir.path().c_str(), 1);
+  const CondensedCell cell = adhesive_cell();
+  std::ostringstream out;
+  write_cell_text(out, cell);
+  const std::uint64_t hash = text_hash_value(out.str());
+  std::string replaced = out.str();
+  replaced.replace(replaced.find("volume "), 7, "volume  ");  // the same numbers, other bytes
+  std::ofstream(dir / io::umat_cell_file(7003)) << replaced;
+  const std::vector<double> props = {
+      2, 7003, 1, 1, 1, static_cast<double>(hash >> 32), static_cast<double>(hash & 0xffffffffULL)};
+  std::vector<double> state(1 + cell.n_pairs + 3 + cell.n_rows(), 0.0);
+  EXPECT_EQ(call(props, Eigen::Vector3d(1e-3, 0, 0), state).pnewdt, 0.25);
+
+  std::string huge = out.str();
+  const auto at = huge.find("\nrows ") + 6;
+  huge.replace(at, huge.find('\n', at) - at, "1000000");
+  std::ofstream(dir / io::umat_cell_file(7004)) << huge;
+  std::istringstream in(huge);
+  std::string error;
+  read_cell_text(in, error);
+  EXPECT_EQ(error, "rows: 1000000 is not a count in [0, 3000]");
+  std::vector<double> p = props;
+  p[1] = 7004;
+  EXPECT_EQ(call(p, Eigen::Vector3d(1e-3, 0, 0), state).pnewdt, 0.25);
 }
 
 }  // namespace

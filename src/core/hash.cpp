@@ -1,4 +1,4 @@
-#include "io/hash.hpp"
+#include "core/hash.hpp"
 
 #include <cstdint>
 #include <cstdio>
@@ -6,7 +6,7 @@
 
 #include "core/error.hpp"
 
-namespace dualcell::io {
+namespace dualcell {
 
 namespace {
 
@@ -39,10 +39,12 @@ std::string file_hash(const std::filesystem::path& file) {
   return hex(h);
 }
 
-std::string text_hash(std::string_view text) {
+std::uint64_t text_hash_value(std::string_view text) {
   std::uint64_t h = fnv_offset;
   add_bytes(h, text.data(), text.size());
-  return hex(h);
+  return h;
 }
 
-}  // namespace dualcell::io
+std::string text_hash(std::string_view text) { return hex(text_hash_value(text)); }
+
+}  // namespace dualcell
