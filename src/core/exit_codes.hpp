@@ -3,8 +3,10 @@
 namespace dualcell {
 
 inline constexpr int exit_ok = 0;
-inline constexpr int exit_input_error = 1;     // bad scene, file, value or output path; a failed write
-inline constexpr int exit_internal_error = 3;  // a bug or an unexpected system failure (out of memory)
+// A bad scene, file, value or output path; a failed write; an input too large for this machine
+// (refused by its estimate before the work, or out of memory during it).
+inline constexpr int exit_input_error = 1;
+inline constexpr int exit_internal_error = 3;  // a bug or an unexpected system failure
 // The computation ran but did not converge (a QP that stopped, a primal check failed, a Newton
 // step of a structure that did not converge or whose energy is not finite): the output is
 // written and marked as such (solution.h5 /solver status, structure.h5 /steps/converged).

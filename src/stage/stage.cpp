@@ -7,6 +7,7 @@
 
 #include "core/error.hpp"
 #include "core/hash.hpp"
+#include "core/memory.hpp"
 #include "io/mesh_file.hpp"
 #include "par/parallel.hpp"
 
@@ -72,7 +73,12 @@ int run_stage(const char* stage, const std::function<void()>& body, Ranks sharin
   } catch (const InputError& e) {
     return fail(exit_input_error, "error: " + one_line(e.what()));
   } catch (const std::bad_alloc&) {
-    return fail(exit_internal_error, "error: out of memory");
+    // The stages refuse what their estimates say will not fit before they allocate; what still
+    // runs out asked for more than is free here (other processes hold the rest): the input's
+    // size, not a fault of the stage.
+    return fail(exit_input_error, "error: out of memory: the input needs more than is free of this machine's " +
+                                      gigabytes(static_cast<double>(physical_memory_bytes())) +
+                                      " (fewer cells, elements, rows or points)");
   } catch (const std::exception& e) {
     return fail(exit_internal_error, "internal error: " + one_line(e.what()));
   }

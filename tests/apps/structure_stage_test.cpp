@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include "core/exit_codes.hpp"
+#include "core/memory.hpp"
 #include "io/hdf5.hpp"
 #include "test_util.hpp"
 
@@ -102,6 +103,24 @@ TEST(StructureStage, RefusalsAreOneLineAndWriteNothing) {
                              " --out " + (dir / "s.h5").string());
   EXPECT_EQ(r.exit_code, exit_input_error) << r.output;
   EXPECT_NE(r.output.find("rigid-body motion"), std::string::npos) << r.output;
+  // Bonds per point are the exact law's: with the cone-wise law the key would be ignored.
+  const auto per_point = dir.write("point.toml", "[structure]\ncells = [8, 2]\nbonds = \"point\"\n" +
+                                                     cantilever.substr(cantilever.find("[edges.left]")));
+  const auto cone = run_command(bin("dualcell-structure") + " --config " + per_point.string() + " --law " +
+                                law.string() + " --form cone --out " + (dir / "s.h5").string());
+  EXPECT_EQ(cone.exit_code, exit_input_error) << cone.output;
+  EXPECT_NE(cone.output.find("bonds = \"point\": only the exact law"), std::string::npos) << cone.output;
+  // Within the node limit (1e7) but beyond this machine's memory by its estimate (1 500² p2
+  // cells: 9e6 nodes, 2.7e7 points, about 66 GB): refused before the mesh is built, with the
+  // figure. It took 6 GB, then "out of memory", exit 3.
+  if (physical_memory_bytes() > 60e9) GTEST_SKIP() << "this machine holds the 66 GB structure";
+  const auto huge = dir.write("huge.toml", "[structure]\ncells = [1500, 1500]\nelements_per_cell = 1\n" +
+                                               cantilever.substr(cantilever.find("[edges.left]")));
+  const auto big = run_command(bin("dualcell-structure") + " --config " + huge.string() + " --law " + law.string() +
+                               " --out " + (dir / "s.h5").string());
+  EXPECT_EQ(big.exit_code, exit_input_error) << big.output;
+  EXPECT_NE(big.output.find("(9006001 nodes, 27000000 material points"), std::string::npos) << big.output;
+  EXPECT_NE(big.output.find("more than this machine's"), std::string::npos) << big.output;
   EXPECT_FALSE(std::filesystem::exists(dir / "s.h5"));
   EXPECT_FALSE(std::filesystem::exists(dir / "s.xdmf"));
 }
