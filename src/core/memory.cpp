@@ -1,7 +1,9 @@
 #include "core/memory.hpp"
 
+#include <sys/resource.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 
 #include "core/error.hpp"
@@ -12,6 +14,18 @@ std::size_t physical_memory_bytes() {
   const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGESIZE);
   if (pages <= 0 || page <= 0) return 0;
   return static_cast<std::size_t>(pages) * static_cast<std::size_t>(page);
+}
+
+std::string memory_bound_text() {
+  const double physical = static_cast<double>(physical_memory_bytes());
+  double limit = physical;
+  for (const int resource : {RLIMIT_DATA, RLIMIT_AS}) {
+    rlimit r{};
+    if (::getrlimit(resource, &r) == 0 && r.rlim_cur != RLIM_INFINITY)
+      limit = std::min(limit, static_cast<double>(r.rlim_cur));
+  }
+  if (limit < physical) return "this process's limit of " + gigabytes(limit) + " (ulimit)";
+  return "this machine's " + gigabytes(physical);
 }
 
 std::string gigabytes(double bytes) {

@@ -9,6 +9,10 @@ namespace dualcell {
 // Physical memory of this machine in bytes (sysconf), 0 when unknown.
 std::size_t physical_memory_bytes();
 
+// What this process may hold: "this machine's 25 GB", or "this process's limit of 0.24 GB"
+// when a resource limit (ulimit -d or -v) is below the physical memory.
+std::string memory_bound_text();
+
 // "2.5 GB" (decimal gigabytes, 2 significant digits past 10 GB).
 std::string gigabytes(double bytes);
 

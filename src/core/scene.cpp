@@ -104,6 +104,8 @@ class Checker {
 namespace {
 
 bool positive(double v) { return v > 0; }
+// A cell's lengths: its area (the law's volume) then lies within 1e±100 (law::CondensedCell).
+bool length_in_range(double v) { return v >= 1e-50 && v <= 1e50; }
 bool non_negative(double v) { return v >= 0; }
 bool finite(double) { return true; }
 
@@ -111,7 +113,8 @@ bool finite(double) { return true; }
 // are placed, rve/microstructure.hpp).
 void validate_rve(const Checker& c, const Scene& scene) {
   const Geometry& geo = scene.geometry;
-  c.reals("geometry", "size", {geo.size[0], geo.size[1]}, positive, "an array of 2 numbers, each > 0");
+  c.reals("geometry", "size", {geo.size[0], geo.size[1]}, length_in_range,
+          "an array of 2 numbers, each in [1e-50, 1e50] (the cell's area, its law's volume, within 1e±100)");
   c.integer("geometry", "degree", geo.degree, 1, 64);
   c.real("geometry", "min_gap", geo.random.min_gap, non_negative, "min_gap >= 0");
   double r_mean = 0;
@@ -121,9 +124,11 @@ void validate_rve(const Checker& c, const Scene& scene) {
         "geometry", "volume_fraction", f.volume_fraction, [](double v) { return v > 0 && v < 0.9; },
         "0 < volume_fraction < 0.9");
     c.reals("geometry", "radius", {f.radius_mean}, positive, "[mean, sd] with mean > 0");
-    c.reals("geometry", "radius", {f.radius_sd}, non_negative, "[mean, sd] with sd >= 0 and mean - 2 sd > 0");
-    if (!(f.radius_mean - 2 * f.radius_sd > 0))
-      c.fail("geometry", "radius", "", "out of range: [mean, sd] with mean - 2 sd > 0 (radii are drawn within 2 sd)");
+    c.reals("geometry", "radius", {f.radius_sd}, non_negative, "[mean, sd] with 0 <= sd <= mean/4");
+    if (!(f.radius_sd <= 0.25 * f.radius_mean))
+      c.fail("geometry", "radius", "",
+             "out of range: [mean, sd] with 0 <= sd <= mean/4 (radii are drawn within 2 sd, so the smallest is at "
+             "least half the mean, which sets the element size)");
     r_mean = f.radius_mean;
   } else {
     if (geo.fibres.empty()) c.fail("geometry", "size", "", "an RVE of kind \"list\" needs at least one [[fibres]]");
@@ -135,10 +140,20 @@ void validate_rve(const Checker& c, const Scene& scene) {
       r_mean += f.radius / geo.fibres.size();
     }
   }
+  // The fibres: listed, or about v_f Lx Ly / (π r²) drawn.
+  const double fibres = geo.layout == FibreLayout::random
+                            ? geo.random.volume_fraction * geo.size[0] * geo.size[1] /
+                                  (std::numbers::pi * geo.random.radius_mean * geo.random.radius_mean)
+                            : static_cast<double>(geo.fibres.size());
+  if (fibres > max_rve_fibres)
+    c.fail("geometry", geo.layout == FibreLayout::random ? "volume_fraction" : "size", "",
+           "the RVE would have about " + std::to_string(std::llround(std::min(fibres, 1e18))) +
+               " fibres, more than the limit " + std::to_string(max_rve_fibres) +
+               " (its mesh: about two minutes at the limit, growing as N^1.4): a smaller size or larger fibres");
   // The mesh budget: elements of edge h (rve_element_size), about 2.3 area / h² triangles, (2k)²
   // more nodes per corner node for p2.
   const double h = rve_element_size(r_mean, geo.degree);
-  const double nodes = 1.2 * geo.size[0] * geo.size[1] / (h * h) * (geo.element == Element::p2 ? 4 : 1);
+  const double nodes = rve_node_estimate(geo.size[0], geo.size[1], r_mean, geo.degree, geo.element);
   if (nodes > max_mesh_nodes) {
     std::ostringstream s;
     s << "the mesh would have about " << static_cast<long long>(nodes)
@@ -155,6 +170,11 @@ void validate_rve(const Checker& c, const Scene& scene) {
 
 double rve_element_size(double mean_radius, int degree) { return std::numbers::pi * mean_radius / (4 * degree); }
 
+double rve_node_estimate(double Lx, double Ly, double mean_radius, int degree, Element element) {
+  const double h = rve_element_size(mean_radius, degree);
+  return 1.2 * Lx * Ly / (h * h) * (element == Element::p2 ? 4 : 1);
+}
+
 namespace {
 
 void validate_geometry(const Checker& c, const Scene& scene) {
@@ -163,7 +183,8 @@ void validate_geometry(const Checker& c, const Scene& scene) {
   c.reals(
       "geometry", "cells", {double(geo.cells[0]), double(geo.cells[1])}, [](double v) { return v >= 1 && v <= 4096; },
       "an array of 2 numbers, each an integer in [1, 4096]");
-  c.real("geometry", "cell_size", geo.cell_size, positive, "cell_size > 0");
+  c.real("geometry", "cell_size", geo.cell_size, length_in_range,
+         "cell_size in [1e-50, 1e50] (the cell's area, its law's volume, within 1e±100)");
   c.real("geometry", "fibre_radius", geo.fibre_radius, positive, "fibre_radius > 0");
   c.reals("geometry", "fibre_offset", {geo.fibre_offset[0], geo.fibre_offset[1]}, finite,
           "an array of 2 numbers, each a finite number");

@@ -79,6 +79,9 @@ struct Geometry {
 // fibres exist, the scene's mean (a list's mean, or the nominal mean of random radii, which the
 // volume fraction then scales a little).
 double rve_element_size(double mean_radius, int degree);
+// The nodes of an RVE's mesh at that element size over Lx × Ly: about 1.2 per h² for p1, 4 times
+// that for p2 (the mesh budget, checked against max_mesh_nodes before gmsh runs).
+double rve_node_estimate(double Lx, double Ly, double mean_radius, int degree, Element element);
 
 // Interface strengths per unit interface length (force/length); 0 = no adhesion (docs/method.md §1, §4).
 struct Interface {
@@ -203,6 +206,9 @@ inline constexpr ConstituentField constituent_fields[] = {
 // Largest mesh a scene may ask for (nodes of all subdomains, dim u = 2 × nodes): 3×3 cells at
 // degree 256 or 100×100 at degree 6 fit, 4096×4096 at degree 256 (10^13 nodes) does not.
 inline constexpr long max_mesh_nodes = 10'000'000;
+// The most fibres an RVE may have: gmsh meshes 6 400 in about a minute here and its time grows
+// as N^1.4 (10 000: about two minutes; 160 000 would take over an hour).
+inline constexpr long max_rve_fibres = 10'000;
 // The range of a law's cell size (any unit) that a structure of homogeneous cells takes: its
 // positions (supports, loads, the watch point) are written in that unit, and beyond this range
 // they and the node tolerance (fem::node_reach: 1e-9 of the structure's size) underflow or lose

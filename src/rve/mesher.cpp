@@ -15,6 +15,7 @@
 
 #include "core/error.hpp"
 #include "core/text.hpp"
+#include "rve/disk_grid.hpp"
 
 namespace dualcell::rve {
 
@@ -63,28 +64,43 @@ constexpr double narrowest_gap_divisor = 50;
 
 // The mesh size at a point: h, or the sum of the distances to the two nearest fibre surfaces
 // where that is smaller (a narrow gap), not below h/smallest_element_divisor.
+// Only surfaces nearer than h matter (two of them sum below h or the size is h), so only circles
+// whose centre lies within r_max + h: the circles (every periodic image) are binned by a DiskGrid
+// of that reach, and a call looks at its 3 × 3 bins, not at every fibre (gmsh calls it for every
+// node it places: that made meshing quadratic in the fibres, 29 s at 400 and 440 s at 1600).
 class SizeField {
  public:
-  SizeField(const Microstructure& m, double h) : h_(h) {
+  SizeField(const Microstructure& m, double h)
+      : h_(h), grid_(-m.Lx, -m.Ly, 3 * m.Lx, 3 * m.Ly, largest_radius(m) + h, false) {
     for (const Fibre& f : m.fibres)
       for (int iy = -1; iy <= 1; ++iy)
-        for (int ix = -1; ix <= 1; ++ix)
+        for (int ix = -1; ix <= 1; ++ix) {
           circles_.push_back({f.centre + Eigen::Vector2d(ix * m.Lx, iy * m.Ly), f.radius});
+          grid_.insert(static_cast<int>(circles_.size()) - 1, circles_.back().centre);
+        }
   }
   double operator()(double x, double y) const {
     double d1 = std::numeric_limits<double>::infinity(), d2 = d1;
-    for (const Fibre& c : circles_) {
-      const double d = std::abs((Eigen::Vector2d(x, y) - c.centre).norm() - c.radius);
+    const Eigen::Vector2d p(x, y);
+    grid_.near(p, [&](int k) {
+      const Fibre& c = circles_[static_cast<std::size_t>(k)];
+      const double d = std::abs((p - c.centre).norm() - c.radius);
       if (d < d1)
         d2 = d1, d1 = d;
       else if (d < d2)
         d2 = d;
-    }
+    });
     return std::min(h_, std::max(d1 + d2, h_ / smallest_element_divisor));
   }
 
  private:
+  static double largest_radius(const Microstructure& m) {
+    double r = 0;
+    for (const Fibre& f : m.fibres) r = std::max(r, f.radius);
+    return r;
+  }
   double h_;
+  DiskGrid grid_;
   std::vector<Fibre> circles_;
 };
 
@@ -294,14 +310,15 @@ void add_pairs(mesh::Mesh& mesh, const std::map<std::size_t, std::vector<std::pa
 }
 
 // The gmsh mesh of the fragmented geometry, split and turned into the solver's mesh.
+// gmsh's mesh of the unit cell (images: its fibre pieces there) back in the cell's units (× unit).
 mesh::Mesh collect_mesh(const Geometry& geometry, const Microstructure& m, const std::vector<Image>& images,
-                        const std::vector<Surface>& surfaces, int subdomain_dofs, MeshReport& report) {
+                        const std::vector<Surface>& surfaces, int subdomain_dofs, double unit, MeshReport& report) {
   const int width = geometry.element == Element::p1 ? 3 : 6;
   std::vector<std::size_t> tags;
   std::vector<double> xyz, parametric;
   gmsh::model::mesh::getNodes(tags, xyz, parametric, -1, -1, false, false);
   std::unordered_map<std::size_t, Eigen::Vector2d> position;
-  for (std::size_t i = 0; i < tags.size(); ++i) position[tags[i]] = {xyz[3 * i], xyz[3 * i + 1]};
+  for (std::size_t i = 0; i < tags.size(); ++i) position[tags[i]] = {unit * xyz[3 * i], unit * xyz[3 * i + 1]};
 
   // Subdomains: the matrix's parts, then one per fibre piece (in the order of their images).
   std::vector<std::vector<std::size_t>> matrix;
@@ -365,8 +382,8 @@ mesh::Mesh collect_mesh(const Geometry& geometry, const Microstructure& m, const
     mesh.subdomains.push_back(sub);
   }
   for (const auto& [image, rows] : fibres) {
-    mesh.fibre_centres.push_back(images[image].centre);
-    mesh.fibre_radii.push_back(images[image].radius);
+    mesh.fibre_centres.push_back(unit * images[image].centre);
+    mesh.fibre_radii.push_back(unit * images[image].radius);
   }
   const double eps = 1e-9 * std::max(m.Lx, m.Ly);
   add_pairs(mesh, copies, n_matrix, eps);
@@ -404,7 +421,22 @@ mesh::Mesh build_rve_mesh(const Geometry& geometry, int subdomain_dofs, const st
           where + ": fibre " + std::to_string(i + 1) + " has radius " + formatted("%.3g", m.fibres[i].radius) +
           ", below h/10 = " + formatted("%.3g", h / smallest_element_divisor) + ", the smallest element at degree " +
           std::to_string(geometry.degree) + " (h = pi x mean radius / (4 degree)): raise the degree or leave it out");
-  const std::vector<Image> images = images_in(m);
+  // The mesh budget from the fibres as placed (random radii are scaled to the volume fraction,
+  // so the scene's mean radius, which the scene's own check used, may not be theirs).
+  const double nodes = rve_node_estimate(m.Lx, m.Ly, r_mean, geometry.degree, geometry.element);
+  if (nodes > max_mesh_nodes)
+    throw InputError(where + ": the mesh would have about " + std::to_string(std::llround(nodes)) +
+                     " nodes (element size pi r / (4 degree) = " + formatted("%.3g", h) +
+                     " for the fibres' mean radius " + formatted("%.3g", r_mean) + "), more than the limit " +
+                     std::to_string(max_mesh_nodes));
+  // gmsh meshes the cell scaled by a power of two (exact) to a size in [1, 2): OpenCASCADE's
+  // tolerances are absolute (1e-7), so a cell of size 1e-5 (metres) or 1e-300 would otherwise
+  // fail inside it, and one of 1e300 lose every digit. Nodes come back in the cell's units.
+  const double unit = std::exp2(std::floor(std::log2(std::max(m.Lx, m.Ly))));
+  Microstructure unit_cell = m;
+  unit_cell.Lx /= unit, unit_cell.Ly /= unit;
+  for (Fibre& f : unit_cell.fibres) f.centre /= unit, f.radius /= unit;
+  const std::vector<Image> images = images_in(unit_cell);
   const Clock::time_point start = Clock::now();
   try {
     GmshSession session;
@@ -415,19 +447,19 @@ mesh::Mesh build_rve_mesh(const Geometry& geometry, int subdomain_dofs, const st
       return InputError("gmsh failed: " + (message.empty() ? std::string("no message") : message));
     };
     try {
-      const std::vector<Surface> surfaces = build_geometry(m, images);
+      const std::vector<Surface> surfaces = build_geometry(unit_cell, images);
       gmsh::option::setNumber("Mesh.Algorithm", 6);  // Frontal-Delaunay
       gmsh::option::setNumber("Mesh.MeshSizeFromPoints", 0);
       gmsh::option::setNumber("Mesh.MeshSizeFromCurvature", 0);
       gmsh::option::setNumber("Mesh.MeshSizeExtendFromBoundary", 0);
-      gmsh::option::setNumber("Mesh.MeshSizeMax", h);
-      gmsh::option::setNumber("Mesh.MeshSizeMin", h / smallest_element_divisor);
-      const SizeField size(m, h);
+      gmsh::option::setNumber("Mesh.MeshSizeMax", h / unit);
+      gmsh::option::setNumber("Mesh.MeshSizeMin", h / unit / smallest_element_divisor);
+      const SizeField size(unit_cell, h / unit);
       gmsh::model::mesh::setSizeCallback([&size](int, int, double x, double y, double) { return size(x, y); });
       gmsh::model::mesh::generate(2);
       if (geometry.element == Element::p2) gmsh::model::mesh::setOrder(2);
       r.seconds_gmsh = seconds_since(start);
-      return collect_mesh(geometry, m, images, surfaces, subdomain_dofs, r);
+      return collect_mesh(geometry, m, images, surfaces, subdomain_dofs, unit, r);
     } catch (const InputError&) {
       throw;
     } catch (...) {

@@ -8,6 +8,7 @@
 
 #include "core/error.hpp"
 #include "core/text.hpp"
+#include "rve/disk_grid.hpp"
 
 namespace dualcell::rve {
 
@@ -37,12 +38,29 @@ double surface_gap(const Microstructure& m, const Fibre& a, const Fibre& b) {
   return periodic_offset(m, a.centre, b.centre).norm() - a.radius - b.radius;
 }
 
-// Whether fibre `f` keeps `gap` to fibres [0, n) of m except `skip`.
-bool fits(const Microstructure& m, const Fibre& f, std::size_t n, std::size_t skip, double gap) {
+double largest_radius(const Microstructure& m) {
+  double r = 0;
+  for (const Fibre& f : m.fibres) r = std::max(r, f.radius);
+  return r;
+}
+
+// The fibres of m binned by their centres, periodically: every fibre within `reach` (centre to
+// centre, nearest image) of a place is among those near() visits.
+DiskGrid grid_of(const Microstructure& m, double reach) {
+  DiskGrid grid(0, 0, m.Lx, m.Ly, reach, true);
+  for (std::size_t j = 0; j < m.fibres.size(); ++j) grid.insert(static_cast<int>(j), m.fibres[j].centre);
+  return grid;
+}
+
+// Whether fibre `f` keeps `gap` to the fibres of `grid` (of m) except `skip`: a fibre nearer than
+// that has its centre within r + r_max + gap, which the grid's reach covers.
+bool fits(const Microstructure& m, const DiskGrid& grid, const Fibre& f, std::size_t skip, double gap) {
   if (!edges_allow(m, f, gap)) return false;
-  for (std::size_t j = 0; j < n; ++j)
-    if (j != skip && surface_gap(m, f, m.fibres[j]) < gap) return false;
-  return true;
+  bool ok = true;
+  grid.near(f.centre, [&](int j) {
+    if (ok && static_cast<std::size_t>(j) != skip && surface_gap(m, f, m.fibres[j]) < gap) ok = false;
+  });
+  return ok;
 }
 
 Eigen::Vector2d wrapped(const Microstructure& m, Eigen::Vector2d c) {
@@ -80,6 +98,13 @@ void check_spec(double Lx, double Ly, const RandomFibres& s, const std::string& 
 std::vector<double> draw_radii(double Lx, double Ly, const RandomFibres& s, std::mt19937_64& rng) {
   std::normal_distribution<double> normal(s.radius_mean, s.radius_sd);
   const double target = s.volume_fraction * Lx * Ly;
+  // Fewer than half a fibre of the mean radius: the one fibre would be scaled down to a radius
+  // far from the asked one (and its mesh to elements far smaller than the rectangle needs).
+  const double one = std::numbers::pi * s.radius_mean * s.radius_mean;
+  if (target < 0.5 * one)
+    throw InputError("volume_fraction = " + shortest(s.volume_fraction) + " is less than half of one fibre of radius " +
+                     shortest(s.radius_mean) + " in " + shortest(Lx) + " x " + shortest(Ly) + " (which alone is " +
+                     formatted("%.3g", one / (Lx * Ly)) + "): raise it or the size, or lower the radius");
   std::vector<double> radii;
   double area = 0;
   while (area < target) {
@@ -119,14 +144,23 @@ Statistics statistics(const Microstructure& m) {
   s.volume_fraction = m.volume_fraction();
   s.neighbour_min = s.gap_min = s.edge_gap_min = inf;
   double sum = 0, sum2 = 0;
+  // Neighbours from a grid whose reach is a few mean spacings (and at least two radii): a fibre
+  // whose nearest neighbour lies beyond it (a sparse microstructure) is compared with all.
+  const double spacing = std::sqrt(m.Lx * m.Ly / std::max<std::size_t>(1, m.fibres.size()));
+  const double reach = std::max(3 * spacing, 2 * largest_radius(m));
+  const DiskGrid grid = grid_of(m, reach);
   for (std::size_t i = 0; i < m.fibres.size(); ++i) {
     const Fibre& f = m.fibres[i];
     double nearest = inf;
-    for (std::size_t j = 0; j < m.fibres.size(); ++j) {
-      if (j == i) continue;
+    const auto neighbour = [&](std::size_t j) {
+      if (j == i) return;
       nearest = std::min(nearest, periodic_offset(m, f.centre, m.fibres[j].centre).norm());
       s.gap_min = std::min(s.gap_min, surface_gap(m, f, m.fibres[j]));
-    }
+    };
+    grid.near(f.centre, [&](int j) { neighbour(static_cast<std::size_t>(j)); });
+    // Every pair nearer than `reach` was seen; beyond it, all of them.
+    if (!(nearest < reach))
+      for (std::size_t j = 0; j < m.fibres.size(); ++j) neighbour(j);
     if (std::isfinite(nearest)) {
       sum += nearest;
       sum2 += nearest * nearest;
@@ -142,6 +176,11 @@ Statistics statistics(const Microstructure& m) {
     }
     s.crossing_edges += crossing ? 1 : 0;
   }
+  // A pair with a centre distance beyond `reach` has a gap above reach − 2 r_max; when no pair
+  // seen has a smaller one, the smallest gap may be such a pair's: all pairs then.
+  if (std::isfinite(s.gap_min) && s.gap_min > reach - 2 * largest_radius(m))
+    for (std::size_t i = 0; i < m.fibres.size(); ++i)
+      for (std::size_t j = 0; j < i; ++j) s.gap_min = std::min(s.gap_min, surface_gap(m, m.fibres[i], m.fibres[j]));
   if (s.fibres > 1) {
     s.neighbour_mean = sum / s.fibres;
     s.neighbour_sd = std::sqrt(std::max(0.0, sum2 / s.fibres - s.neighbour_mean * s.neighbour_mean));
@@ -150,6 +189,12 @@ Statistics statistics(const Microstructure& m) {
 }
 
 void check(const Microstructure& m, double min_gap, const std::string& where) {
+  // Radii first (the grid's reach needs them), then each fibre against the edges and the
+  // fibres before it.
+  for (std::size_t i = 0; i < m.fibres.size(); ++i)
+    if (!(m.fibres[i].radius > 0) || !std::isfinite(m.fibres[i].radius))
+      throw InputError(where + ": " + fibre_text(m.fibres[i], i) + ": the radius must be > 0");
+  const DiskGrid grid = grid_of(m, 2 * largest_radius(m) + min_gap);
   for (std::size_t i = 0; i < m.fibres.size(); ++i) {
     const Fibre& f = m.fibres[i];
     const std::string what = where + ": " + fibre_text(f, i);
@@ -165,12 +210,17 @@ void check(const Microstructure& m, double min_gap, const std::string& where) {
     if (x == Edge::too_close || y == Edge::too_close)
       throw InputError(what + ": closer than min_gap = " + shortest(min_gap) +
                        " to an edge, or cut by it in a sliver thinner than that");
-    for (std::size_t j = 0; j < i; ++j) {
-      const double gap = surface_gap(m, m.fibres[j], f);
-      if (gap < min_gap)
-        throw InputError(what + ": " +
-                         (gap < 0 ? "overlaps " : "is closer than min_gap = " + shortest(min_gap) + " to ") +
-                         fibre_text(m.fibres[j], j) + " (gap " + formatted("%.3g", gap) + ")");
+    // The first earlier fibre nearer than min_gap: its centre lies within 2 r_max + min_gap.
+    std::size_t first = i;
+    grid.near(f.centre, [&](int j) {
+      const auto k = static_cast<std::size_t>(j);
+      if (k < first && surface_gap(m, m.fibres[k], f) < min_gap) first = k;
+    });
+    if (first < i) {
+      const double gap = surface_gap(m, m.fibres[first], f);
+      throw InputError(what + ": " +
+                       (gap < 0 ? "overlaps " : "is closer than min_gap = " + shortest(min_gap) + " to ") +
+                       fibre_text(m.fibres[first], first) + " (gap " + formatted("%.3g", gap) + ")");
     }
   }
 }
@@ -181,18 +231,26 @@ Microstructure generate_random(double Lx, double Ly, const RandomFibres& spec, c
   Microstructure m;
   m.Lx = Lx;
   m.Ly = Ly;
-  const std::vector<double> radii = draw_radii(Lx, Ly, spec, rng);
+  std::vector<double> radii;
+  try {
+    radii = draw_radii(Lx, Ly, spec, rng);
+  } catch (const InputError& e) {
+    throw InputError(where + ": " + e.what());
+  }
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   const auto random_centre = [&] { return Eigen::Vector2d(Lx * unit(rng), Ly * unit(rng)); };
   constexpr int attempts_per_fibre = 2000;
   const double gap = spec.min_gap;
+  // The placed fibres binned (radii sorted largest first: radii[0] is the largest).
+  DiskGrid grid(0, 0, Lx, Ly, 2 * radii.front() + gap, true);
   // Insertion of fibre k by RSA: `attempts` random centres, the first that fits is kept.
   const auto insert = [&](std::size_t k, int attempts) {
     Fibre f{Eigen::Vector2d::Zero(), radii[k]};
     for (int a = 0; a < attempts; ++a) {
       f.centre = random_centre();
-      if (fits(m, f, m.fibres.size(), m.fibres.size(), gap)) {
+      if (fits(m, grid, f, m.fibres.size(), gap)) {
         m.fibres.push_back(f);
+        grid.insert(static_cast<int>(m.fibres.size()) - 1, f.centre);
         return true;
       }
     }
@@ -206,7 +264,9 @@ Microstructure generate_random(double Lx, double Ly, const RandomFibres& spec, c
     for (std::size_t i = 0; i < m.fibres.size(); ++i) {
       Fibre moved = m.fibres[i];
       moved.centre = wrapped(m, moved.centre + step * Eigen::Vector2d(2 * unit(rng) - 1, 2 * unit(rng) - 1));
-      if (fits(m, moved, m.fibres.size(), i, gap)) {
+      if (fits(m, grid, moved, i, gap)) {
+        grid.remove(static_cast<int>(i), m.fibres[i].centre);
+        grid.insert(static_cast<int>(i), moved.centre);
         m.fibres[i] = moved;
         ++accepted;
       }

@@ -76,9 +76,8 @@ int run_stage(const char* stage, const std::function<void()>& body, Ranks sharin
     // The stages refuse what their estimates say will not fit before they allocate; what still
     // runs out asked for more than is free here (other processes hold the rest): the input's
     // size, not a fault of the stage.
-    return fail(exit_input_error, "error: out of memory: the input needs more than is free of this machine's " +
-                                      gigabytes(static_cast<double>(physical_memory_bytes())) +
-                                      " (fewer cells, elements, rows or points)");
+    return fail(exit_input_error, "error: out of memory: the input needs more than is free of " + memory_bound_text() +
+                                      " (fewer cells, elements, rows or points; or more MPI ranks)");
   } catch (const std::exception& e) {
     return fail(exit_internal_error, "internal error: " + one_line(e.what()));
   }

@@ -172,7 +172,7 @@ struct Command {
 };
 
 // The commands that read a file of `kind`, as the manifest names them.
-std::vector<Command> commands_for(const std::string& kind, const fs::path& file) {
+std::vector<Command> commands_for(const std::string& kind, const fs::path& file, const fs::path& points) {
   const std::string scene = " --config " + quoted(h5 / "tiny.toml");
   const std::string f = quoted(file);
   if (kind == "mesh")
@@ -185,7 +185,8 @@ std::vector<Command> commands_for(const std::string& kind, const fs::path& file)
   if (kind == "law")
     return {{"dualcell-export", " --law " + f + " --format json", "out.json", false},
             {"dualcell-export", " --law " + f + " --format csv", "out.csv", false},
-            {"dualcell-export", " --law " + f + " --format calculix", "out.inp", false}};
+            {"dualcell-export", " --law " + f + " --format calculix", "out.inp", false},
+            {"dualcell-law", " --law " + f + " --strain " + quoted(points), "out.csv", false}};
   if (kind == "law-calculix")
     return {{"dualcell-export", " --law " + f + " --format json", "out.json", true},
             {"dualcell-export", " --law " + f + " --format csv", "out.csv", true},
@@ -197,13 +198,14 @@ std::vector<Command> commands_for(const std::string& kind, const fs::path& file)
 void h5_files_of(const std::set<std::string>& kinds) {
   testing::ScratchDir dir;
   const fs::path out = dir / "out";
+  const fs::path points = dir.write("points.csv", "0.01,0,0\n");
   int seen = 0;
   for (const auto& row : manifest(h5 / "expected.tsv")) {
     ASSERT_EQ(row.fields.size(), 5u) << row.fields[0];
     const std::string &file = row.fields[0], &kind = row.fields[1];
     if (!kinds.count(kind)) continue;
     ++seen;
-    for (const Command& c : commands_for(kind, h5 / file)) {
+    for (const Command& c : commands_for(kind, h5 / file, points)) {
       SCOPED_TRACE(c.stage + c.args + " (" + row.fields[4] + ")");
       reset(out);
       const Outcome r = run(bin(c.stage) + " --quiet" + c.args + " --out " + quoted(out / c.out_name));

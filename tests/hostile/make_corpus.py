@@ -292,10 +292,14 @@ def build_scene_cases():
         case("nonfinite-" + name, content, "input", substring, "non-finite or extreme: " + name.replace("-", " "))
 
     # Extreme values that are valid and must be meshed without trouble
-    case("extreme-tiny-cell", scene(geometry={"cell_size": "1e-300", "fibre_radius": "3e-301"}), "ok", "",
-         "a cell of size 1e-300")
-    case("extreme-huge-cell", scene(geometry={"cell_size": "1e300", "fibre_radius": "3e299"}), "ok", "",
-         "a cell of size 1e300")
+    case("extreme-small-cell", scene(geometry={"cell_size": "1e-50", "fibre_radius": "3e-51"}), "ok", "",
+         "a cell of size 1e-50, the smallest (its area, the law's volume, 1e-100)")
+    case("extreme-large-cell", scene(geometry={"cell_size": "1e50", "fibre_radius": "3e49"}), "ok", "",
+         "a cell of size 1e50, the largest")
+    case("extreme-tiny-cell", scene(geometry={"cell_size": "1e-300", "fibre_radius": "3e-301"}), "input",
+         "cell_size in [1e-50, 1e50]", "a cell of size 1e-300 (its area underflows: no law)")
+    case("extreme-huge-cell", scene(geometry={"cell_size": "1e300", "fibre_radius": "3e299"}), "input",
+         "cell_size in [1e-50, 1e50]", "a cell of size 1e300 (its area overflows)")
     case("extreme-thin-ligament", scene(geometry={"fibre_radius": "0.4999999"}), "ok", "",
          "a fibre 1e-7 from its cell's edge")
 
@@ -335,6 +339,21 @@ def build_scene_cases():
          "too narrow to mesh", "a fibre the left edge cuts 1e-8 from its rim (a sliver), no min_gap")
     case("rve-tiny-fibre", rve({"size": "[1.0, 1.0]"}, [(0.5, 0.5, 0.3), (0.1, 0.5, 1e-7)]), "mesh-input",
          "below h/10", "a fibre of radius 1e-7 beside one of 0.3 (crashed gmsh inside its parallel meshing)")
+    for vf in ("1e-05", "1e-09"):
+        case(f"rve-vf-{vf}", rve({"size": "[1.0, 1.0]", "kind": "\"random\"", "volume_fraction": vf,
+                                  "radius": "[0.05, 0]"}), "mesh-input", "is less than half of one fibre",
+             f"random fibres to v_f {vf}, less than one fibre (meshed for minutes, 2.8 GB, without end)")
+    case("rve-fibres-160000", rve({"size": "[1000.0, 1000.0]", "kind": "\"random\"", "volume_fraction": "0.5",
+                                   "radius": "[1.0, 0]", "min_gap": "0.1"}), "input",
+         "fibres, more than the limit 10000", "160 000 random fibres (over 5 min silent in a quadratic placement)")
+    case("rve-size-huge", rve({"size": "[1e300, 1e300]", "kind": "\"random\"", "volume_fraction": "0.5",
+                               "radius": "[0.05, 0]"}), "input", "each in [1e-50, 1e50]",
+         "an RVE of size 1e300 (was called a jam)")
+    case("rve-size-tiny", rve({"size": "[1e-300, 1e-300]"}, [(5e-301, 5e-301, 3e-301)]), "input",
+         "each in [1e-50, 1e50]", "an RVE of size 1e-300 (a raw OpenCASCADE exception)")
+    case("rve-radius-sd", rve({"size": "[1.0, 1.0]", "kind": "\"random\"", "volume_fraction": "0.4",
+                               "radius": "[0.1, 0.03]"}), "input", "0 <= sd <= mean/4",
+         "a radius standard deviation above mean/4 (the README's rule said mean - 2 sd > 0)")
 
     # Material files: missing, a folder, a device, the scene itself, foreign keys
     case("material-missing", "material = \"no-such-material.toml\"\n" + table("geometry", GEOMETRY, {}), "input",
@@ -778,6 +797,42 @@ def write_h5(bin_dir):
     h5case("law", "law-cell-Y-nan.h5", "input", "/law/cell: non-finite entries",
            "a NaN in the exact law's openings per unit stress",
            edited(l, lambda f: f["/law/cell/Y"].__setitem__((0, 0), np.nan)))
+    h5case("law", "law-cell-H-zero.h5", "input", "the law is not convex",
+           "the exact law's interface flexibility all zero (an internal error in dualcell-structure)",
+           edited(l, lambda f: f["/law/cell/H"].__setitem__(slice(None), 0.0)))
+    h5case("law", "law-cell-H-negated.h5", "input", "the law is not convex",
+           "the exact law's interface flexibility negated (Newton for minutes on a non-convex law)",
+           edited(l, lambda f: replace(f, "/law/cell/H", -np.asarray(f["/law/cell/H"]))))
+    h5case("law", "law-cell-S0-shrunk.h5", "input", "is not positive definite on G p = 0",
+           "the open cell's compliance scaled by 1e-5: every block definite, the energy not",
+           edited(l, lambda f: replace(f, "/law/cell/S0", 1e-5 * np.asarray(f["/law/cell/S0"]))))
+    h5case("law", "law-cell-S0-huge.h5", "input", "/law/cell/S0: its largest entry is",
+           "the open cell's compliance at 1e300", edited(l, lambda f: replace(
+               f, "/law/cell/S0", 1e300 * np.asarray(f["/law/cell/S0"]))))
+    h5case("law", "law-cell-volume-tiny.h5", "input", "volume is 1e-308, not within",
+           "the cell's volume 1e-308 (a Cholesky failure, internal error)",
+           edited(l, lambda f: f["/law/cell/volume"].__setitem__(0, 1e-308)))
+
+    def declared_rows(n):
+        def edit(f):
+            g = f["/law/cell"]
+            for k in ("Y", "H", "G", "tangential", "pair", "lower_bonded", "upper_bonded", "lower_broken",
+                      "upper_broken"):
+                shape = list(g[k].shape)
+                if k == "H":
+                    shape = [n, n]
+                elif k == "G":
+                    shape[1] = n
+                else:
+                    shape[0] = n
+                dtype = g[k].dtype
+                del g[k]
+                g.create_dataset(k, shape=shape, dtype=dtype, compression="gzip", fillvalue=0)
+        return edited(l, edit)
+    for n in (16000, 40000):
+        h5case("law", f"law-cell-rows-{n}.h5", "input", f"declares {n} n_rows, at most 3000",
+               f"an exact law declaring {n} interface rows, stored compressed (allocated past 6 GB)",
+               declared_rows(n))
     h5case("law", "law-cell-bounds-open.h5", "input", "its bounds do not hold 0",
            "an interface row whose bonded bounds exclude zero",
            edited(l, lambda f: f["/law/cell/lower_bonded"].__setitem__(0, 1.0)))
