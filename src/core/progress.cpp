@@ -9,6 +9,8 @@
 #include <cstdlib>
 #include <cstring>
 
+#include "core/text.hpp"
+
 namespace dualcell {
 
 void GeometricEta::observe(long step, double distance, double seconds) {
@@ -44,7 +46,12 @@ Progress::Progress(std::string stage, bool enabled) : stage_(std::move(stage)), 
   if (const char* text = std::getenv("DUALCELL_PROGRESS_INTERVAL")) {
     char* end = nullptr;
     const double v = std::strtod(text, &end);
-    if (end != text && *end == '\0' && std::isfinite(v) && v >= 0) interval_ = std::min(v, 1e6);
+    if (end != text && *end == '\0' && std::isfinite(v) && v >= 0)
+      interval_ = std::min(v, 1e6);
+    else if (enabled_)
+      std::fprintf(stderr,
+                   "%s: warning: DUALCELL_PROGRESS_INTERVAL = '%s' is not a number of seconds >= 0: %g s used\n",
+                   stage_.c_str(), clipped(text).c_str(), interval_);
   }
   // A terminal shows the state from the start; a log gets its first line after one interval.
   next_ = terminal_ ? start_

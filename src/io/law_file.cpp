@@ -318,6 +318,8 @@ Law read_law(const std::filesystem::path& file) {
   if (f.exists(object("cone_after_fuse_check")))
     law.cone_after_fuse_check = read_cone_check(f, r, "cone_after_fuse_check");
   law.cell_note = f.read_string_attribute(group, "cell_note");
+  // Every message that says the law has no exact law quotes the reason: never an empty one.
+  if (!law.cell && law.cell_note.empty()) law.cell_note = "law.h5 gives no reason";
 
   law.units = f.read_string_attribute(group, "units");
   law.stress_state = f.read_string_attribute(group, "stress_state");

@@ -58,9 +58,8 @@ LawPointsSummary evaluate_law(const LawPointsOptions& options) {
   io::PointsReader points(options.points_file);
   const bool cell_form = options.form == LawForm::cell;
   if (cell_form && !law.cell)
-    throw InputError(options.law_file.string() + ": has no exact law" +
-                     (law.cell_note.empty() ? std::string() : " (" + law.cell_note + ")") +
-                     ": use --form cone for the compact one");
+    throw InputError(options.law_file.string() + ": has no exact law (" + law.cell_note +
+                     "): use --form cone for the compact one");
   if (!cell_form && !law.cone.ok)
     throw InputError(options.law_file.string() + ": has no cone-wise law" +
                      (law.cone.message.empty() ? std::string() : " (" + law.cone.message + ")"));

@@ -87,6 +87,12 @@ TEST_F(Progress, InAPipePlainLinesAtMostOnePerInterval) {
   EXPECT_EQ(log.output.find('\x1b'), std::string::npos) << log.output;
   ASSERT_FALSE(log.output.empty());
   EXPECT_EQ(log.output.back(), '\n');
+  // An interval that is not a number of seconds is said, not ignored without a word.
+  const auto bad = stderr_of("DUALCELL_PROGRESS_INTERVAL=soon " + solve_);
+  EXPECT_EQ(bad.exit_code, 0);
+  EXPECT_NE(bad.output.find("warning: DUALCELL_PROGRESS_INTERVAL = 'soon' is not a number of seconds >= 0: 5 s used"),
+            std::string::npos)
+      << bad.output;
 }
 
 TEST_F(Progress, UnderMpirunOnlyRankZeroPrints) {

@@ -114,6 +114,33 @@ TEST(RveMesher, AHexagonalArrayIsIsotropic) {
   EXPECT_LT(hi / lo - 1, 1e-3);
 }
 
+// An RVE is meshed the same in any unit: gmsh meshes a copy scaled by a power of two to a size in
+// [1, 2), so a cell 2⁻²⁰ the size (a micrometre-sized cell given in metres) is the same mesh node
+// for node, scaled exactly, and so is its strain under the same stress (the solution of a scaled
+// body: strains do not depend on the unit of length). OpenCASCADE's absolute tolerances (1e-7)
+// made such a cell fail inside gmsh; one of 1e-6 (not a power of two) meshes too.
+TEST(RveMesher, AnRveMeshesAlikeInAnyUnitOfLength) {
+  const double unit = std::ldexp(1.0, -20);
+  const std::vector<std::array<double, 3>> fibres = {{0.3, 0.4, 0.2}, {0.75, 0.8, 0.15}};
+  std::vector<std::array<double, 3>> small = fibres;
+  for (auto& f : small)
+    for (double& v : f) v *= unit;
+  const Scene big_scene = rve_scene(true, {1, 1}, fibres, 2), small_scene = rve_scene(true, {unit, unit}, small, 2);
+  const mesh::Mesh big = rve_mesh(big_scene), tiny = rve_mesh(small_scene);
+  ASSERT_EQ(big.n_nodes(), tiny.n_nodes());
+  ASSERT_EQ(big.triangles.size(), tiny.triangles.size());
+  double worst = 0;
+  for (int i = 0; i < big.n_nodes(); ++i) worst = std::max(worst, (big.nodes[i] * unit - tiny.nodes[i]).norm());
+  EXPECT_EQ(worst, 0.0);
+  const Eigen::Vector3d sigma(0.01, 0.002, 0.003);
+  EXPECT_LE((strain_of(big, big_scene, sigma) - strain_of(tiny, small_scene, sigma)).norm(),
+            1e-8 * strain_of(big, big_scene, sigma).norm());
+  std::vector<std::array<double, 3>> micro = fibres;
+  for (auto& f : micro)
+    for (double& v : f) v *= 1e-6;
+  EXPECT_GT(rve_mesh(rve_scene(true, {1e-6, 1e-6}, micro, 2)).n_nodes(), 0);
+}
+
 // The mesh of a random RVE: the fibres' triangles cover Σπr² as p2 elements with their rim
 // mid-sides on the exact circles do (the area missed falls like θ⁴ with the arc angle θ of an
 // element, 16× from degree 2 to 4; mid-sides on the chords would give θ², 4×; the test asks for

@@ -90,6 +90,38 @@ TEST(RandomFibres, AVolumeFractionThatJamsIsOneLineWithTheFractionReached) {
             std::string::npos);
 }
 
+// Less than half a fibre of the mean radius is refused (that one fibre would be scaled down far
+// below the radius asked for, and its mesh with it); just above half, it is one fibre, of a radius
+// within √2 of the mean.
+TEST(RandomFibres, LessThanHalfAFibreIsRefused) {
+  const double r = 0.05, one = std::numbers::pi * r * r;  // one fibre's volume fraction in 1 × 1
+  const std::string e = error_of([&] { generate_random(1, 1, {0.49 * one, r}, "rve.toml"); });
+  EXPECT_NE(e.find("rve.toml: volume_fraction = 0.0038"), std::string::npos) << e;
+  EXPECT_NE(e.find("is less than half of one fibre of radius 0.05"), std::string::npos) << e;
+  const Microstructure m = generate_random(1, 1, {0.51 * one, r}, "rve.toml");
+  ASSERT_EQ(m.fibres.size(), 1u);
+  EXPECT_NEAR(m.fibres[0].radius, r * std::sqrt(0.51), 1e-15);
+}
+
+// Placement, checks and statistics look up neighbours in a grid: many fibres cost what they
+// cost, linearly (a quadratic search took minutes at 160 000), with every rule still kept.
+TEST(RandomFibres, ThousandsOfFibresAreLinear) {
+  RandomFibres spec{0.5, 0.05, 0, 0.005, 3};
+  const double L = side(4000, 0.05, 0.5);
+  const Microstructure m = generate_random(L, L, spec, "test");
+  EXPECT_EQ(m.fibres.size(), 4000u);
+  expect_valid(m, spec);
+  // The statistics against the all-pairs definition.
+  const Statistics s = statistics(m);
+  double gap = INFINITY;
+  for (std::size_t i = 0; i < m.fibres.size(); i += 7)
+    for (std::size_t j = 0; j < m.fibres.size(); ++j)
+      if (j != i)
+        gap = std::min(gap, periodic_offset(m, m.fibres[i].centre, m.fibres[j].centre).norm() - m.fibres[i].radius -
+                                m.fibres[j].radius);
+  EXPECT_LE(s.gap_min, gap);
+}
+
 // A measured list: overlaps, a corner crossing and slivers are refused, naming the fibres.
 TEST(FibreList, OverlapsCornersAndSliversAreRefused) {
   Microstructure m{1, 1, {{{0.3, 0.5}, 0.1}, {{0.45, 0.5}, 0.1}}};
