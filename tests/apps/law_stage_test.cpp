@@ -295,6 +295,13 @@ TEST(LawStage, ExportKeepsACellFileThatAnotherCardNames) {
   EXPECT_EQ(std::string((std::istreambuf_iterator<char>(kept)), std::istreambuf_iterator<char>()), "another cell\n");
   EXPECT_EQ(run_command(export_cell + q(run.dir / "c.inp") + " --force").exit_code, exit_ok);
   EXPECT_EQ(run_command(export_cell + q(run.dir / "d.inp") + " --cell-id 2").exit_code, exit_ok);
+  // A fraction, finite: CLI::Range alone let NaN through.
+  const auto nan_bound = run_command(export_cell + q(run.dir / "e.inp") + " --max-law-error nan");
+  EXPECT_NE(nan_bound.exit_code, exit_ok);
+  EXPECT_NE(nan_bound.output.find("--max-law-error: 'nan' is not a finite number"), std::string::npos)
+      << nan_bound.output;
+  EXPECT_NE(run_command(export_cell + q(run.dir / "e.inp") + " --max-law-error 2").exit_code, exit_ok);
+  EXPECT_FALSE(std::filesystem::exists(run.dir / "e.inp"));
 }
 
 TEST(LawStage, TheJsonExportCarriesTheExactLaw) {
