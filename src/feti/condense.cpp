@@ -231,9 +231,21 @@ law::CondensedCell condense(const FetiSetup& setup, int max_rows) {
 
   law::CondensedCell cell;
   const Eigen::MatrixXd F = dual.explicit_F();
-  const MacroLoad load = macro_load(setup, dual, n_macro);
-  const StrainMap T = strain_map(setup, dual, load, n_macro);
-  const Modes modes = split_modes(Eigen::MatrixXd(dual.G()), E, load, T, n_macro);
+  MacroLoad load = macro_load(setup, dual, n_macro);
+  StrainMap T = strain_map(setup, dual, load, n_macro);
+  // The rigid-body modes' rows of G scaled to unit length, D = diag(1/‖G_g‖), with their loads e
+  // (rows) and the strain map's α (columns), so that the law is unchanged (G p = 0 is the same
+  // rows; a multiplier of a scaled row scales back through α). A rotation's row carries lengths
+  // and a translation's none: unscaled, the split below measured the round-off of one against
+  // the size of the other, and a cell of size 3e4 lost its law ("a macro stress loads a body held
+  // only by interface rows").
+  Eigen::MatrixXd G(dual.G());
+  Eigen::VectorXd D(G.rows());
+  for (Eigen::Index g = 0; g < G.rows(); ++g) D(g) = G.row(g).norm() > 0 ? 1 / G.row(g).norm() : 1.0;
+  G = D.asDiagonal() * G;
+  load.e = D.asDiagonal() * load.e;
+  T.alpha = T.alpha * D.asDiagonal();
+  const Modes modes = split_modes(G, E, load, T, n_macro);
   for (Eigen::Index g = 0; g < modes.e_N.rows(); ++g)
     if (modes.e_N.row(g).norm() > load_round_off * std::max(load.e.norm(), 1e-300))
       throw InputError("a macro stress loads a body held only by interface rows: this cell has no condensed law");

@@ -25,8 +25,8 @@ constexpr double pinned_round_off = 1e-8;
 constexpr double round_off_move = 1e-12;
 // Corrections of the warm start before the method falls back to x = 0.
 constexpr int max_guesses = 6;
-// A subproblem's solution this close to its bounds (relative to 1 + |x|) is feasible: round-off
-// of the LU solve, far below any step the method takes.
+// A subproblem's solution this close to its bounds (relative to its own size, in each variable's
+// unit) is feasible: round-off of the LU solve, far below any step the method takes.
 constexpr double feasibility_slack = 1e-12;
 
 }  // namespace
@@ -196,10 +196,21 @@ bool DenseActiveSet::refactorise(DenseQpResult& out) {
   return factorised_;
 }
 
-bool DenseActiveSet::feasible(const Eigen::VectorXd& l, const Eigen::VectorXd& u, const Eigen::VectorXd& x_free) const {
+double DenseActiveSet::scaled_size(const Eigen::VectorXd& x, const Eigen::VectorXd& x_free) const {
+  double size = 0;
+  for (std::size_t j = 0; j < free_.size(); ++j)
+    size = std::max(size, (std::abs(x(free_[j])) + std::abs(x_free(j))) / kkt_scale_(static_cast<Eigen::Index>(j)));
+  return size;
+}
+
+bool DenseActiveSet::feasible(const Eigen::VectorXd& l, const Eigen::VectorXd& u, const Eigen::VectorXd& x,
+                              const Eigen::VectorXd& x_free) const {
+  // Round-off of the solve in each variable's own unit: the scaled solution's size times its scale
+  // (an absolute slack of 1e-12 was a sixth of the forces of a cell of size 1e-10).
+  const double size = scaled_size(x, x_free);
   for (std::size_t j = 0; j < free_.size(); ++j) {
     const int i = free_[j];
-    const double slack = feasibility_slack * (1 + std::abs(x_free(j)));
+    const double slack = feasibility_slack * (std::abs(x_free(j)) + kkt_scale_(static_cast<Eigen::Index>(j)) * size);
     if (x_free(j) < l(i) - slack || x_free(j) > u(i) + slack) return false;
   }
   return true;
@@ -215,7 +226,7 @@ bool DenseActiveSet::warm_start(const Eigen::VectorXd& b, const Eigen::VectorXd&
     if (!refactorise(out)) break;
     solve_subproblem(b, x, x_free, mu);
     ++out.iterations;
-    if (feasible(l, u, x_free)) {
+    if (feasible(l, u, x, x_free)) {
       for (std::size_t j = 0; j < free_.size(); ++j) x(free_[j]) = std::clamp(x_free(j), l(free_[j]), u(free_[j]));
       return true;
     }
@@ -236,17 +247,19 @@ bool DenseActiveSet::warm_start(const Eigen::VectorXd& b, const Eigen::VectorXd&
 }
 
 bool DenseActiveSet::step_towards(const Eigen::VectorXd& l, const Eigen::VectorXd& u, const Eigen::VectorXd& x_free,
-                                  double b_scale, Eigen::VectorXd& x) {
+                                  Eigen::VectorXd& x) {
   // A move of round-off size (a variable the rows of C pin, at 0 up to round-off) blocks
-  // nothing: holding it would make the working set dependent.
-  const double x_scale = std::max({x.lpNorm<Eigen::Infinity>(), x_free.lpNorm<Eigen::Infinity>(), b_scale});
+  // nothing: holding it would make the working set dependent. Round-off in each variable's own
+  // unit (the equilibration's scale): a cell's macro stresses and its interface forces differ
+  // by the cell's size, and one size for all made the forces of a small cell round-off.
+  const double size = scaled_size(x, x_free);
   double step = 1;
   int blocking = -1;
   Bound blocking_bound = Bound::free;
   for (std::size_t j = 0; j < free_.size(); ++j) {
     const int i = free_[j];
     double d = x_free(j) - x(i);
-    if (pinned_[j] || std::abs(d) <= round_off_move * x_scale) d = 0;
+    if (pinned_[j] || std::abs(d) <= round_off_move * kkt_scale_(static_cast<Eigen::Index>(j)) * size) d = 0;
     if (d < 0 && std::isfinite(l(i)) && (l(i) - x(i)) / d < step)
       step = std::max(0.0, (l(i) - x(i)) / d), blocking = i, blocking_bound = Bound::lower;
     if (d > 0 && std::isfinite(u(i)) && (u(i) - x(i)) / d < step)
@@ -314,9 +327,6 @@ DenseQpResult DenseActiveSet::solve(const Eigen::VectorXd& b, const Eigen::Vecto
     free_a_basis();
   }
 
-  // The size of x that b asks for, ‖b‖/‖A‖, for a problem whose x is 0 so far.
-  if (A_max_ < 0) A_max_ = A.size() > 0 ? A.cwiseAbs().maxCoeff() : 0.0;  // once per problem
-  const double b_scale = b.lpNorm<Eigen::Infinity>() / std::max(A_max_, std::numeric_limits<double>::min());
   const int max_iterations = 10 * static_cast<int>(n) + 50;
   while (out.iterations <= max_iterations) {
     if (!at_subproblem_solution) {
@@ -328,7 +338,7 @@ DenseQpResult DenseActiveSet::solve(const Eigen::VectorXd& b, const Eigen::Vecto
       ++out.iterations;
       // Step from x towards the subproblem's solution, as far as the bounds allow; a bound met
       // joins the working set and the next subproblem is solved.
-      if (step_towards(l, u, x_free, b_scale, x)) continue;
+      if (step_towards(l, u, x_free, x)) continue;
       at_subproblem_solution = true;
     }
     // At the subproblem's solution: the multipliers of the held bounds (zero where free), each

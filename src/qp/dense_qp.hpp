@@ -82,15 +82,19 @@ class DenseActiveSet {
   // Factorises the working set's free set unless the kept factorisation is of the same one;
   // false when singular.
   bool refactorise(DenseQpResult& out);
+  // The size of x and the subproblem's solution x_free in the equilibrated unknowns (x_j / S_j over
+  // the free variables): S_j times it is variable j's own scale, for round-off tests.
+  double scaled_size(const Eigen::VectorXd& x, const Eigen::VectorXd& x_free) const;
   // Whether the free variables of a subproblem's solution lie within their bounds.
-  bool feasible(const Eigen::VectorXd& l, const Eigen::VectorXd& u, const Eigen::VectorXd& x_free) const;
+  bool feasible(const Eigen::VectorXd& l, const Eigen::VectorXd& u, const Eigen::VectorXd& x,
+                const Eigen::VectorXd& x_free) const;
   // The warm start from working_ (see the file comment); true when it ends at a subproblem's
   // feasible solution, which x then holds.
   bool warm_start(const Eigen::VectorXd& b, const Eigen::VectorXd& l, const Eigen::VectorXd& u, Eigen::VectorXd& x,
                   Eigen::VectorXd& x_free, Eigen::VectorXd& mu, DenseQpResult& out);
   // Moves x towards the subproblem's solution x_free as far as the bounds allow; true when a
   // bound blocked the step (its variable joins the working set).
-  bool step_towards(const Eigen::VectorXd& l, const Eigen::VectorXd& u, const Eigen::VectorXd& x_free, double b_scale,
+  bool step_towards(const Eigen::VectorXd& l, const Eigen::VectorXd& u, const Eigen::VectorXd& x_free,
                     Eigen::VectorXd& x);
   // At a subproblem's solution: the multipliers ν of the held bounds into nu, and the held bound
   // whose multiplier has the wrong sign by the most beyond round-off (−1: none, x is optimal).
@@ -99,7 +103,6 @@ class DenseActiveSet {
 
   const Eigen::MatrixXd& A_;
   const Eigen::MatrixXd& C_;
-  double A_max_ = -1;           // max |A_ij|, once (−1: not yet)
   std::vector<Bound> working_;  // the working set of the kept factorisation
   std::vector<int> free_, kept_rows_;
   std::vector<char> pinned_;   // per free variable: fixed by the rows of C (it cannot move)

@@ -125,6 +125,34 @@ TEST_P(CondensedContact, ReproducesTheCellAtDirectionsItNeverSaw) {
   }
 }
 
+// The law does not depend on the unit of length: the same cell at sizes 1, 1e10 and 1e-10 (its
+// fibre scaled with it; stresses, strains and the strengths, tractions in 2D, carry no length)
+// gives the same strains for the same stresses, through the first breaks. The modes' rows of G, a rotation's carrying
+// lengths and a translation's none, are scaled to unit length before the condensation splits them; unscaled, a cell of
+// size 3e4 lost its law.
+TEST(CondensedUnits, TheLawIsTheSameInAnyUnitOfLength) {
+  std::vector<Eigen::Vector3d> strains;
+  for (const double size : {1.0, 1e10, 1e-10}) {
+    Scene scene = cell_scene(Boundary::periodic, Element::p2, 1, 1, 0.05);
+    scene.geometry.cell_size = size;
+    scene.geometry.fibre_radius = 0.3 * size;
+    const mesh::Mesh mesh = mesh::build_mesh(scene.geometry);
+    ContactSolver solver(mesh, scene);
+    const law::CondensedCell cell = condense(solver.setup());
+    ASSERT_EQ(law::consistency_problem(cell), "") << size;
+    law::CellEvaluator law(cell);
+    law::CellHistory h = law.unloaded();
+    for (const double s : {0.02, 0.06, 0.1}) {
+      const law::CellResponse r = law.at_stress(s * Eigen::Vector3d(1.0, 0.3, 0.2), h);
+      ASSERT_TRUE(r.ok) << size << ": " << r.message;
+      strains.push_back(r.strain);
+    }
+  }
+  // The three sizes' strains agree to the round-off of the condensation (a few 1e-14 measured).
+  for (std::size_t k = 3; k < strains.size(); ++k)
+    EXPECT_LE((strains[k] - strains[k % 3]).norm(), 1e-10 * strains[k % 3].norm()) << k;
+}
+
 // With adhesion: the exact onset, then a path through the fuse with the bonds carried along it,
 // against the full solver stepping the same path (sweep::LoadWalk); stress-driven, and
 // strain-driven along the strains it reached.
