@@ -384,6 +384,10 @@ std::string law_umat(const Law& law, const std::string& name, const std::string&
 
 std::string umat_cell_file(int id) { return "dualcell-cell-" + std::to_string(id) + ".txt"; }
 
+std::string umat_cell_hash_constants(std::uint64_t hash) {
+  return card_number(static_cast<double>(hash >> 32)) + ", " + card_number(static_cast<double>(hash & 0xffffffffULL));
+}
+
 std::string law_umat_cell(const Law& law, const std::string& name, int id, std::uint64_t cell_hash,
                           const std::string& source) {
   check_name(name);
@@ -412,8 +416,7 @@ std::string law_umat_cell(const Law& law, const std::string& name, int id, std::
   out += "*MATERIAL, NAME=ABAQUS_" + name + "\n";
   out += "*USER MATERIAL, CONSTANTS=7\n";
   out += card_number(2) + ", " + card_number(id) + ", " + card_number(z.E3) + ", " + card_number(z.G_longitudinal) +
-         ", " + card_number(z.G_longitudinal) + ", " + card_number(static_cast<double>(cell_hash >> 32)) + ", " +
-         card_number(static_cast<double>(cell_hash & 0xffffffffULL)) + "\n";
+         ", " + card_number(z.G_longitudinal) + ", " + umat_cell_hash_constants(cell_hash) + "\n";
   out += "*DEPVAR\n" + std::to_string(depvar) + "\n";
   return out;
 }

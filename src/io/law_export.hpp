@@ -41,5 +41,7 @@ std::string law_umat(const law::Law& law, const std::string& name, const std::st
 std::string law_umat_cell(const law::Law& law, const std::string& name, int id, std::uint64_t cell_hash,
                           const std::string& source);
 std::string umat_cell_file(int id);
+// The card's constants 6 and 7 as written: the cell file's hash, high and low 32 bits.
+std::string umat_cell_hash_constants(std::uint64_t hash);
 
 }  // namespace dualcell::io

@@ -3,6 +3,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
+#include <iterator>
 #include <map>
 #include <optional>
 #include <sstream>
@@ -37,6 +39,15 @@ std::string describe(const law::Law& law, io::ExportFormat format, const std::st
 
 }  // namespace
 
+namespace {
+
+std::string read_text(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+}  // namespace
+
 std::string export_law(const ExportOptions& options) {
   if (!options.form.empty() && options.format != io::ExportFormat::umat)
     throw InputError("--form " + options.form + ": only for --format umat (the other formats carry the fitted laws)");
@@ -53,13 +64,20 @@ std::string export_law(const ExportOptions& options) {
     law::write_cell_text(cell_text, *law.cell);
     const std::uint64_t cell_hash = text_hash_value(cell_text.str());
     // Another cell under the same id: a card written before names that file (by its hash, which
-    // the umat checks), so replacing it would break that card's analysis.
-    std::error_code ec;
-    if (!options.force && std::filesystem::is_regular_file(cell_file, ec) &&
-        file_hash(cell_file) != text_hash(cell_text.str()))
-      throw InputError(cell_file.string() +
-                       ": holds another cell (a card written before names it by its hash): "
-                       "choose another --cell-id, or --force to replace it");
+    // the umat checks), so replacing it would break that card's analysis, unless that card is
+    // the one --out replaces now (a rerun writes both again).
+    if (!options.force && std::filesystem::is_regular_file(cell_file)) {
+      const std::string old_cell = read_text(cell_file);
+      const std::uint64_t old_hash = text_hash_value(old_cell);
+      const bool card_replaced_too =
+          std::filesystem::is_regular_file(options.out) &&
+          std::filesystem::file_size(options.out) < (std::uintmax_t{1} << 20) &&
+          read_text(options.out).find(io::umat_cell_hash_constants(old_hash)) != std::string::npos;
+      if (old_hash != cell_hash && !card_replaced_too)
+        throw InputError(cell_file.string() +
+                         ": holds another cell (a card written before names it by its hash): "
+                         "choose another --cell-id, or --force to replace it");
+    }
     const std::string card =
         io::law_umat_cell(law, options.name, options.cell_id, cell_hash, options.law_file.string());
     io::AtomicOutputs outputs;

@@ -10,8 +10,10 @@
 #include <sstream>
 
 #include "core/exit_codes.hpp"
+#include "core/hash.hpp"
 #include "core/strain.hpp"
 #include "fit/fit.hpp"
+#include "io/law_export.hpp"
 #include "io/law_file.hpp"
 #include "io/points_csv.hpp"
 #include "io/sweep_file.hpp"
@@ -293,6 +295,11 @@ TEST(LawStage, ExportKeepsACellFileThatAnotherCardNames) {
   EXPECT_FALSE(std::filesystem::exists(run.dir / "c.inp"));
   std::ifstream kept(cell_file);
   EXPECT_EQ(std::string((std::istreambuf_iterator<char>(kept)), std::istreambuf_iterator<char>()), "another cell\n");
+  // A rerun replaces the card that names the file together with the file: allowed.
+  run.dir.write("rerun.inp",
+                "** a card\n2, 1, 1, 1, 1, " + io::umat_cell_hash_constants(text_hash_value("another cell\n")) + "\n");
+  EXPECT_EQ(run_command(export_cell + q(run.dir / "rerun.inp")).exit_code, exit_ok);
+  run.dir.write("dualcell-cell-1.txt", "another cell\n");
   EXPECT_EQ(run_command(export_cell + q(run.dir / "c.inp") + " --force").exit_code, exit_ok);
   EXPECT_EQ(run_command(export_cell + q(run.dir / "d.inp") + " --cell-id 2").exit_code, exit_ok);
   // A fraction, finite: CLI::Range alone let NaN through.
