@@ -3,8 +3,9 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <limits>
+
+#include "core/text.hpp"
 
 namespace dualcell::law {
 
@@ -21,16 +22,10 @@ constexpr double magnitude_limit = 1e100;
 
 bool in_magnitude(double size) { return size >= 1 / magnitude_limit && size <= magnitude_limit; }
 
-std::string magnitude_text(double v) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.3g", v);
-  return text;
-}
-
 // The smallest pivot of the Cholesky factor of the equilibrated energy (unit diagonal) that
 // tells a positive definite matrix from a singular one: the factorisation's backward error is a
-// small multiple of N ε (Higham, Accuracy and Stability, §10.1), so a pivot below 64 N ε could be
-// round-off of a zero. The cells of the pipelines have 5e-3 or more.
+// small multiple of N ε (docs/method.md §16a), so a pivot below 64 N ε could be round-off of a
+// zero. The cells of the pipelines have 5e-3 or more.
 double pivot_floor(Eigen::Index N) { return 64.0 * static_cast<double>(N) * std::numeric_limits<double>::epsilon(); }
 
 }  // namespace
@@ -113,7 +108,7 @@ std::optional<CellProblem> size_problem(const CondensedCell& cell) {
       if (m.values == Values::positive && !(value > 0 && std::isfinite(value)))
         report(name + " is not positive and finite");
       else if (m.values == Values::positive && !in_magnitude(value))
-        report(name + " is " + magnitude_text(value) + ", not within 1e-100 … 1e100");
+        report(name + " is " + formatted("%.3g", value) + ", not within 1e-100 … 1e100");
     } else if constexpr (ArrayMember<T> || ListMember<T>) {
       long rows = static_cast<long>(value.size()), cols = 1;
       if constexpr (ArrayMember<T>) rows = value.rows(), cols = value.cols();
@@ -153,7 +148,7 @@ std::optional<CellProblem> value_problem(const CondensedCell& cell) {
           value.allFinite()) {
         const double size = value.cwiseAbs().maxCoeff();
         if (size > 0 && !in_magnitude(size))
-          report("its largest entry is " + magnitude_text(size) + ", not within 1e-100 … 1e100");
+          report("its largest entry is " + formatted("%.3g", size) + ", not within 1e-100 … 1e100");
       }
       for (Eigen::Index r = 0; r < value.size(); ++r)
         if ((m.values == Values::at_most_zero && !(value.coeff(r) <= 0)) ||
@@ -175,10 +170,6 @@ std::optional<CellProblem> value_problem(const CondensedCell& cell) {
   if (!not_definite.empty()) return CellProblem{"", not_definite + " is not positive definite"};
   return entry;
 }
-
-}  // namespace
-
-namespace {
 
 // 𝓗 positive definite on the kernel of the fibres' rows [0 G]: the strain-driven law is then
 // strictly convex on every admissible set, and each of its QPs has one solution. 𝓗 + CᵀC is
@@ -208,7 +199,7 @@ std::optional<CellProblem> convexity_problem(const CondensedCell& cell) {
     return CellProblem{"",
                        "the energy [|Ω|S0 −Yᵀ; −Y H] is not positive definite on G p = 0 (smallest equilibrated "
                        "pivot " +
-                           magnitude_text(smallest) + ", below " + magnitude_text(pivot_floor(N)) +
+                           formatted("%.3g", smallest) + ", below " + formatted("%.3g", pivot_floor(N)) +
                            "): the law is not convex"};
   return std::nullopt;
 }

@@ -45,12 +45,37 @@ ConeResponse cone_at(const law::Law& law, const Eigen::Vector3d& value, bool str
   return r;
 }
 
-}  // namespace
+// values.csv's header: the path (with that column), the other quantity and the tangent by row.
+std::string header_line(bool has_path, bool strain_driven, bool cell_form) {
+  std::string out = has_path ? "path," : "";
+  out += strain_driven ? "sxx,syy,sxy" : "exx,eyy,gxy";
+  for (int i = 1; i <= 3; ++i)
+    for (int j = 1; j <= 3; ++j) {
+      out.append(",C");
+      out.push_back(static_cast<char>('0' + i));
+      out.push_back(static_cast<char>('0' + j));
+    }
+  out += cell_form ? ",broken_pairs\n" : ",fused\n";
+  return out;
+}
+
+// One row of values.csv, appended piece by piece (GCC 12 warns falsely on chains of string
+// concatenation).
+void append_row(std::string& out, const std::string* path, const Eigen::Vector3d& other, const Eigen::Matrix3d& tangent,
+                long broken) {
+  if (path) out.append(*path).push_back(',');
+  for (int k = 0; k < 3; ++k) out.append(csv_number(other(k))).push_back(',');
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b) out.append(csv_number(tangent(a, b))).push_back(',');
+  out.append(std::to_string(broken)).push_back('\n');
+}
 
 // The histories of the paths held at once (one per path value seen): at most this many bytes.
 constexpr std::size_t max_history_bytes = std::size_t{1} << 30;
 // Output is appended in pieces of about this size, so it is never held whole.
 constexpr std::size_t output_piece = std::size_t{1} << 20;
+
+}  // namespace
 
 LawPointsSummary evaluate_law(const LawPointsOptions& options) {
   io::check_outputs({options.out}, {options.law_file, options.points_file});
@@ -82,26 +107,15 @@ LawPointsSummary evaluate_law(const LawPointsOptions& options) {
   const int n_finite = cell_form ? law.cell->n_macro : 3;
   double seconds = 0;
   io::LawPoint point;
-  bool header = true;
   while (points.next(point)) {
-    if (header) {
-      out += points.has_path() ? "path," : "";
-      out += options.strain_driven ? "sxx,syy,sxy" : "exx,eyy,gxy";
-      for (int i = 1; i <= 3; ++i)
-        for (int j = 1; j <= 3; ++j) {
-          out.append(",C");
-          out.push_back(static_cast<char>('0' + i));
-          out.push_back(static_cast<char>('0' + j));
-        }
-      out += cell_form ? ",broken_pairs\n" : ",fused\n";
-      header = false;
-    }
-    const std::string where = options.points_file.string() + ":" + std::to_string(point.line) + ": ";
+    // After the first row: whether the file has the path column is known then.
+    if (summary.rows == 0) out = header_line(points.has_path(), options.strain_driven, cell_form);
+    const auto where = [&] { return options.points_file.string() + ":" + std::to_string(point.line) + ": "; };
     const Eigen::Vector3d& v = point.value;
     if (points.has_path() && !(cell_form ? histories.count(point.path) : fused_paths.count(point.path))) {
       held_bytes += history_bytes + point.path.size();
       if (held_bytes > max_history_bytes)
-        throw InputError(where + "path '" + clipped(point.path) + "' is the " +
+        throw InputError(where() + "path '" + clipped(point.path) + "' is the " +
                          std::to_string((cell_form ? histories.size() : fused_paths.size()) + 1) +
                          "th path held at once; their histories would pass the 1 GiB dualcell-law keeps (split the "
                          "file by path)");
@@ -115,7 +129,7 @@ LawPointsSummary evaluate_law(const LawPointsOptions& options) {
       law::CellHistory& h = points.has_path() ? histories.try_emplace(point.path, evaluator->unloaded()).first->second
                                               : (fresh = evaluator->unloaded());
       const law::CellResponse r = options.strain_driven ? evaluator->at_strain(v, h) : evaluator->at_stress(v, h);
-      if (!r.ok) throw InputError(where + r.message);
+      if (!r.ok) throw InputError(where() + r.message);
       other = options.strain_driven ? r.stress : r.strain;
       tangent = r.tangent;
       broken = r.broken;
@@ -132,15 +146,10 @@ LawPointsSummary evaluate_law(const LawPointsOptions& options) {
     seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     // No NaN or Inf leaves with exit 0: an input this large overflows the law's answer.
     if (!other.head(n_finite).allFinite() || !tangent.topLeftCorner(n_finite, n_finite).allFinite())
-      throw InputError(where + "the law's answer at (" + shortest(v(0)) + ", " + shortest(v(1)) + ", " +
+      throw InputError(where() + "the law's answer at (" + shortest(v(0)) + ", " + shortest(v(1)) + ", " +
                        shortest(v(2)) + ") is not finite (the input is beyond what the law carries in doubles)");
     ++summary.rows;
-    // Appended piece by piece (GCC 12 warns falsely on chains of string concatenation).
-    if (points.has_path()) out.append(point.path).push_back(',');
-    for (int k = 0; k < 3; ++k) out.append(csv_number(other(k))).push_back(',');
-    for (int a = 0; a < 3; ++a)
-      for (int b = 0; b < 3; ++b) out.append(csv_number(tangent(a, b))).push_back(',');
-    out.append(std::to_string(broken)).push_back('\n');
+    append_row(out, points.has_path() ? &point.path : nullptr, other, tangent, broken);
     if (out.size() >= output_piece) {
       outputs.append(options.out, out);
       out.clear();

@@ -37,10 +37,6 @@ std::string describe(const law::Law& law, io::ExportFormat format, const std::st
   return "";
 }
 
-}  // namespace
-
-namespace {
-
 std::string read_text(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);
   return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());

@@ -56,10 +56,11 @@ const Loaded& load(int id) {
       error = "cannot be opened";
     } else {
       // Read whole to hash it: at most max_cell_rows rows, a few hundred MB of text at worst.
-      std::ostringstream text;
-      text << in.rdbuf();
-      law.hash = dualcell::text_hash_value(text.str());
-      std::istringstream parse(text.str());
+      std::ostringstream read;
+      read << in.rdbuf();
+      std::string text = std::move(read).str();
+      law.hash = dualcell::text_hash_value(text);
+      std::istringstream parse(std::move(text));
       CondensedCell cell = dualcell::law::read_cell_text(parse, error);
       if (error.empty() && cell.n_macro != 3)
         error = "the cell carries no shear (n_macro 2): a material point needs all three";
