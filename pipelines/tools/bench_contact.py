@@ -41,8 +41,8 @@ CONTACT_STRESS = "0.01,0,0"
 BREAK_STRESS = "0.05,0,0"
 BEAM_BONDED_STRENGTH = 1e3
 DEFAULT_SUBDOMAIN_DOFS = 0  # core/scene.hpp's SolverSettings::subdomain_dofs: the matrix whole
-FIELDS = ("operator_applications", "cg_steps", "expansion_steps", "proportioning_steps", "outer_iterations",
-          "debond_rounds", "newly_broken", "tightenings")
+FIELDS = ("operator_applications", "cg_steps", "expansion_steps", "proportioning_steps", "face_solves", "face_steps",
+          "outer_iterations", "debond_rounds", "newly_broken", "tightenings")
 KKT = ("relative_projected_gradient", "relative_equality_residual", "max_penetration")
 
 
@@ -72,8 +72,8 @@ def solve_case(bin_dir, folder, scene_text, stress):
             # step's applications and breaks; the steps' kinds of MPRGP step are not kept.
             row["operator_applications"] = int(f["steps/operator_applications"][:].sum())
             row["newly_broken"] = int(f["steps/newly_broken"][:].sum())
-            for k in ("cg_steps", "expansion_steps", "proportioning_steps", "outer_iterations", "debond_rounds",
-                      "tightenings"):
+            for k in ("cg_steps", "expansion_steps", "proportioning_steps", "face_solves", "face_steps",
+                      "outer_iterations", "debond_rounds", "tightenings"):
                 row[k] = ""
             row["steps"] = len(f["steps/factor"])
         row["seconds_qp"] = float(solver["seconds_qp"])
@@ -150,7 +150,8 @@ def beam_cases(bin_dir, cell_scene, root, depths, adhesion_depths):
 
 
 COLUMNS = ("problem", "size", "seed", "cut", "mode", "rows", "subdomains", "steps", "operator_applications", "ratio",
-           "cg_steps", "expansion_steps", "proportioning_steps", "outer_iterations", "debond_rounds", "newly_broken",
+           "cg_steps", "expansion_steps", "proportioning_steps", "face_solves", "face_steps", "outer_iterations",
+           "debond_rounds", "newly_broken",
            "tightenings", "seconds_qp", "seconds", "exit") + KKT
 
 
@@ -167,18 +168,20 @@ def with_ratios(rows):
 def markdown(rows):
     md = ["# The contact solver's ladder (tools/bench_contact.py)", "",
           "F applications of one solve (all included: norm estimates, CG, expansion (2 each) and "
-          "proportioning steps, every debond round and tightening); ratio: over the bonded solve of the "
+          "proportioning steps, the face solves' CG steps (docs/method.md §7b), every debond round and "
+          "tightening); ratio: over the bonded solve of the "
           "same problem; exit 4: written, not converged. RVE: sxx = 1e-3 bonded, 1e-2 in contact, 5e-2 "
           "past the first break (most bonds break); beam: bending (bonded and contact) and the "
           "cantilever's fuse steps (break: the applications of all its load steps, whose kinds of "
           "step are not kept).", "",
           "| problem | size | seed | subdomain_dofs (0: matrix whole) | mode | rows | F applications | ratio | load steps | CG | expansion | "
-          "proportioning | outer | debond rounds | QP s | command s | exit | rel. gP | rel. Gl-e |",
-          "|---|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+          "proportioning | faces | face CG | outer | debond rounds | QP s | command s | exit | rel. gP | rel. Gl-e |",
+          "|---|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
     for r in rows:
         md.append(f"| {r['problem']} | {r['size']} | {r['seed'] or ''} | {r['cut']} | {r['mode']} | {r['rows']} | "
                   f"{r['operator_applications']} | {r['ratio']:.2f} | {r['steps']} | {r['cg_steps']} | {r['expansion_steps']} | "
-                  f"{r['proportioning_steps']} | {r['outer_iterations']} | {r['debond_rounds']} | "
+                  f"{r['proportioning_steps']} | {r['face_solves']} | {r['face_steps']} | {r['outer_iterations']} | "
+                  f"{r['debond_rounds']} | "
                   f"{r['seconds_qp']:.2f} | {r['seconds']:.2f} | {r['exit']} | "
                   f"{r['relative_projected_gradient']:.1e} | {r['relative_equality_residual']:.1e} |")
     summary = ["", "Median over the realisations (default cut):", "",

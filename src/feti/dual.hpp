@@ -126,6 +126,8 @@ class DualProblem {
   int n_rows() const { return constraints_.n_rows(); }
   int n_G_rows() const { return static_cast<int>(G_.rows()); }
   const Eigen::SparseMatrix<double, Eigen::RowMajor>& G() const { return G_; }
+  // DG, G's rows scaled to unit length (D = diag(1/‖G_i‖)): the coarse solves' form of G.
+  const Eigen::SparseMatrix<double, Eigen::RowMajor>& scaled_G() const { return DG_; }
 
   // y = F x (one application: per subdomain a K⁺ solve, or a dense product with F_s where
   // explicit, spread over setup().threads(); the local results are summed in subdomain order,

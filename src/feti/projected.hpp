@@ -4,8 +4,11 @@
 // estimate of PFP that every cached problem carries. Shared by the contact solver's QPs and its
 // onset problems.
 #include <Eigen/Core>
+#include <Eigen/SparseCore>
 
 #include "feti/dual.hpp"
+#include "linalg/sparse_cholesky.hpp"
+#include "qp/face.hpp"
 
 namespace dualcell::feti {
 
@@ -29,6 +32,24 @@ class ProjectedPlusShiftedQ {
   const DualProblem& dual_;
   Apply T_;
   Eigen::VectorXd Qx_, Px_, TPx_, QTPx_;
+};
+
+// SMALBE's face solve on the dual (qp/face.hpp, docs/method.md §7b), with the rows of unit length
+// DG: S = (DG)_F (DG)_Fᵀ + δI factorised by CHOLMOD once per face. S is singular where the free
+// rows leave a rigid motion unseen (every contact row of a fibre open, a fibre touching at one
+// row); δ = 1e-13 of S's largest diagonal entry makes it definite, and on those modes Ĝ_Fᵀ c
+// vanishes anyway. A coarse row with no free entry is decoupled (its diagonal set to 1, c = 0).
+class FaceCoarse final : public qp::FaceProjector {
+ public:
+  explicit FaceCoarse(const DualProblem& dual) : DG_(dual.scaled_G()) {}
+  bool set_face(const Eigen::VectorXd& free) override;
+  void solve_coarse(const Eigen::VectorXd& w, Eigen::VectorXd& c) override;
+  void apply_Gt(const Eigen::VectorXd& c, Eigen::VectorXd& v) override;
+
+ private:
+  const Eigen::SparseMatrix<double, Eigen::RowMajor>& DG_;
+  Eigen::VectorXd free_, Gw_;
+  linalg::SparseCholesky S_;
 };
 
 // ‖PFP‖ by qp::estimate_norm (20 applications from a fixed start vector): part of building a

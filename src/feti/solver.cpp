@@ -95,6 +95,36 @@ double estimate_norm_PFP(const DualProblem& dual) {
   return qp::estimate_norm([&](const Eigen::VectorXd& x, Eigen::VectorXd& y) { PFP(x, 0.0, y); }, m);
 }
 
+bool FaceCoarse::set_face(const Eigen::VectorXd& free) {
+  free_ = free;
+  using ColMajor = linalg::SparseCholesky::SparseMatrix;
+  const Eigen::SparseMatrix<double, Eigen::RowMajor> DG_F = DG_ * free_.asDiagonal();
+  ColMajor S = ColMajor(DG_F * DG_F.transpose());
+  const Eigen::Index n = S.rows();
+  const Eigen::VectorXd diagonal = S.diagonal();
+  const double delta = 1e-13 * (diagonal.size() ? diagonal.maxCoeff() : 0.0);
+  if (!(delta > 0)) return false;
+  ColMajor shift(n, n);
+  std::vector<Eigen::Triplet<double>> t;
+  t.reserve(n);
+  for (Eigen::Index i = 0; i < n; ++i) t.emplace_back(i, i, diagonal(i) > 0 ? delta : 1.0);
+  shift.setFromTriplets(t.begin(), t.end());
+  S += shift;
+  try {
+    S_.compute(S);
+  } catch (const linalg::CholeskyError&) {
+    return false;
+  }
+  return true;
+}
+
+void FaceCoarse::solve_coarse(const Eigen::VectorXd& w, Eigen::VectorXd& c) {
+  Gw_.noalias() = DG_ * w;
+  S_.solve(Gw_, c);
+}
+
+void FaceCoarse::apply_Gt(const Eigen::VectorXd& c, Eigen::VectorXd& v) { v.noalias() = DG_.transpose() * c; }
+
 ContactSolver::ContactSolver(const mesh::Mesh& mesh, const Scene& scene, int threads, int min_dofs_per_thread,
                              par::Group group, Progress* progress, double expected_qps)
     : setup_(mesh, scene, threads, min_dofs_per_thread, std::move(group), progress, expected_qps),
@@ -206,6 +236,8 @@ Solution ContactSolver::solve_problem(const DualProblem& dual, double norm_PFP, 
   // SMALBE's m = Ĝᵀμ, in λ-space; warm-started with the caller's when it fits this problem.
   Eigen::VectorXd multiplier = Eigen::VectorXd::Zero(m);
   if (warm_multiplier && warm_multiplier->size() == m) multiplier = *warm_multiplier;
+  FaceCoarse face(dual);
+  options.face_projector = &face;
   out.qp = qp::smalbe(A, Q, b, lower, upper, lambda_shift, multiplier, options);
   out.seconds.qp = seconds_since(t_qp);
   out.seconds.in_qp = dual.profile() - profile_before;

@@ -23,6 +23,8 @@ struct Counters {
   long operator_applications = 0;        // applications of the caller's A (incl. norm estimation)
   long preconditioner_applications = 0;  // applications of the preconditioner, not of A
   long outer_iterations = 0;             // SMALBE only
+  long face_solves = 0;                  // SMALBE's face solves (qp/face.hpp), refused ones not counted
+  long face_steps = 0;                   // their CG steps (not in cg_steps)
   // The work of two solves together (e.g. the QPs of one load, before and after breaks).
   Counters& operator+=(const Counters& other);
 };
@@ -40,6 +42,8 @@ inline constexpr CounterField counter_fields[] = {
     {"expansion_steps", &Counters::expansion_steps},
     {"proportioning_steps", &Counters::proportioning_steps},
     {"preconditioner_applications", &Counters::preconditioner_applications},
+    {"face_solves", &Counters::face_solves},
+    {"face_steps", &Counters::face_steps},
 };
 
 inline Counters& Counters::operator+=(const Counters& other) {

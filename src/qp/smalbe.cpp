@@ -52,9 +52,11 @@
 //   M⁻¹, M⁻¹_ρ          opts.preconditioner, inner.preconditioner
 #include "qp/smalbe.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <vector>
 
 #include "qp/bounds.hpp"
 
@@ -226,6 +228,22 @@ Result smalbe(const LinearOperator& A, const LinearOperator& Q, const Eigen::Vec
     return gP_norm <= xi * Qx_norm;
   };
 
+  // The face solve's state: where each component was after the previous outer iteration (0 free,
+  // 1 at l, 2 at u), and whether a face solve already ran on this active set.
+  std::vector<signed char> where(n, -1);
+  bool face_tried = false;
+  // Faces that did not end the solve; after max_face_failures of them, none is tried again. On
+  // the stability matrix a stiff cell (E_f/E_m = 1e6, bonds of strength 1e-6) met its face's
+  // test but not SMALBE's every other outer iteration, 200 of them, where without faces it
+  // converged in 39; the ladder's solves need at most one failed face before the one that ends it.
+  constexpr int max_face_failures = 2;
+  int face_failures = 0;
+  FaceWorkspace face_work;
+  Eigen::VectorXd face_g;
+  FaceOptions face_options;
+  face_options.tolerance = 0.5 * tolerance_g;
+  face_options.preconditioner = opts.preconditioner;
+
   double lagrangian_previous = 0.0;
   double Qx_norm_previous = 0.0;
   long slow_iterations = 0;  // consecutive outer iterations with too little feasibility gain
@@ -276,6 +294,51 @@ Result smalbe(const LinearOperator& A, const LinearOperator& Q, const Eigen::Vec
       result.status = inner_result.status;
       message << "smalbe: outer iteration " << k << ": " << inner_result.message;
       break;
+    }
+    if (opts.face_projector) {
+      long changes = 0;
+      for (Eigen::Index i = 0; i < n; ++i) {
+        const signed char w = x(i) <= l(i) ? 1 : x(i) >= u(i) ? 2 : 0;
+        changes += w != where[i];
+        where[i] = w;
+      }
+      if (changes > 0) face_tried = false;
+      if (k > 0 && changes <= opts.face_changes && !face_tried && face_failures < max_face_failures &&
+          inner_result.status == Status::converged) {
+        face_tried = true;
+        // A face solve may cost at most half of what the solve has cost so far: one that does not
+        // settle is paid for and forgotten (x and m come back unchanged).
+        face_options.max_steps = std::min(counters.operator_applications / 2,
+                                          opts.max_operator_applications - counters.operator_applications);
+        const FaceResult face = solve_on_face(A, b, l, u, *opts.face_projector, face_options, x, m, face_g, face_work);
+        counters += face.counters;
+        if (face.non_finite) return fail_non_finite("the face solve");
+        bool passed = false;
+        if (face.outcome == FaceOutcome::converged) {
+          // The penalty's bookkeeping below keeps the outer iteration's ‖Qx‖: the face's is ~0 and
+          // would make the next iteration look slow.
+          Q(x, Qx);
+          const double face_Qx_norm = Qx.norm();
+          const double face_gP = projected_gradient_norm(x, face_g, l, u);
+          if (opts.on_outer)
+            opts.on_outer({counters.outer_iterations, face_gP / scale, face_Qx_norm * scale_A / scale,
+                           counters.operator_applications, rho});
+          passed = face_gP <= tolerance_g && face_Qx_norm <= tolerance_e;
+          if (!passed) {
+            // A face that meets its own test but not SMALBE's (its S is regularised, so Q x is
+            // only as small as S's conditioning allows): SMALBE goes on from where it was.
+            x = face_work.x_start;
+            m = face_work.m_start;
+          }
+        }
+        if (passed) {
+          Qx_norm = Qx.norm();
+          work.g = face_g;
+          result.status = Status::converged;
+          break;
+        }
+        if (face.outcome != FaceOutcome::refused) ++face_failures;
+      }
     }
     // A shortfall within the round-off of L is no evidence: ξ is not decreased for it.
     const double shortfall = lagrangian_previous + 0.5 * rho * Qx_norm * Qx_norm - lagrangian;
