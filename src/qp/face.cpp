@@ -90,7 +90,10 @@ FaceResult solve_on_face(const LinearOperator& A, const Eigen::VectorXd& b, cons
   // multiplier has the wrong sign are freed, and the face is solved again from there, until
   // neither happens and the face's minimum meets the tolerance.
   for (int round = 0; round < opts.max_rounds; ++round) {
-    if (!projector.set_face(work.free)) break;
+    if (!projector.set_face(work.free)) {
+      if (round == 0) return result;  // refused: nothing changed
+      break;
+    }
     // The nearest point of the face with Ĝ x = 0; it may leave the box, as CG's iterates may:
     // only the face's minimiser must stay inside.
     projector.solve_coarse(x, work.c);
