@@ -48,7 +48,7 @@ class FaceCoarse final : public qp::FaceProjector {
 
  private:
   const Eigen::SparseMatrix<double, Eigen::RowMajor>& DG_;
-  Eigen::VectorXd free_, Gw_;
+  Eigen::VectorXd Gw_;
   linalg::SparseCholesky S_;
 };
 

@@ -96,9 +96,8 @@ double estimate_norm_PFP(const DualProblem& dual) {
 }
 
 bool FaceCoarse::set_face(const Eigen::VectorXd& free) {
-  free_ = free;
   using ColMajor = linalg::SparseCholesky::SparseMatrix;
-  const Eigen::SparseMatrix<double, Eigen::RowMajor> DG_F = DG_ * free_.asDiagonal();
+  const Eigen::SparseMatrix<double, Eigen::RowMajor> DG_F = DG_ * free.asDiagonal();
   ColMajor S = ColMajor(DG_F * DG_F.transpose());
   const Eigen::Index n = S.rows();
   const Eigen::VectorXd diagonal = S.diagonal();

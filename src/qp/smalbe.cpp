@@ -55,6 +55,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <vector>
 
@@ -65,6 +66,86 @@ namespace dualcell::qp {
 namespace {
 constexpr int power_iterations = 20;
 constexpr double epsilon = std::numeric_limits<double>::epsilon();
+
+// SMALBE's side of the face solve (qp/face.hpp): when a face is due, and what is kept of it.
+class FaceFinish {
+ public:
+  struct Outcome {
+    bool non_finite = false;
+    bool converged_face = false;  // the face solve converged (gP_norm, Qx_norm are its)
+    bool passed = false;          // and its point passes SMALBE's stopping test: the solve ends
+    double gP_norm = 0, Qx_norm = 0;
+  };
+  FaceFinish(const SmalbeOptions& opts, Eigen::Index n, double tolerance_g)
+      : projector_(*opts.face_projector),
+        max_changes_(opts.face_changes),
+        max_applications_(opts.max_operator_applications),
+        where_(n, -1) {
+    options_.tolerance = 0.5 * tolerance_g;
+    options_.preconditioner = opts.preconditioner;
+  }
+  // After outer iteration k: a face is due when the inner solve converged with at most
+  // face_changes components changed between free, at l and at u since the previous outer
+  // iteration, no face ran on this active set yet, and fewer than max_failures faces failed.
+  bool due(long k, Status inner, const Eigen::VectorXd& x, const Eigen::VectorXd& l, const Eigen::VectorXd& u) {
+    long changes = 0;
+    for (Eigen::Index i = 0; i < x.size(); ++i) {
+      const signed char w = x(i) <= l(i) ? 1 : x(i) >= u(i) ? 2 : 0;
+      changes += w != where_[i];
+      where_[i] = w;
+    }
+    if (changes > 0) tried_ = false;
+    return k > 0 && changes <= max_changes_ && !tried_ && failures_ < max_failures && inner == Status::converged;
+  }
+  // One face solve from x, m. A face that converges but misses SMALBE's test (its S is
+  // regularised, so Q x is only as small as S's conditioning allows) gives x and m back as
+  // they were; Qx holds Q x of the face's point when it converged.
+  Outcome attempt(const LinearOperator& A, const LinearOperator& Q, const Eigen::VectorXd& b, const Eigen::VectorXd& l,
+                  const Eigen::VectorXd& u, Eigen::VectorXd& x, Eigen::VectorXd& m, Eigen::VectorXd& Qx,
+                  double tolerance_g, double tolerance_e, Counters& counters) {
+    tried_ = true;
+    // A face solve may cost at most half of what the solve has cost so far: one that does not
+    // settle is paid for and forgotten (x and m come back unchanged).
+    options_.max_steps =
+        std::min(counters.operator_applications / 2, max_applications_ - counters.operator_applications);
+    const FaceResult face = solve_on_face(A, b, l, u, projector_, options_, x, m, g_, work_);
+    counters += face.counters;
+    Outcome out;
+    out.non_finite = face.non_finite;
+    if (face.non_finite) return out;
+    if (face.outcome == FaceOutcome::converged) {
+      Q(x, Qx);
+      out.converged_face = true;
+      out.Qx_norm = Qx.norm();
+      out.gP_norm = projected_gradient_norm(x, g_, l, u);
+      out.passed = out.gP_norm <= tolerance_g && out.Qx_norm <= tolerance_e;
+      if (!out.passed) {
+        x = work_.x_start;
+        m = work_.m_start;
+      }
+    }
+    if (!out.passed && face.outcome != FaceOutcome::refused) ++failures_;
+    return out;
+  }
+  // The Lagrangian gradient at the face's point, after an attempt that passed.
+  const Eigen::VectorXd& gradient() const { return g_; }
+
+ private:
+  // After this many faces that did not end the solve none is tried again. On the stability
+  // matrix a stiff cell (E_f/E_m = 1e6, bonds of strength 1e-6) met its face's test but not
+  // SMALBE's every other outer iteration, 200 of them, where without faces it converged in 39;
+  // the ladder's solves need at most one failed face before the one that ends it.
+  static constexpr int max_failures = 2;
+  FaceProjector& projector_;
+  long max_changes_, max_applications_;
+  std::vector<signed char> where_;  // per component after the previous outer iteration: 0 free, 1 at l, 2 at u
+  bool tried_ = false;              // a face already ran on this active set
+  int failures_ = 0;
+  FaceOptions options_;
+  FaceWorkspace work_;
+  Eigen::VectorXd g_;
+};
+
 }  // namespace
 
 std::string check_options(const SmalbeOptions& opts) {
@@ -228,21 +309,8 @@ Result smalbe(const LinearOperator& A, const LinearOperator& Q, const Eigen::Vec
     return gP_norm <= xi * Qx_norm;
   };
 
-  // The face solve's state: where each component was after the previous outer iteration (0 free,
-  // 1 at l, 2 at u), and whether a face solve already ran on this active set.
-  std::vector<signed char> where(n, -1);
-  bool face_tried = false;
-  // Faces that did not end the solve; after max_face_failures of them, none is tried again. On
-  // the stability matrix a stiff cell (E_f/E_m = 1e6, bonds of strength 1e-6) met its face's
-  // test but not SMALBE's every other outer iteration, 200 of them, where without faces it
-  // converged in 39; the ladder's solves need at most one failed face before the one that ends it.
-  constexpr int max_face_failures = 2;
-  int face_failures = 0;
-  FaceWorkspace face_work;
-  Eigen::VectorXd face_g;
-  FaceOptions face_options;
-  face_options.tolerance = 0.5 * tolerance_g;
-  face_options.preconditioner = opts.preconditioner;
+  std::optional<FaceFinish> face;
+  if (opts.face_projector) face.emplace(opts, n, tolerance_g);
 
   double lagrangian_previous = 0.0;
   double Qx_norm_previous = 0.0;
@@ -295,49 +363,17 @@ Result smalbe(const LinearOperator& A, const LinearOperator& Q, const Eigen::Vec
       message << "smalbe: outer iteration " << k << ": " << inner_result.message;
       break;
     }
-    if (opts.face_projector) {
-      long changes = 0;
-      for (Eigen::Index i = 0; i < n; ++i) {
-        const signed char w = x(i) <= l(i) ? 1 : x(i) >= u(i) ? 2 : 0;
-        changes += w != where[i];
-        where[i] = w;
-      }
-      if (changes > 0) face_tried = false;
-      if (k > 0 && changes <= opts.face_changes && !face_tried && face_failures < max_face_failures &&
-          inner_result.status == Status::converged) {
-        face_tried = true;
-        // A face solve may cost at most half of what the solve has cost so far: one that does not
-        // settle is paid for and forgotten (x and m come back unchanged).
-        face_options.max_steps = std::min(counters.operator_applications / 2,
-                                          opts.max_operator_applications - counters.operator_applications);
-        const FaceResult face = solve_on_face(A, b, l, u, *opts.face_projector, face_options, x, m, face_g, face_work);
-        counters += face.counters;
-        if (face.non_finite) return fail_non_finite("the face solve");
-        bool passed = false;
-        if (face.outcome == FaceOutcome::converged) {
-          // The penalty's bookkeeping below keeps the outer iteration's ‖Qx‖: the face's is ~0 and
-          // would make the next iteration look slow.
-          Q(x, Qx);
-          const double face_Qx_norm = Qx.norm();
-          const double face_gP = projected_gradient_norm(x, face_g, l, u);
-          if (opts.on_outer)
-            opts.on_outer({counters.outer_iterations, face_gP / scale, face_Qx_norm * scale_A / scale,
-                           counters.operator_applications, rho});
-          passed = face_gP <= tolerance_g && face_Qx_norm <= tolerance_e;
-          if (!passed) {
-            // A face that meets its own test but not SMALBE's (its S is regularised, so Q x is
-            // only as small as S's conditioning allows): SMALBE goes on from where it was.
-            x = face_work.x_start;
-            m = face_work.m_start;
-          }
-        }
-        if (passed) {
-          Qx_norm = Qx.norm();
-          work.g = face_g;
-          result.status = Status::converged;
-          break;
-        }
-        if (face.outcome != FaceOutcome::refused) ++face_failures;
+    if (face && face->due(k, inner_result.status, x, l, u)) {
+      const FaceFinish::Outcome f = face->attempt(A, Q, b, l, u, x, m, Qx, tolerance_g, tolerance_e, counters);
+      if (f.non_finite) return fail_non_finite("the face solve");
+      if (f.converged_face && opts.on_outer)
+        opts.on_outer({counters.outer_iterations, f.gP_norm / scale, f.Qx_norm * scale_A / scale,
+                       counters.operator_applications, rho});
+      if (f.passed) {
+        Qx_norm = f.Qx_norm;
+        work.g = face->gradient();
+        result.status = Status::converged;
+        break;
       }
     }
     // A shortfall within the round-off of L is no evidence: ξ is not decreased for it.
