@@ -1,6 +1,5 @@
 #include "rve/mesher.hpp"
 
-#include <gmsh.h>
 #include <metis.h>
 
 #include <algorithm>
@@ -16,6 +15,7 @@
 #include "core/error.hpp"
 #include "core/text.hpp"
 #include "rve/disk_grid.hpp"
+#include "rve/gmsh_model.hpp"
 
 namespace dualcell::rve {
 
@@ -43,18 +43,6 @@ std::vector<Image> images_in(const Microstructure& m) {
       }
   return out;
 }
-
-// gmsh's global state for one mesh: initialised quietly, finalised on every way out.
-struct GmshSession {
-  GmshSession() {
-    gmsh::initialize(0, nullptr, false);
-    gmsh::option::setNumber("General.Terminal", 0);
-    gmsh::model::add("rve");
-  }
-  ~GmshSession() { gmsh::finalize(); }
-  GmshSession(const GmshSession&) = delete;
-  GmshSession& operator=(const GmshSession&) = delete;
-};
 
 // The smallest element is h/smallest_element_divisor: the size field refines narrow gaps down to
 // it and no further. A gap narrower than h/narrowest_gap_divisor is refused: its elements, that
@@ -103,84 +91,6 @@ class SizeField {
   DiskGrid grid_;
   std::vector<Fibre> circles_;
 };
-
-// One surface of the fragmented geometry: the matrix (image −1) or a fibre piece.
-struct Surface {
-  int tag = 0;
-  int image = -1;
-};
-
-// Builds the OpenCASCADE geometry, fragments it and keeps what lies in the rectangle; the
-// right and top curves are made periodic copies of the left and bottom ones.
-std::vector<Surface> build_geometry(const Microstructure& m, const std::vector<Image>& images) {
-  namespace occ = gmsh::model::occ;
-  const int rectangle = occ::addRectangle(0, 0, 0, m.Lx, m.Ly);
-  gmsh::vectorpair disks;
-  for (const Image& im : images)
-    disks.push_back({2, occ::addDisk(im.centre.x(), im.centre.y(), 0, im.radius, im.radius)});
-  gmsh::vectorpair pieces;
-  std::vector<gmsh::vectorpair> children;
-  occ::fragment({{2, rectangle}}, disks, pieces, children);
-  // No synchronize before the outside pieces are removed: gmsh 4.8 does not free the model
-  // entities that a later synchronize drops (AddressSanitizer reports them as leaks).
-  // children[0]: the pieces of the rectangle; children[1 + j]: those of disk j. A piece of both
-  // is the part of image j inside the rectangle.
-  std::set<int> inside;
-  for (const auto& [dim, tag] : children[0]) inside.insert(tag);
-  std::map<int, int> image_of;
-  for (std::size_t j = 0; j < images.size(); ++j)
-    for (const auto& [dim, tag] : children[1 + j])
-      if (inside.count(tag)) image_of[tag] = static_cast<int>(j);
-  gmsh::vectorpair outside;
-  for (const auto& [dim, tag] : pieces)
-    if (!inside.count(tag)) outside.push_back({dim, tag});
-  if (!outside.empty()) occ::remove(outside, true);
-  occ::synchronize();
-  std::vector<Surface> surfaces;
-  for (int tag : inside) surfaces.push_back({tag, image_of.count(tag) ? image_of[tag] : -1});
-
-  // Periodic edges: every curve on the right (top) side is the copy of the curve on the left
-  // (bottom) side at the same place, matched by their bounding boxes.
-  const double L = std::max(m.Lx, m.Ly), eps = 1e-7 * L;
-  const auto curves_on = [&](double x0, double y0, double x1, double y1) {
-    gmsh::vectorpair c;
-    gmsh::model::getEntitiesInBoundingBox(x0 - eps, y0 - eps, -eps, x1 + eps, y1 + eps, eps, c, 1);
-    return c;
-  };
-  const auto box = [](int tag) {
-    std::array<double, 6> b{};
-    gmsh::model::getBoundingBox(1, tag, b[0], b[1], b[2], b[3], b[4], b[5]);
-    return b;
-  };
-  const auto match = [&](const gmsh::vectorpair& from, const gmsh::vectorpair& to, double dx, double dy) {
-    for (const auto& [d, t] : to) {
-      const auto bt = box(t);
-      int master = -1;
-      for (const auto& [e, s] : from) {
-        const auto bs = box(s);
-        if (std::abs(bs[0] + dx - bt[0]) < 10 * eps && std::abs(bs[1] + dy - bt[1]) < 10 * eps &&
-            std::abs(bs[3] + dx - bt[3]) < 10 * eps && std::abs(bs[4] + dy - bt[4]) < 10 * eps)
-          master = s;
-      }
-      if (master < 0) throw InputError("an edge curve has no periodic partner on the opposite side");
-      gmsh::model::mesh::setPeriodic(1, {t}, {master}, {1, 0, 0, dx, 0, 1, 0, dy, 0, 0, 1, 0, 0, 0, 0, 1});
-    }
-  };
-  match(curves_on(0, 0, 0, m.Ly), curves_on(m.Lx, 0, m.Lx, m.Ly), m.Lx, 0);
-  match(curves_on(0, 0, m.Lx, 0), curves_on(0, m.Ly, m.Lx, m.Ly), 0, m.Ly);
-  return surfaces;
-}
-
-// The triangles of one surface as rows of gmsh node tags (3 or 6 per row, gmsh's order is ours:
-// corners, then the mid-sides of (0,1), (1,2), (2,0)).
-std::vector<std::vector<std::size_t>> triangles_of(int surface, int width) {
-  std::vector<std::size_t> element_tags, node_tags;
-  gmsh::model::mesh::getElementsByType(width == 3 ? 2 : 9, element_tags, node_tags, surface);
-  std::vector<std::vector<std::size_t>> rows;
-  for (std::size_t e = 0; e < element_tags.size(); ++e)
-    rows.emplace_back(node_tags.begin() + e * width, node_tags.begin() + (e + 1) * width);
-  return rows;
-}
 
 // The matrix triangles' parts: METIS on the dual graph (triangles sharing an edge) into
 // n_parts, then each part's connected pieces (a METIS part need not be connected), numbered in
@@ -309,22 +219,23 @@ void add_pairs(mesh::Mesh& mesh, const std::map<std::size_t, std::vector<std::pa
   }
 }
 
-// The gmsh mesh of the fragmented geometry, split and turned into the solver's mesh.
-// gmsh's mesh of the unit cell (images: its fibre pieces there) back in the cell's units (× unit).
+// gmsh's mesh of the unit cell (images: its fibre pieces there), split into subdomains and turned
+// into the solver's mesh, back in the cell's units (× unit).
 mesh::Mesh collect_mesh(const Geometry& geometry, const Microstructure& m, const std::vector<Image>& images,
-                        const std::vector<Surface>& surfaces, int subdomain_dofs, double unit, MeshReport& report) {
+                        const gmsh_model::Result& meshed, int subdomain_dofs, double unit, MeshReport& report) {
   const int width = geometry.element == Element::p1 ? 3 : 6;
-  std::vector<std::size_t> tags;
-  std::vector<double> xyz, parametric;
-  gmsh::model::mesh::getNodes(tags, xyz, parametric, -1, -1, false, false);
+  const auto row_size = static_cast<std::size_t>(width);
   std::unordered_map<std::size_t, Eigen::Vector2d> position;
-  for (std::size_t i = 0; i < tags.size(); ++i) position[tags[i]] = {unit * xyz[3 * i], unit * xyz[3 * i + 1]};
+  for (std::size_t i = 0; i < meshed.node_tags.size(); ++i)
+    position[meshed.node_tags[i]] = {unit * meshed.xyz[3 * i], unit * meshed.xyz[3 * i + 1]};
 
   // Subdomains: the matrix's parts, then one per fibre piece (in the order of their images).
   std::vector<std::vector<std::size_t>> matrix;
   std::vector<std::pair<int, std::vector<std::vector<std::size_t>>>> fibres;  // (image, triangles)
-  for (const Surface& s : surfaces) {
-    auto rows = triangles_of(s.tag, width);
+  for (const gmsh_model::Surface& s : meshed.surfaces) {
+    std::vector<std::vector<std::size_t>> rows;
+    for (std::size_t e = 0; e + row_size <= s.triangles.size(); e += row_size)
+      rows.emplace_back(s.triangles.begin() + e, s.triangles.begin() + e + row_size);
     if (s.image < 0)
       matrix.insert(matrix.end(), rows.begin(), rows.end());
     else
@@ -437,34 +348,20 @@ mesh::Mesh build_rve_mesh(const Geometry& geometry, int subdomain_dofs, const st
   unit_cell.Lx /= unit, unit_cell.Ly /= unit;
   for (Fibre& f : unit_cell.fibres) f.centre /= unit, f.radius /= unit;
   const std::vector<Image> images = images_in(unit_cell);
+  gmsh_model::Request request;
+  request.Lx = unit_cell.Lx, request.Ly = unit_cell.Ly;
+  for (const Image& im : images) request.images.push_back({im.centre.x(), im.centre.y(), im.radius});
+  request.size_max = h / unit;
+  request.size_min = h / unit / smallest_element_divisor;
+  const SizeField size(unit_cell, h / unit);
+  request.size = [&size](double x, double y) { return size(x, y); };
+  request.p2 = geometry.element == Element::p2;
   const Clock::time_point start = Clock::now();
+  const gmsh_model::Result meshed = gmsh_model::mesh(request);
+  if (!meshed.error.empty()) throw InputError(where + ": the RVE mesher: " + meshed.error);
+  r.seconds_gmsh = seconds_since(start);
   try {
-    GmshSession session;
-    // gmsh reports an error by an exception of its own; its last error is the message.
-    const auto gmsh_error = [] {
-      std::string message;
-      gmsh::logger::getLastError(message);
-      return InputError("gmsh failed: " + (message.empty() ? std::string("no message") : message));
-    };
-    try {
-      const std::vector<Surface> surfaces = build_geometry(unit_cell, images);
-      gmsh::option::setNumber("Mesh.Algorithm", 6);  // Frontal-Delaunay
-      gmsh::option::setNumber("Mesh.MeshSizeFromPoints", 0);
-      gmsh::option::setNumber("Mesh.MeshSizeFromCurvature", 0);
-      gmsh::option::setNumber("Mesh.MeshSizeExtendFromBoundary", 0);
-      gmsh::option::setNumber("Mesh.MeshSizeMax", h / unit);
-      gmsh::option::setNumber("Mesh.MeshSizeMin", h / unit / smallest_element_divisor);
-      const SizeField size(unit_cell, h / unit);
-      gmsh::model::mesh::setSizeCallback([&size](int, int, double x, double y, double) { return size(x, y); });
-      gmsh::model::mesh::generate(2);
-      if (geometry.element == Element::p2) gmsh::model::mesh::setOrder(2);
-      r.seconds_gmsh = seconds_since(start);
-      return collect_mesh(geometry, m, images, surfaces, subdomain_dofs, unit, r);
-    } catch (const InputError&) {
-      throw;
-    } catch (...) {
-      throw gmsh_error();
-    }
+    return collect_mesh(geometry, m, images, meshed, subdomain_dofs, unit, r);
   } catch (const InputError& e) {
     throw InputError(where + ": the RVE mesher: " + e.what());
   }
