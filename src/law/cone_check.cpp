@@ -54,9 +54,11 @@ CellSample sample_cell(const CondensedCell& cell, int n) {
     const CellResponse r = evaluator.at_stress(s * N, history);
     Eigen::Vector3d e = r.strain;
     if (cell.n_macro == 2) e(2) = 0;
-    if (!r.ok || r.broken > 0) e.setConstant(std::numeric_limits<double>::quiet_NaN());
+    const bool failed = !r.ok || r.broken > 0;
+    if (failed) e.setConstant(std::numeric_limits<double>::quiet_NaN());
     sample.strain.push_back(e);
     sample.stress.push_back(s * N);
+    sample.forces.push_back(failed ? Eigen::VectorXd() : r.forces);
   }
   return sample;
 }
@@ -81,8 +83,10 @@ CellSample sample_cell_past_fuse(const CondensedCell& cell, int n, double factor
       if (at_fuse.ok && r.ok) {
         e = r.strain;
         if (cell.n_macro == 2) e(2) = 0;
+        sample.forces.push_back(r.forces);
       }
     }
+    if (sample.forces.size() < sample.strain.size() + 1) sample.forces.emplace_back();
     sample.strain.push_back(e);
     sample.stress.push_back((std::isfinite(onset) ? factor * onset : 1.0) * N);
   }
@@ -100,17 +104,23 @@ CheckedAgainst checked_against_from(const std::string& text) {
 }
 
 ConeCheck check_cone(const ConeLaw& cone, const CellSample& sample) {
+  return check_law([&](const Eigen::Vector3d& e) { return evaluate(cone, e).stress; }, sample);
+}
+
+ConeCheck check_law(const std::function<Eigen::Vector3d(const Eigen::Vector3d&)>& stress_at, const CellSample& sample) {
   ConeCheck check;
   check.directions = sample.direction;
   double sum = 0;
   int counted = 0;
   for (std::size_t i = 0; i < sample.direction.size(); ++i) {
+    if (!sample.strain[i].allFinite()) {  // the exact law has no point here: not counted
+      check.error.push_back(std::numeric_limits<double>::quiet_NaN());
+      continue;
+    }
     const double s = sample.stress[i].norm();
-    const double error = sample.strain[i].allFinite()
-                             ? (evaluate(cone, sample.strain[i]).stress - sample.stress[i]).norm() / s
-                             : std::numeric_limits<double>::quiet_NaN();
+    double error = (stress_at(sample.strain[i]) - sample.stress[i]).norm() / s;
+    if (!std::isfinite(error)) error = std::numeric_limits<double>::infinity();  // the law has none: the worst
     check.error.push_back(error);
-    if (!std::isfinite(error)) continue;
     sum += error * error;
     ++counted;
     if (error > check.max_error) check.max_error = error, check.worst = sample.direction[i];

@@ -10,6 +10,7 @@
 // ‖σ_cone(ε) − sN‖ / s — what a structure code with the compact law gets wrong at a strain the
 // cell really takes.
 #include <Eigen/Core>
+#include <functional>
 #include <limits>
 #include <string>
 #include <vector>
@@ -49,6 +50,7 @@ struct ConeCheck {
 // evaluation fails or breaks a bond has a NaN strain.
 struct CellSample {
   std::vector<Eigen::Vector3d> direction, strain, stress;
+  std::vector<Eigen::VectorXd> forces;  // p at each point (empty where the strain is NaN)
 };
 CellSample sample_cell(const CondensedCell& cell, int n);
 
@@ -65,7 +67,10 @@ inline constexpr double past_fuse_load_ratio = 2;
 inline constexpr int past_fuse_steps = 8;
 CellSample sample_cell_past_fuse(const CondensedCell& cell, int n, double factor);
 
-// The check over a sample of the exact law (sample_cell); polar_* are left empty.
+// The check over a sample of the exact law (sample_cell) of any compact law, given as its stress at
+// a strain (NaN where it has none); polar_* are left empty.
+ConeCheck check_law(const std::function<Eigen::Vector3d(const Eigen::Vector3d&)>& stress_at, const CellSample& sample);
+// check_law of the cone-wise law.
 ConeCheck check_cone(const ConeLaw& cone, const CellSample& sample);
 // The exact law's apparent moduli around the circle (polar_moduli), each from the intact cell at
 // the load s = 1 (½ s*(N) with adhesion, so that no bond breaks); NaN where an evaluation fails.

@@ -8,35 +8,20 @@
 #include <Eigen/Dense>
 #include <random>
 
-#include "feti/condense.hpp"
-#include "feti/solver.hpp"
 #include "fit/cone_fit.hpp"
+#include "law/condensed_cells.hpp"
 #include "law/cone_check.hpp"
-#include "mesh/mesh.hpp"
-#include "test_util.hpp"
 
 namespace dualcell::fit {
 namespace {
-
-law::CondensedCell contact_cell(const Eigen::Vector2d& offset, double strength = 0) {
-  Scene s = parse_scene(testing::scene_text(1, 1, 2, 0.3), "test.toml");
-  s.geometry.element = Element::p2;
-  s.geometry.fibre_offset = {offset.x(), offset.y()};
-  s.fibre = {30.0, 0.22};
-  s.matrix = {1.0, 0.35};
-  s.load.boundary = Boundary::periodic;
-  s.interface.normal_strength = s.interface.tangential_strength = strength;
-  const mesh::Mesh mesh = mesh::build_mesh(s.geometry);
-  feti::ContactSolver solver(mesh, s);
-  return feti::condense(solver.setup());
-}
 
 TEST(ConeToCell, TheCompactLawHasTheCellsSymmetriesExactly) {
   Eigen::Matrix3d swap;
   swap << 0, 1, 0, 1, 0, 0, 0, 0, 1;
   for (const bool centred : {true, false}) {
     SCOPED_TRACE(centred ? "centred fibre" : "off-centre fibre");
-    const law::CondensedCell cell = contact_cell(centred ? Eigen::Vector2d::Zero() : Eigen::Vector2d(0.07, -0.04));
+    const law::CondensedCell cell =
+        testing::periodic_contact_cell(centred ? Eigen::Vector2d::Zero() : Eigen::Vector2d(0.07, -0.04));
     const law::ConeFit fit = fit_cone_to_cell(cell, {}, 0, Fitted::bonded, 400);
     ASSERT_TRUE(fit.ok) << fit.message;
     EXPECT_EQ(law::admissibility_problem(fit.law), "");
@@ -67,7 +52,7 @@ TEST(ConeToCell, TheCompactLawHasTheCellsSymmetriesExactly) {
 // some directions by 0.8 % of strain, which is why it steps); the law fitted to it keeps the
 // symmetries and is measured on another sample.
 TEST(ConeToCell, PastTheFuseTheSampleIsThePathAndTheFittedLawIsMeasured) {
-  const law::CondensedCell cell = contact_cell(Eigen::Vector2d::Zero(), 0.02);
+  const law::CondensedCell cell = testing::periodic_contact_cell(Eigen::Vector2d::Zero(), 0.02);
   ASSERT_TRUE(cell.adhesion());
   const double ratio = law::past_fuse_load_ratio;
   const law::CellSample sample = law::sample_cell_past_fuse(cell, 60, ratio);
