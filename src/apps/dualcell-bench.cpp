@@ -2,6 +2,7 @@
 // scalability, preconditioners, the linear-solve floor, threads, sweep steps, memory, the exact law.
 //
 //   dualcell-bench --out-dir pipelines/out/bench [--quick] [--floor-only] [--exact-law-only] [--operators-only]
+//                  [--small-cell law.h5]
 //   [--threads N]
 #include <cstdio>
 
@@ -26,15 +27,20 @@ int main(int argc, char** argv) {
   app.add_flag("--operators-only", operators_only,
                "only the dual operators (cost model against the clock, one solve with each): operators.md, "
                "operators.json");
+  std::string small_cell_law;
+  app.add_option("--small-cell", small_cell_law,
+                 "only the compact laws of this law.h5 (with an exact law, no adhesion) against its exact law, error "
+                 "against evaluation cost: small_cell.md, small_cell.json");
   app.add_option("--threads", options.threads, "threads for the multi-threaded rows; 0 = OMP_NUM_THREADS or all cores")
       ->check(CLI::Range(0, 4096));
   if (const auto stop = dualcell::parse_options(app, argc, argv)) return *stop;
   return dualcell::run_stage("dualcell-bench", [&] {
     using namespace dualcell::study;
-    std::fputs((floor_only       ? run_floor_only(options)
-                : exact_law_only ? run_exact_law_only(options)
-                : operators_only ? run_operators_only(options)
-                                 : run_bench(options))
+    std::fputs((!small_cell_law.empty() ? run_small_cell_only(options, small_cell_law)
+                : floor_only            ? run_floor_only(options)
+                : exact_law_only        ? run_exact_law_only(options)
+                : operators_only        ? run_operators_only(options)
+                                        : run_bench(options))
                    .c_str(),
                stdout);
   });

@@ -35,20 +35,22 @@ int main(int argc, char** argv) {
   app.add_option("--max-law-error", max_law_error,
                  "umat: refuse a cone-wise law whose stress error against the exact law or held-out sweep "
                  "directions (law.h5 /law/cone_check, /law/cone_after_fuse_check) exceeds this fraction, or that "
-                 "was measured against neither")
+                 "was measured against neither; likewise a small cell (/law/small_check)")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1.0))
       ->check(dualcell::finite_number);
-  app.add_flag("--force", force,
-               "umat: write the cone-wise law whatever its measured error; replace a cell file that holds "
-               "another cell under --cell-id");
+  app.add_flag(
+      "--force", force,
+      "umat: write the cone-wise law or the small cell whatever its measured error; replace a cell file that holds "
+      "another cell under --cell-id");
   std::string form;
   int cell_id = 1;
   app.add_option("--form", form,
-                 "umat: cell, the exact law (its cell in dualcell-cell-<id>.txt beside --out), or cone, the cone-wise "
-                 "law with the fuse; default: cell where law.h5 has it")
-      ->check(CLI::IsMember({"cell", "cone"}));
-  app.add_option("--cell-id", cell_id, "umat --form cell: the id that names the cell's file (dualcell-cell-<id>.txt)")
+                 "umat: cell, the exact law (its cell in dualcell-cell-<id>.txt beside --out), small, its small cell "
+                 "(the same way), or cone, the cone-wise law with the fuse; default: cell where law.h5 has it")
+      ->check(CLI::IsMember({"cell", "small", "cone"}));
+  app.add_option("--cell-id", cell_id,
+                 "umat --form cell or small: the id that names the cell's file (dualcell-cell-<id>.txt)")
       ->capture_default_str()
       ->check(CLI::Range(1, 999999));
   app.add_flag("--quiet", quiet, "do not print what was written");

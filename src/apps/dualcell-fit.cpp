@@ -5,11 +5,13 @@
 // ratios, and where adhesion breaks the fuse stress, strain jump and the modulus past it; over
 // all directions the in-plane compliances S_tension, S_compression with their residuals and
 // definiteness, the cone-wise linear check, the cone-wise law before and after the fuse, and
-// the exact onset surface checked against the sweep. Writes law.h5 (layout: README.md, "law.h5").
+// the exact onset surface checked against the sweep, and with an exact law the small cell fitted
+// to it. Writes law.h5 (layout: README.md, "law.h5").
 //
-//   dualcell-fit --sweep sweep.h5 --out law.h5
+//   dualcell-fit --sweep sweep.h5 --out law.h5 [--law-tolerance 0.02]
 
 #include "apps/options.hpp"
+#include "fit/fit.hpp"
 #include "stage/fit.hpp"
 #include "stage/stage.hpp"
 
@@ -18,15 +20,21 @@ int main(int argc, char** argv) {
       "dualcell-fit: fit the bilinear tension/compression law to a sweep and write law.h5\n"
       "(layout: README.md, \"law.h5\")."};
   std::string sweep_file, out;
+  double law_tolerance = dualcell::fit::default_law_tolerance;
   bool quiet = false;
   app.add_option("--sweep", sweep_file, "sweep.h5 written by dualcell-sweep")->required();
   app.add_option("--out", out, "output HDF5 file")->required();
+  app.add_option("--law-tolerance", law_tolerance,
+                 "the small cell's largest stress error over the sphere (relative): its rows grow until it holds")
+      ->capture_default_str()
+      ->check(CLI::Range(1e-6, 1.0))
+      ->check(dualcell::finite_number);
   app.add_flag("--quiet", quiet, "do not print the table");
   if (const auto stop = dualcell::parse_options(app, argc, argv)) return *stop;
 
   return dualcell::run_stage("dualcell-fit", [&] {
     using namespace dualcell;
-    const law::Law law = stage::run_fit(sweep_file, out);
+    const law::Law law = stage::run_fit(sweep_file, out, law_tolerance);
     if (!quiet) stage::print_fit_summary(sweep_file, out, law);
   });
 }

@@ -5,9 +5,10 @@
 // loading path from the unloaded cell, its history (the broken bonds) carried along it; rows
 // without it each start unloaded. The output has, per row, the other quantity, the consistent
 // tangent dσ/dε (9 entries, row by row) and the broken bonds. --form cell (the default) is the
-// exact law, the cell condensed onto its interface rows; --form cone the compact cone-wise law.
+// exact law, the cell condensed onto its interface rows; --form small its small cell (the same form
+// with few rows, fitted to it); --form cone the compact cone-wise law.
 //
-//   dualcell-law --law law.h5 --strain points.csv --out values.csv [--form cell|cone]
+//   dualcell-law --law law.h5 --strain points.csv --out values.csv [--form cell|small|cone]
 
 #include <cstdio>
 
@@ -31,8 +32,9 @@ int main(int argc, char** argv) {
   strain->excludes(stress);
   stress->excludes(strain);
   app.add_option("--out", out, "output CSV file")->required();
-  app.add_option("--form", form, "cell: the exact condensed law (default); cone: the compact cone-wise law")
-      ->check(CLI::IsMember({"cell", "cone"}));
+  app.add_option("--form", form,
+                 "cell: the exact condensed law (default); small: its small cell; cone: the compact cone-wise law")
+      ->check(CLI::IsMember({"cell", "small", "cone"}));
   app.add_flag("--quiet", quiet, "do not print the summary");
   if (const auto stop = dualcell::parse_options(app, argc, argv)) return *stop;
 
@@ -43,7 +45,9 @@ int main(int argc, char** argv) {
     options.strain_driven = !strain_file.empty();
     options.points_file = options.strain_driven ? strain_file : stress_file;
     options.out = out;
-    options.form = form == "cone" ? stage::LawForm::cone : stage::LawForm::cell;
+    options.form = form == "cone"    ? stage::LawForm::cone
+                   : form == "small" ? stage::LawForm::small
+                                     : stage::LawForm::cell;
     const stage::LawPointsSummary s = stage::evaluate_law(options);
     if (!quiet)
       std::printf(

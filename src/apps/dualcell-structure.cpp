@@ -8,7 +8,7 @@
 // "Stage: dualcell-structure"); Newton with a line search per step. Writes structure.h5 and
 // structure.xdmf (layout: README.md, "structure.h5").
 //
-//   dualcell-structure --config structure.toml --law law.h5 --out structure.h5 [--form cell|cone]
+//   dualcell-structure --config structure.toml --law law.h5 --out structure.h5 [--form cell|small|cone]
 #include <cstdio>
 
 #include "apps/options.hpp"
@@ -26,9 +26,10 @@ int main(int argc, char** argv) {
   app.add_option("--law", law, "law.h5 written by dualcell-fit")->required();
   app.add_option("--out", out, "output HDF5 file (the XDMF is written beside it)")->required();
   app.add_option("--form", options.form,
-                 "cell: the exact law (/law/cell, every quadrature point a cell with its bond history); cone: the "
-                 "cone-wise law with the fuse per cell; default: cell where law.h5 has it, else cone")
-      ->check(CLI::IsMember({"cell", "cone"}));
+                 "cell: the exact law (/law/cell, every quadrature point a cell with its bond history); small: its "
+                 "small cell (/law/small, the same way); cone: the cone-wise law with the fuse per cell; default: cell "
+                 "where law.h5 has it, else cone")
+      ->check(CLI::IsMember({"cell", "small", "cone"}));
   app.add_flag("--quiet", quiet, "no progress and no summary");
   if (const auto stop = dualcell::parse_options(app, argc, argv)) return *stop;
 
@@ -59,9 +60,10 @@ int main(int argc, char** argv) {
     std::printf("dualcell-structure: %s -> %s: %d cells of size %g, %d nodes, %d triangles, %.2f s\n", config.c_str(),
                 out.c_str(), s.n_cells, s.cell_size, s.n_nodes, s.n_triangles, s.seconds);
     if (!s.fuse_note.empty()) std::printf("  %s\n", s.fuse_note.c_str());
-    const bool cell = s.law_form == "cell";
+    const bool cell = s.law_form == "cell" || s.law_form == "small";
     if (cell)
-      std::printf("  law: exact (/law/cell) at every quadrature point, the bonds of its %s\n", s.bond_unit.c_str());
+      std::printf("  law: %s at every quadrature point, the bonds of its %s\n",
+                  s.law_form == "cell" ? "exact (/law/cell)" : "the small cell (/law/small)", s.bond_unit.c_str());
     else
       std::printf("  law: cone-wise (/law/cone), the fuse per cell\n");
     std::printf("  first %s at load factor %.6g\n", cell ? "bond breaks" : "cell fuses", s.first_fuse_factor);

@@ -27,9 +27,13 @@ namespace dualcell::fit {
 inline constexpr int max_checked_rows = 1000;
 
 // The law of a sweep; its provenance is the sweep's (the caller adds the sweep file and hash).
-// `checked_rows`: the max_checked_rows in force (tests lower it).
+// `checked_rows`: the max_checked_rows in force (tests lower it); `law_tolerance`: the small cell's.
+// The largest stress error over the sphere the small cell is fitted to (dualcell-fit
+// --law-tolerance): m grows until its error over the fit's directions is within it.
+inline constexpr double default_law_tolerance = 0.02;
+
 law::Law fit_law(const std::vector<sweep::PathResult>& paths, const sweep::SweepHeader& header,
-                 int checked_rows = max_checked_rows);
+                 int checked_rows = max_checked_rows, double law_tolerance = default_law_tolerance);
 
 // The exact law replayed through every converged point of the paths, each path from the unloaded
 // cell with its bonds carried (law::CellReplay); the limit is 1e3 × the sweep's QP tolerance.

@@ -388,25 +388,36 @@ std::string umat_cell_hash_constants(std::uint64_t hash) {
   return card_number(static_cast<double>(hash >> 32)) + ", " + card_number(static_cast<double>(hash & 0xffffffffULL));
 }
 
-std::string law_umat_cell(const Law& law, const std::string& name, int id, std::uint64_t cell_hash,
+std::string law_umat_cell(const Law& law, CellForm form, const std::string& name, int id, std::uint64_t cell_hash,
                           const std::string& source) {
   check_name(name);
-  if (!law.cell)
-    throw InputError(source + ": /law/cell: no exact law (" + one_line(law.cell_note) +
-                     "): --form cell needs one (--form cone writes the cone-wise law)");
-  if (law.cell->n_macro != 3)
-    throw InputError(source +
-                     ": /law/cell: the cell has the symmetry boundary and carries no shear: a material "
+  const bool small = form == CellForm::small;
+  const std::string object = small ? "/law/small" : "/law/cell";
+  const std::optional<law::CondensedCell>& kept = small ? law.small : law.cell;
+  if (!kept)
+    throw InputError(source + ": " + object + ": " +
+                     (small ? "no small cell (" + one_line(law.small_note) + "): --form small needs one"
+                            : "no exact law (" + one_line(law.cell_note) + "): --form cell needs one") +
+                     " (--form cone writes the cone-wise law)");
+  if (kept->n_macro != 3)
+    throw InputError(source + ": " + object +
+                     ": the cell has the symmetry boundary and carries no shear: a material "
                      "point needs all three stresses (--form cone writes the cone-wise law)");
   check_constituents(law, source);
   const OutOfPlane z = rule_of_mixtures(law);
-  const law::CondensedCell& cell = *law.cell;
+  const law::CondensedCell& cell = *kept;
   const int depvar = 1 + cell.n_pairs + cell.n_macro + cell.n_rows();
-  std::string out = card_header(law, source, "exact law of the cell as a user material");
+  std::string out = card_header(
+      law, source,
+      small ? "small cell of the exact law as a user material" : "exact law of the cell as a user material");
   out +=
       "** For a code built with dualcell's umat (src/umat/dualcell_umat.c; CalculiX: make -C pipelines ccx-umat).\n"
-      "** Plane strain in the x-y plane (CPE*): the cell condensed onto its " +
-      std::to_string(cell.n_rows()) + " interface rows, read from\n** " + umat_cell_file(id) +
+      "** Plane strain in the x-y plane (CPE*): " +
+      (small ? "the small cell fitted to the exact law (" + std::to_string(cell.n_rows()) + " rows, " +
+                   formatted("%.2g", 100 * law.small_check.max_error) +
+                   " % largest stress error against it), read from\n** "
+             : "the cell condensed onto its " + std::to_string(cell.n_rows()) + " interface rows, read from\n** ") +
+      umat_cell_file(id) +
       " (in $DUALCELL_CELL_DIR or the working directory); out of plane decoupled:\n"
       "** E33, G13, G23 (rule of mixtures). Each material point carries its bonds (state variables 2 to " +
       std::to_string(1 + cell.n_pairs) +

@@ -37,8 +37,10 @@ std::string law_umat(const law::Law& law, const std::string& name, const std::st
 // The exact law for the same umat (layout 2): the card ABAQUS_<name> with constants 2, `id`,
 // E33, G13, G23, the cell file's hash (text_hash_value of its text, high and low 32 bits)
 // and *DEPVAR 1 + pairs + 3 + rows (src/umat/cell_umat.h); the cell itself goes to the file
-// umat_cell_file(id) beside the card (law/cell_text.hpp). Refuses a law without one.
-std::string law_umat_cell(const law::Law& law, const std::string& name, int id, std::uint64_t cell_hash,
+// umat_cell_file(id) beside the card (law/cell_text.hpp). The same for the small cell (a cell of
+// the same form, /law/small). Refuses a law without the one asked for.
+enum class CellForm { exact, small };  // /law/cell or /law/small
+std::string law_umat_cell(const law::Law& law, CellForm form, const std::string& name, int id, std::uint64_t cell_hash,
                           const std::string& source);
 std::string umat_cell_file(int id);
 // The card's constants 6 and 7 as written: the cell file's hash, high and low 32 bits.

@@ -260,6 +260,17 @@ void write_law(const std::filesystem::path& file, const Law& law) {
     if (!law.cone_check.directions.empty()) write_cone_check(f, "cone_check", law.cone_check);
     if (!law.cone_after_fuse_check.directions.empty())
       write_cone_check(f, "cone_after_fuse_check", law.cone_after_fuse_check);
+    if (law.small) {
+      write_condensed(f, object("small"), *law.small);
+      f.create_group(object("small_fit"));
+      for (const law::SmallCellFitField& field : law::small_cell_fit_fields) {
+        const std::string name = std::string("small_fit/") + field.name;
+        if (field.count) write_count(f, name, law.small_fit.*field.count);
+        if (field.value) write_scalar(f, name, law.small_fit.*field.value);
+      }
+      write_cone_check(f, "small_check", law.small_check);
+    }
+    f.write_attribute(group, "small_note", law.small_note);
     f.write_attribute(group, "cell_note", law.cell_note);
     f.write_attribute(group, "units", law.units);
     f.write_attribute(group, "stress_state", law.stress_state);
@@ -317,6 +328,18 @@ Law read_law(const std::filesystem::path& file) {
   if (f.exists(object("cone_check"))) law.cone_check = read_cone_check(f, r, "cone_check");
   if (f.exists(object("cone_after_fuse_check")))
     law.cone_after_fuse_check = read_cone_check(f, r, "cone_after_fuse_check");
+  if (f.exists(object("small"))) {
+    law.small = read_condensed(f, object("small"));
+    for (const law::SmallCellFitField& field : law::small_cell_fit_fields) {
+      const std::string name = std::string("small_fit/") + field.name;
+      if (field.count) law.small_fit.*field.count = static_cast<int>(r.count(name, 0, std::numeric_limits<int>::max()));
+      if (field.value) law.small_fit.*field.value = r.scalar(name);
+    }
+    law.small_check = read_cone_check(f, r, "small_check");
+  }
+  // Files of the fit before the small cell have no note.
+  if (f.has_attribute(group, "small_note")) law.small_note = f.read_string_attribute(group, "small_note");
+  if (!law.small && law.small_note.empty()) law.small_note = "law.h5 gives no reason";
   law.cell_note = f.read_string_attribute(group, "cell_note");
   // Every message that says the law has no exact law quotes the reason: never an empty one.
   if (!law.cell && law.cell_note.empty()) law.cell_note = "law.h5 gives no reason";

@@ -81,6 +81,34 @@ inline constexpr CellReplayField cell_replay_fields[] = {
     {"limit", nullptr, 0, &CellReplay::limit},
 };
 
+// How the small cell was fitted: the tolerance asked for (the largest stress error over the
+// sphere), the rows m, its largest and rms error over the fit's own directions, and the cost.
+struct SmallCellFit {
+  double tolerance = std::numeric_limits<double>::quiet_NaN();
+  int rows = 0;
+  int training_directions = 0;
+  double training_max_error = std::numeric_limits<double>::quiet_NaN();
+  double training_rms_error = std::numeric_limits<double>::quiet_NaN();
+  int iterations = 0;
+  double seconds = 0;
+};
+
+// Its members, listed once as CellReplayField: /law/small_fit in law.h5 and the JSON.
+struct SmallCellFitField {
+  const char* name;
+  int SmallCellFit::*count = nullptr;
+  double SmallCellFit::*value = nullptr;
+};
+inline constexpr SmallCellFitField small_cell_fit_fields[] = {
+    {"tolerance", nullptr, &SmallCellFit::tolerance},
+    {"rows", &SmallCellFit::rows},
+    {"training_directions", &SmallCellFit::training_directions},
+    {"training_max_error", nullptr, &SmallCellFit::training_max_error},
+    {"training_rms_error", nullptr, &SmallCellFit::training_rms_error},
+    {"iterations", &SmallCellFit::iterations},
+    {"seconds", nullptr, &SmallCellFit::seconds},
+};
+
 struct Law {
   std::vector<DirectionLaw> directions;  // ascending direction_deg
   ComplianceFit tension, compression;
@@ -113,6 +141,14 @@ struct Law {
   // (sample_cell_past_fuse); without an exact law against held-out directions as above; empty
   // without adhesion or a law past the fuse.
   ConeCheck cone_after_fuse_check;
+  // The compact law as a small cell (fit/small_cell.hpp, docs/method.md §16c): the exact law's
+  // form with m rows fitted to it, evaluated by the exact law's evaluator; none where the fit
+  // made none (small_note says why). small_check measures it against the exact law on the
+  // check's directions (as cone_check), none of them among the fit's.
+  std::optional<CondensedCell> small;
+  std::string small_note;
+  SmallCellFit small_fit;
+  ConeCheck small_check;
   // Constituents, for the out-of-plane constants of the exports (rule of mixtures).
   Constituents constituents;
   std::string units = "stress and moduli in the units of the input scene; strains dimensionless";

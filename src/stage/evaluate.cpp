@@ -81,10 +81,17 @@ LawPointsSummary evaluate_law(const LawPointsOptions& options) {
   io::check_outputs({options.out}, {options.law_file, options.points_file});
   const law::Law law = io::read_law(options.law_file);
   io::PointsReader points(options.points_file);
-  const bool cell_form = options.form == LawForm::cell;
-  if (cell_form && !law.cell)
+  if (options.form == LawForm::cell && !law.cell)
     throw InputError(options.law_file.string() + ": has no exact law (" + law.cell_note +
                      "): use --form cone for the compact one");
+  if (options.form == LawForm::small && !law.small)
+    throw InputError(options.law_file.string() + ": has no small cell (" + law.small_note +
+                     "): use --form cell or cone");
+  // The exact law and the small cell are both cells, evaluated alike.
+  const law::CondensedCell* cell = options.form == LawForm::cell    ? &*law.cell
+                                   : options.form == LawForm::small ? &*law.small
+                                                                    : nullptr;
+  const bool cell_form = cell != nullptr;
   if (!cell_form && !law.cone.ok)
     throw InputError(options.law_file.string() + ": has no cone-wise law" +
                      (law.cone.message.empty() ? std::string() : " (" + law.cone.message + ")"));
@@ -96,15 +103,15 @@ LawPointsSummary evaluate_law(const LawPointsOptions& options) {
 
   LawPointsSummary summary;
   std::optional<law::CellEvaluator> evaluator;
-  if (cell_form) evaluator.emplace(*law.cell);
+  if (cell_form) evaluator.emplace(*cell);
   // What one path's history holds: its bond state, its active set and the map's node.
   const std::size_t history_bytes =
-      cell_form ? static_cast<std::size_t>(law.cell->n_pairs + law.cell->n_macro + law.cell->n_rows()) + 128 : 64;
+      cell_form ? static_cast<std::size_t>(cell->n_pairs + cell->n_macro + cell->n_rows()) + 128 : 64;
   std::size_t held_bytes = 0;
   std::map<std::string, law::CellHistory> histories;
   std::map<std::string, bool> fused_paths;
   // The stress (strain) and tangent entries a cell without shear leaves NaN (n_macro = 2).
-  const int n_finite = cell_form ? law.cell->n_macro : 3;
+  const int n_finite = cell_form ? cell->n_macro : 3;
   double seconds = 0;
   io::LawPoint point;
   while (points.next(point)) {

@@ -5,9 +5,10 @@
 namespace dualcell::stage {
 
 // dualcell-law: a law evaluated at the points of a CSV file (io/points_csv.hpp), strain- or
-// stress-driven, in its exact form (the condensed cell, /law/cell) or its compact one (the
-// cone-wise law with the fuse, /law/cone and /law/cone_after_fuse as the umat evaluates it).
-enum class LawForm { cell, cone };
+// stress-driven, in its exact form (the condensed cell, /law/cell), as its small cell
+// (/law/small, evaluated as the exact law is) or as the cone-wise law with the fuse (/law/cone
+// and /law/cone_after_fuse as the umat evaluates it).
+enum class LawForm { cell, small, cone };
 struct LawPointsOptions {
   std::filesystem::path law_file, points_file, out;
   bool strain_driven = true;

@@ -42,22 +42,43 @@ std::string read_text(const std::filesystem::path& file) {
   return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
+// A compact law whose measured error passes --max-law-error is not exported (unless --force).
+void refuse_over_error(const ExportOptions& options, const std::string& what, const law::ConeCheck& c) {
+  if (options.force || c.directions.empty() || c.max_error <= options.max_law_error) return;
+  char text[400];
+  std::snprintf(text, sizeof text,
+                " misses %s by %.1f %% of stress at sxx,syy,sxy = %.3f,%.3f,%.3f, more than --max-law-error %.3g %%: "
+                "not exported (--force writes it anyway)",
+                law::checked_against_text(c.against), 100 * c.max_error, c.worst(0), c.worst(1), c.worst(2),
+                100 * options.max_law_error);
+  throw InputError(options.law_file.string() + ": " + what + text);
+}
+
 }  // namespace
 
 std::string export_law(const ExportOptions& options) {
   if (!options.form.empty() && options.format != io::ExportFormat::umat)
     throw InputError("--form " + options.form + ": only for --format umat (the other formats carry the fitted laws)");
-  if (options.form != "" && options.form != "cell" && options.form != "cone")
-    throw InputError("--form " + options.form + ": must be \"cell\" (the exact law) or \"cone\"");
+  if (options.form != "" && options.form != "cell" && options.form != "small" && options.form != "cone")
+    throw InputError("--form " + options.form +
+                     ": must be \"cell\" (the exact law), \"small\" (its small cell) or \"cone\"");
   io::check_outputs({options.out}, {options.law_file});
   const law::Law law = io::read_law(options.law_file);
   const std::string form = options.form.empty() ? (law.cell ? "cell" : "cone") : options.form;
-  if (options.format == io::ExportFormat::umat && form == "cell") {
+  // The small cell is vouched for by its check against the exact law, as the cone-wise law is.
+  if (options.format == io::ExportFormat::umat && form == "small" && law.small)
+    refuse_over_error(options, "the small cell", law.small_check);
+  if (options.format == io::ExportFormat::umat && (form == "cell" || form == "small")) {
+    const law::CondensedCell* cell =
+        form == "small" ? (law.small ? &*law.small : nullptr) : (law.cell ? &*law.cell : nullptr);
+    const io::CellForm cell_form = form == "small" ? io::CellForm::small : io::CellForm::exact;
+    if (!cell)  // refused with the reason by law_umat_cell
+      io::law_umat_cell(law, cell_form, options.name, options.cell_id, 0, options.law_file.string());
     // Two files, committed together: the card and the cell it names.
     const std::filesystem::path cell_file = options.out.parent_path() / io::umat_cell_file(options.cell_id);
     io::check_outputs({options.out, cell_file}, {options.law_file});
     std::ostringstream cell_text;
-    law::write_cell_text(cell_text, *law.cell);
+    law::write_cell_text(cell_text, *cell);
     const std::uint64_t cell_hash = text_hash_value(cell_text.str());
     // Another cell under the same id: a card written before names that file (by its hash, which
     // the umat checks), so replacing it would break that card's analysis, unless that card is
@@ -75,15 +96,16 @@ std::string export_law(const ExportOptions& options) {
                          "choose another --cell-id, or --force to replace it");
     }
     const std::string card =
-        io::law_umat_cell(law, options.name, options.cell_id, cell_hash, options.law_file.string());
+        io::law_umat_cell(law, cell_form, options.name, options.cell_id, cell_hash, options.law_file.string());
     io::AtomicOutputs outputs;
     outputs.add(options.out);
     outputs.add(cell_file);
     outputs.write(options.out, card);
     outputs.write(cell_file, cell_text.str());
     outputs.commit();
-    return "user material ABAQUS_" + options.name + " for dualcell's umat, the exact law (" +
-           std::to_string(law.cell->n_rows()) + " interface rows) in " + cell_file.string();
+    return "user material ABAQUS_" + options.name + " for dualcell's umat, " +
+           (form == "small" ? "the small cell (" : "the exact law (") + std::to_string(cell->n_rows()) +
+           (form == "small" ? " rows) in " : " interface rows) in ") + cell_file.string();
   }
   std::string text;
   switch (options.format) {
@@ -105,17 +127,8 @@ std::string export_law(const ExportOptions& options) {
                          "sweep directions (" +
                          (law.cell_note.empty() ? std::string("the sweep has one direction") : law.cell_note) +
                          "): not exported (--force writes it anyway)");
-      for (const auto* check : {&law.cone_check, &law.cone_after_fuse_check}) {
-        const law::ConeCheck& c = *check;
-        if (options.force || c.directions.empty() || c.max_error <= options.max_law_error) continue;
-        char text_[400];
-        std::snprintf(text_, sizeof text_,
-                      "the cone-wise law%s misses %s by %.1f %% of stress at sxx,syy,sxy = %.3f,%.3f,%.3f, "
-                      "more than --max-law-error %.3g %%: not exported (--force writes it anyway)",
-                      check == &law.cone_check ? "" : " after the fuse", law::checked_against_text(c.against),
-                      100 * c.max_error, c.worst(0), c.worst(1), c.worst(2), 100 * options.max_law_error);
-        throw InputError(options.law_file.string() + ": " + text_);
-      }
+      refuse_over_error(options, "the cone-wise law", law.cone_check);
+      refuse_over_error(options, "the cone-wise law after the fuse", law.cone_after_fuse_check);
       text = io::law_umat(law, options.name, options.law_file.string());
       break;
     }

@@ -19,11 +19,11 @@
 
 namespace dualcell::stage {
 
-law::Law run_fit(const std::filesystem::path& sweep_file, const std::filesystem::path& out) {
+law::Law run_fit(const std::filesystem::path& sweep_file, const std::filesystem::path& out, double law_tolerance) {
   io::check_outputs({out}, {sweep_file});
   const io::SweepHeader header = io::read_sweep_header(sweep_file);
   const std::vector<sweep::PathResult> paths = io::read_sweep(sweep_file);
-  law::Law law = fit::fit_law(paths, header);
+  law::Law law = fit::fit_law(paths, header, fit::max_checked_rows, law_tolerance);
   // The exact law must give back the sweep it came from; one that does not is not written.
   if (law.cell && !law.cell_replay.ok()) {
     const law::CellReplay& c = law.cell_replay;
@@ -89,6 +89,19 @@ void print_fit_summary(const std::filesystem::path& sweep_file, const std::files
                                 : (std::to_string(c.break_mismatches) + " points differ").c_str());
   } else {
     std::printf("  exact law: none (%s)\n", law.cell_note.c_str());
+  }
+  if (law.small) {
+    const law::SmallCellFit& s = law.small_fit;
+    const law::ConeCheck& c = law.small_check;
+    std::printf(
+        "  small cell: %d rows fitted to the exact law at %d directions in %.1f s (max %.1f %%, rms %.1f %%); "
+        "against the exact law at %zu other directions: max %.1f %% (at sxx,syy,sxy = %.3f,%.3f,%.3f), rms %.1f %%, "
+        "%s the tolerance %.1f %%\n",
+        s.rows, s.training_directions, s.seconds, 100 * s.training_max_error, 100 * s.training_rms_error,
+        c.directions.size(), 100 * c.max_error, c.worst(0), c.worst(1), c.worst(2), 100 * c.rms_error,
+        c.max_error <= s.tolerance ? "within" : "OVER", 100 * s.tolerance);
+  } else {
+    std::printf("  small cell: none (%s)\n", law.small_note.c_str());
   }
   for (const auto* check : {&law.cone_check, &law.cone_after_fuse_check}) {
     if (check->directions.empty()) continue;

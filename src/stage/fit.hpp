@@ -8,7 +8,8 @@ namespace dualcell::stage {
 
 // Reads the sweep (refusing a foreign, truncated or incomplete file), fits the law, records the
 // sweep file and its hash in the law's provenance, and writes law.h5 atomically.
-law::Law run_fit(const std::filesystem::path& sweep_file, const std::filesystem::path& out);
+// law_tolerance: the small cell's (fit::default_law_tolerance).
+law::Law run_fit(const std::filesystem::path& sweep_file, const std::filesystem::path& out, double law_tolerance);
 // dualcell-fit's summary on stdout: per direction the measured moduli, the compliances, the
 // cone-wise laws with their apparent moduli beside the measured ones, the onset surface's check.
 void print_fit_summary(const std::filesystem::path& sweep_file, const std::filesystem::path& out, const law::Law& law);

@@ -25,18 +25,22 @@ structure::CellLaw cell_law(const std::filesystem::path& law_file, std::string& 
     throw InputError(law_file.string() + ": /law attribute cell_size = " + shortest(cell_size) +
                      ": a structure needs a cell size in [" + shortest(min_structure_cell_size) + ", " +
                      shortest(max_structure_cell_size) + "] (its positions are in that unit)");
-  if (form != "" && form != "cell" && form != "cone")
-    throw InputError("--form " + form + ": must be \"cell\" (the exact law) or \"cone\" (the cone-wise law)");
+  if (form != "" && form != "cell" && form != "small" && form != "cone")
+    throw InputError("--form " + form +
+                     ": must be \"cell\" (the exact law), \"small\" (its small cell) or \"cone\" (the cone-wise law)");
   structure::CellLaw cell;
   if (form == "cell" && !law.cell)
     throw InputError(law_file.string() + ": /law/cell: no exact law (" + law.cell_note + "): --form cell needs one");
+  if (form == "small" && !law.small)
+    throw InputError(law_file.string() + ": /law/small: no small cell (" + law.small_note +
+                     "): --form small needs one");
   if (form.empty()) {
     form = law.cell ? "cell" : "cone";
     if (!law.cell) note = "the cone-wise law: law.h5 has no exact law (" + law.cell_note + ")";
   }
-  if (form == "cell") {
-    cell.cell = std::make_shared<const law::CondensedCell>(*law.cell);
-    if (!law.cell->adhesion()) note = "no bond breaks: the cell has no adhesion";
+  if (form == "cell" || form == "small") {  // both cells, evaluated alike at every quadrature point
+    cell.cell = std::make_shared<const law::CondensedCell>(form == "cell" ? *law.cell : *law.small);
+    if (!cell.cell->adhesion()) note = "no bond breaks: the cell has no adhesion";
     return cell;
   }
   if (!law.cone.ok)

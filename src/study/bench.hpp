@@ -22,5 +22,8 @@ std::string run_exact_law_only(const BenchOptions& options);
 // Only the dual operators (the cost model against the clock per subdomain, one solve with each
 // operator): operators.md and operators.json.
 std::string run_operators_only(const BenchOptions& options);
+// Only the compact laws of one law.h5 against its exact law, error against the cost of an
+// evaluation (docs/method.md §16c): small_cell.md and small_cell.json.
+std::string run_small_cell_only(const BenchOptions& options, const std::filesystem::path& law_file);
 
 }  // namespace dualcell::study

@@ -13,12 +13,14 @@
 #include "core/hash.hpp"
 #include "core/strain.hpp"
 #include "fit/fit.hpp"
+#include "fit/small_cell.hpp"
 #include "io/law_export.hpp"
 #include "io/law_file.hpp"
 #include "io/points_csv.hpp"
 #include "io/sweep_file.hpp"
 #include "law/condensed.hpp"
 #include "law/cone.hpp"
+#include "law/reduced.hpp"
 #include "test_util.hpp"
 
 namespace dualcell {
@@ -348,6 +350,66 @@ TEST(LawStage, FitRefusesAnExactLawThatMissesItsSweep) {
   EXPECT_EQ(r.exit_code, exit_input_error) << r.output;
   EXPECT_NE(r.output.find("the exact law misses the sweep's point"), std::string::npos) << r.output;
   EXPECT_FALSE(std::filesystem::exists(run.dir / "wrong-law.h5"));
+}
+
+}  // namespace
+}  // namespace dualcell
+
+namespace dualcell {
+namespace {
+
+// The small cell through the stages: a cell this small (32 rows) gets none and says why, and
+// --form small is refused with that reason; a law.h5 given one (fitted here, 4 rows) is
+// evaluated by dualcell-law as the library evaluates it, and exported to the umat as a cell,
+// refused while its measured error is over --max-law-error.
+TEST(LawStage, TheSmallCellGoesThroughLawAndExport) {
+  StagesRun run(contact_scene);
+  law::Law law = io::read_law(run.law);
+  ASSERT_TRUE(law.cell);
+  EXPECT_FALSE(law.small);
+  EXPECT_NE(law.small_note.find("rows: it costs what a small cell would"), std::string::npos) << law.small_note;
+  EXPECT_NE(run.fit_output.find("small cell: none"), std::string::npos) << run.fit_output;
+  const auto points = run.dir.write("e.csv", "exx,eyy,gxy\n0.01,-0.02,0.005\n-0.01,-0.01,0.02\n");
+  const std::string evaluate = bin("dualcell-law") + " --quiet --strain " + q(points) + " --form small --out ";
+  const auto none = run_command(evaluate + q(run.dir / "v.csv") + " --law " + q(run.law));
+  EXPECT_EQ(none.exit_code, exit_input_error);
+  EXPECT_NE(none.output.find("has no small cell (the exact law has"), std::string::npos) << none.output;
+  const auto no_umat = run_command(bin("dualcell-export") + " --law " + q(run.law) +
+                                   " --format umat --form small --out " + q(run.dir / "u.inp"));
+  EXPECT_EQ(no_umat.exit_code, exit_input_error);
+  EXPECT_NE(no_umat.output.find("/law/small: no small cell"), std::string::npos) << no_umat.output;
+
+  const law::CellSample training = law::sample_cell(*law.cell, 200), check = law::sample_cell(*law.cell, 300);
+  fit::SmallCellOptions options;
+  options.rows = 4;
+  const fit::SmallCell small = fit::fit_small_cell(*law.cell, training, options);
+  ASSERT_TRUE(small.ok) << small.message;
+  law.small = small.cell;
+  law.small_check = law::check_reduced(small.cell, check);
+  ASSERT_GT(law.small_check.max_error, 0.02) << "4 rows miss this cell by more than 2 %";
+  const auto with_small = run.dir / "small.h5";
+  io::write_law(with_small, law);
+  const auto r = run_command(evaluate + q(run.dir / "v.csv") + " --law " + q(with_small));
+  ASSERT_EQ(r.exit_code, exit_ok) << r.output;
+  const auto rows = read_csv(run.dir / "v.csv");
+  ASSERT_EQ(rows.size(), 2u);
+  law::CellEvaluator evaluator(*law.small);
+  law::CellHistory h = evaluator.unloaded();
+  const law::CellResponse first = evaluator.at_strain(Eigen::Vector3d(0.01, -0.02, 0.005), h);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(rows[0][k], first.stress(k), 1e-12 * first.stress.norm()) << k;
+  const std::string export_umat = bin("dualcell-export") + " --law " + q(with_small) +
+                                  " --format umat --form small --cell-id 4 --out " + q(run.dir / "u.inp");
+  const auto refused = run_command(export_umat);
+  EXPECT_EQ(refused.exit_code, exit_input_error);
+  EXPECT_NE(refused.output.find("the small cell misses the exact law by"), std::string::npos) << refused.output;
+  EXPECT_FALSE(std::filesystem::exists(run.dir / "u.inp"));
+  const auto forced = run_command(export_umat + " --force");
+  ASSERT_EQ(forced.exit_code, exit_ok) << forced.output;
+  EXPECT_NE(forced.output.find("the small cell (4 rows)"), std::string::npos) << forced.output;
+  std::ifstream card_file(run.dir / "u.inp");
+  const std::string card((std::istreambuf_iterator<char>(card_file)), std::istreambuf_iterator<char>());
+  EXPECT_NE(card.find("small cell fitted to the exact law (4 rows"), std::string::npos) << card;
+  EXPECT_TRUE(std::filesystem::exists(run.dir / "dualcell-cell-4.txt"));
 }
 
 }  // namespace

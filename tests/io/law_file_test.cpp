@@ -11,6 +11,7 @@
 #include "io/atomic_output.hpp"
 #include "io/hdf5.hpp"
 #include "law/fields.hpp"
+#include "law/reduced.hpp"
 #include "law/synthetic_law.hpp"
 #include "test_util.hpp"
 
@@ -292,6 +293,60 @@ TEST(LawFile, WrongShapesAndValuesAreNamed) {
   io::File::open_write(stress).write_attribute("/law", "stress_state", std::string("plane stress"));
   m = refusal(stress);
   EXPECT_NE(m.find("/law: attribute stress_state is 'plane stress', expected 'plane strain'"), std::string::npos) << m;
+}
+
+}  // namespace
+}  // namespace dualcell::io
+
+namespace dualcell::io {
+namespace {
+
+// The small cell and its fit and check come back as written, under the documented names; a file
+// without one says why.
+TEST(LawFile, TheSmallCellRoundTrips) {
+  testing::ScratchDir dir;
+  Law law = testing::synthetic_law();
+  write_law(dir / "none.h5", law);
+  law.small_note = "the cell has adhesion";
+  write_law(dir / "note.h5", law);
+  EXPECT_FALSE(read_law(dir / "note.h5").small);
+  EXPECT_EQ(read_law(dir / "note.h5").small_note, "the cell has adhesion");
+  EXPECT_EQ(read_law(dir / "none.h5").small_note, "law.h5 gives no reason");
+
+  law::CondensedCell macro;
+  macro.n_macro = 3;
+  macro.volume = 2;
+  macro.S0 = Eigen::Matrix3d{{2, 0.1, 0}, {0.1, 3, 0}, {0, 0, 4}};
+  Eigen::MatrixXd Y(2, 3), H(2, 2);
+  Y << 1, 2, 3, -1, 0.5, 0.25;
+  H << 20, 1, 1, 30;
+  law.small = law::cell_of_rows(macro, Y, H);
+  law.small_fit = {0.02, 2, 1466, 0.015, 0.004, 321, 12.5};
+  law.small_check.directions = {Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(0, 1, 0)};
+  law.small_check.error = {0.01, 0.018};
+  law.small_check.max_error = 0.018;
+  law.small_check.rms_error = 0.015;
+  law.small_check.worst = Eigen::Vector3d(0, 1, 0);
+  write_law(dir / "law.h5", law);
+  const Law back = read_law(dir / "law.h5");
+  ASSERT_TRUE(back.small);
+  EXPECT_EQ(back.small->Y, law.small->Y);
+  EXPECT_EQ(back.small->H, law.small->H);
+  EXPECT_EQ(back.small->S0, law.small->S0);
+  EXPECT_EQ(back.small->G.rows(), 0);
+  EXPECT_EQ(back.small_fit.rows, 2);
+  EXPECT_EQ(back.small_fit.training_directions, 1466);
+  EXPECT_EQ(back.small_fit.iterations, 321);
+  EXPECT_EQ(back.small_fit.tolerance, 0.02);
+  EXPECT_EQ(back.small_fit.training_max_error, 0.015);
+  EXPECT_EQ(back.small_fit.seconds, 12.5);
+  EXPECT_EQ(back.small_check.error, law.small_check.error);
+  EXPECT_EQ(back.small_check.max_error, 0.018);
+  const io::File f = io::File::open_read(dir / "law.h5");
+  EXPECT_EQ(f.shape("/law/small/H"), (std::vector<hsize_t>{2, 2}));
+  EXPECT_EQ(f.shape("/law/small_check/error"), (std::vector<hsize_t>{2}));
+  for (const law::SmallCellFitField& field : law::small_cell_fit_fields)
+    EXPECT_EQ(f.shape(std::string("/law/small_fit/") + field.name), (std::vector<hsize_t>{1})) << field.name;
 }
 
 }  // namespace

@@ -111,7 +111,7 @@ TEST(CellUmat, EqualsTheLibraryAlongAPathThroughTheCascade) {
   law.constituents = {30.0, 0.22, 1.0, 0.35, 0.28, 1.0};
   law.cell = cell;
   const std::uint64_t hash = text_hash_value(text);
-  const std::string card = io::law_umat_cell(law, "CELL", 7001, hash, "law.h5");
+  const std::string card = io::law_umat_cell(law, io::CellForm::exact, "CELL", 7001, hash, "law.h5");
   const std::string depvar = std::string("*DEPVAR\n").append(std::to_string(1 + cell.n_pairs + 3 + cell.n_rows()));
   ASSERT_NE(card.find(depvar), std::string::npos) << card;
   const OutOfPlane z = rule_of_mixtures(law);

@@ -1,0 +1,217 @@
+#include "fit/small_cell.hpp"
+
+#include <Eigen/Dense>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "law/reduced.hpp"
+
+namespace dualcell::fit {
+
+namespace {
+
+// The parameters x = (D column by column, then L's lower triangle column by column).
+struct Layout {
+  int m, nm;  // rows, macro components
+  int size() const { return m * nm + m * (m + 1) / 2; }
+};
+
+struct Rows {
+  Eigen::MatrixXd D, L, M;  // M = L Lᵀ + δI
+};
+
+Rows rows_of(const Layout& layout, const double* x) {
+  Rows r;
+  r.D = Eigen::Map<const Eigen::MatrixXd>(x, layout.m, layout.nm);
+  r.L = Eigen::MatrixXd::Zero(layout.m, layout.m);
+  int k = layout.m * layout.nm;
+  for (int j = 0; j < layout.m; ++j)
+    for (int i = j; i < layout.m; ++i) r.L(i, j) = x[k++];
+  r.M = r.L * r.L.transpose();
+  r.M.diagonal().array() += law::basis_compliance * r.M.diagonal().maxCoeff();
+  return r;
+}
+
+// The cell of rows D, M in the exact law's terms: Y = D S₀, H = M + D S₀ Dᵀ/|Ω|.
+law::CondensedCell cell_of(const law::CondensedCell& cell, const Rows& r) {
+  const Eigen::MatrixXd Y = r.D * cell.S0;
+  return law::cell_of_rows(cell, Y, r.M + Y * r.D.transpose() / cell.volume);
+}
+
+struct Problem {
+  const law::CondensedCell* cell;
+  const law::CellSample* training;
+  Layout layout;
+  std::vector<std::size_t> points;  // the training points with a finite strain
+  std::vector<double> weight;       // per point: its residuals count √weight times
+};
+
+// Residuals (σ(ε_i) − σ_i)/|σ_i| and, when J is given, their Jacobian in closed form: on the
+// active set F of point i, μ_F = M_FF⁻¹ D_F ε and σ = C₀ε + D_Fᵀ μ_F/|Ω|, so with
+// w_k = M_FF⁻¹ D_F e_k: ∂σ_k/∂D = (μ e_kᵀ + w_k εᵀ)/|Ω|, ∂σ_k/∂M = −(w_k μᵀ + μ w_kᵀ)/(2|Ω|)
+// symmetrised, and ∂/∂L = 2 (∂/∂M) L (lower triangle).
+bool evaluate(const double* x, const Problem& p, Eigen::VectorXd& f, Eigen::MatrixXd* J) {
+  const Layout& lay = p.layout;
+  const Rows rows = rows_of(lay, x);
+  const law::CondensedCell small = cell_of(*p.cell, rows);
+  law::CellEvaluator evaluator(small);
+  law::CellHistory history = evaluator.unloaded();
+  const double volume = p.cell->volume;
+  for (std::size_t q = 0; q < p.points.size(); ++q) {
+    const std::size_t i = p.points[q];
+    const Eigen::VectorXd e = p.training->strain[i].head(lay.nm);
+    const Eigen::VectorXd target = p.training->stress[i].head(lay.nm);
+    const double scale = p.training->stress[i].norm() / std::sqrt(p.weight[q]);
+    const law::CellResponse r = evaluator.at_strain(p.training->strain[i], history, law::BondMode::held);
+    if (!r.ok) return false;
+    for (int k = 0; k < lay.nm; ++k) f(lay.nm * static_cast<Eigen::Index>(q) + k) = (r.stress(k) - target(k)) / scale;
+    if (!J) continue;
+    std::vector<int> F;
+    for (int j = 0; j < lay.m; ++j)
+      if (r.forces(j) > 0) F.push_back(j);
+    Eigen::MatrixXd W = Eigen::MatrixXd::Zero(lay.m, lay.nm);  // w_k, zero off F
+    if (!F.empty()) {
+      const int nF = static_cast<int>(F.size());
+      Eigen::MatrixXd MFF(nF, nF), DF(nF, lay.nm);
+      for (int a = 0; a < nF; ++a) {
+        DF.row(a) = rows.D.row(F[a]);
+        for (int b = 0; b < nF; ++b) MFF(a, b) = rows.M(F[a], F[b]);
+      }
+      const Eigen::MatrixXd WF = MFF.llt().solve(DF);
+      for (int a = 0; a < nF; ++a) W.row(F[a]) = WF.row(a);
+    }
+    const Eigen::VectorXd mu = r.forces;
+    for (int k = 0; k < lay.nm; ++k) {
+      const Eigen::Index row = lay.nm * static_cast<Eigen::Index>(q) + k;
+      const double c = 1 / (volume * scale);
+      // ∂/∂D(j, l) = (μ_j δ_lk + w_k,j ε_l)
+      for (int l = 0; l < lay.nm; ++l)
+        for (int j = 0; j < lay.m; ++j) (*J)(row, l * lay.m + j) = c * ((l == k ? mu(j) : 0.0) + W(j, k) * e(l));
+      // ∂/∂L = −(w μᵀ + μ wᵀ) L
+      const Eigen::MatrixXd GL = -c * (W.col(k) * mu.transpose() + mu * W.col(k).transpose()) * rows.L;
+      Eigen::Index col = lay.m * lay.nm;
+      for (int jj = 0; jj < lay.m; ++jj)
+        for (int ii = jj; ii < lay.m; ++ii) (*J)(row, col++) = GL(ii, jj);
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+bool small_cell_residuals(const law::CondensedCell& cell, const law::CellSample& training, int m,
+                          const Eigen::VectorXd& x, Eigen::VectorXd& f, Eigen::MatrixXd* J) {
+  Problem problem{&cell, &training, Layout{m, cell.n_macro}, {}, {}};
+  for (std::size_t i = 0; i < training.direction.size(); ++i)
+    if (training.strain[i].allFinite()) problem.points.push_back(i);
+  problem.weight.assign(problem.points.size(), 1.0);
+  const Eigen::Index n = cell.n_macro * static_cast<Eigen::Index>(problem.points.size());
+  f.resize(n);
+  if (J) J->resize(n, problem.layout.size());
+  return evaluate(x.data(), problem, f, J);
+}
+
+SmallCell fit_small_cell(const law::CondensedCell& cell, const law::CellSample& training,
+                         const SmallCellOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  SmallCell out;
+  const auto finish = [&](bool ok, std::string message) {
+    out.ok = ok;
+    out.message = std::move(message);
+    out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return out;
+  };
+  law::ReduceOptions basis_options;
+  basis_options.tolerance = 0;
+  basis_options.max_rows = options.rows;
+  basis_options.split_by_body = false;
+  const law::ReducedCell basis = law::reduce_cell(cell, training, basis_options);
+  if (basis.cell.n_rows() == 0) return finish(false, "no starting basis: " + basis.message);
+  const law::ConeCheck start_check = law::check_reduced(basis.cell, training);
+  out.start_max_error = start_check.max_error;
+  out.start_rms_error = start_check.rms_error;
+
+  const Layout layout{basis.cell.n_rows(), cell.n_macro};
+  const Eigen::MatrixXd C0 = cell.S0.inverse();
+  const Eigen::MatrixXd D0 = basis.cell.Y * C0;
+  const Eigen::MatrixXd M0 = basis.cell.H - basis.cell.Y * C0 * basis.cell.Y.transpose() / cell.volume;
+  Eigen::LLT<Eigen::MatrixXd> llt(0.5 * (M0 + M0.transpose()));
+  if (llt.info() != Eigen::Success) return finish(false, "the starting basis' M is not positive definite");
+  const Eigen::MatrixXd L0 = llt.matrixL();
+  std::vector<double> x0(static_cast<std::size_t>(layout.size()));
+  Eigen::Map<Eigen::MatrixXd>(x0.data(), layout.m, layout.nm) = D0;
+  std::size_t k = static_cast<std::size_t>(layout.m * layout.nm);
+  for (int j = 0; j < layout.m; ++j)
+    for (int i = j; i < layout.m; ++i) x0[k++] = L0(i, j);
+
+  Problem problem{&cell, &training, layout, {}, {}};
+  for (std::size_t i = 0; i < training.direction.size(); ++i)
+    if (training.strain[i].allFinite()) problem.points.push_back(i);
+  const Eigen::Index n = layout.nm * static_cast<Eigen::Index>(problem.points.size()), p = layout.size();
+  if (n < p) return finish(false, "fewer residuals than parameters: sample more directions");
+  problem.weight.assign(problem.points.size(), 1.0);
+  Eigen::VectorXd x = Eigen::Map<const Eigen::VectorXd>(x0.data(), p), f(n), trial_f(n);
+  Eigen::MatrixXd J(n, p);
+  // Levenberg–Marquardt (Marquardt's scaling by diag JᵀJ) on the weighted residuals from x; false
+  // where the cell cannot be evaluated. JᵀJ is p × p (2 272 at m = 64), formed by one symmetric
+  // rank update: a general least-squares library's unblocked BLAS made that the whole cost.
+  const auto least_squares = [&](int max_iterations) {
+    if (!evaluate(x.data(), problem, f, &J)) return false;
+    double cost = f.squaredNorm(), lambda = 1e-3;
+    int quiet = 0;  // accepted steps in a row that lowered the cost by less than 1e-6 of it
+    for (int it = 0; it < max_iterations && quiet < 3; ++it, ++out.iterations) {
+      Eigen::MatrixXd A = Eigen::MatrixXd::Zero(p, p);
+      A.selfadjointView<Eigen::Lower>().rankUpdate(J.transpose());
+      const Eigen::VectorXd g = J.transpose() * f;
+      const Eigen::VectorXd scale = A.diagonal().cwiseMax(1e-12 * A.diagonal().maxCoeff());
+      bool accepted = false;
+      for (int tries = 0; tries < 20 && !accepted; ++tries) {
+        Eigen::MatrixXd B = A;
+        B.diagonal() += lambda * scale;
+        const Eigen::LLT<Eigen::MatrixXd, Eigen::Lower> llt(B);
+        if (llt.info() != Eigen::Success) {
+          lambda *= 4;
+          continue;
+        }
+        const Eigen::VectorXd candidate = x - llt.solve(g);
+        if (evaluate(candidate.data(), problem, trial_f, nullptr) && trial_f.squaredNorm() < cost) {
+          const double trial_cost = trial_f.squaredNorm();
+          quiet = cost - trial_cost < 1e-6 * cost ? quiet + 1 : 0;
+          x = candidate;
+          cost = trial_cost;
+          lambda = std::max(lambda / 3, 1e-12);
+          accepted = true;
+        } else {
+          lambda *= 4;
+        }
+      }
+      if (!accepted) break;
+      evaluate(x.data(), problem, f, &J);
+    }
+    return true;
+  };
+  // The largest error is what the law promises, so least squares is only the start: Lawson's
+  // reweighting (each point's weight times its error, normalised) moves the weighted least-squares
+  // solution toward the minimax one; the round with the smallest largest error is kept.
+  Eigen::VectorXd best = x;
+  double best_max = std::numeric_limits<double>::infinity();
+  for (int round = 0; round < options.minimax_rounds; ++round) {
+    if (!least_squares(options.max_iterations)) return finish(false, "a fitted cell cannot be evaluated");
+    const law::ConeCheck c = law::check_reduced(cell_of(cell, rows_of(layout, x.data())), training);
+    if (c.max_error < best_max) best_max = c.max_error, best = x;
+    double mean = 0;
+    for (std::size_t q = 0; q < problem.points.size(); ++q)
+      mean += problem.weight[q] * c.error[problem.points[q]] / static_cast<double>(problem.points.size());
+    if (!(mean > 0)) break;
+    for (std::size_t q = 0; q < problem.points.size(); ++q) problem.weight[q] *= c.error[problem.points[q]] / mean;
+  }
+  x = best;
+  out.cell = cell_of(cell, rows_of(layout, x.data()));
+  const law::ConeCheck fitted = law::check_reduced(out.cell, training);
+  out.training_max_error = fitted.max_error;
+  out.training_rms_error = fitted.rms_error;
+  return finish(true, "");
+}
+
+}  // namespace dualcell::fit

@@ -1,0 +1,122 @@
+// The benchmark's small-cell section: the compact laws of one law.h5 against its exact law, error
+// against the cost of an evaluation (docs/method.md §16c).
+#include <algorithm>
+#include <cstdio>
+#include <sstream>
+
+#include "core/error.hpp"
+#include "core/json.hpp"
+#include "core/text.hpp"
+#include "fit/small_cell.hpp"
+#include "io/law_file.hpp"
+#include "law/reduced.hpp"
+#include "study/bench_parts.hpp"
+
+namespace dualcell::study::bench {
+
+namespace {
+
+// Microseconds per warm strain-driven evaluation over the sample's strains (each from the last
+// one's active set, the order of the sample's rings), best of three passes.
+double microseconds_per_point(const law::CondensedCell& cell, const law::CellSample& sample) {
+  double best = 1e300;
+  for (int pass = 0; pass < 3; ++pass) {
+    law::CellEvaluator evaluator(cell);
+    law::CellHistory h = evaluator.unloaded();
+    int points = 0;
+    const auto t0 = Clock::now();
+    for (const Eigen::Vector3d& e : sample.strain)
+      if (e.allFinite()) evaluator.at_strain(e, h, law::BondMode::held), ++points;
+    best = std::min(best, 1e6 * since(t0) / std::max(points, 1));
+  }
+  return best;
+}
+
+}  // namespace
+
+void small_cell(const std::filesystem::path& law_file, std::ostringstream& md, JsonObject& json) {
+  const law::Law law = io::read_law(law_file);
+  if (!law.cell) throw InputError(law_file.string() + ": has no exact law (" + law.cell_note + ")");
+  const law::CondensedCell& cell = *law.cell;
+  if (cell.adhesion()) throw InputError(law_file.string() + ": the cell has adhesion: no small cell (method.md §16c)");
+  std::fprintf(stderr, "dualcell-bench: small cell of %s (%d rows): sampling the exact law\n", law_file.c_str(),
+               cell.n_rows());
+  // The fit's own sample sizes (fit/fit.cpp): 1 000 directions to check, 1 500 others to fit.
+  const law::CellSample check = law::sample_cell(cell, 1000), training = law::sample_cell(cell, 1500);
+  md << "## Small cell\n\n"
+     << law_file.string() << ": the exact law (" << cell.n_rows() << " interface rows) against its compact forms at "
+     << check.direction.size()
+     << " stress directions (relative stress error at the exact strain, docs/method.md §16a); the bases and fits "
+        "use "
+     << training.direction.size()
+     << " other directions. Evaluation: microseconds per warm strain-driven point (best of 3 passes).\n\n"
+        "| form | rows | max error | rms error | µs per point | build s |\n|---|---|---|---|---|---|\n";
+  std::vector<std::string> rows_json;
+  const auto row = [&](const std::string& form, const law::CondensedCell* c, const law::ConeCheck& e, double us,
+                       double build) {
+    md << "| " << form << " | " << (c ? std::to_string(c->n_rows()) : "–") << " | "
+       << formatted("%.2f %%", 100 * e.max_error) << " | " << formatted("%.2f %%", 100 * e.rms_error) << " | "
+       << formatted("%.3g", us) << " | " << formatted("%.3g", build) << " |\n";
+    JsonObject o;
+    o.add_text("form", form)
+        .add("rows", std::to_string(c ? c->n_rows() : 0))
+        .add("max_error", json_number(e.max_error))
+        .add("rms_error", json_number(e.rms_error))
+        .add("microseconds_per_point", json_number(us))
+        .add("build_seconds", json_number(build));
+    rows_json.push_back(o.str(4));
+    std::fprintf(stderr, "dualcell-bench:   %s: max %.2f %%, rms %.2f %%\n", form.c_str(), 100 * e.max_error,
+                 100 * e.rms_error);
+  };
+  row("exact law", &cell, law::check_reduced(cell, check), microseconds_per_point(cell, check), 0);
+  if (law.cone.ok) {
+    const law::ConeCheck e = law::check_cone(law.cone.law, check);
+    double us = 1e300;
+    for (int pass = 0; pass < 3; ++pass) {
+      const auto t0 = Clock::now();
+      int points = 0;
+      for (const Eigen::Vector3d& s : check.strain)
+        if (s.allFinite()) law::evaluate(law.cone.law, s), ++points;
+      us = std::min(us, 1e6 * since(t0) / std::max(points, 1));
+    }
+    row("cone-wise law (" + law.cone.form + ")", nullptr, e, us, 0);
+  }
+  for (const bool by_body : {false, true})
+    for (const int m : {16, 32, 64, 128}) {
+      if (m >= cell.n_rows()) break;
+      law::ReduceOptions o;
+      o.tolerance = 0;
+      o.max_rows = m;
+      o.split_by_body = by_body;
+      const law::ReducedCell r = law::reduce_cell(cell, training, o);
+      row(std::string("exact law on its solutions") + (by_body ? ", fibre by fibre" : ""), &r.cell,
+          law::check_reduced(r.cell, check), microseconds_per_point(r.cell, check), r.seconds);
+    }
+  for (const int m : {8, 16, 24, 32}) {
+    if (2 * m >= cell.n_rows()) break;
+    fit::SmallCellOptions o;
+    o.rows = m;
+    const fit::SmallCell s = fit::fit_small_cell(cell, training, o);
+    if (!s.ok) continue;
+    row("small cell, fitted", &s.cell, law::check_reduced(s.cell, check), microseconds_per_point(s.cell, check),
+        s.seconds);
+  }
+  md << "\n";
+  std::string list = "[\n";
+  for (std::size_t i = 0; i < rows_json.size(); ++i) list += rows_json[i] + (i + 1 < rows_json.size() ? ",\n" : "\n");
+  json.add_text("law", law_file.string())
+      .add("interface_rows", std::to_string(cell.n_rows()))
+      .add("forms", list + "  ]");
+}
+
+}  // namespace dualcell::study::bench
+
+namespace dualcell::study {
+
+std::string run_small_cell_only(const BenchOptions& options, const std::filesystem::path& law_file) {
+  return bench::run_section_only(options, "small_cell", "", [&](std::ostringstream& md, JsonObject& json) {
+    bench::small_cell(law_file, md, json);
+  });
+}
+
+}  // namespace dualcell::study
