@@ -1,0 +1,74 @@
+#!/usr/bin/env python3
+"""The small cell in a structure: beams in pure bending (a linear end traction, the other end a
+roller) of homogeneous cells following one law.h5, with its small cell, its cone-wise law and,
+on the small beam only, its exact law (docs/method.md §16c). Per beam and form: the end
+displacement (ux, uy) at the neutral line's end, its error against the exact law (small beam),
+and the seconds of dualcell-structure. Writes OUT_DIR/structure.md.
+
+    small_cell_structure.py BIN LAW OUT_DIR [--beams 8x2 128x16]
+"""
+import os
+
+import h5py
+
+import common
+
+SCENE = """[structure]
+cells = [{nx}, {ny}]
+elements_per_cell = 2
+element = "p2"
+[edges.left]
+type = "roller"
+[edges.right]
+type = "traction"
+traction = [0.01, 0]
+traction_end = [-0.01, 0]
+[[support]]
+at = [0, 0]
+fix = "y"
+[output]
+watch = [{nx}.0, 0]
+[steps]
+factors = [1]
+"""
+
+
+def main(argv):
+    parser = common.Parser(description=__doc__)
+    parser.add_argument("bin")
+    parser.add_argument("law")
+    parser.add_argument("out_dir")
+    parser.add_argument("--beams", nargs="+", default=["8x2", "128x16"])
+    args = parser.parse_args(argv[1:])
+    os.makedirs(args.out_dir, exist_ok=True)
+    rows = []
+    for beam in args.beams:
+        nx, ny = (int(v) for v in beam.split("x"))
+        scene = os.path.join(args.out_dir, f"beam-{beam}.toml")
+        with open(scene, "w") as f:
+            f.write(SCENE.format(nx=nx, ny=ny))
+        forms = ["small", "cone"] + (["cell"] if nx * ny <= 16 else [])
+        result = {}
+        for form in forms:
+            out = os.path.join(args.out_dir, f"beam-{beam}-{form}.h5")
+            done = common.run_stage([os.path.join(args.bin, "dualcell-structure"), "--quiet", "--config", scene,
+                                     "--law", args.law, "--out", out, "--form", form], out)
+            with h5py.File(out, "r") as h:
+                u = h["/steps/watch_displacement"][-1]
+            result[form] = (u, done.seconds)
+        for form in forms:
+            u, seconds = result[form]
+            error = ("%+.2f %% / %+.2f %%" % tuple(100 * (u[k] / result["cell"][0][k] - 1) for k in range(2))
+                     if "cell" in result else "–")
+            ratio = seconds / result["cone"][1]
+            rows.append(f"| {nx} × {ny} | {form} | {u[0]:.6e} | {u[1]:.6e} | {error} | {seconds:.2f} | {ratio:.2f} |")
+    table = ("# The small cell in a structure\n\n" + f"Law: {args.law}. Bending, right end traction ±0.01 "
+             "(linear over the depth), left end a roller; end displacement at the neutral line's end.\n\n"
+             "| cells | form | ux | uy | error against the exact law (ux / uy) | seconds | / cone-wise |\n"
+             "|---|---|---|---|---|---|---|\n" + "\n".join(rows) + "\n")
+    common.write_atomic(os.path.join(args.out_dir, "structure.md"), table)
+    print(table, end="")
+
+
+if __name__ == "__main__":
+    common.main_guard(main)
