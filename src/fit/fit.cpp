@@ -328,14 +328,17 @@ void fit_small(law::Law& law, const law::CellSample& check, double tolerance) {
     SmallCellOptions options;
     options.rows = m;
     SmallCell fitted = fit_small_cell(cell, training, options);
-    if (!fitted.ok) continue;
+    if (!fitted.ok) {
+      if (!kept.ok) kept.message = "at " + std::to_string(m) + " rows: " + fitted.message;
+      continue;
+    }
     law.small_fit.iterations += fitted.iterations;
     law.small_fit.seconds += fitted.seconds;
     kept = std::move(fitted);
     if (kept.training_max_error <= small_cell_margin * tolerance) break;
   }
   if (!kept.ok) {
-    law.small_note = "no small cell could be fitted";
+    law.small_note = "no small cell could be fitted (" + kept.message + ")";
     return;
   }
   law.small = kept.cell;

@@ -98,14 +98,82 @@ bool evaluate(const double* x, const Problem& p, Eigen::VectorXd& f, Eigen::Matr
   return true;
 }
 
+// The problem of an m-row cell over the training points with a finite strain, every weight 1.
+Problem problem_of(const law::CondensedCell& cell, const law::CellSample& training, int m) {
+  Problem p{&cell, &training, Layout{m, cell.n_macro}, {}, {}};
+  for (std::size_t i = 0; i < training.direction.size(); ++i)
+    if (training.strain[i].allFinite()) p.points.push_back(i);
+  p.weight.assign(p.points.size(), 1.0);
+  return p;
+}
+
+// The parameters of the exact law on m of its own solutions (law::reduce_cell): D = Y C₀ and L
+// the Cholesky factor of M = H − Y C₀ Yᵀ/|Ω|; empty where M is not positive definite.
+Eigen::VectorXd starting_parameters(const law::CondensedCell& cell, const law::CondensedCell& basis) {
+  const Layout layout{basis.n_rows(), cell.n_macro};
+  const Eigen::MatrixXd C0 = cell.S0.inverse();
+  const Eigen::MatrixXd M0 = basis.H - basis.Y * C0 * basis.Y.transpose() / cell.volume;
+  const Eigen::LLT<Eigen::MatrixXd> llt(0.5 * (M0 + M0.transpose()));
+  if (llt.info() != Eigen::Success) return {};
+  const Eigen::MatrixXd L0 = llt.matrixL();
+  Eigen::VectorXd x(layout.size());
+  Eigen::Map<Eigen::MatrixXd>(x.data(), layout.m, layout.nm) = basis.Y * C0;
+  Eigen::Index k = layout.m * layout.nm;
+  for (int j = 0; j < layout.m; ++j)
+    for (int i = j; i < layout.m; ++i) x(k++) = L0(i, j);
+  return x;
+}
+
+// Levenberg–Marquardt (Marquardt's scaling by diag JᵀJ) on the problem's weighted residuals,
+// from x, until three accepted steps in a row lower the cost by less than 1e-6 of it or
+// max_iterations; false where the cell at x cannot be evaluated. JᵀJ is p × p (2 272 at m = 64),
+// formed by one symmetric rank update: a general least-squares library's unblocked BLAS made
+// that the whole cost. The matrices are allocated once per call, not per step.
+bool levenberg_marquardt(const Problem& problem, Eigen::VectorXd& x, int max_iterations, int& iterations) {
+  const Eigen::Index n = problem.layout.nm * static_cast<Eigen::Index>(problem.points.size());
+  const Eigen::Index p = problem.layout.size();
+  Eigen::VectorXd f(n), trial_f(n), g(p), scale(p), candidate(p);
+  Eigen::MatrixXd J(n, p), A(p, p), B(p, p);
+  if (!evaluate(x.data(), problem, f, &J)) return false;
+  double cost = f.squaredNorm(), lambda = 1e-3;
+  int quiet = 0;  // accepted steps in a row that lowered the cost by less than 1e-6 of it
+  for (int it = 0; it < max_iterations && quiet < 3; ++it, ++iterations) {
+    A.setZero();
+    A.selfadjointView<Eigen::Lower>().rankUpdate(J.transpose());
+    g.noalias() = J.transpose() * f;
+    scale = A.diagonal().cwiseMax(1e-12 * A.diagonal().maxCoeff());
+    bool accepted = false;
+    for (int tries = 0; tries < 20 && !accepted; ++tries) {
+      B = A;
+      B.diagonal() += lambda * scale;
+      const Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>, Eigen::Lower> llt(B);  // in place
+      if (llt.info() != Eigen::Success) {
+        lambda *= 4;
+        continue;
+      }
+      candidate = x - llt.solve(g);
+      if (evaluate(candidate.data(), problem, trial_f, nullptr) && trial_f.squaredNorm() < cost) {
+        const double trial_cost = trial_f.squaredNorm();
+        quiet = cost - trial_cost < 1e-6 * cost ? quiet + 1 : 0;
+        x.swap(candidate);
+        cost = trial_cost;
+        lambda = std::max(lambda / 3, 1e-12);
+        accepted = true;
+      } else {
+        lambda *= 4;
+      }
+    }
+    if (!accepted) break;
+    evaluate(x.data(), problem, f, &J);
+  }
+  return true;
+}
+
 }  // namespace
 
 bool small_cell_residuals(const law::CondensedCell& cell, const law::CellSample& training, int m,
                           const Eigen::VectorXd& x, Eigen::VectorXd& f, Eigen::MatrixXd* J) {
-  Problem problem{&cell, &training, Layout{m, cell.n_macro}, {}, {}};
-  for (std::size_t i = 0; i < training.direction.size(); ++i)
-    if (training.strain[i].allFinite()) problem.points.push_back(i);
-  problem.weight.assign(problem.points.size(), 1.0);
+  const Problem problem = problem_of(cell, training, m);
   const Eigen::Index n = cell.n_macro * static_cast<Eigen::Index>(problem.points.size());
   f.resize(n);
   if (J) J->resize(n, problem.layout.size());
@@ -131,74 +199,20 @@ SmallCell fit_small_cell(const law::CondensedCell& cell, const law::CellSample& 
   const law::ConeCheck start_check = law::check_reduced(basis.cell, training);
   out.start_max_error = start_check.max_error;
   out.start_rms_error = start_check.rms_error;
-
-  const Layout layout{basis.cell.n_rows(), cell.n_macro};
-  const Eigen::MatrixXd C0 = cell.S0.inverse();
-  const Eigen::MatrixXd D0 = basis.cell.Y * C0;
-  const Eigen::MatrixXd M0 = basis.cell.H - basis.cell.Y * C0 * basis.cell.Y.transpose() / cell.volume;
-  Eigen::LLT<Eigen::MatrixXd> llt(0.5 * (M0 + M0.transpose()));
-  if (llt.info() != Eigen::Success) return finish(false, "the starting basis' M is not positive definite");
-  const Eigen::MatrixXd L0 = llt.matrixL();
-  std::vector<double> x0(static_cast<std::size_t>(layout.size()));
-  Eigen::Map<Eigen::MatrixXd>(x0.data(), layout.m, layout.nm) = D0;
-  std::size_t k = static_cast<std::size_t>(layout.m * layout.nm);
-  for (int j = 0; j < layout.m; ++j)
-    for (int i = j; i < layout.m; ++i) x0[k++] = L0(i, j);
-
-  Problem problem{&cell, &training, layout, {}, {}};
-  for (std::size_t i = 0; i < training.direction.size(); ++i)
-    if (training.strain[i].allFinite()) problem.points.push_back(i);
-  const Eigen::Index n = layout.nm * static_cast<Eigen::Index>(problem.points.size()), p = layout.size();
-  if (n < p) return finish(false, "fewer residuals than parameters: sample more directions");
-  problem.weight.assign(problem.points.size(), 1.0);
-  Eigen::VectorXd x = Eigen::Map<const Eigen::VectorXd>(x0.data(), p), f(n), trial_f(n);
-  Eigen::MatrixXd J(n, p);
-  // Levenberg–Marquardt (Marquardt's scaling by diag JᵀJ) on the weighted residuals from x; false
-  // where the cell cannot be evaluated. JᵀJ is p × p (2 272 at m = 64), formed by one symmetric
-  // rank update: a general least-squares library's unblocked BLAS made that the whole cost.
-  const auto least_squares = [&](int max_iterations) {
-    if (!evaluate(x.data(), problem, f, &J)) return false;
-    double cost = f.squaredNorm(), lambda = 1e-3;
-    int quiet = 0;  // accepted steps in a row that lowered the cost by less than 1e-6 of it
-    for (int it = 0; it < max_iterations && quiet < 3; ++it, ++out.iterations) {
-      Eigen::MatrixXd A = Eigen::MatrixXd::Zero(p, p);
-      A.selfadjointView<Eigen::Lower>().rankUpdate(J.transpose());
-      const Eigen::VectorXd g = J.transpose() * f;
-      const Eigen::VectorXd scale = A.diagonal().cwiseMax(1e-12 * A.diagonal().maxCoeff());
-      bool accepted = false;
-      for (int tries = 0; tries < 20 && !accepted; ++tries) {
-        Eigen::MatrixXd B = A;
-        B.diagonal() += lambda * scale;
-        const Eigen::LLT<Eigen::MatrixXd, Eigen::Lower> llt(B);
-        if (llt.info() != Eigen::Success) {
-          lambda *= 4;
-          continue;
-        }
-        const Eigen::VectorXd candidate = x - llt.solve(g);
-        if (evaluate(candidate.data(), problem, trial_f, nullptr) && trial_f.squaredNorm() < cost) {
-          const double trial_cost = trial_f.squaredNorm();
-          quiet = cost - trial_cost < 1e-6 * cost ? quiet + 1 : 0;
-          x = candidate;
-          cost = trial_cost;
-          lambda = std::max(lambda / 3, 1e-12);
-          accepted = true;
-        } else {
-          lambda *= 4;
-        }
-      }
-      if (!accepted) break;
-      evaluate(x.data(), problem, f, &J);
-    }
-    return true;
-  };
+  Eigen::VectorXd x = starting_parameters(cell, basis.cell);
+  if (x.size() == 0) return finish(false, "the starting basis' M is not positive definite");
+  Problem problem = problem_of(cell, training, basis.cell.n_rows());
+  if (problem.layout.nm * static_cast<Eigen::Index>(problem.points.size()) < problem.layout.size())
+    return finish(false, "fewer residuals than parameters: sample more directions");
   // The largest error is what the law promises, so least squares is only the start: Lawson's
   // reweighting (each point's weight times its error, normalised) moves the weighted least-squares
   // solution toward the minimax one; the round with the smallest largest error is kept.
   Eigen::VectorXd best = x;
   double best_max = std::numeric_limits<double>::infinity();
   for (int round = 0; round < options.minimax_rounds; ++round) {
-    if (!least_squares(options.max_iterations)) return finish(false, "a fitted cell cannot be evaluated");
-    const law::ConeCheck c = law::check_reduced(cell_of(cell, rows_of(layout, x.data())), training);
+    if (!levenberg_marquardt(problem, x, options.max_iterations, out.iterations))
+      return finish(false, "a fitted cell cannot be evaluated");
+    const law::ConeCheck c = law::check_reduced(cell_of(cell, rows_of(problem.layout, x.data())), training);
     if (c.max_error < best_max) best_max = c.max_error, best = x;
     double mean = 0;
     for (std::size_t q = 0; q < problem.points.size(); ++q)
@@ -206,8 +220,7 @@ SmallCell fit_small_cell(const law::CondensedCell& cell, const law::CellSample& 
     if (!(mean > 0)) break;
     for (std::size_t q = 0; q < problem.points.size(); ++q) problem.weight[q] *= c.error[problem.points[q]] / mean;
   }
-  x = best;
-  out.cell = cell_of(cell, rows_of(layout, x.data()));
+  out.cell = cell_of(cell, rows_of(problem.layout, best.data()));
   const law::ConeCheck fitted = law::check_reduced(out.cell, training);
   out.training_max_error = fitted.max_error;
   out.training_rms_error = fitted.rms_error;

@@ -388,9 +388,7 @@ std::string umat_cell_hash_constants(std::uint64_t hash) {
   return card_number(static_cast<double>(hash >> 32)) + ", " + card_number(static_cast<double>(hash & 0xffffffffULL));
 }
 
-std::string law_umat_cell(const Law& law, CellForm form, const std::string& name, int id, std::uint64_t cell_hash,
-                          const std::string& source) {
-  check_name(name);
+const law::CondensedCell& umat_cell(const Law& law, CellForm form, const std::string& source) {
   const bool small = form == CellForm::small;
   const std::string object = small ? "/law/small" : "/law/cell";
   const std::optional<law::CondensedCell>& kept = small ? law.small : law.cell;
@@ -403,9 +401,16 @@ std::string law_umat_cell(const Law& law, CellForm form, const std::string& name
     throw InputError(source + ": " + object +
                      ": the cell has the symmetry boundary and carries no shear: a material "
                      "point needs all three stresses (--form cone writes the cone-wise law)");
+  return *kept;
+}
+
+std::string law_umat_cell(const Law& law, CellForm form, const std::string& name, int id, std::uint64_t cell_hash,
+                          const std::string& source) {
+  check_name(name);
+  const bool small = form == CellForm::small;
+  const law::CondensedCell& cell = umat_cell(law, form, source);
   check_constituents(law, source);
   const OutOfPlane z = rule_of_mixtures(law);
-  const law::CondensedCell& cell = *kept;
   const int depvar = 1 + cell.n_pairs + cell.n_macro + cell.n_rows();
   std::string out = card_header(
       law, source,

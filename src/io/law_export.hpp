@@ -40,6 +40,9 @@ std::string law_umat(const law::Law& law, const std::string& name, const std::st
 // umat_cell_file(id) beside the card (law/cell_text.hpp). The same for the small cell (a cell of
 // the same form, /law/small). Refuses a law without the one asked for.
 enum class CellForm { exact, small };  // /law/cell or /law/small
+// The cell the umat carries for `form`; refuses (InputError naming `source` and the object) a law
+// without it, or one without shear (the symmetry boundary).
+const law::CondensedCell& umat_cell(const law::Law& law, CellForm form, const std::string& source);
 std::string law_umat_cell(const law::Law& law, CellForm form, const std::string& name, int id, std::uint64_t cell_hash,
                           const std::string& source);
 std::string umat_cell_file(int id);

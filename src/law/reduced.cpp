@@ -13,7 +13,7 @@ namespace dualcell::law {
 namespace {
 
 // A snapshot repeats a column where their unit vectors differ by less than this.
-constexpr double independence_floor = 1e-6;
+constexpr double repeat_floor = 1e-6;
 
 // The interface rows grouped by the body they act on: two rows are in one group when a row of G
 // (a rigid mode of a fibre) involves both. Each group's part of an admissible p is admissible on
@@ -130,7 +130,7 @@ ReducedCell reduce_cell(const CondensedCell& cell, const CellSample& training, c
         if (norm == 0) continue;
         bool repeated = false;  // a column already (to round-off)
         for (Eigen::Index j = 0; j < V.cols() && !repeated; ++j)
-          repeated = (p / norm - V.col(j) / V.col(j).norm()).norm() <= independence_floor;
+          repeated = (p / norm - V.col(j) / V.col(j).norm()).norm() <= repeat_floor;
         if (repeated || V.cols() >= options.max_rows) continue;
         V.conservativeResize(Eigen::NoChange, V.cols() + 1);
         V.col(V.cols() - 1) = p / p.cwiseAbs().maxCoeff();
@@ -140,7 +140,7 @@ ReducedCell reduce_cell(const CondensedCell& cell, const CellSample& training, c
       if (added) break;
     }
     if (!added)
-      return finish(false, "no training direction above the tolerance adds an independent solution (error " +
+      return finish(false, "no training direction above the tolerance adds a new solution (error " +
                                formatted("%.3g", out.training_max_error.back()) + ")");
     out.cell = cell_on_basis(cell, V);
     out.basis = V;

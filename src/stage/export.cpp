@@ -69,16 +69,13 @@ std::string export_law(const ExportOptions& options) {
   if (options.format == io::ExportFormat::umat && form == "small" && law.small)
     refuse_over_error(options, "the small cell", law.small_check);
   if (options.format == io::ExportFormat::umat && (form == "cell" || form == "small")) {
-    const law::CondensedCell* cell =
-        form == "small" ? (law.small ? &*law.small : nullptr) : (law.cell ? &*law.cell : nullptr);
     const io::CellForm cell_form = form == "small" ? io::CellForm::small : io::CellForm::exact;
-    if (!cell)  // refused with the reason by law_umat_cell
-      io::law_umat_cell(law, cell_form, options.name, options.cell_id, 0, options.law_file.string());
+    const law::CondensedCell& cell = io::umat_cell(law, cell_form, options.law_file.string());
     // Two files, committed together: the card and the cell it names.
     const std::filesystem::path cell_file = options.out.parent_path() / io::umat_cell_file(options.cell_id);
     io::check_outputs({options.out, cell_file}, {options.law_file});
     std::ostringstream cell_text;
-    law::write_cell_text(cell_text, *cell);
+    law::write_cell_text(cell_text, cell);
     const std::uint64_t cell_hash = text_hash_value(cell_text.str());
     // Another cell under the same id: a card written before names that file (by its hash, which
     // the umat checks), so replacing it would break that card's analysis, unless that card is
@@ -104,7 +101,7 @@ std::string export_law(const ExportOptions& options) {
     outputs.write(cell_file, cell_text.str());
     outputs.commit();
     return "user material ABAQUS_" + options.name + " for dualcell's umat, " +
-           (form == "small" ? "the small cell (" : "the exact law (") + std::to_string(cell->n_rows()) +
+           (form == "small" ? "the small cell (" : "the exact law (") + std::to_string(cell.n_rows()) +
            (form == "small" ? " rows) in " : " interface rows) in ") + cell_file.string();
   }
   std::string text;

@@ -2,6 +2,7 @@
 // against the cost of an evaluation (docs/method.md §16c).
 #include <algorithm>
 #include <cstdio>
+#include <memory>
 #include <sstream>
 
 #include "core/error.hpp"
@@ -16,20 +17,31 @@ namespace dualcell::study::bench {
 
 namespace {
 
-// Microseconds per warm strain-driven evaluation over the sample's strains (each from the last
-// one's active set, the order of the sample's rings), best of three passes.
-double microseconds_per_point(const law::CondensedCell& cell, const law::CellSample& sample) {
+// Microseconds per evaluation over the sample's strains, in the order of its rings, best of three
+// passes; `begin` starts a pass (a fresh evaluator, whose first point is then cold) and returns
+// the evaluation of one strain.
+template <class Begin>
+double microseconds_per_point(const law::CellSample& sample, Begin&& begin) {
   double best = 1e300;
   for (int pass = 0; pass < 3; ++pass) {
-    law::CellEvaluator evaluator(cell);
-    law::CellHistory h = evaluator.unloaded();
+    auto evaluate = begin();
     int points = 0;
     const auto t0 = Clock::now();
     for (const Eigen::Vector3d& e : sample.strain)
-      if (e.allFinite()) evaluator.at_strain(e, h, law::BondMode::held), ++points;
+      if (e.allFinite()) evaluate(e), ++points;
     best = std::min(best, 1e6 * since(t0) / std::max(points, 1));
   }
   return best;
+}
+
+// Warm strain-driven evaluations of a cell (each from the last one's active set).
+double microseconds_per_point(const law::CondensedCell& cell, const law::CellSample& sample) {
+  return microseconds_per_point(sample, [&] {
+    const auto evaluator = std::make_shared<law::CellEvaluator>(cell);  // not movable: held by pointer
+    return [evaluator, history = evaluator->unloaded()](const Eigen::Vector3d& e) mutable {
+      evaluator->at_strain(e, history, law::BondMode::held);
+    };
+  });
 }
 
 }  // namespace
@@ -70,16 +82,9 @@ void small_cell(const std::filesystem::path& law_file, std::ostringstream& md, J
   };
   row("exact law", &cell, law::check_reduced(cell, check), microseconds_per_point(cell, check), 0);
   if (law.cone.ok) {
-    const law::ConeCheck e = law::check_cone(law.cone.law, check);
-    double us = 1e300;
-    for (int pass = 0; pass < 3; ++pass) {
-      const auto t0 = Clock::now();
-      int points = 0;
-      for (const Eigen::Vector3d& s : check.strain)
-        if (s.allFinite()) law::evaluate(law.cone.law, s), ++points;
-      us = std::min(us, 1e6 * since(t0) / std::max(points, 1));
-    }
-    row("cone-wise law (" + law.cone.form + ")", nullptr, e, us, 0);
+    const double us = microseconds_per_point(
+        check, [&] { return [&](const Eigen::Vector3d& e) { law::evaluate(law.cone.law, e); }; });
+    row("cone-wise law (" + law.cone.form + ")", nullptr, law::check_cone(law.cone.law, check), us, 0);
   }
   for (const bool by_body : {false, true})
     for (const int m : {16, 32, 64, 128}) {
