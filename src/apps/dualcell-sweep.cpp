@@ -58,6 +58,9 @@ int main(int argc, char** argv) {
                       s.cell_rows, s.cell_bytes / 1e3, s.cell_seconds);
         if (!quiet && s.written && s.cell_rows == 0)
           std::printf("dualcell-sweep: no exact law: %s\n", s.cell_note.c_str());
+        if (!quiet && s.written && s.basis_rows > 0)
+          std::printf("dualcell-sweep: the cell on %d of its own solutions (the small cell's start) in %.1f s\n",
+                      s.basis_rows, s.basis_seconds);
       },
       dualcell::Ranks::share);
   return status != dualcell::exit_ok ? status : exit_code;

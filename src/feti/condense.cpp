@@ -1,14 +1,18 @@
 #include "feti/condense.hpp"
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <limits>
+#include <memory>
 
 #include "core/error.hpp"
 #include "feti/constraints.hpp"
 #include "feti/dual.hpp"
 #include "feti/macro.hpp"
 #include "law/bond.hpp"
+#include "law/reduced.hpp"
 
 namespace dualcell::feti {
 
@@ -172,25 +176,31 @@ Modes split_modes(const Eigen::MatrixXd& G, const std::vector<int>& E, const Mac
   return out;
 }
 
-// The cell on its interface rows I, with λ_E and α_M eliminated (docs/method.md §16a), in the
+// The blocks of the eliminated system that involve the interface: its columns are the interface
+// rows I themselves (the whole cell) or the combinations V_s of them (a basis, condense_on_solutions),
+// in the scaled rows of B. F_EE is always the rows E's own block.
+struct InterfaceBlocks {
+  Eigen::MatrixXd F_EE, F_EI, F_II, D_I, G_MI, lambda_I;
+};
+
+// The cell on its interface columns, with λ_E and α_M eliminated (docs/method.md §16a), in the
 // scaled rows: H = ∂(opening)/∂p, Y = ∂(opening)/∂σ̄, E_p = ∂ε̄/∂p, S₀ = ∂ε̄/∂σ̄.
 struct Eliminated {
   Eigen::MatrixXd H, Y, E_p, S0;
 };
 
-Eliminated eliminate(const Eigen::MatrixXd& F, const Modes& modes, const MacroLoad& load, const StrainMap& T,
-                     const std::vector<int>& I, const std::vector<int>& E, int n_macro) {
-  const Eigen::MatrixXd& D = load.D;
+Eliminated eliminate(const InterfaceBlocks& b, const Modes& modes, const MacroLoad& load, const StrainMap& T,
+                     const std::vector<int>& E, int n_macro) {
   const int mE = static_cast<int>(E.size()), nM = static_cast<int>(modes.G_M.rows());
-  const int nI = static_cast<int>(I.size());
+  const Eigen::Index nI = b.F_EI.cols();
   const std::vector<int> rows_M = all(nM);
   Eigen::MatrixXd K = Eigen::MatrixXd::Zero(mE + nM, mE + nM);
-  K.topLeftCorner(mE, mE) = pick(F, E, E);
+  K.topLeftCorner(mE, mE) = b.F_EE;
   K.topRightCorner(mE, nM) = pick(modes.G_M, rows_M, E).transpose();
   K.bottomLeftCorner(nM, mE) = pick(modes.G_M, rows_M, E);
   Eigen::MatrixXd rhs_p(mE + nM, nI), rhs_s(mE + nM, n_macro);
-  rhs_p << -pick(F, E, I), -pick(modes.G_M, rows_M, I);
-  rhs_s << pick(D, E, all(n_macro)), modes.e_M;
+  rhs_p << -b.F_EI, -b.G_MI;
+  rhs_s << pick(load.D, E, all(n_macro)), modes.e_M;
   const Eigen::PartialPivLU<Eigen::MatrixXd> lu(K);
   const Eigen::MatrixXd X_p = lu.solve(rhs_p), X_s = lu.solve(rhs_s);
   const double solve_error = std::max((K * X_p - rhs_p).norm() / std::max(rhs_p.norm(), 1e-300),
@@ -198,61 +208,96 @@ Eliminated eliminate(const Eigen::MatrixXd& F, const Modes& modes, const MacroLo
   if (!(solve_error < elimination_tolerance))
     throw InputError("the cell's rows other than the interface do not hold it (the eliminated system is singular)");
   const auto X_pE = X_p.topRows(mE), X_pM = X_p.bottomRows(nM), X_sE = X_s.topRows(mE), X_sM = X_s.bottomRows(nM);
-  const Eigen::MatrixXd F_IE = pick(F, I, E), G_MI = pick(modes.G_M, rows_M, I);
+  const Eigen::MatrixXd lambda_E = pick(T.lambda, all(n_macro), E);
   Eliminated out;
-  out.H = pick(F, I, I) + F_IE * X_pE + G_MI.transpose() * X_pM;
-  out.Y = pick(D, I, all(n_macro)) - F_IE * X_sE - G_MI.transpose() * X_sM;
-  out.E_p = pick(T.lambda, all(n_macro), I) + pick(T.lambda, all(n_macro), E) * X_pE - modes.alpha_M * X_pM;
-  out.S0 = T.sigma + pick(T.lambda, all(n_macro), E) * X_sE - modes.alpha_M * X_sM;
+  out.H = b.F_II + b.F_EI.transpose() * X_pE + b.G_MI.transpose() * X_pM;
+  out.Y = b.D_I - b.F_EI.transpose() * X_sE - b.G_MI.transpose() * X_sM;
+  out.E_p = b.lambda_I + lambda_E * X_pE - modes.alpha_M * X_pM;
+  out.S0 = T.sigma + lambda_E * X_sE - modes.alpha_M * X_sM;
   return out;
 }
 
-}  // namespace
+// What both condensations share: the dual problem of the intact cell, its rows split into the
+// interface I and the others E, the macro load, the strain map and the rigid modes split.
+struct Prepared {
+  std::unique_ptr<DualProblem> dual;
+  std::vector<int> I, E;
+  MacroLoad load;
+  StrainMap T;
+  Modes modes;
+  int n_macro = 3;
+  BondState intact;
+};
 
-law::CondensedCell condense(const FetiSetup& setup, int max_rows) {
-  const auto start = std::chrono::steady_clock::now();
+Prepared prepare(const FetiSetup& setup, int max_rows) {
   const Scene& scene = setup.scene();
   const mesh::Mesh& mesh = setup.mesh();
   if (scene.load.boundary == Boundary::edges)
     throw InputError("the edges boundary is a structure, not a cell: it has no cell law");
   if (scene.load.body_force[0] != 0 || scene.load.body_force[1] != 0)
     throw InputError("a cell with a body force has no homogeneous law: set [load] body_force = [0, 0]");
-  const int n_macro = scene.load.boundary == Boundary::symmetry ? 2 : 3;
-
-  const BondState intact = intact_bonds(mesh, scene.interface);
-  const DualProblem dual(setup, build_constraints(mesh, scene, intact));
-  const Constraints& con = dual.constraints();
+  Prepared p;
+  p.n_macro = scene.load.boundary == Boundary::symmetry ? 2 : 3;
+  p.intact = intact_bonds(mesh, scene.interface);
+  p.dual = std::make_unique<DualProblem>(setup, build_constraints(mesh, scene, p.intact));
+  const Constraints& con = p.dual->constraints();
   const int m = con.n_rows();
   if (m > max_rows)
     throw InputError("the cell has " + std::to_string(m) + " constraint rows, more than the " +
                      std::to_string(max_rows) + " a dense condensation pays for");
-  std::vector<int> I, E;
-  for (int r = 0; r < m; ++r) (is_interface(con.kind[r]) ? I : E).push_back(r);
-
-  law::CondensedCell cell;
-  const Eigen::MatrixXd F = dual.explicit_F();
-  MacroLoad load = macro_load(setup, dual, n_macro);
-  StrainMap T = strain_map(setup, dual, load, n_macro);
+  for (int r = 0; r < m; ++r) (is_interface(con.kind[r]) ? p.I : p.E).push_back(r);
+  p.load = macro_load(setup, *p.dual, p.n_macro);
+  p.T = strain_map(setup, *p.dual, p.load, p.n_macro);
   // The rigid-body modes' rows of G scaled to unit length, D = diag(1/‖G_g‖), with their loads e
   // (rows) and the strain map's α (columns), so that the law is unchanged (G p = 0 is the same
   // rows; a multiplier of a scaled row scales back through α). A rotation's row carries lengths
   // and a translation's none: unscaled, the split below measured the round-off of one against
   // the size of the other, and a cell of size 3e4 lost its law ("a macro stress loads a body held
   // only by interface rows").
-  Eigen::MatrixXd G(dual.G());
+  Eigen::MatrixXd G(p.dual->G());
   Eigen::VectorXd D(G.rows());
   for (Eigen::Index g = 0; g < G.rows(); ++g) D(g) = G.row(g).norm() > 0 ? 1 / G.row(g).norm() : 1.0;
   G = D.asDiagonal() * G;
-  load.e = D.asDiagonal() * load.e;
-  T.alpha = T.alpha * D.asDiagonal();
-  const Modes modes = split_modes(G, E, load, T, n_macro);
-  for (Eigen::Index g = 0; g < modes.e_N.rows(); ++g)
-    if (modes.e_N.row(g).norm() > load_round_off * std::max(load.e.norm(), 1e-300))
+  p.load.e = D.asDiagonal() * p.load.e;
+  p.T.alpha = p.T.alpha * D.asDiagonal();
+  p.modes = split_modes(G, p.E, p.load, p.T, p.n_macro);
+  for (Eigen::Index g = 0; g < p.modes.e_N.rows(); ++g)
+    if (p.modes.e_N.row(g).norm() > load_round_off * std::max(p.load.e.norm(), 1e-300))
       throw InputError("a macro stress loads a body held only by interface rows: this cell has no condensed law");
-  cell.operator_applications = 2 * n_macro;  // d and the strain map; F comes from the subdomains' blocks
-  Eliminated x = eliminate(F, modes, load, T, I, E, n_macro);
-  if (modes.alpha_N.cols() > 0 && modes.alpha_N.norm() > null_mode_tolerance * T.alpha.norm())
+  return p;
+}
+
+void check_fibres_still(const Prepared& p) {
+  if (p.modes.alpha_N.cols() > 0 && p.modes.alpha_N.norm() > null_mode_tolerance * p.T.alpha.norm())
     throw InputError("a body held only by interface rows moves the cell's boundary: this cell has no condensed law");
+}
+
+// Reciprocity: the strain's dependence on p is the opening's on σ̄, |Ω| E_p = −Yᵀ; with the
+// symmetry of H and S₀ this is the symmetry of 𝓗 (relative).
+double reciprocity(const Eigen::MatrixXd& H, const Eigen::MatrixXd& Y, const Eigen::MatrixXd& E_p,
+                   const Eigen::MatrixXd& S0, double volume) {
+  return std::max({(volume * E_p + Y.transpose()).norm() / std::max(Y.norm(), 1e-300),
+                   (H - H.transpose()).norm() / std::max(H.norm(), 1e-300),
+                   (S0 - S0.transpose()).norm() / std::max(S0.norm(), 1e-300)});
+}
+
+}  // namespace
+
+law::CondensedCell condense(const FetiSetup& setup, int max_rows) {
+  const auto start = std::chrono::steady_clock::now();
+  const Prepared p = prepare(setup, max_rows);
+  const Constraints& con = p.dual->constraints();
+  const std::vector<int>& I = p.I;
+  const int n_macro = p.n_macro;
+  const Eigen::MatrixXd F = p.dual->explicit_F();
+  InterfaceBlocks blocks{pick(F, p.E, p.E),
+                         pick(F, p.E, I),
+                         pick(F, I, I),
+                         pick(p.load.D, I, all(n_macro)),
+                         pick(p.modes.G_M, all(p.modes.G_M.rows()), I),
+                         pick(p.T.lambda, all(n_macro), I)};
+  Eliminated x = eliminate(blocks, p.modes, p.load, p.T, p.E, n_macro);
+  check_fibres_still(p);
 
   // Physical interface forces p = w λ_scaled: H, Y, E_p and G scaled by 1/w.
   const int nI = static_cast<int>(I.size());
@@ -263,21 +308,82 @@ law::CondensedCell condense(const FetiSetup& setup, int max_rows) {
   const Eigen::MatrixXd E_p = x.E_p * inverse_weight.asDiagonal();
   const Eigen::MatrixXd& S0 = x.S0;
   const double volume = setup.volume();
-  // Reciprocity: the strain's dependence on p is the opening's on σ̄, |Ω| E_p = −Yᵀ; with the
-  // symmetry of H and S₀ this is the symmetry of 𝓗.
-  const double scale_Y = std::max(Y.norm(), 1e-300);
-  cell.reciprocity_error = std::max({(volume * E_p + Y.transpose()).norm() / scale_Y,
-                                     (H - H.transpose()).norm() / std::max(H.norm(), 1e-300),
-                                     (S0 - S0.transpose()).norm() / std::max(S0.norm(), 1e-300)});
+  law::CondensedCell cell;
+  cell.operator_applications = 2 * n_macro;  // d and the strain map; F comes from the subdomains' blocks
+  cell.reciprocity_error = reciprocity(H, Y, E_p, S0, volume);
   cell.n_macro = n_macro;
   cell.volume = volume;
   cell.S0 = 0.5 * (S0 + S0.transpose());
   cell.H = 0.5 * (H + H.transpose());
   cell.Y = 0.5 * (Y - volume * E_p.transpose());
-  cell.G = pick(modes.G_N, all(modes.G_N.rows()), I) * inverse_weight.asDiagonal();
-  cell.n_pairs = static_cast<int>(mesh.interface_pairs.size());
-  cell.bonded = intact;
+  cell.G = pick(p.modes.G_N, all(p.modes.G_N.rows()), I) * inverse_weight.asDiagonal();
+  cell.n_pairs = static_cast<int>(setup.mesh().interface_pairs.size());
+  cell.bonded = p.intact;
   set_rows(cell, con, I);
+  cell.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return cell;
+}
+
+law::CondensedCell condense_on_solutions(const FetiSetup& setup, const std::vector<Eigen::VectorXd>& lambdas) {
+  const auto start = std::chrono::steady_clock::now();
+  const Prepared p = prepare(setup, std::numeric_limits<int>::max());
+  const Constraints& con = p.dual->constraints();
+  const DualProblem& dual = *p.dual;
+  if (setup.scene().interface.has_adhesion())
+    throw InputError(
+        "the cell has adhesion: its bonded rows carry tension, which nonnegative combinations of "
+        "its solutions cannot represent");
+  const int n_macro = p.n_macro, m = con.n_rows(), mE = static_cast<int>(p.E.size());
+  // V_s: each solution's interface forces scaled to unit largest entry (p_j/‖p_j‖∞), in the
+  // scaled rows of B (λ = p/w) and zero on E; a solution without interface force (every contact
+  // open) is no column.
+  Eigen::MatrixXd Vs = Eigen::MatrixXd::Zero(m, static_cast<Eigen::Index>(lambdas.size()));
+  int k = 0;
+  for (const Eigen::VectorXd& lambda : lambdas) {
+    if (lambda.size() != m)
+      throw InputError("a solution has " + std::to_string(lambda.size()) + " multipliers, the intact cell " +
+                       std::to_string(m) + " rows");
+    double largest = 0;
+    for (const int r : p.I) largest = std::max(largest, std::abs(lambda(r)));
+    if (!std::isfinite(largest)) throw InputError("a solution's interface forces are not finite");
+    if (!(largest > 0)) continue;
+    for (const int r : p.I) Vs(r, k) = lambda(r) / largest / con.weight(r);
+    ++k;
+  }
+  if (k == 0) throw InputError("no solution has an interface force: the basis has no column");
+  Vs.conservativeResize(Eigen::NoChange, k);
+  // F on the rows E one by one and on the basis: mE + k applications, no dense F of all rows.
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(m), y(m);
+  Eigen::MatrixXd F_E(m, mE), F_V(m, k);
+  for (int c = 0; c < mE; ++c) {
+    x(p.E[c]) = 1;
+    dual.apply_F(x, y);
+    F_E.col(c) = y;
+    x(p.E[c]) = 0;
+  }
+  for (int j = 0; j < k; ++j) {
+    x = Vs.col(j);
+    dual.apply_F(x, y);
+    F_V.col(j) = y;
+  }
+  const Eigen::MatrixXd V_I = pick(Vs, p.I, all(k));
+  InterfaceBlocks blocks{pick(F_E, p.E, all(mE)),
+                         pick(F_V, p.E, all(k)),
+                         Vs.transpose() * F_V,
+                         V_I.transpose() * pick(p.load.D, p.I, all(n_macro)),
+                         pick(p.modes.G_M, all(p.modes.G_M.rows()), p.I) * V_I,
+                         pick(p.T.lambda, all(n_macro), p.I) * V_I};
+  const Eliminated e = eliminate(blocks, p.modes, p.load, p.T, p.E, n_macro);
+  check_fibres_still(p);
+  const double volume = setup.volume();
+  law::CondensedCell macro;
+  macro.n_macro = n_macro;
+  macro.volume = volume;
+  macro.S0 = 0.5 * (e.S0 + e.S0.transpose());
+  law::CondensedCell cell =
+      law::cell_of_rows(macro, 0.5 * (e.Y - volume * e.E_p.transpose()), law::with_basis_compliance(e.H));
+  cell.reciprocity_error = reciprocity(e.H, e.Y, e.E_p, e.S0, volume);
+  cell.operator_applications = 2 * n_macro + mE + k;
   cell.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return cell;
 }

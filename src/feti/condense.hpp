@@ -31,4 +31,14 @@ inline constexpr int max_condensed_rows = law::max_cell_rows;
 // homogeneous) or whose B has more than max_rows rows.
 law::CondensedCell condense(const FetiSetup& setup, int max_rows = max_condensed_rows);
 
+// The cell on a basis of its own solutions (docs/method.md §16c): p = Vμ, μ ≥ 0, with v_j the
+// interface part of lambdas[j] (a contact solution of the intact cell, Solution::lambda, per row
+// of B) scaled to unit largest entry; a solution without interface force (every contact open) is
+// no column. The same cell as law::cell_on_basis(condense(setup), V),
+// without a dense matrix of the cell's rows: F is applied to the rows other than the interface
+// one by one and to V's columns (rows E + k applications), so it has no row cap. Every rank of
+// setup.group() must call it. An InputError for a scene condense refuses, a cell with adhesion
+// (its bonded rows carry tension: no cone of solutions), a λ of another size, or no column.
+law::CondensedCell condense_on_solutions(const FetiSetup& setup, const std::vector<Eigen::VectorXd>& lambdas);
+
 }  // namespace dualcell::feti

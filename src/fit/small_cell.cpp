@@ -181,7 +181,7 @@ bool small_cell_residuals(const law::CondensedCell& cell, const law::CellSample&
 }
 
 SmallCell fit_small_cell(const law::CondensedCell& cell, const law::CellSample& training,
-                         const SmallCellOptions& options) {
+                         const SmallCellOptions& options, const law::CellSample* start_sample) {
   const auto start = std::chrono::steady_clock::now();
   SmallCell out;
   const auto finish = [&](bool ok, std::string message) {
@@ -194,7 +194,7 @@ SmallCell fit_small_cell(const law::CondensedCell& cell, const law::CellSample& 
   basis_options.tolerance = 0;
   basis_options.max_rows = options.rows;
   basis_options.split_by_body = false;
-  const law::ReducedCell basis = law::reduce_cell(cell, training, basis_options);
+  const law::ReducedCell basis = law::reduce_cell(cell, start_sample ? *start_sample : training, basis_options);
   if (basis.cell.n_rows() == 0) return finish(false, "no starting basis: " + basis.message);
   const law::ConeCheck start_check = law::check_reduced(basis.cell, training);
   out.start_max_error = start_check.max_error;

@@ -40,8 +40,11 @@ struct SmallCell {
   double seconds = 0;
 };
 
+// `start_sample`: the sample of `cell` itself (law::sample_cell, with its forces) that the
+// starting greedy runs on, where the training points are not the cell's own (the cell on a basis
+// of its solutions, fitted to full solves: docs/method.md §16c); by default `training`.
 SmallCell fit_small_cell(const law::CondensedCell& cell, const law::CellSample& training,
-                         const SmallCellOptions& options = {});
+                         const SmallCellOptions& options = {}, const law::CellSample* start_sample = nullptr);
 
 // The fit's residuals (σ(ε_i) − σ_i)_k/|σ_i| over the training points with a finite strain, and
 // when J is given their Jacobian, at the parameters x of an m-row cell (D column by column, then

@@ -197,8 +197,8 @@ law::ConeCheck read_cone_check(const File& f, const Reader& r, const std::string
     try {
       c.against = law::checked_against_from(against);
     } catch (const std::invalid_argument&) {
-      r.fail(object(name),
-             "attribute against is '" + against + "', not 'the exact law' or 'held-out sweep directions'");
+      r.fail(object(name), "attribute against is '" + against +
+                               "', not 'the exact law', 'held-out sweep directions' or 'held-out full solves'");
     }
   }
   Shape found;

@@ -129,6 +129,8 @@ void write_header(File& f, const SweepHeader& header, std::size_t n_paths) {
   write_onset(f, "/onset", header.onset);
   if (header.cell) write_condensed(f, "/cell", *header.cell);
   f.write_attribute("/", "cell_note", header.cell_note);
+  if (header.cell_basis) write_condensed(f, "/cell_basis", *header.cell_basis);
+  if (!header.cell_basis_note.empty()) f.write_attribute("/", "cell_basis_note", header.cell_basis_note);
   f.write_attribute("/", "qp_tolerance", header.qp_tolerance);
 }
 
@@ -195,6 +197,8 @@ SweepHeader read_sweep_header(const std::filesystem::path& file) {
   header.onset = read_onset(f, "/onset");
   if (f.exists("/cell")) header.cell = read_condensed(f, "/cell");
   if (f.has_attribute("/", "cell_note")) header.cell_note = f.read_string_attribute("/", "cell_note");
+  if (f.exists("/cell_basis")) header.cell_basis = read_condensed(f, "/cell_basis");
+  if (f.has_attribute("/", "cell_basis_note")) header.cell_basis_note = f.read_string_attribute("/", "cell_basis_note");
   if (f.has_attribute("/", "qp_tolerance")) header.qp_tolerance = f.read_double_attribute_value("/", "qp_tolerance");
   return header;
 }

@@ -94,11 +94,20 @@ CellSample sample_cell_past_fuse(const CondensedCell& cell, int n, double factor
 }
 
 const char* checked_against_text(CheckedAgainst against) {
-  return against == CheckedAgainst::exact_law ? "the exact law" : "held-out sweep directions";
+  switch (against) {
+    case CheckedAgainst::exact_law:
+      return "the exact law";
+    case CheckedAgainst::held_out_directions:
+      return "held-out sweep directions";
+    case CheckedAgainst::held_out_solves:
+      return "held-out full solves";
+  }
+  return "";
 }
 
 CheckedAgainst checked_against_from(const std::string& text) {
-  for (CheckedAgainst a : {CheckedAgainst::exact_law, CheckedAgainst::held_out_directions})
+  for (CheckedAgainst a :
+       {CheckedAgainst::exact_law, CheckedAgainst::held_out_directions, CheckedAgainst::held_out_solves})
     if (text == checked_against_text(a)) return a;
   throw std::invalid_argument("not a cone check's reference: '" + text + "'");
 }

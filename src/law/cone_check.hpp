@@ -24,8 +24,11 @@ namespace dualcell::law {
 // What a compact law was measured against: the exact law at a dense set of directions, or,
 // where the cell has no exact law (law::Law::cell_note says why), the sweep's own points, each
 // uniaxial direction held out of the fit in turn and the law fitted without it evaluated there.
-enum class CheckedAgainst { exact_law, held_out_directions };
-// "the exact law" / "held-out sweep directions": for summaries, refusals and law.h5.
+// Or, where the exact law is too large to sample, full solves of the cell along the sphere paths
+// that neither law was fitted to (docs/method.md §16c).
+enum class CheckedAgainst { exact_law, held_out_directions, held_out_solves };
+// "the exact law" / "held-out sweep directions" / "held-out full solves": for summaries,
+// refusals and law.h5.
 const char* checked_against_text(CheckedAgainst against);
 CheckedAgainst checked_against_from(const std::string& text);  // throws std::invalid_argument
 

@@ -69,15 +69,18 @@ CondensedCell cell_of_rows(const CondensedCell& cell, const Eigen::MatrixXd& Y, 
   return r;
 }
 
-CondensedCell cell_on_basis(const CondensedCell& cell, const Eigen::MatrixXd& V) {
-  const Eigen::MatrixXd HV = cell.H * V;
-  Eigen::MatrixXd H = V.transpose() * HV;
+Eigen::MatrixXd with_basis_compliance(Eigen::MatrixXd VtHV) {
   // More columns than the span of the cell's solutions has dimensions (the cone of solutions
   // needs more generators than its span), so H_r is singular on V's kernel, where Vμ = 0 and
   // nothing physical moves. A compliance δ per row makes it definite: each row softer by δ, so
   // the reduced cell stays on the soft side of the cell.
-  if (V.cols() > 0) H.diagonal().array() += basis_compliance * H.diagonal().maxCoeff();
-  return cell_of_rows(cell, V.transpose() * cell.Y, H);
+  if (VtHV.cols() > 0) VtHV.diagonal().array() += basis_compliance * VtHV.diagonal().maxCoeff();
+  return VtHV;
+}
+
+CondensedCell cell_on_basis(const CondensedCell& cell, const Eigen::MatrixXd& V) {
+  const Eigen::MatrixXd HV = cell.H * V;
+  return cell_of_rows(cell, V.transpose() * cell.Y, with_basis_compliance(V.transpose() * HV));
 }
 
 ReducedCell reduce_cell(const CondensedCell& cell, const CellSample& training, const ReduceOptions& options) {

@@ -34,6 +34,8 @@ CondensedCell cell_on_basis(const CondensedCell& cell, const Eigen::MatrixXd& V)
 
 // The compliance cell_on_basis adds to every row, relative to H_r's largest diagonal entry.
 inline constexpr double basis_compliance = 1e-9;
+// VᵀHV with that compliance on its diagonal (none for no columns).
+Eigen::MatrixXd with_basis_compliance(Eigen::MatrixXd VtHV);
 
 struct ReduceOptions {
   double tolerance = 0.02;    // the largest relative stress error over the training directions

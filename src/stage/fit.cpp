@@ -93,13 +93,15 @@ void print_fit_summary(const std::filesystem::path& sweep_file, const std::files
   if (law.small) {
     const law::SmallCellFit& s = law.small_fit;
     const law::ConeCheck& c = law.small_check;
+    const bool exact = c.against == law::CheckedAgainst::exact_law;
     std::printf(
-        "  small cell: %d rows fitted to the exact law at %d directions in %.1f s (max %.1f %%, rms %.1f %%); "
-        "against the exact law at %zu other directions: max %.1f %% (at sxx,syy,sxy = %.3f,%.3f,%.3f), rms %.1f %%, "
+        "  small cell: %d rows fitted to %s at %d directions in %.1f s (max %.1f %%, rms %.1f %%); "
+        "against %s at %zu other directions: max %.1f %% (at sxx,syy,sxy = %.3f,%.3f,%.3f), rms %.1f %%, "
         "%s the tolerance %.1f %%\n",
-        s.rows, s.training_directions, s.seconds, 100 * s.training_max_error, 100 * s.training_rms_error,
-        c.directions.size(), 100 * c.max_error, c.worst(0), c.worst(1), c.worst(2), 100 * c.rms_error,
-        c.max_error <= s.tolerance ? "within" : "OVER", 100 * s.tolerance);
+        s.rows, exact ? "the exact law" : "full solves", s.training_directions, s.seconds, 100 * s.training_max_error,
+        100 * s.training_rms_error, law::checked_against_text(c.against), c.directions.size(), 100 * c.max_error,
+        c.worst(0), c.worst(1), c.worst(2), 100 * c.rms_error, c.max_error <= s.tolerance ? "within" : "OVER",
+        100 * s.tolerance);
   } else {
     std::printf("  small cell: none (%s)\n", law.small_note.c_str());
   }
@@ -112,8 +114,10 @@ void print_fit_summary(const std::filesystem::path& sweep_file, const std::files
         "rms %.1f %%\n",
         check == &law.cone_check ? "" : " after the fuse", law::checked_against_text(c.against),
         check == &law.cone_check || !exact ? "" : " at twice its onset", c.directions.size(),
-        exact ? "stress directions" : "points, each fitted without its direction", 100 * c.max_error, c.worst(0),
-        c.worst(1), c.worst(2), 100 * c.rms_error);
+        exact                                               ? "stress directions"
+        : c.against == law::CheckedAgainst::held_out_solves ? "sphere paths fitted without them"
+                                                            : "points, each fitted without its direction",
+        100 * c.max_error, c.worst(0), c.worst(1), c.worst(2), 100 * c.rms_error);
   }
 }
 

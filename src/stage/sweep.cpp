@@ -118,6 +118,48 @@ void summarise(SweepSummary& summary, const std::vector<sweep::PathResult>& resu
     summary.cell_seconds = header.cell->seconds;
   }
   summary.cell_note = header.cell_note;
+  if (header.cell_basis) {
+    summary.basis_rows = header.cell_basis->n_rows();
+    summary.basis_seconds = header.cell_basis->seconds;
+  }
+}
+
+// Whether the fit needs the cell on a basis of its own solutions: a cell without adhesion whose
+// exact law is missing or too large to sample, with sphere paths to fit the small cell to.
+bool needs_basis(const Scene& scene, const sweep::SweepHeader& header, const SweepOptions& options) {
+  return !scene.interface.has_adhesion() && scene.sweep.sphere > 0 &&
+         (!header.cell || header.cell->n_rows() > options.sampled_rows);
+}
+
+// The cell on the interface forces of basis_solutions full solves along sphere directions, at the
+// sphere paths' load (the law is homogeneous: any load gives the same columns); a direction in
+// which every contact opens has no force and gives no column.
+void build_basis(feti::ContactSolver& solver, const Scene& scene, sweep::SweepHeader& header, bool show) {
+  const auto start = Clock::now();
+  double load = 0;
+  for (const double m : scene.sweep.magnitudes) load = std::max(load, std::abs(m));
+  Progress progress("dualcell-sweep", show);
+  std::vector<Eigen::VectorXd> lambdas;
+  const std::vector<Eigen::Vector3d> directions = sweep::sphere_directions(basis_solutions);
+  for (std::size_t j = 0; j < directions.size(); ++j) {
+    const feti::Solution s = solver.solve(load * directions[j], solver.intact());
+    progress.update([&] {
+      return "basis solve " + std::to_string(j + 1) + "/" + std::to_string(directions.size()) + ", " +
+             seconds_text(progress.seconds());
+    });
+    if (!s.converged()) {
+      header.cell_basis_note = "the basis solve along sphere direction " + std::to_string(j) + " did not converge";
+      return;
+    }
+    lambdas.push_back(s.lambda);
+  }
+  progress.finish();
+  try {
+    header.cell_basis = feti::condense_on_solutions(solver.setup(), lambdas);
+    header.cell_basis->seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  } catch (const InputError& e) {
+    header.cell_basis_note = e.what();
+  }
 }
 
 }  // namespace
@@ -150,6 +192,7 @@ SweepSummary run_sweep(const SweepOptions& options) {
     } catch (const InputError& e) {
       header.cell_note = e.what();
     }
+    if (needs_basis(scene, header, options)) build_basis(solver, scene, header, options.progress);
   }
 
   // Paths are handed out one at a time to whichever rank asks next (their costs differ: a fuse

@@ -7,6 +7,8 @@
 // sweep.h5 (docs/method.md §16).
 #include <string>
 
+#include "fit/fit.hpp"
+
 namespace dualcell::stage {
 
 struct SweepOptions {
@@ -17,7 +19,16 @@ struct SweepOptions {
   int ranks_per_path = 1;
   bool progress = false;     // progress line on stderr
   long interrupt_after = 0;  // tests of the resume: the last rank SIGKILLs itself after this many computed paths
+  // The exact law's rows above which the fit does not sample it (fit::max_checked_rows; tests
+  // lower both). Above them, or where the cell has no exact law, a scene without adhesion and with
+  // sphere paths gets the cell on a basis of its own solutions (/cell_basis, docs/method.md §16c):
+  // the small cell's start, fitted to the sphere paths' full solves.
+  int sampled_rows = fit::max_checked_rows;
 };
+
+// The solutions, along sphere directions (sweep::sphere_directions), whose interface forces are the
+// columns of /cell_basis: the fit's greedy picks up to 32 rows from this cell's own solutions.
+inline constexpr int basis_solutions = 64;
 
 struct SweepSummary {
   bool written = false;  // this rank wrote sweep.h5 (rank 0; the only one without MPI)
@@ -28,6 +39,10 @@ struct SweepSummary {
   int cell_rows = 0;
   double cell_bytes = 0, cell_seconds = 0;
   std::string cell_note;
+  // The cell on a basis of its own solutions (/cell_basis): its rows (0: none) and seconds, with
+  // its solves.
+  int basis_rows = 0;
+  double basis_seconds = 0;
   // The scene's [solver] dual_operator and how many of the subdomains it made explicit for this
   // sweep (the solver of rank 0's group).
   std::string dual_operator;

@@ -44,10 +44,74 @@ double microseconds_per_point(const law::CondensedCell& cell, const law::CellSam
   });
 }
 
+// One form's row of the table (markdown and JSON, a line on stderr).
+struct Table {
+  std::ostringstream& md;
+  std::vector<std::string> json;
+  void row(const std::string& form, const law::CondensedCell* c, const law::ConeCheck& e, double us, double build) {
+    md << "| " << form << " | " << (c ? std::to_string(c->n_rows()) : "–") << " | "
+       << formatted("%.2f %%", 100 * e.max_error) << " | " << formatted("%.2f %%", 100 * e.rms_error) << " | "
+       << formatted("%.3g", us) << " | " << formatted("%.3g", build) << " |\n";
+    JsonObject o;
+    o.add_text("form", form)
+        .add("rows", std::to_string(c ? c->n_rows() : 0))
+        .add("max_error", json_number(e.max_error))
+        .add("rms_error", json_number(e.rms_error))
+        .add("microseconds_per_point", json_number(us))
+        .add("build_seconds", json_number(build));
+    json.push_back(o.str(4));
+    std::fprintf(stderr, "dualcell-bench:   %s: max %.2f %%, rms %.2f %%\n", form.c_str(), 100 * e.max_error,
+                 100 * e.rms_error);
+  }
+  std::string list() const {
+    std::string out = "[\n";
+    for (std::size_t i = 0; i < json.size(); ++i) out += json[i] + (i + 1 < json.size() ? ",\n" : "\n");
+    return out + "  ]";
+  }
+};
+
+// A law whose small cell was fitted to full solves (no exact law to sample, docs/method.md §16c):
+// the fit's own measure at the held-out paths, for the small cell and the cone-wise law, with the
+// evaluation cost over the small cell's own sample of strains; where the law has an exact law
+// after all (too large for the fit to sample, not to form), both also against it at 1 000
+// directions, a check that needs none of the sweep's points.
+void small_cell_from_fit(const std::filesystem::path& law_file, const law::Law& law, std::ostringstream& md,
+                         JsonObject& json) {
+  const law::CondensedCell& small = *law.small;
+  const law::CellSample strains = law::sample_cell(small, 1000);
+  md << "## Small cell\n\n"
+     << law_file.string() << ": no exact law to sample (" << (law.cell ? "too many rows" : law.cell_note)
+     << "); the compact laws against " << law::checked_against_text(law.small_check.against) << " at "
+     << law.small_check.directions.size() << " stress directions, as the fit measured them (" << law.small_fit.rows
+     << " rows fitted at " << law.small_fit.training_directions
+     << " other directions). Evaluation: microseconds per warm strain-driven point over the small cell's own sample "
+        "of 1 000 directions (best of 3 passes).\n\n"
+        "| form | rows | max error | rms error | µs per point | build s |\n|---|---|---|---|---|---|\n";
+  Table table{md, {}};
+  if (law.cone.ok) {
+    const double us = microseconds_per_point(
+        strains, [&] { return [&](const Eigen::Vector3d& e) { law::evaluate(law.cone.law, e); }; });
+    table.row("cone-wise law (" + law.cone.form + ")", nullptr, law.cone_check, us, 0);
+  }
+  table.row("small cell, fitted", &small, law.small_check, microseconds_per_point(small, strains),
+            law.small_fit.seconds);
+  if (law.cell) {
+    std::fprintf(stderr, "dualcell-bench: sampling the exact law (%d rows) at 1 000 directions\n", law.cell->n_rows());
+    const law::CellSample exact = law::sample_cell(*law.cell, 1000);
+    if (law.cone.ok)
+      table.row("cone-wise law, against the exact law", nullptr, law::check_cone(law.cone.law, exact), 0, 0);
+    table.row("small cell, against the exact law", &small, law::check_reduced(small, exact), 0, 0);
+  }
+  md << "\n";
+  json.add_text("law", law_file.string()).add("interface_rows", "null").add("forms", table.list());
+}
+
 }  // namespace
 
 void small_cell(const std::filesystem::path& law_file, std::ostringstream& md, JsonObject& json) {
   const law::Law law = io::read_law(law_file);
+  if (law.small && law.small_check.against == law::CheckedAgainst::held_out_solves)
+    return small_cell_from_fit(law_file, law, md, json);
   if (!law.cell) throw InputError(law_file.string() + ": has no exact law (" + law.cell_note + ")");
   const law::CondensedCell& cell = *law.cell;
   if (cell.adhesion()) throw InputError(law_file.string() + ": the cell has adhesion: no small cell (method.md §16c)");
@@ -63,23 +127,9 @@ void small_cell(const std::filesystem::path& law_file, std::ostringstream& md, J
      << training.direction.size()
      << " other directions. Evaluation: microseconds per warm strain-driven point (best of 3 passes).\n\n"
         "| form | rows | max error | rms error | µs per point | build s |\n|---|---|---|---|---|---|\n";
-  std::vector<std::string> rows_json;
+  Table table{md, {}};
   const auto row = [&](const std::string& form, const law::CondensedCell* c, const law::ConeCheck& e, double us,
-                       double build) {
-    md << "| " << form << " | " << (c ? std::to_string(c->n_rows()) : "–") << " | "
-       << formatted("%.2f %%", 100 * e.max_error) << " | " << formatted("%.2f %%", 100 * e.rms_error) << " | "
-       << formatted("%.3g", us) << " | " << formatted("%.3g", build) << " |\n";
-    JsonObject o;
-    o.add_text("form", form)
-        .add("rows", std::to_string(c ? c->n_rows() : 0))
-        .add("max_error", json_number(e.max_error))
-        .add("rms_error", json_number(e.rms_error))
-        .add("microseconds_per_point", json_number(us))
-        .add("build_seconds", json_number(build));
-    rows_json.push_back(o.str(4));
-    std::fprintf(stderr, "dualcell-bench:   %s: max %.2f %%, rms %.2f %%\n", form.c_str(), 100 * e.max_error,
-                 100 * e.rms_error);
-  };
+                       double build) { table.row(form, c, e, us, build); };
   row("exact law", &cell, law::check_reduced(cell, check), microseconds_per_point(cell, check), 0);
   if (law.cone.ok) {
     const double us = microseconds_per_point(
@@ -107,11 +157,9 @@ void small_cell(const std::filesystem::path& law_file, std::ostringstream& md, J
         s.seconds);
   }
   md << "\n";
-  std::string list = "[\n";
-  for (std::size_t i = 0; i < rows_json.size(); ++i) list += rows_json[i] + (i + 1 < rows_json.size() ? ",\n" : "\n");
   json.add_text("law", law_file.string())
       .add("interface_rows", std::to_string(cell.n_rows()))
-      .add("forms", list + "  ]");
+      .add("forms", table.list());
 }
 
 }  // namespace dualcell::study::bench

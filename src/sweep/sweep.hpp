@@ -68,6 +68,12 @@ struct SweepHeader {
   // dense condensation would not pay.
   std::optional<law::CondensedCell> cell;
   std::string cell_note;
+  // The cell on a basis of its own solutions (docs/method.md §16c), built where the exact law is
+  // too large for the fit to sample (stage::SweepOptions::sampled_rows): the small cell's start,
+  // whose rows the fit fits to the sphere paths; none (and cell_basis_note says why, where it was
+  // tried) otherwise.
+  std::optional<law::CondensedCell> cell_basis;
+  std::string cell_basis_note;
   double qp_tolerance = std::numeric_limits<double>::quiet_NaN();  // [solver] tolerance of the paths' QPs
 };
 

@@ -21,6 +21,7 @@
 #include "law/condensed.hpp"
 #include "law/cone.hpp"
 #include "law/reduced.hpp"
+#include "stage/sweep.hpp"
 #include "test_util.hpp"
 
 namespace dualcell {
@@ -211,6 +212,57 @@ TEST(LawStage, AboveTheCheckedRowsTheCompactLawIsMeasuredOnHeldOutDirections) {
   EXPECT_EQ(held.cone_check.directions.size(), 6u);
   EXPECT_GT(held.cone_check.max_error, 0);
   EXPECT_TRUE(held.cone_check.polar.empty());
+}
+
+// Where the exact law is too large to sample (the sweep's and the fit's row limits lowered to 0
+// here), the sweep builds the cell on its own solutions (/cell_basis) and the fit fits the small
+// cell to the sphere paths' full solves, holding every third path out (150 paths: 50 held out).
+// The held-out check is the truth: each recorded error is the small cell's miss against the exact
+// law (which the fit never saw) at that direction, to the full solves' tolerance.
+TEST(LawStage, AboveTheSampledRowsTheSmallCellIsFittedToFullSolves) {
+  testing::ScratchDir dir;
+  const auto scene =
+      dir.write("s.toml", testing::scene_text(1, 1, 2, 0.35,
+                                              "[load]\nboundary = \"periodic\"\n[sweep]\ndirections_deg = [0, 90]\n"
+                                              "magnitudes = [-0.2, 0.2]\nsphere = 150\n[solver]\ntolerance = 1e-10\n"));
+  ASSERT_EQ(
+      run_command(bin("dualcell-mesh") + " --quiet --config " + q(scene) + " --out " + q(dir / "mesh.h5")).exit_code,
+      exit_ok);
+  stage::SweepOptions options;
+  options.scene_file = scene.string();
+  options.mesh_file = (dir / "mesh.h5").string();
+  options.out = (dir / "sweep.h5").string();
+  options.sampled_rows = 0;
+  const stage::SweepSummary summary = stage::run_sweep(options);
+  ASSERT_TRUE(summary.written);
+  const sweep::SweepHeader header = io::read_sweep_header(dir / "sweep.h5");
+  ASSERT_TRUE(header.cell && header.cell_basis) << header.cell_basis_note;
+  EXPECT_EQ(header.cell_basis->n_rows(), summary.basis_rows);
+  EXPECT_GT(summary.basis_rows, 0);
+  EXPECT_LE(summary.basis_rows, stage::basis_solutions);
+  EXPECT_EQ(law::consistency_problem(*header.cell_basis), "");
+
+  const law::Law law = fit::fit_law(io::read_sweep(dir / "sweep.h5"), header, 0);
+  ASSERT_TRUE(law.small) << law.small_note;
+  const law::ConeCheck& c = law.small_check;
+  EXPECT_EQ(c.against, law::CheckedAgainst::held_out_solves);
+  ASSERT_EQ(c.directions.size(), 50u);
+  EXPECT_EQ(law.cone_check.against, law::CheckedAgainst::held_out_solves);
+  EXPECT_EQ(law.cone_check.directions.size(), 50u);
+  // The solves stop at 1e-10 (strain to 1e-7 relative, condense_test's measure); the stress error
+  // at the exact strain moves by at most the small cell's stiffness over its softest, ×1e-7.
+  law::CellEvaluator exact(*header.cell);
+  law::CellSample truth;
+  for (const Eigen::Vector3d& N : c.directions) {
+    law::CellHistory h = exact.unloaded();
+    const law::CellResponse r = exact.at_stress(N, h);
+    ASSERT_TRUE(r.ok) << r.message;
+    truth.direction.push_back(N);
+    truth.strain.push_back(r.strain);
+    truth.stress.push_back(N);
+  }
+  const law::ConeCheck against_exact = law::check_reduced(*law.small, truth);
+  for (std::size_t i = 0; i < c.directions.size(); ++i) EXPECT_NEAR(c.error[i], against_exact.error[i], 1e-5) << i;
 }
 
 // A compact law that misses the exact one is not exported as a umat, with the error and where;

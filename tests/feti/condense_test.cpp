@@ -8,8 +8,11 @@
 #include <cmath>
 #include <random>
 
+#include "core/error.hpp"
 #include "core/strain.hpp"
+#include "feti/constraints.hpp"
 #include "feti/solver.hpp"
+#include "law/reduced.hpp"
 #include "sweep/sweep.hpp"
 #include "test_util.hpp"
 
@@ -123,6 +126,73 @@ TEST_P(CondensedContact, ReproducesTheCellAtDirectionsItNeverSaw) {
       EXPECT_LE((column - tangent.col(k)).norm(), 1e-6 * tangent.norm()) << k;
     }
   }
+}
+
+// The cell on a basis of its own solutions, formed from F's applications (condense_on_solutions),
+// is the exact law restricted to the same basis (law::cell_on_basis of the dense condensation):
+// two routes through different algebra (columns of F applied as an operator against F summed from
+// the subdomains' blocks), equal to the round-off of the eliminations (measured ≤ 1e-12). Along
+// every direction whose solution is a column the basis cell is the cell: its strain is the full
+// solve's.
+TEST_P(CondensedContact, OnItsOwnSolutionsIsTheExactLawOnThatBasis) {
+  const Case c = GetParam();
+  const Scene scene = cell_scene(c.boundary, c.element, c.ex, c.ey, 0.0);
+  const mesh::Mesh mesh = mesh::build_mesh(scene.geometry);
+  ContactSolver solver(mesh, scene);
+  const bool shear = c.boundary != Boundary::symmetry;
+  const Constraints con = build_constraints(mesh, scene, solver.intact());
+  std::vector<int> I;
+  for (int r = 0; r < con.n_rows(); ++r)
+    if (is_interface(con.kind[r])) I.push_back(r);
+  std::vector<Eigen::VectorXd> lambdas;
+  std::vector<Eigen::Vector3d> strains, used;
+  const std::vector<Eigen::Vector3d> sigmas = directions(6, shear, 11);
+  Eigen::MatrixXd V(static_cast<Eigen::Index>(I.size()), 0);
+  for (const Eigen::Vector3d& sigma : sigmas) {
+    const Solution s = solver.solve(sigma, solver.intact());
+    ASSERT_TRUE(s.converged());
+    Eigen::VectorXd p(static_cast<Eigen::Index>(I.size()));
+    for (std::size_t i = 0; i < I.size(); ++i) p(static_cast<Eigen::Index>(i)) = s.lambda(I[i]);
+    if (p.cwiseAbs().maxCoeff() == 0) continue;  // every contact open: no column
+    lambdas.push_back(s.lambda);
+    strains.push_back(in_plane(engineering_from_tensor(s.strain), shear));
+    used.push_back(sigma);
+    V.conservativeResize(Eigen::NoChange, V.cols() + 1);
+    V.col(V.cols() - 1) = p / p.cwiseAbs().maxCoeff();
+  }
+  const law::CondensedCell basis = condense_on_solutions(solver.setup(), lambdas);
+  const law::CondensedCell expected = law::cell_on_basis(condense(solver.setup()), V);
+  EXPECT_EQ(law::consistency_problem(basis), "");
+  EXPECT_LE(basis.reciprocity_error, 1e-9);
+  ASSERT_GE(basis.n_rows(), 3);
+  ASSERT_EQ(basis.n_rows(), static_cast<int>(used.size()));
+  EXPECT_LE((basis.S0 - expected.S0).norm(), 1e-10 * expected.S0.norm());
+  EXPECT_LE((basis.Y - expected.Y).norm(), 1e-10 * expected.Y.norm());
+  EXPECT_LE((basis.H - expected.H).norm(), 1e-10 * expected.H.norm());
+
+  law::CellEvaluator law(basis);
+  for (std::size_t j = 0; j < used.size(); ++j) {
+    law::CellHistory h = law.unloaded();
+    const law::CellResponse r = law.at_stress(used[j], h);
+    ASSERT_TRUE(r.ok) << r.message;
+    EXPECT_LE((in_plane(r.strain, shear) - strains[j]).norm(), against_solver * strains[j].norm()) << j;
+  }
+}
+
+TEST(CondensedOnSolutions, RefusesAdhesionAndForeignMultipliers) {
+  const Scene bonded = cell_scene(Boundary::periodic, Element::p2, 1, 1, 0.05);
+  const mesh::Mesh mesh = mesh::build_mesh(bonded.geometry);
+  ContactSolver solver(mesh, bonded);
+  EXPECT_THROW(condense_on_solutions(solver.setup(), {}), InputError);
+  const Scene contact = cell_scene(Boundary::periodic, Element::p2, 1, 1, 0.0);
+  ContactSolver open(mesh, contact);
+  EXPECT_THROW(condense_on_solutions(open.setup(), {Eigen::VectorXd::Ones(3)}), InputError);
+  const Solution s = open.solve(Eigen::Vector3d(1, 1, 0), open.intact());  // all-round tension: every contact opens
+  ASSERT_TRUE(s.converged());
+  EXPECT_THROW(condense_on_solutions(open.setup(), {s.lambda}), InputError);  // no column
+  const Solution c = open.solve(Eigen::Vector3d(-1, -1, 0), open.intact());
+  ASSERT_TRUE(c.converged());
+  EXPECT_EQ(condense_on_solutions(open.setup(), {s.lambda, c.lambda}).n_rows(), 1);
 }
 
 // The law does not depend on the unit of length: the same cell at sizes 1, 1e10 and 1e-10 (its
