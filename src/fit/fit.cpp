@@ -405,8 +405,6 @@ void check_against_cell(law::Law& law, const std::vector<ConePoint>& bonded, con
 // both compact laws: the cone-wise law is fitted to the other points, the small cell starts from
 // the basis cell and is fitted to them, and both are measured at the held-out paths' full solves
 // (docs/method.md §16c). False (nothing done) without a basis cell or with too few sphere paths.
-constexpr int held_out_every = 10;
-constexpr int min_held_out = 50;
 bool check_against_solves(law::Law& law, const std::vector<sweep::PathResult>& paths, const sweep::SweepHeader& header,
                           const std::vector<double>& directions, const Eigen::Vector3d& guess, double tolerance) {
   std::vector<const sweep::PathResult*> sphere;

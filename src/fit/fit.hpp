@@ -25,6 +25,12 @@ namespace dualcell::fit {
 // sphere of directions; above it the exact law is kept and the compact one checked on held-out
 // sweep directions (the dense check's cost grows as rows³: docs/method.md §16a).
 inline constexpr int max_checked_rows = 1000;
+// Above it (or without an exact law), with the cell on a basis of its own solutions from the
+// sweep, every held_out_every-th sphere path is held out of the compact laws as their check, at
+// least min_held_out of them: a sweep of fewer than 2·min_held_out sphere paths gets no such
+// check and no small cell (docs/method.md §16c).
+inline constexpr int held_out_every = 10;
+inline constexpr int min_held_out = 50;
 
 // The law of a sweep; its provenance is the sweep's (the caller adds the sweep file and hash).
 // `checked_rows`: the max_checked_rows in force (tests lower it); `law_tolerance`: the small cell's.

@@ -125,9 +125,10 @@ void summarise(SweepSummary& summary, const std::vector<sweep::PathResult>& resu
 }
 
 // Whether the fit needs the cell on a basis of its own solutions: a cell without adhesion whose
-// exact law is missing or too large to sample, with sphere paths to fit the small cell to.
+// exact law is missing or too large to sample, with enough sphere paths to fit the small cell to
+// and to hold out its check.
 bool needs_basis(const Scene& scene, const sweep::SweepHeader& header, const SweepOptions& options) {
-  return !scene.interface.has_adhesion() && scene.sweep.sphere > 0 &&
+  return !scene.interface.has_adhesion() && scene.sweep.sphere >= 2 * fit::min_held_out &&
          (!header.cell || header.cell->n_rows() > options.sampled_rows);
 }
 
@@ -192,7 +193,7 @@ SweepSummary run_sweep(const SweepOptions& options) {
     } catch (const InputError& e) {
       header.cell_note = e.what();
     }
-    if (needs_basis(scene, header, options)) build_basis(solver, scene, header, options.progress);
+    if (needs_basis(scene, header, options)) build_basis(solver, scene, header, options.progress && par::rank() == 0);
   }
 
   // Paths are handed out one at a time to whichever rank asks next (their costs differ: a fuse

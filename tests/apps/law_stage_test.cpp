@@ -263,6 +263,21 @@ TEST(LawStage, AboveTheSampledRowsTheSmallCellIsFittedToFullSolves) {
   }
   const law::ConeCheck against_exact = law::check_reduced(*law.small, truth);
   for (std::size_t i = 0; i < c.directions.size(); ++i) EXPECT_NEAR(c.error[i], against_exact.error[i], 1e-5) << i;
+
+  // Fewer sphere paths than two checks' worth: no basis is solved for, and the fit falls back to
+  // the held-out sweep directions.
+  const auto few =
+      dir.write("few.toml", testing::scene_text(1, 1, 2, 0.35,
+                                                "[load]\nboundary = \"periodic\"\n[sweep]\ndirections_deg = [0, 90]\n"
+                                                "magnitudes = [-0.2, 0.2]\nsphere = " +
+                                                    std::to_string(2 * fit::min_held_out - 1) + "\n"));
+  options.scene_file = few.string();
+  options.out = (dir / "few.h5").string();
+  ASSERT_TRUE(stage::run_sweep(options).written);
+  const sweep::SweepHeader without = io::read_sweep_header(dir / "few.h5");
+  EXPECT_FALSE(without.cell_basis);
+  EXPECT_EQ(fit::fit_law(io::read_sweep(dir / "few.h5"), without, 0).cone_check.against,
+            law::CheckedAgainst::held_out_directions);
 }
 
 // A compact law that misses the exact one is not exported as a umat, with the error and where;
