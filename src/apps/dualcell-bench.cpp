@@ -27,6 +27,11 @@ int main(int argc, char** argv) {
   app.add_flag("--operators-only", operators_only,
                "only the dual operators (cost model against the clock, one solve with each): operators.md, "
                "operators.json");
+  std::vector<std::string> operators_cell;
+  app.add_option("--operators-cell", operators_cell,
+                 "SCENE.toml MESH.h5: the dual operators' section also measures this cell (e.g. a random RVE, "
+                 "whose matrix subdomain has a large F_s)")
+      ->expected(2);
   std::string small_cell_law;
   app.add_option("--small-cell", small_cell_law,
                  "only the compact laws of this law.h5 (with an exact law, no adhesion) against its exact law, error "
@@ -34,6 +39,8 @@ int main(int argc, char** argv) {
   app.add_option("--threads", options.threads, "threads for the multi-threaded rows; 0 = OMP_NUM_THREADS or all cores")
       ->check(CLI::Range(0, 4096));
   if (const auto stop = dualcell::parse_options(app, argc, argv)) return *stop;
+  if (operators_cell.size() == 2)
+    options.operators_scene = operators_cell[0], options.operators_mesh = operators_cell[1];
   return dualcell::run_stage("dualcell-bench", [&] {
     using namespace dualcell::study;
     std::fputs((!small_cell_law.empty() ? run_small_cell_only(options, small_cell_law)

@@ -29,6 +29,12 @@ struct OperatorCost {
   // entry of F_s per dense product, per multiply-add of the simplicial factorisation, and per
   // flop of the dense inverse.
   static constexpr double c_sweep = 1.4e-9, c_gemv = 0.1e-9, c_factor = 0.7e-9, c_dense = 0.4e-9;
+  // A dense F_s larger than a core's cache is read from memory at every product: 0.44 ns per
+  // entry for the 36-fibre RVE's matrix subdomain (1 786 rows, 25.5 MB), 0.57 for the 64-fibre
+  // one's (2 918 rows, 68 MB), where c_gemv (0.1) was measured on F_s of at most 0.5 MB. Unknown
+  // in between; the cache is this machine's 2 MiB of L2 per core. Without this rate the 36-fibre
+  // RVE's sweep of 1 600 paths made its matrix explicit and ran 3.4 times slower per product.
+  static constexpr double c_gemv_memory = 0.5e-9, cache_bytes = 2.0 * 1024 * 1024;
   // Applications of F per QP (with the norm estimate of a cold problem): one solve of the bench's
   // cells takes 150–260, a sweep's paths from the cached problem fewer.
   static constexpr double applications_per_qp = 200;
@@ -37,7 +43,8 @@ struct OperatorCost {
 
   static OperatorCost of(const linalg::FixingNodeInverse& K_plus, Eigen::Index rows, Eigen::Index boundary_dofs) {
     const double b = static_cast<double>(boundary_dofs), n = static_cast<double>(rows);
-    return {c_sweep * static_cast<double>(K_plus.factor_nonzeros()), c_gemv * n * n,
+    const double gemv = 8 * n * n <= cache_bytes ? c_gemv : c_gemv_memory;
+    return {c_sweep * static_cast<double>(K_plus.factor_nonzeros()), gemv * n * n,
             c_factor * (K_plus.factor_flops() + b * b * b / 3) + c_dense * 2.0 / 3.0 * b * b * b};
   }
   bool explicit_pays(double expected_qps) const {

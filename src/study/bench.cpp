@@ -212,7 +212,7 @@ std::string run_bench(const BenchOptions& options) {
   progress_section(tn, tk, md, json);
   sweep_step(quick, all, md, json);
   exact_law(md, json);
-  dual_operators(md, json);
+  dual_operators(options, md, json);
   outputs.write(md_file, md.str());
   outputs.write(json_file, json.str() + "\n");
   outputs.commit();

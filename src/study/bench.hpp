@@ -9,6 +9,9 @@ struct BenchOptions {
   std::filesystem::path out_dir;  // bench.md and summary.json go here (atomically)
   bool quick = false;             // small sizes only: a smoke test, not a measurement
   int threads = 0;                // for the multi-threaded rows; 0 = all OpenMP offers
+  // The dual operators' section also measures the matrix subdomain of this cell (scene, mesh.h5),
+  // e.g. a random RVE, whose F_s is far larger than the built-in cells' (empty: none).
+  std::filesystem::path operators_scene, operators_mesh;
 };
 
 // Runs the study, writes bench.md and summary.json, and returns the Markdown report.

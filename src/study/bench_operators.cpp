@@ -8,7 +8,9 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <limits>
 #include <numbers>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -16,6 +18,7 @@
 #include "feti/condense.hpp"
 #include "feti/solver.hpp"
 #include "io/atomic_output.hpp"
+#include "io/mesh_file.hpp"
 #include "par/parallel.hpp"
 #include "primal/one_body.hpp"
 #include "study/bench_parts.hpp"
@@ -37,11 +40,12 @@ double median_seconds(int repeat, F&& f) {
 }
 
 struct OperatorCell {
-  const char* name;
+  std::string name;
   Scene scene;
+  std::optional<mesh::Mesh> mesh = std::nullopt;  // none: the scene's mapped mesh
 };
 
-std::vector<OperatorCell> operator_cells() {
+std::vector<OperatorCell> operator_cells(const BenchOptions& options) {
   std::vector<OperatorCell> cells;
   // The sweep's cell: glass/epoxy-like, v_f 0.5, periodic, p2 degree 4.
   Scene periodic = block(1, 4, Preconditioner::none, 0, Element::p2);
@@ -58,12 +62,20 @@ std::vector<OperatorCell> operator_cells() {
   // A block of the floor's kind: many small subdomains.
   cells.push_back({"4×4 block, p1 k=3", block(4, 3)});
   for (OperatorCell& c : cells) validate(c.scene);
+  if (!options.operators_scene.empty()) {
+    const Scene scene = load_scene(options.operators_scene);
+    io::MeshFile file = io::read_mesh(options.operators_mesh);
+    if (const std::string problem = io::geometry_mismatch(file.mesh, scene); !problem.empty())
+      throw InputError(options.operators_mesh.string() + ": not the mesh of " + options.operators_scene.string() +
+                       ": " + problem);
+    cells.push_back({options.operators_scene.stem().string(), scene, std::move(file.mesh)});
+  }
   return cells;
 }
 
 // The cost model against the clock, per subdomain (docs/method.md §6a; feti/operator_cost.hpp),
 // and one solve of each cell with each operator.
-void dual_operators(std::ostringstream& md, JsonObject& json) {
+void dual_operators(const BenchOptions& options, std::ostringstream& md, JsonObject& json) {
   progress("dual operators");
   md << "\n## Dual operators: the cost model against the clock\n\nPer subdomain (for a block: its first "
         "matrix and fibre subdomain), seconds per application of the implicit operator (two sweeps with "
@@ -78,8 +90,8 @@ void dual_operators(std::ostringstream& md, JsonObject& json) {
             "and explicit operators, of the QP, and F applications, per `[solver] dual_operator`.\n\n"
             "| cell | dual_operator | explicit subdomains | setup s | QP s | setup + QP s | F applications |\n"
             "|---|---|---|---|---|---|---|\n";
-  for (const OperatorCell& cell : operator_cells()) {
-    const mesh::Mesh m = mesh::build_mesh(cell.scene.geometry);
+  for (const OperatorCell& cell : operator_cells(options)) {
+    const mesh::Mesh m = cell.mesh ? *cell.mesh : mesh::build_mesh(cell.scene.geometry);
     Scene implicit = cell.scene, explicit_ = cell.scene;
     implicit.solver.dual_operator = DualOperator::implicit;
     explicit_.solver.dual_operator = DualOperator::explicit_;
@@ -104,11 +116,16 @@ void dual_operators(std::ostringstream& md, JsonObject& json) {
                                             {linalg::FactorKind::simplicial, linalg::Ordering::amd}, e.boundary_dofs);
       const Eigen::MatrixXd K_bb = again.last_block_inverse();
       const double t_setup = since(t0);
-      const double break_even = model.explicit_setup / std::max(model.implicit_apply - model.explicit_apply, 1e-300);
-      md << format("| %s | %s %d | %d | %d | %ld | %ld | %.1f / %.1f | %.2f / %.2f | %.1f / %.1f | %.0f |\n", cell.name,
-                   sub.is_fibre ? "fibre" : "matrix", sub.index, sub.n_dofs, e.n_rows, static_cast<long>(nb),
-                   static_cast<long>(sub.K_plus->factor_nonzeros()), 1e6 * model.implicit_apply, 1e6 * t_implicit,
-                   1e6 * model.explicit_apply, 1e6 * t_explicit, 1e3 * model.explicit_setup, 1e3 * t_setup, break_even);
+      const double break_even = model.implicit_apply > model.explicit_apply
+                                    ? model.explicit_setup / (model.implicit_apply - model.explicit_apply)
+                                    : std::numeric_limits<double>::infinity();
+      // Where the explicit product is no cheaper than the sweeps it never pays.
+      const std::string break_even_text = std::isfinite(break_even) ? format("%.0f", break_even) : std::string("never");
+      md << format("| %s | %s %d | %d | %d | %ld | %ld | %.1f / %.1f | %.2f / %.2f | %.1f / %.1f | %s |\n",
+                   cell.name.c_str(), sub.is_fibre ? "fibre" : "matrix", sub.index, sub.n_dofs, e.n_rows,
+                   static_cast<long>(nb), static_cast<long>(sub.K_plus->factor_nonzeros()), 1e6 * model.implicit_apply,
+                   1e6 * t_implicit, 1e6 * model.explicit_apply, 1e6 * t_explicit, 1e3 * model.explicit_setup,
+                   1e3 * t_setup, break_even_text.c_str());
       rows_json.push_back(JsonObject()
                               .add_text("cell", cell.name)
                               .add_text("subdomain", sub.is_fibre ? "fibre" : "matrix")
@@ -133,7 +150,7 @@ void dual_operators(std::ostringstream& md, JsonObject& json) {
       const double setup = since(t0);
       const feti::Solution r = solver.solve(sigma, solver.intact());
       if (!r.converged()) throw std::runtime_error(std::string("dual operators bench: ") + r.qp.message);
-      solves << format("| %s | %s | %d of %d | %.4f | %.4f | %.4f | %ld |\n", cell.name, to_string(op),
+      solves << format("| %s | %s | %d of %d | %.4f | %.4f | %.4f | %ld |\n", cell.name.c_str(), to_string(op),
                        r.explicit_subdomains, r.subdomains, setup, r.seconds.qp, setup + r.seconds.qp,
                        r.counters.operator_applications);
       solves_json.push_back(JsonObject()
@@ -156,7 +173,9 @@ void dual_operators(std::ostringstream& md, JsonObject& json) {
 namespace dualcell::study {
 
 std::string run_operators_only(const BenchOptions& options) {
-  return bench::run_section_only(options, "operators", "# dualcell benchmark: dual operators\n", bench::dual_operators);
+  return bench::run_section_only(
+      options, "operators", "# dualcell benchmark: dual operators\n",
+      [&](std::ostringstream& md, JsonObject& json) { bench::dual_operators(options, md, json); });
 }
 
 }  // namespace dualcell::study

@@ -78,7 +78,7 @@ std::string loaded_blas();
 // The exact law against the full solve (bench_exact_law.cpp), and the dual operators' cost model
 // against the clock (bench_operators.cpp): a section of bench.md and summary.json each.
 void exact_law(std::ostringstream& md, JsonObject& json);
-void dual_operators(std::ostringstream& md, JsonObject& json);
+void dual_operators(const BenchOptions& options, std::ostringstream& md, JsonObject& json);
 
 // One section of the benchmark alone: <name>.md and <name>.json in the output folder, written
 // together or not at all.
