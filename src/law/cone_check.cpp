@@ -38,12 +38,16 @@ std::vector<Eigen::Vector3d> ordered_circle(int n) {
 
 }  // namespace
 
+std::vector<Eigen::Vector3d> sample_directions(int n_macro, int n) {
+  return n_macro == 3 ? ordered_sphere(n) : ordered_circle(std::max(180, n / 2));
+}
+
 CellSample sample_cell(const CondensedCell& cell, int n) {
   CellSample sample;
   CellEvaluator evaluator(cell);
   const bool adhesion = cell.adhesion();
   CellHistory history = evaluator.unloaded();
-  sample.direction = cell.n_macro == 3 ? ordered_sphere(n) : ordered_circle(std::max(180, n / 2));
+  sample.direction = sample_directions(cell.n_macro, n);
   for (const Eigen::Vector3d& N : sample.direction) {
     double s = 1;
     if (adhesion) {
@@ -67,7 +71,7 @@ CellSample sample_cell_past_fuse(const CondensedCell& cell, int n, double factor
   CellSample sample;
   CellEvaluator evaluator(cell);
   CellHistory history = evaluator.unloaded();
-  sample.direction = cell.n_macro == 3 ? ordered_sphere(n) : ordered_circle(std::max(180, n / 2));
+  sample.direction = sample_directions(cell.n_macro, n);
   const double nan = std::numeric_limits<double>::quiet_NaN();
   for (const Eigen::Vector3d& N : sample.direction) {
     const double onset = evaluator.onset(N);
@@ -76,17 +80,31 @@ CellSample sample_cell_past_fuse(const CondensedCell& cell, int n, double factor
       history.bonded = cell.bonded;
       // Just past the onset the first bond breaks and the cascade runs; then on to factor·s* in
       // steps, as a path goes (a bond can pass its strength on the way and not at the end).
-      const CellResponse at_fuse = evaluator.at_stress((1 + 1e-6) * onset * N, history);
+      std::vector<Eigen::Vector3d> path_strain, path_stress;
+      const auto at = [&](double s) {
+        const CellResponse r = evaluator.at_stress(s * onset * N, history);
+        path_strain.push_back(r.strain);
+        if (cell.n_macro == 2) path_strain.back()(2) = 0;
+        path_stress.push_back(s * onset * N);
+        return r;
+      };
+      const CellResponse at_fuse = at(1 + 1e-6);
       CellResponse r = at_fuse;
-      for (int step = 1; r.ok && step <= past_fuse_steps; ++step)
-        r = evaluator.at_stress((1 + (factor - 1) * step / past_fuse_steps) * onset * N, history);
+      for (int step = 1; r.ok && step <= past_fuse_steps; ++step) r = at(1 + (factor - 1) * step / past_fuse_steps);
       if (at_fuse.ok && r.ok) {
-        e = r.strain;
-        if (cell.n_macro == 2) e(2) = 0;
+        e = path_strain.back();
         sample.forces.push_back(r.forces);
+        path_strain.pop_back();
+        path_stress.pop_back();
+        sample.path_strain.push_back(std::move(path_strain));
+        sample.path_stress.push_back(std::move(path_stress));
       }
     }
     if (sample.forces.size() < sample.strain.size() + 1) sample.forces.emplace_back();
+    if (sample.path_strain.size() < sample.strain.size() + 1) {
+      sample.path_strain.emplace_back();
+      sample.path_stress.emplace_back();
+    }
     sample.strain.push_back(e);
     sample.stress.push_back((std::isfinite(onset) ? factor * onset : 1.0) * N);
   }
@@ -101,13 +119,15 @@ const char* checked_against_text(CheckedAgainst against) {
       return "held-out sweep directions";
     case CheckedAgainst::held_out_solves:
       return "held-out full solves";
+    case CheckedAgainst::exact_law_past_fuse:
+      return "the exact law past the fuse";
   }
   return "";
 }
 
 CheckedAgainst checked_against_from(const std::string& text) {
-  for (CheckedAgainst a :
-       {CheckedAgainst::exact_law, CheckedAgainst::held_out_directions, CheckedAgainst::held_out_solves})
+  for (CheckedAgainst a : {CheckedAgainst::exact_law, CheckedAgainst::held_out_directions,
+                           CheckedAgainst::held_out_solves, CheckedAgainst::exact_law_past_fuse})
     if (text == checked_against_text(a)) return a;
   throw std::invalid_argument("not a cone check's reference: '" + text + "'");
 }

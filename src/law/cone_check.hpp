@@ -25,10 +25,11 @@ namespace dualcell::law {
 // where the cell has no exact law (law::Law::cell_note says why), the sweep's own points, each
 // uniaxial direction held out of the fit in turn and the law fitted without it evaluated there.
 // Or, where the exact law is too large to sample, full solves of the cell along the sphere paths
-// that neither law was fitted to (docs/method.md §16c).
-enum class CheckedAgainst { exact_law, held_out_directions, held_out_solves };
-// "the exact law" / "held-out sweep directions" / "held-out full solves": for summaries,
-// refusals and law.h5.
+// that neither law was fitted to (docs/method.md §16c). Or, for the small cell of a cell with
+// adhesion, the exact law along its cascade paths past the fuse (docs/method.md §16d).
+enum class CheckedAgainst { exact_law, held_out_directions, held_out_solves, exact_law_past_fuse };
+// "the exact law" / "held-out sweep directions" / "held-out full solves" / "the exact law past
+// the fuse": for summaries, refusals and law.h5.
 const char* checked_against_text(CheckedAgainst against);
 CheckedAgainst checked_against_from(const std::string& text);  // throws std::invalid_argument
 
@@ -46,6 +47,12 @@ struct ConeCheck {
   PolarModuli polar;
 };
 
+// The unit stress directions of a sample of about n: along rings on the sphere of (σxx, σyy,
+// √2σxy) for n_macro = 3, on the circle of (σxx, σyy) (n/2, at least 180) for n_macro = 2,
+// consecutive directions neighbours. Two samples share no direction where one has an odd count
+// of rings (of directions on the circle) and the other an even one.
+std::vector<Eigen::Vector3d> sample_directions(int n_macro, int n);
+
 // The exact law sampled at about `n` unit stress directions N (n on the sphere of (σxx, σyy,
 // √2σxy); n/2, at least 180, on the circle of (σxx, σyy) for a cell without shear), ordered
 // along rings so that each evaluation warm-starts from its neighbour, at the load s = 1 (½ s*(N)
@@ -54,6 +61,9 @@ struct ConeCheck {
 struct CellSample {
   std::vector<Eigen::Vector3d> direction, strain, stress;
   std::vector<Eigen::VectorXd> forces;  // p at each point (empty where the strain is NaN)
+  // sample_cell_past_fuse only: per direction the points of its path before the last (just past
+  // the onset, then each step), strain and stress (empty where the strain is NaN).
+  std::vector<std::vector<Eigen::Vector3d>> path_strain, path_stress;
 };
 CellSample sample_cell(const CondensedCell& cell, int n);
 

@@ -90,7 +90,20 @@ void print_fit_summary(const std::filesystem::path& sweep_file, const std::files
   } else {
     std::printf("  exact law: none (%s)\n", law.cell_note.c_str());
   }
-  if (law.small) {
+  if (law.small && law.small_check.against == law::CheckedAgainst::exact_law_past_fuse) {
+    const law::SmallCellFit& s = law.small_fit;
+    const law::ConeCheck& c = law.small_check;
+    std::printf(
+        "  small cell with a fuse: bonded, the exact bonded law and onset (%d facet rows); past the fuse %d rows "
+        "fitted "
+        "to the exact law's cascade paths along %d directions (3 points each) in %.1f s (max %.1f %%, rms %.1f %%); "
+        "against %s along %zu other directions' paths (%d points each): max %.1f %% (at sxx,syy,sxy = "
+        "%.3f,%.3f,%.3f), rms %.1f %%, %s the tolerance %.1f %%\n",
+        law.small->n_rows() - s.rows, s.rows, s.training_directions, s.seconds, 100 * s.training_max_error,
+        100 * s.training_rms_error, law::checked_against_text(c.against), c.directions.size(), law::past_fuse_steps + 1,
+        100 * c.max_error, c.worst(0), c.worst(1), c.worst(2), 100 * c.rms_error,
+        c.max_error <= s.tolerance ? "within" : "OVER", 100 * s.tolerance);
+  } else if (law.small) {
     const law::SmallCellFit& s = law.small_fit;
     const law::ConeCheck& c = law.small_check;
     const bool exact = c.against == law::CheckedAgainst::exact_law;

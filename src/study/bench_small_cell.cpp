@@ -114,7 +114,11 @@ void small_cell(const std::filesystem::path& law_file, std::ostringstream& md, J
     return small_cell_from_fit(law_file, law, md, json);
   if (!law.cell) throw InputError(law_file.string() + ": has no exact law (" + law.cell_note + ")");
   const law::CondensedCell& cell = *law.cell;
-  if (cell.adhesion()) throw InputError(law_file.string() + ": the cell has adhesion: no small cell (method.md §16c)");
+  if (cell.adhesion())
+    throw InputError(
+        law_file.string() +
+        ": the cell has adhesion: its small cell carries a fuse, measured by the fit along the exact law's "
+        "cascade paths (law.h5 /law/small_check; method.md §16d)");
   std::fprintf(stderr, "dualcell-bench: small cell of %s (%d rows): sampling the exact law\n", law_file.c_str(),
                cell.n_rows());
   // The fit's own sample sizes (fit/fit.cpp): 1 000 directions to check, 1 500 others to fit.

@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "io/law_file.hpp"
+#include "law/fused_cell.hpp"
 #include "test_util.hpp"
 
 namespace dualcell {
@@ -86,6 +88,32 @@ TEST(Readme, TheDefaultScenesQuotedFiguresHoldOnAFreshRun) {
   EXPECT_EQ(numbers_after(text.substr(text.find(cone)), rms, "%lf", 1, "README"),
             numbers_after(fit.output.substr(fit.output.find(cone)), rms, "%lf", 1, "dualcell-fit"))
       << "rms";
+
+  // The small cell with a fuse (docs/method.md §16d): its rows and its error along the exact law's
+  // cascade paths, as quoted (the worst direction is left out: the cell's symmetric directions
+  // tie, and round-off picks one).
+  const std::string fused = "small cell with a fuse: bonded, the exact bonded law and onset (";
+  const char* fused_format = "%lf facet rows); past the fuse %lf rows";
+  EXPECT_EQ(numbers_after(text, fused, fused_format, 2, "README"),
+            numbers_after(fit.output, fused, fused_format, 2, "dualcell-fit"))
+      << "facet rows, rows past the fuse";
+  const std::string along = "other directions' paths (9 points each): max ";
+  EXPECT_EQ(numbers_after(text, along, "%lf", 1, "README"), numbers_after(fit.output, along, "%lf", 1, "dualcell-fit"))
+      << "max along the cascade paths";
+  EXPECT_EQ(numbers_after(text.substr(text.find(along)), rms, "%lf", 1, "README"),
+            numbers_after(fit.output.substr(fit.output.find(along)), rms, "%lf", 1, "dualcell-fit"))
+      << "rms along the cascade paths";
+  // What law.h5 records is what its two cells give: the check recomputed from the file's exact
+  // law and small cell (the same directions and paths, the same evaluator: to round-off).
+  const law::Law law = io::read_law(dir / "law.h5");
+  ASSERT_TRUE(law.cell && law.small) << law.small_note;
+  EXPECT_EQ(law.small_check.against, law::CheckedAgainst::exact_law_past_fuse);
+  constexpr int past_fuse_check_directions = 300;  // the fit's (src/fit/fit.cpp)
+  const law::ConeCheck again = law::check_along_fuse_paths(
+      *law.small, law::sample_cell_past_fuse(*law.cell, past_fuse_check_directions, law::past_fuse_load_ratio));
+  EXPECT_EQ(again.directions.size(), law.small_check.directions.size());
+  EXPECT_NEAR(again.max_error, law.small_check.max_error, 1e-9);
+  EXPECT_NEAR(again.rms_error, law.small_check.rms_error, 1e-9);
 }
 
 }  // namespace
