@@ -5,7 +5,12 @@ on the small beam only, its exact law (docs/method.md §16c). Per beam and form:
 displacement (ux, uy) at the neutral line's end, its error against the exact law (small beam),
 and the seconds of dualcell-structure. Writes OUT_DIR/structure.md.
 
-    small_cell_structure.py BIN LAW OUT_DIR [--beams 8x2 128x16]
+With --fuse SCENE, a structure scene loaded past the fuse (a law with adhesion: its small cell
+carries the fuse, docs/method.md §16d) instead: per load step the watched displacement of the
+small cell, the cone-wise law and the exact law, the errors of the first two against the third,
+and the cells broken (fused) at the end. Writes OUT_DIR/fuse.md.
+
+    small_cell_structure.py BIN LAW OUT_DIR [--beams 8x2 128x16] [--fuse SCENE]
 """
 import os
 
@@ -39,8 +44,12 @@ def main(argv):
     parser.add_argument("law")
     parser.add_argument("out_dir")
     parser.add_argument("--beams", nargs="+", default=["8x2", "128x16"])
+    parser.add_argument("--fuse", help="a structure scene loaded past the fuse")
     args = parser.parse_args(argv[1:])
     os.makedirs(args.out_dir, exist_ok=True)
+    if args.fuse:
+        fuse(args)
+        return
     rows = []
     for beam in args.beams:
         nx, ny = (int(v) for v in beam.split("x"))
@@ -67,6 +76,36 @@ def main(argv):
              "| cells | form | ux | uy | error against the exact law (ux / uy) | seconds | / cone-wise |\n"
              "|---|---|---|---|---|---|---|\n" + "\n".join(rows) + "\n")
     common.write_atomic(os.path.join(args.out_dir, "structure.md"), table)
+    print(table, end="")
+
+
+def fuse(args):
+    forms = ["cell", "small", "cone"]
+    result = {}
+    for form in forms:
+        out = os.path.join(args.out_dir, f"fuse-{form}.h5")
+        done = common.run_stage([os.path.join(args.bin, "dualcell-structure"), "--quiet", "--config", args.fuse,
+                                 "--law", args.law, "--out", out, "--form", form], out)
+        with h5py.File(out, "r") as h:
+            u = h["/steps/watch_displacement"][:]
+            last = sorted(k for k in h["/steps"].keys() if k.isdigit())[-1]
+            fused = h[f"/steps/{last}/fused"][:]
+        result[form] = (u, done.seconds, f"{int((fused != 0).sum())} of {len(fused)}")
+    exact = result["cell"][0]
+    rows = []
+    for i in range(len(exact)):
+        cells = [f"{exact[i][1]:.6e}"]
+        for form in ("small", "cone"):
+            u = result[form][0][i]
+            cells.append(f"{u[1]:.6e} ({100 * (u[1] / exact[i][1] - 1):+.2f} %)")
+        rows.append(f"| {i} | " + " | ".join(cells) + " |")
+    summary = " · ".join(f"{form}: {result[form][1]:.2f} s, {result[form][2]} triangles fused at the end"
+                         for form in forms)
+    table = ("# The small cell with a fuse in a structure\n\n"
+             f"Law: {args.law}. Scene: {args.fuse}; the watched point's uy per load step.\n\n"
+             "| step | exact law | small cell (error) | cone-wise law (error) |\n|---|---|---|---|\n" + "\n".join(rows) +
+             f"\n\n{summary}\n")
+    common.write_atomic(os.path.join(args.out_dir, "fuse.md"), table)
     print(table, end="")
 
 

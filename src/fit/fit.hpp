@@ -48,7 +48,14 @@ law::Law fit_law(const std::vector<sweep::PathResult>& paths, const sweep::Sweep
 struct ExactLawFailed : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
+// `path_stride`: every path_stride-th path only (replay_stride).
 law::CellReplay replay_cell(const law::CondensedCell& cell, const std::vector<sweep::PathResult>& paths,
-                            double qp_tolerance);
+                            double qp_tolerance, int path_stride = 1);
+
+// Above checked_rows every point of the replay is a dense QP of the cell's size (0.1–1 s at
+// 1 500 rows): the replay then takes every k-th path, k the least that leaves at most
+// max_replayed_points points (1 otherwise).
+inline constexpr int max_replayed_points = 200;
+int replay_stride(const std::vector<sweep::PathResult>& paths, int rows, int checked_rows);
 
 }  // namespace dualcell::fit

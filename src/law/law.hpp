@@ -50,7 +50,8 @@ struct ComplianceFit {
   int n_points = 0;
 };
 
-// The exact law replayed through every converged point of the sweep it came from: the strain it
+// The exact law replayed through every converged point of the sweep it came from (above
+// fit::max_checked_rows rows through those of every k-th path, fit::replay_stride): the strain it
 // gives for the point's stress (the bonds carried along the path) against the sweep's strain.
 struct CellReplay {
   int points = 0;

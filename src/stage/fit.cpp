@@ -81,10 +81,16 @@ void print_fit_summary(const std::filesystem::path& sweep_file, const std::files
   }
   if (law.cell) {
     const law::CellReplay& c = law.cell_replay;
+    const bool sampled = law.cell->n_rows() > fit::max_checked_rows;
     std::printf(
-        "  exact law: the cell on %d interface rows; replays the sweep's %d points to max %.2e, rms %.2e "
+        "  exact law: the cell on %d interface rows; replays %s %d points%s to max %.2e, rms %.2e "
         "(limit %.1e), broken bonds %s\n",
-        law.cell->n_rows(), c.points, c.max_error, c.rms_error, c.limit,
+        law.cell->n_rows(), sampled ? "of the sweep" : "the sweep's", c.points,
+        sampled ? (", every k-th path (at most " + std::to_string(fit::max_replayed_points) + " points above " +
+                   std::to_string(fit::max_checked_rows) + " rows)")
+                      .c_str()
+                : "",
+        c.max_error, c.rms_error, c.limit,
         c.break_mismatches == 0 ? "the same at every point"
                                 : (std::to_string(c.break_mismatches) + " points differ").c_str());
   } else {
