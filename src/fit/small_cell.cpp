@@ -107,6 +107,9 @@ Problem problem_of(const law::CondensedCell& cell, const law::CellSample& traini
   return p;
 }
 
+// How much softer than the greedy's the rows a rung adds to the last rung's start (fit_small_cell).
+constexpr double continuation_softening = 100;
+
 // The parameters of the exact law on m of its own solutions (law::reduce_cell): D = Y C₀ and L
 // the Cholesky factor of M = H − Y C₀ Yᵀ/|Ω|; empty where M is not positive definite.
 Eigen::VectorXd starting_parameters(const law::CondensedCell& cell, const law::CondensedCell& basis) {
@@ -181,7 +184,8 @@ bool small_cell_residuals(const law::CondensedCell& cell, const law::CellSample&
 }
 
 SmallCell fit_small_cell(const law::CondensedCell& cell, const law::CellSample& training,
-                         const SmallCellOptions& options, const law::CellSample* start_sample) {
+                         const SmallCellOptions& options, const law::CellSample* start_sample,
+                         const law::CondensedCell* previous) {
   const auto start = std::chrono::steady_clock::now();
   SmallCell out;
   const auto finish = [&](bool ok, std::string message) {
@@ -201,14 +205,41 @@ SmallCell fit_small_cell(const law::CondensedCell& cell, const law::CellSample& 
   out.start_rms_error = start_check.rms_error;
   Eigen::VectorXd x = starting_parameters(cell, basis.cell);
   if (x.size() == 0) return finish(false, "the starting basis' M is not positive definite");
+  // The previous rung's fitted rows and the greedy's rows beyond them, uncoupled (M block
+  // diagonal: the cross block of H is then Y_prev C₀ Y_newᵀ/|Ω|) and weak (their M
+  // continuation_softening times the greedy's: their forces, and what they change, that much
+  // smaller, while their derivatives are not zero), where that start misses the training points
+  // by less than the greedy's own: a larger m then starts from what the smaller one reached.
+  if (previous && previous->n_rows() < basis.cell.n_rows()) {
+    const int mp = previous->n_rows(), mn = basis.cell.n_rows() - mp;
+    const Eigen::MatrixXd C0 = cell.S0.inverse();
+    const Eigen::MatrixXd Y_new = basis.cell.Y.bottomRows(mn);
+    const Eigen::MatrixXd M_new = basis.cell.H.bottomRightCorner(mn, mn) - Y_new * C0 * Y_new.transpose() / cell.volume;
+    Eigen::MatrixXd Y(mp + mn, cell.n_macro), H(mp + mn, mp + mn);
+    Y << previous->Y, Y_new;
+    const Eigen::MatrixXd cross = previous->Y * C0 * Y_new.transpose() / cell.volume;
+    H << previous->H, cross, cross.transpose(),
+        continuation_softening * M_new + Y_new * C0 * Y_new.transpose() / cell.volume;
+    const law::CondensedCell continued = law::cell_of_rows(cell, Y, H);
+    const Eigen::VectorXd xc = starting_parameters(cell, continued);
+    if (xc.size() > 0) {
+      const law::ConeCheck c = law::check_reduced(continued, training);
+      if (c.max_error < out.start_max_error) {
+        x = xc;
+        out.start_max_error = c.max_error;
+        out.start_rms_error = c.rms_error;
+      }
+    }
+  }
   Problem problem = problem_of(cell, training, basis.cell.n_rows());
   if (problem.layout.nm * static_cast<Eigen::Index>(problem.points.size()) < problem.layout.size())
     return finish(false, "fewer residuals than parameters: sample more directions");
   // The largest error is what the law promises, so least squares is only the start: Lawson's
   // reweighting (each point's weight times its error, normalised) moves the weighted least-squares
-  // solution toward the minimax one; the round with the smallest largest error is kept.
+  // solution toward the minimax one; the round with the smallest largest error is kept, or the
+  // start where no round beats it (so a rung started from the last one never ends worse).
   Eigen::VectorXd best = x;
-  double best_max = std::numeric_limits<double>::infinity();
+  double best_max = out.start_max_error;
   for (int round = 0; round < options.minimax_rounds; ++round) {
     if (!levenberg_marquardt(problem, x, options.max_iterations, out.iterations))
       return finish(false, "a fitted cell cannot be evaluated");

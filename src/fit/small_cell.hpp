@@ -43,8 +43,12 @@ struct SmallCell {
 // `start_sample`: the sample of `cell` itself (law::sample_cell, with its forces) that the
 // starting greedy runs on, where the training points are not the cell's own (the cell on a basis
 // of its solutions, fitted to full solves: docs/method.md §16c); by default `training`.
+// `previous`: a small cell of fewer rows fitted to the same training points (the ladder's last
+// rung): its rows with the greedy's further ones are the start where they miss the training points
+// by less than the greedy's cell does.
 SmallCell fit_small_cell(const law::CondensedCell& cell, const law::CellSample& training,
-                         const SmallCellOptions& options = {}, const law::CellSample* start_sample = nullptr);
+                         const SmallCellOptions& options = {}, const law::CellSample* start_sample = nullptr,
+                         const law::CondensedCell* previous = nullptr);
 
 // The fit's residuals (σ(ε_i) − σ_i)_k/|σ_i| over the training points with a finite strain, and
 // when J is given their Jacobian, at the parameters x of an m-row cell (D column by column, then
