@@ -131,7 +131,41 @@ void DenseActiveSet::factorise() {
     K.bottomRightCorner(k - end, k - end).noalias() -= K.block(end, j0, k - end, jb) * K.block(j0, end, jb, k - end);
   }
   factorised_ = true;
-  ++generation_;
+  generation_ = ++generations_;
+}
+
+bool DenseActiveSet::take_kept(const std::vector<int>& free) {
+  ++uses_;
+  const auto swap_with = [&](Kept& e) {
+    std::swap(free_, e.free);
+    std::swap(kept_rows_, e.kept_rows);
+    std::swap(pivot_, e.pivot);
+    std::swap(pinned_, e.pinned);
+    kkt_.swap(e.kkt);
+    kkt_scale_.swap(e.kkt_scale);
+    std::swap(generation_, e.generation);
+    e.last_used = uses_;
+  };
+  for (Kept& e : kept_)
+    if (e.free == free) {
+      const bool was_factorised = factorised_;
+      swap_with(e);
+      factorised_ = true;
+      if (!was_factorised) e.free.clear(), e.free.push_back(-1);  // no free set matches: unused
+      return true;
+    }
+  if (!factorised_) return false;
+  const std::size_t entry_bytes = sizeof(double) * static_cast<std::size_t>(kkt_.size()) + 64;
+  const std::size_t capacity = std::min(max_kept, kept_bytes / entry_bytes);
+  if (capacity == 0) return false;
+  if (kept_.size() < capacity) {
+    kept_.emplace_back();
+    swap_with(kept_.back());
+  } else {
+    swap_with(*std::min_element(kept_.begin(), kept_.end(),
+                                [](const Kept& a, const Kept& b) { return a.last_used < b.last_used; }));
+  }
+  return false;
 }
 
 void DenseActiveSet::lu_solve(Eigen::VectorXd& rhs) const {
@@ -190,8 +224,13 @@ bool DenseActiveSet::refactorise(DenseQpResult& out) {
     same = same && j == static_cast<int>(free_.size());
   }
   if (!same) {
-    factorise();
-    ++out.factorisations;
+    std::vector<int> free;
+    for (Eigen::Index i = 0; i < A_.rows(); ++i)
+      if (working_[i] == Bound::free) free.push_back(static_cast<int>(i));
+    if (!take_kept(free)) {
+      factorise();
+      ++out.factorisations;
+    }
   }
   return factorised_;
 }

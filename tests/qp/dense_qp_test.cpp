@@ -116,6 +116,36 @@ TEST(DenseActiveSet, AWarmStartAtTheSameActiveSetIsOneSolveWithoutFactorisation)
   EXPECT_EQ(again.factorisations, 0);
 }
 
+// Two material points sharing one solver, each warm-started from its own last active set: the
+// second visit of each finds its factorisation among the kept ones (no new factorisation), and
+// the answers are bit for bit those of a solver for that point alone, tangent and generation
+// included (a restored factorisation is the one a caller's tangent came from).
+TEST(DenseActiveSet, ReturningToAKeptFreeSetReusesItsFactorisation) {
+  const Problem p = random_problem(30, 2, 9, false);
+  Problem q = p;
+  q.b = -p.b;  // another active set
+  DenseActiveSet shared(p.A, p.C), alone_p(p.A, p.C), alone_q(q.A, q.C);
+  std::vector<Bound> ap, aq, bp, bq;
+  const DenseQpResult rp = shared.solve(p.b, p.l, p.u, ap);
+  const long generation_p = shared.generation();
+  const Eigen::MatrixXd tangent_p = shared.sensitivity(Eigen::MatrixXd::Identity(30, 30));
+  const DenseQpResult rq = shared.solve(q.b, q.l, q.u, aq);
+  ASSERT_TRUE(rp.converged && rq.converged);
+  ASSERT_NE(ap, aq);
+  const DenseQpResult again_p = shared.solve(p.b, p.l, p.u, ap);
+  EXPECT_EQ(again_p.factorisations, 0);
+  EXPECT_EQ(shared.generation(), generation_p);
+  EXPECT_EQ(shared.sensitivity(Eigen::MatrixXd::Identity(30, 30)), tangent_p);
+  const DenseQpResult again_q = shared.solve(q.b, q.l, q.u, aq);
+  EXPECT_EQ(again_q.factorisations, 0);
+  alone_p.solve(p.b, p.l, p.u, bp);
+  alone_q.solve(q.b, q.l, q.u, bq);
+  EXPECT_EQ(again_p.x, alone_p.solve(p.b, p.l, p.u, bp).x);
+  EXPECT_EQ(again_q.x, alone_q.solve(q.b, q.l, q.u, bq).x);
+  EXPECT_EQ(ap, bp);
+  EXPECT_EQ(aq, bq);
+}
+
 // dx/db at the active set against the difference of two solves that keep it.
 TEST(DenseActiveSet, SensitivityIsTheDerivativeAtTheActiveSet) {
   const Problem p = random_problem(30, 3, 9, false);
