@@ -286,14 +286,11 @@ void set_direction_residuals(const std::vector<ConePoint>& points, law::ConeFit&
 
 }  // namespace
 
-namespace {
-
-// The symmetries of a cell that its exact law shows, among the eight of the square (reflections
-// x → −x and y → −y, which flip γxy and σxy, and the swap x ↔ y, with their products), as
-// matrices on (εxx, εyy, γxy) that act on (σxx, σyy, σxy) the same way. One is kept when the law
-// maps every sampled state onto its image: ε̄(Rσ̄) = R ε̄(σ̄) to 1e-8 (the QP's round-off is
-// 1e-11; a cell off its symmetry, an off-centre fibre or a 2 × 1 block, misses by far more).
+// One is kept when the law maps every 24th sampled state onto its image: ε̄(Rσ̄) = R ε̄(σ̄) to 1e-8
+// (the QP's round-off is 1e-11; a cell off its symmetry, an off-centre fibre or a 2 × 1 block,
+// misses by far more).
 std::vector<Eigen::Matrix3d> cell_symmetries(const law::CondensedCell& cell, const law::CellSample& sample) {
+  if (cell.n_macro != 3) return {Eigen::Matrix3d::Identity()};
   Eigen::Matrix3d flip = Eigen::Vector3d(1, 1, -1).asDiagonal(), swap;
   swap << 0, 1, 0, 1, 0, 0, 0, 0, 1;
   const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
@@ -316,6 +313,8 @@ std::vector<Eigen::Matrix3d> cell_symmetries(const law::CondensedCell& cell, con
   }
   return group;
 }
+
+namespace {
 
 // σ(ε) = C ε + Σ_orbits β_o Σ_{q ∈ o} ⟨q·ε⟩₊ q with C fixed and β ≥ 0: one β per orbit of
 // planes under the cell's symmetries, so that the law has them too. Nonnegative least squares on
@@ -381,7 +380,7 @@ double fit_plane_orbits(const std::vector<ConePoint>& points, const std::vector<
 }  // namespace
 
 law::ConeFit fit_cone_to_cell(const law::CondensedCell& cell, const std::vector<ConePoint>& points, int n_directions,
-                              Fitted fitted, int n) {
+                              Fitted fitted, int n, const law::CellSample* past_fuse_sample) {
   law::ConeFit out;
   out.n_points = static_cast<int>(points.size());
   out.direction_residual.assign(n_directions, std::numeric_limits<double>::quiet_NaN());
@@ -394,8 +393,9 @@ law::ConeFit fit_cone_to_cell(const law::CondensedCell& cell, const std::vector<
   // The sample and its images under the cell's symmetries (measured on the law itself, bonded:
   // the bonds the cascade leaves are the images of the image's).
   const std::vector<Eigen::Matrix3d> group = cell_symmetries(cell, bonded);
-  const law::CellSample sample =
-      fitted == Fitted::bonded ? bonded : law::sample_cell_past_fuse(cell, n, law::past_fuse_load_ratio);
+  const law::CellSample sample = fitted == Fitted::bonded ? bonded
+                                 : past_fuse_sample       ? *past_fuse_sample
+                                                    : law::sample_cell_past_fuse(cell, n, law::past_fuse_load_ratio);
   std::vector<ConePoint> exact;
   for (std::size_t i = 0; i < sample.direction.size(); ++i)
     if (sample.strain[i].allFinite())

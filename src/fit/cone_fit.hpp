@@ -17,6 +17,7 @@
 
 #include "law/condensed.hpp"
 #include "law/cone.hpp"
+#include "law/cone_check.hpp"
 
 namespace dualcell::fit {
 
@@ -41,9 +42,17 @@ law::ConeFit fit_cone(const std::vector<ConePoint>& points, int n_directions,
 // and refitted. Its residuals (relative_residual, direction_residual) are over the sweep's
 // `points`, as fit_cone's are; form "planes fitted to the exact law, N symmetries of the cell".
 // Not ok where no admissible law results. `past_fuse`: the same fitted to the exact law past the
-// fuse (law::sample_cell_past_fuse), for Law::cone_after_fuse.
+// fuse (law::sample_cell_past_fuse at n directions, or `past_fuse_sample` where given), for
+// Law::cone_after_fuse.
 enum class Fitted { bonded, past_fuse };
 law::ConeFit fit_cone_to_cell(const law::CondensedCell& cell, const std::vector<ConePoint>& points, int n_directions,
-                              Fitted fitted = Fitted::bonded, int n = 800);
+                              Fitted fitted = Fitted::bonded, int n = 800,
+                              const law::CellSample* past_fuse_sample = nullptr);
+
+// The symmetries of a cell that its exact law shows at the states of `sample` (law::sample_cell),
+// among the eight of the square (reflections x → −x and y → −y, which flip γxy and σxy, and the
+// swap x ↔ y, with their products), as matrices on (εxx, εyy, γxy) that act on (σxx, σyy, σxy)
+// the same way, the identity first; the identity alone for a cell without shear (n_macro = 2).
+std::vector<Eigen::Matrix3d> cell_symmetries(const law::CondensedCell& cell, const law::CellSample& sample);
 
 }  // namespace dualcell::fit

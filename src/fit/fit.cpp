@@ -330,21 +330,30 @@ constexpr int small_cell_directions = 1500;
 constexpr double small_cell_margin = 0.45;
 constexpr std::array<int, 4> small_cell_rows = {8, 16, 24, 32};
 constexpr double small_cell_stall = 0.95;
+// How a ladder climbs: each rung continued from the last or from the greedy alone, up to how
+// many rows, with how many of Lawson's rounds per rung.
+struct Ladder {
+  bool continued = true;
+  int max_rows = small_cell_rows.back();
+  int minimax_rounds = SmallCellOptions{}.minimax_rounds;
+};
 // The ladder of m over `training`, from `cell` (the exact law, or the cell on a basis of its own
 // solutions with `start_sample` its own sample), measured on `check`.
 void fit_small_ladder(law::Law& law, const law::CondensedCell& cell, const law::CellSample& training,
                       const law::CellSample* start_sample, const law::CellSample& check, law::CheckedAgainst against,
-                      double tolerance, bool continued = true) {
+                      double tolerance, const Ladder& ladder = {}) {
   law.small_fit.tolerance = tolerance;
   SmallCell kept;
   for (const int m : small_cell_rows) {
+    if (m > ladder.max_rows) break;
     SmallCellOptions options;
     options.rows = m;
+    options.minimax_rounds = ladder.minimax_rounds;
     // Each rung starts from the last one's rows where that start is better (fit_small_cell): on
     // the 16-fibre RVE 32 rows then reach 1.28 % on the training directions and 1.75 % on the
     // check's, where from the greedy alone they ended at 2.40 % and 2.86 %, above 24 rows.
     SmallCell fitted =
-        fit_small_cell(cell, training, options, start_sample, continued && kept.ok ? &kept.cell : nullptr);
+        fit_small_cell(cell, training, options, start_sample, ladder.continued && kept.ok ? &kept.cell : nullptr);
     if (!fitted.ok) {
       if (!kept.ok) kept.message = "at " + std::to_string(m) + " rows: " + fitted.message;
       continue;
@@ -377,36 +386,42 @@ void fit_small_ladder(law::Law& law, const law::CondensedCell& cell, const law::
 
 // The small cell of a cell with adhesion (law/fused_cell.hpp, docs/method.md §16d): the bonded
 // cell and its onset exactly, and past the fuse a small cell of the debonded cell fitted with the
-// same ladder to the exact law's cascade paths along small_fuse_directions directions, three
-// points each (just past the onset, halfway to twice it, at twice it); measured at every point of
-// the check's cascade paths (`past_fuse`), whose directions are none of these.
-constexpr int small_fuse_directions = 1002;  // 28 rings (501 on the circle): the check's 300 have 15 (180)
-void fit_small_with_fuse(law::Law& law, const law::CellSample& past_fuse, double tolerance) {
+// ladder to the exact law's cascade paths `paths`, three points each (just past the onset, halfway
+// to twice it, at twice it), with their images under the cell's symmetries `group`; measured at
+// every point of the check's cascade paths (`past_fuse`), whose directions are none of these.
+// Past the fuse one debonded state stands for the cascade's many partial ones, and that floor
+// comes early: on the default cell the training maximum is 6.46 % from the second of Lawson's
+// rounds at 16 rows on, the same at 24 rows (all six rounds) and 32, while the rounds after the
+// second and the rung of 24 rows were four fifths of the fit (28 s of 34 s). So the ladder stops
+// at 16 rows with two rounds per rung. Each rung starts from the greedy (not continued): the
+// continued ladder lowered the training maximum (6.5 % at 16 rows to 4.8 % at 24) but not the
+// check's, whose other path points it does not train on (6.4 % to 6.6 %, rms 1.6 % to 2.3 %),
+// at three times the cost.
+constexpr Ladder fuse_ladder{false, 16, 2};
+void fit_small_with_fuse(law::Law& law, const law::CellSample& past_fuse, const law::CellSample& paths,
+                         const std::vector<Eigen::Matrix3d>& group, double tolerance) {
   const law::CondensedCell& cell = *law.cell;
   const law::CondensedCell debonded = law::debonded_cell(cell);
-  const law::CellSample paths = law::sample_cell_past_fuse(cell, small_fuse_directions, law::past_fuse_load_ratio);
   law::CellSample training;
   int directions = 0;
   const auto add = [&](std::size_t i, const Eigen::Vector3d& strain, const Eigen::Vector3d& stress) {
-    training.direction.push_back(paths.direction[i]);
-    training.strain.push_back(strain);
-    training.stress.push_back(stress);
-    training.forces.emplace_back();
+    for (const Eigen::Matrix3d& R : group) {
+      training.direction.push_back(R * paths.direction[i]);
+      training.strain.push_back(R * strain);
+      training.stress.push_back(R * stress);
+      training.forces.emplace_back();
+    }
   };
   for (std::size_t i = 0; i < paths.direction.size(); ++i) {
     if (!paths.strain[i].allFinite()) continue;
-    ++directions;
+    directions += static_cast<int>(group.size());
     for (const std::size_t k : {std::size_t{0}, std::size_t{law::past_fuse_steps / 2}})
       add(i, paths.path_strain[i][k], paths.path_stress[i][k]);
     add(i, paths.strain[i], paths.stress[i]);
   }
   const law::CellSample start = law::sample_cell(debonded, small_cell_directions);
-  // Each rung from the greedy (not continued): past the fuse the continued ladder lowered the
-  // training maximum of the default cell (6.5 % at 16 rows to 4.8 % at 24) but not the check's,
-  // whose other path points it does not train on (6.4 % to 6.6 %, rms 1.6 % to 2.3 %), at three
-  // times the cost.
   fit_small_ladder(law, debonded, training, &start, past_fuse, law::CheckedAgainst::exact_law_past_fuse, tolerance,
-                   false);
+                   fuse_ladder);
   if (!law.small) return;
   try {
     const law::FusedCell fused = law::cell_with_fuse(cell, *law.small);
@@ -420,7 +435,10 @@ void fit_small_with_fuse(law::Law& law, const law::CellSample& past_fuse, double
   }
 }
 
-void fit_small(law::Law& law, const law::CellSample& check, const law::CellSample* past_fuse, double tolerance) {
+// `past_fuse` and `past_fuse_paths`: the exact law's cascade paths to check and to fit the small
+// cell with a fuse, with `group` the cell's symmetries (none without adhesion).
+void fit_small(law::Law& law, const law::CellSample& check, const law::CellSample* past_fuse,
+               const law::CellSample* past_fuse_paths, const std::vector<Eigen::Matrix3d>& group, double tolerance) {
   const law::CondensedCell& cell = *law.cell;
   if (cell.n_rows() <= 2 * small_cell_rows.back()) {
     law.small_note = "the exact law has " + std::to_string(cell.n_rows()) +
@@ -429,7 +447,7 @@ void fit_small(law::Law& law, const law::CellSample& check, const law::CellSampl
   }
   if (cell.adhesion()) {
     if (past_fuse)
-      fit_small_with_fuse(law, *past_fuse, tolerance);
+      fit_small_with_fuse(law, *past_fuse, *past_fuse_paths, group, tolerance);
     else
       law.small_note =
           "the cell's bonded law is not linear below its onset (" + law.onset.message + "): no small cell with a fuse";
@@ -464,20 +482,33 @@ void check_against_cell(law::Law& law, const std::vector<ConePoint>& bonded, con
   const law::CondensedCell& cell = *law.cell;
   const law::CellSample check = law::sample_cell(cell, check_directions);
   keep_better(law.cone, law.cone_check, check, fit_cone_to_cell(cell, bonded, n_directions, Fitted::bonded));
-  // Past the fuse each direction runs its cascade, tens of factorisations (0.03 s at 256 rows):
-  // fewer directions: about 280 to check and 250 others to fit (15 and 14 rings: no direction in
-  // common; with the symmetry images 1000 points to fit).
+  // Past the fuse each direction runs its cascade, tens of factorisations (0.025 s at 256 rows),
+  // so fewer directions: about 280 to check and others to fit (no direction in common), as many
+  // as give the small cell's small_cell_directions with their images under the cell's
+  // symmetries, at least 250 (with the square cell's four symmetries 366 directions, 1 464 with
+  // their images). The cone-wise law after the fuse and the small cell with a fuse are fitted to
+  // the same paths. (Images stand in for directions at a quarter of the cost, but not fully: at
+  // 250 directions, 1 000 with images, the default cell's small cell missed the check by 7.6 %,
+  // at 366 by 6.3 %, as at 1 002 directions without images, 6.4 %.)
   constexpr int past_fuse_check_directions = 300, fit_directions = 250;
-  std::optional<law::CellSample> past_fuse;
-  if (cell.adhesion() && law.onset.linear)
+  std::optional<law::CellSample> past_fuse, past_fuse_paths;
+  std::vector<Eigen::Matrix3d> group = {Eigen::Matrix3d::Identity()};
+  if (cell.adhesion() && law.onset.linear) {
     past_fuse = law::sample_cell_past_fuse(cell, past_fuse_check_directions, law::past_fuse_load_ratio);
-  fit_small(law, check, past_fuse ? &*past_fuse : nullptr, law_tolerance);
+    group = cell_symmetries(cell, law::sample_cell(cell, fit_directions));
+    const int images = static_cast<int>(group.size());
+    past_fuse_paths = law::sample_cell_past_fuse(
+        cell, std::max(fit_directions, (small_cell_directions + images - 1) / images), law::past_fuse_load_ratio);
+  }
+  fit_small(law, check, past_fuse ? &*past_fuse : nullptr, past_fuse_paths ? &*past_fuse_paths : nullptr, group,
+            law_tolerance);
   if (!law.cone_check.directions.empty()) law.cone_check.polar = law::exact_polar(cell);
   if (cell.adhesion() && law.cone_after_fuse.ok)
     keep_better(law.cone_after_fuse, law.cone_after_fuse_check,
                 past_fuse ? *past_fuse
                           : law::sample_cell_past_fuse(cell, past_fuse_check_directions, law::past_fuse_load_ratio),
-                fit_cone_to_cell(cell, debonded, n_directions, Fitted::past_fuse, fit_directions));
+                fit_cone_to_cell(cell, debonded, n_directions, Fitted::past_fuse, fit_directions,
+                                 past_fuse_paths ? &*past_fuse_paths : nullptr));
 }
 
 // Where the exact law is too large to sample (or missing) the sweep built the cell on a basis of
