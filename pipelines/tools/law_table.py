@@ -10,7 +10,10 @@ whether the broken bonds agree), and the compact cone-wise law against it over t
 directions (/law/cone_check: largest and rms relative stress error, the worst direction; without
 an exact law the same against the sweep's held-out directions, attribute `against`); with
 adhesion a second table, the compact law past the fuse against the exact law past the fuse
-(/law/cone_after_fuse_check). Writes OUT.md and OUT.csv beside it, atomically.
+(/law/cone_after_fuse_check). The small cell (/law/small_check), where the fit made one: its rows
+and its largest and rms error against the exact law (or the held-out full solves), and with
+adhesion the small cell with a fuse in the second table, along the exact law's cascade paths.
+Writes OUT.md and OUT.csv beside it, atomically.
 """
 import csv
 import io
@@ -23,7 +26,8 @@ import common
 COLUMNS = ["scene", "interface_rows", "condense_s", "kB", "replay_points", "replay_max", "breaks_agree",
            "cone_against", "cone_directions", "cone_form", "cone_max", "cone_rms", "worst_sxx", "worst_syy", "worst_sxy",
            "sweep_fit_max", "sweep_fit_rms", "fuse_against", "fuse_directions", "fuse_form", "fuse_max", "fuse_rms",
-           "fuse_worst_sxx", "fuse_worst_syy", "fuse_worst_sxy", "fuse_sweep_fit_max", "fuse_sweep_fit_rms"]
+           "fuse_worst_sxx", "fuse_worst_syy", "fuse_worst_sxy", "fuse_sweep_fit_max", "fuse_sweep_fit_rms",
+           "small_rows", "small_against", "small_max", "small_rms"]
 
 
 def row(path):
@@ -56,13 +60,28 @@ def row(path):
                       "fuse_worst_sxx": worst[0], "fuse_worst_syy": worst[1], "fuse_worst_sxy": worst[2],
                       "fuse_sweep_fit_max": float(k["sweep_fit_max_error"][0]),
                       "fuse_sweep_fit_rms": float(k["sweep_fit_rms_error"][0])})
+        if "small_check" in g:
+            k = g["small_check"]
+            r.update({"small_rows": len(g["small/pair"]), "small_against": common.text(k.attrs["against"]),
+                      "small_max": float(k["max_error"][0]), "small_rms": float(k["rms_error"][0])})
         return r
+
+
+def small(r):
+    """The small cell's cell of a table row: rows, largest and rms error (and against what, when it
+    is not the table's)."""
+    if "small_max" not in r:
+        return ""
+    against = "" if r["small_against"] in ("the exact law", "the exact law past the fuse") else \
+        f" against {r['small_against']}"
+    return f"{r['small_rows']} rows, {100 * r['small_max']:.1f} %, {100 * r['small_rms']:.1f} %{against}"
 
 
 def markdown(rows):
     lines = ["| scene | exact law: interface rows | condensation | replay of its sweep: points, max error | "
              "breaks agree | cone-wise law kept | against the exact law: directions, max, rms | worst direction "
-             "(σxx, σyy, σxy) | the form fitted to the sweep: max, rms |", "|---|---|---|---|---|---|---|---|---|"]
+             "(σxx, σyy, σxy) | the form fitted to the sweep: max, rms | small cell: rows, max, rms |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         form = cone = worst = sweep_fit = ""
         if "cone_max" in r:
@@ -73,24 +92,26 @@ def markdown(rows):
                 cone = f"against {r['cone_against']} (no exact law): " + cone
             else:
                 sweep_fit = f"{100 * r['sweep_fit_max']:.1f} %, {100 * r['sweep_fit_rms']:.1f} %"
+        bonded_small = "" if r.get("small_against") == "the exact law past the fuse" else small(r)
         if "replay_points" not in r:
-            lines.append(f"| {r['scene']} | {r['interface_rows']} | | | | {form} | {cone} | {worst} | |")
+            lines.append(f"| {r['scene']} | {r['interface_rows']} | | | | {form} | {cone} | {worst} | | {bonded_small} |")
             continue
         lines.append(f"| {r['scene']} | {r['interface_rows']} | {r['condense_s']:.2f} s, {r['kB']:.0f} kB | "
                      f"{r['replay_points']}, {r['replay_max']:.1e} | {r['breaks_agree']} | {form} | {cone} | {worst} | "
-                     f"{sweep_fit} |")
+                     f"{sweep_fit} | {bonded_small} |")
     fused = [r for r in rows if "fuse_max" in r]
     if fused:
         lines += ["", "Past the fuse (each direction loaded through its cascade to twice its onset):", "",
                   "| scene | cone-wise law after the fuse kept | against the exact law: directions, max, rms | worst "
-                  "direction (σxx, σyy, σxy) | the form fitted to the sweep: max, rms |", "|---|---|---|---|---|"]
+                  "direction (σxx, σyy, σxy) | the form fitted to the sweep: max, rms | small cell with a fuse along "
+                  "the cascade paths: rows, max, rms |", "|---|---|---|---|---|---|"]
         for r in fused:
             against = "" if r["fuse_against"] == "the exact law" else f"against {r['fuse_against']} (no exact law): "
             lines.append(f"| {r['scene']} | {r['fuse_form']} | {against}{r['fuse_directions']}, {100 * r['fuse_max']:.1f} %, "
                          f"{100 * r['fuse_rms']:.1f} % | ({r['fuse_worst_sxx']:.2f}, {r['fuse_worst_syy']:.2f}, "
                          f"{r['fuse_worst_sxy']:.2f}) | "
                          + ("" if against else f"{100 * r['fuse_sweep_fit_max']:.1f} %, "
-                            f"{100 * r['fuse_sweep_fit_rms']:.1f} %") + " |")
+                            f"{100 * r['fuse_sweep_fit_rms']:.1f} %") + f" | {small(r)} |")
     return "\n".join(lines) + "\n"
 
 

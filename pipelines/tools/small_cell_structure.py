@@ -8,11 +8,14 @@ and the seconds of dualcell-structure. Writes OUT_DIR/structure.md.
 With --fuse SCENE, a structure scene loaded past the fuse (a law with adhesion: its small cell
 carries the fuse, docs/method.md §16d) instead: per load step the watched displacement of the
 small cell, the cone-wise law and the exact law, the errors of the first two against the third,
-and the cells broken (fused) at the end. Writes OUT_DIR/fuse.md.
+and the cells broken (fused) at the end; and the cost of one evaluation of the small cell and of
+the exact law (dualcell-law, stress-driven with history along each triangle's stresses of the
+exact law's run, step by step). Writes OUT_DIR/fuse.md.
 
     small_cell_structure.py BIN LAW OUT_DIR [--beams 8x2 128x16] [--fuse SCENE]
 """
 import os
+import re
 
 import h5py
 
@@ -101,12 +104,36 @@ def fuse(args):
         rows.append(f"| {i} | " + " | ".join(cells) + " |")
     summary = " · ".join(f"{form}: {result[form][1]:.2f} s, {result[form][2]} triangles fused at the end"
                          for form in forms)
+    summary += "\n\nOne evaluation, " + evaluation_cost(args, os.path.join(args.out_dir, "fuse-cell.h5"))
     table = ("# The small cell with a fuse in a structure\n\n"
              f"Law: {args.law}. Scene: {args.fuse}; the watched point's uy per load step.\n\n"
              "| step | exact law | small cell (error) | cone-wise law (error) |\n|---|---|---|---|\n" + "\n".join(rows) +
              f"\n\n{summary}\n")
     common.write_atomic(os.path.join(args.out_dir, "fuse.md"), table)
     print(table, end="")
+
+
+def evaluation_cost(args, structure):
+    """dualcell-law's milliseconds per row, small cell and exact law, over the paths of every
+    triangle's stress in `structure` (a dualcell-structure output) through its load steps."""
+    with h5py.File(structure, "r") as h:
+        steps = sorted(k for k in h["/steps"].keys() if k.isdigit())
+        stress = [h[f"/steps/{k}/stress"][:] for k in steps]
+    points = os.path.join(args.out_dir, "fuse-points.csv")
+    common.write_atomic(points, "path,sxx,syy,sxy\n" + "".join(
+        f"{t},{s[t][0]:.17g},{s[t][1]:.17g},{s[t][2]:.17g}\n" for t in range(len(stress[0])) for s in stress))
+    cost = {}
+    for form in ("small", "cell"):
+        out = os.path.join(args.out_dir, f"fuse-points-{form}.csv")
+        done = common.run([os.path.join(args.bin, "dualcell-law"), "--law", args.law, "--stress", points, "--out",
+                           out, "--form", form])
+        per_row = re.search(r"([0-9.e+-]+) ms per row", done.stderr + done.stdout)
+        if not per_row:
+            raise ValueError(f"dualcell-law printed no 'ms per row': {(done.stderr + done.stdout).strip()}")
+        cost[form] = 1e3 * float(per_row.group(1))
+    return (f"stress-driven along the {len(stress[0])} triangles' stress paths of the exact law's run "
+            f"({len(stress)} steps each, dualcell-law): small cell {cost['small']:.1f} µs, exact law "
+            f"{cost['cell']:.1f} µs per point.")
 
 
 if __name__ == "__main__":

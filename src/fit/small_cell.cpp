@@ -82,18 +82,17 @@ bool evaluate(const double* x, const Problem& p, Eigen::VectorXd& f, Eigen::Matr
       for (int a = 0; a < nF; ++a) W.row(F[a]) = WF.row(a);
     }
     const Eigen::VectorXd mu = r.forces;
-    const Eigen::VectorXd Lmu = rows.L.transpose() * mu;
     for (int k = 0; k < lay.nm; ++k) {
       const Eigen::Index row = lay.nm * static_cast<Eigen::Index>(q) + k;
       const double c = 1 / (volume * scale);
       // ∂/∂D(j, l) = (μ_j δ_lk + w_k,j ε_l)
       for (int l = 0; l < lay.nm; ++l)
         for (int j = 0; j < lay.m; ++j) (*J)(row, l * lay.m + j) = c * ((l == k ? mu(j) : 0.0) + W(j, k) * e(l));
-      // ∂/∂L = −(w μᵀ + μ wᵀ) L = −(w (Lᵀμ)ᵀ + μ (Lᵀw)ᵀ): two outer products, O(m²)
-      const Eigen::VectorXd Lw = rows.L.transpose() * W.col(k);
+      // ∂/∂L = −(w μᵀ + μ wᵀ) L
+      const Eigen::MatrixXd GL = -c * (W.col(k) * mu.transpose() + mu * W.col(k).transpose()) * rows.L;
       Eigen::Index col = lay.m * lay.nm;
       for (int jj = 0; jj < lay.m; ++jj)
-        for (int ii = jj; ii < lay.m; ++ii) (*J)(row, col++) = -c * (W(ii, k) * Lmu(jj) + mu(ii) * Lw(jj));
+        for (int ii = jj; ii < lay.m; ++ii) (*J)(row, col++) = GL(ii, jj);
     }
   }
   return true;
