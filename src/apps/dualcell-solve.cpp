@@ -7,6 +7,7 @@
 // of each phase.
 //
 //   dualcell-solve --config scene.toml --mesh mesh.h5 --stress 0.01,0,0 --out solution.h5
+//   dualcell-solve --config scene.toml --mesh mesh.h5 --stress 0,0,0 --eps33 0.01 --out solution.h5
 //   dualcell-solve --config beam.toml --mesh mesh.h5 --out solution.h5   ([load] boundary = "edges")
 //   mpirun -np 4 dualcell-solve ...   (the subdomains shared out over 4 ranks; one solution.h5)
 #include <cstdio>
@@ -26,6 +27,10 @@ int main(int argc, char** argv) {
   app.add_option("--stress", options.stress_text,
                  "macroscopic stress sxx,syy,sxy (tensor shear); required but with boundary = \"edges\", whose "
                  "loads and steps are in the scene");
+  app.add_option("--eps33", options.eps33,
+                 "longitudinal strain e33 along the fibres (generalised plane strain, docs/method.md §3a); "
+                 "default 0: plane strain")
+      ->check(CLI::Range(-1.0, 1.0));
   app.add_option("--out", options.out, "output HDF5 file; the XDMF file is written beside it")->required();
   app.add_option("--bonds", options.bonds_file,
                  "solution.h5 whose /interface/bonded is the bond state before this load (default: intact)");

@@ -99,7 +99,12 @@ Eigen::Matrix2d edge_moment(const mesh::Mesh& mesh, const mesh::Edge& edge, cons
   return H;
 }
 
-void add_body_force(const mesh::Mesh& mesh, int s, const Eigen::Vector2d& body_force, Eigen::VectorXd& f) {
+namespace {
+
+// Adds to f, per node i of every triangle of subdomain s and quadrature point (the 6-point
+// rule), force(w, φ_i, B_i): w the point's weight times |det J|, B_i node i's two columns of B.
+template <class Force>
+void add_volume_load(const mesh::Mesh& mesh, int s, Eigen::VectorXd& f, Force&& force) {
   const mesh::Subdomain& sub = mesh.subdomains[s];
   const int n = mesh.triangles.width();
   for (int t = sub.triangle_begin; t < sub.triangle_end; ++t) {
@@ -108,40 +113,64 @@ void add_body_force(const mesh::Mesh& mesh, int s, const Eigen::Vector2d& body_f
     for (const TrianglePoint& q : triangle_rule()) {
       double phi[6], dL1[6], dL2[6], det_J;
       triangle_shape(n, q.L1, q.L2, phi, dL1, dL2);
-      strain_displacement_at(x, q.L1, q.L2, det_J);
-      for (int i = 0; i < n; ++i) f.segment<2>(2 * tri[i]) += (q.weight * std::abs(det_J) * phi[i]) * body_force;
+      const Eigen::MatrixXd B = strain_displacement_at(x, q.L1, q.L2, det_J);
+      const double w = q.weight * std::abs(det_J);
+      for (int i = 0; i < n; ++i) f.segment<2>(2 * tri[i]) += force(w, phi[i], B.middleCols<2>(2 * i));
     }
   }
 }
 
+}  // namespace
+
+void add_body_force(const mesh::Mesh& mesh, int s, const Eigen::Vector2d& body_force, Eigen::VectorXd& f) {
+  add_volume_load(mesh, s, f, [&](double w, double phi, const auto&) { return ((w * phi) * body_force).eval(); });
+}
+
+void add_eigen_stress(const mesh::Mesh& mesh, int s, const Eigen::Vector3d& sigma0, Eigen::VectorXd& f) {
+  add_volume_load(mesh, s, f,
+                  [&](double w, double, const auto& B_i) { return (-w * (B_i.transpose() * sigma0)).eval(); });
+}
+
 ElementStresses element_stresses(const mesh::Mesh& mesh, const Material& fibre, const Material& matrix,
-                                 const Eigen::VectorXd& u) {
+                                 const Eigen::VectorXd& u, double eps33) {
   const Eigen::Matrix3d D_fibre = plane_strain_D(fibre), D_matrix = plane_strain_D(matrix);
+  const Lame lame_fibre = lame(fibre), lame_matrix = lame(matrix);
   const std::size_t T = mesh.triangles.size();
   const int n = mesh.triangles.width();
-  ElementStresses out{Eigen::MatrixXd(T, 3), Eigen::MatrixXd(T, 3), Eigen::VectorXd(T)};
+  ElementStresses out{Eigen::MatrixXd(T, 3), Eigen::MatrixXd(T, 3), Eigen::VectorXd(T), Eigen::VectorXd(T)};
   Eigen::VectorXd ue(2 * n);
   for (std::size_t t = 0; t < T; ++t) {
     const auto tri = mesh.triangles[t];
     for (int v = 0; v < n; ++v) ue.segment<2>(2 * v) = u.segment<2>(2 * tri[v]);
-    const Eigen::Matrix3d& D = mesh.subdomains[mesh.triangle_subdomain[t]].is_fibre ? D_fibre : D_matrix;
+    const bool is_fibre = mesh.subdomains[mesh.triangle_subdomain[t]].is_fibre;
+    const Eigen::Matrix3d& D = is_fibre ? D_fibre : D_matrix;
+    const Lame& L = is_fibre ? lame_fibre : lame_matrix;
+    const Eigen::Vector3d sigma0 = L.lambda * eps33 * Eigen::Vector3d(1, 1, 0);
     const std::vector<Eigen::Vector2d> x = mesh::triangle_points(mesh, static_cast<int>(t));
     double det_J;
-    out.centroid.row(t) = (D * (strain_displacement_at(x, 1.0 / 3, 1.0 / 3, det_J) * ue)).transpose();
+    const Eigen::Vector3d e_centroid = strain_displacement_at(x, 1.0 / 3, 1.0 / 3, det_J) * ue;
+    out.centroid.row(t) = (D * e_centroid).transpose();
+    if (eps33 != 0) out.centroid.row(t) += sigma0.transpose();
+    const auto zz = [&](const Eigen::Vector3d& e) { return L.lambda * (e(0) + e(1)) + (L.lambda + 2 * L.mu) * eps33; };
     if (n == 3) {
       out.average.row(t) = out.centroid.row(t);
       out.area(t) = std::abs(det_J) / 2;
+      out.zz_average(t) = zz(e_centroid);
       continue;
     }
-    Eigen::Vector3d integral = Eigen::Vector3d::Zero();
+    Eigen::Vector3d integral = Eigen::Vector3d::Zero(), strain = Eigen::Vector3d::Zero();
     double area = 0;
     for (const TrianglePoint& q : triangle_rule()) {
       const Eigen::MatrixXd B = strain_displacement_at(x, q.L1, q.L2, det_J);
-      integral += (q.weight * std::abs(det_J)) * (D * (B * ue));
+      const Eigen::Vector3d e = B * ue;
+      integral += (q.weight * std::abs(det_J)) * (D * e);
+      strain += (q.weight * std::abs(det_J)) * e;
       area += q.weight * std::abs(det_J);
     }
     out.average.row(t) = (integral / area).transpose();
+    if (eps33 != 0) out.average.row(t) += sigma0.transpose();
     out.area(t) = area;
+    out.zz_average(t) = zz(strain / area);
   }
   return out;
 }

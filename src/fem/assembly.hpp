@@ -31,6 +31,10 @@ void add_edge_traction(const mesh::Mesh& mesh, const mesh::Edge& edge, const Eig
 // Consistent nodal forces ∫ φ_i b dA of a constant body force (per unit area) over subdomain s.
 void add_body_force(const mesh::Mesh& mesh, int s, const Eigen::Vector2d& body_force, Eigen::VectorXd& f);
 
+// Consistent nodal forces −∫ Bᵀ σ₀ dA of a constant eigen-stress σ₀ (Voigt) over subdomain s,
+// added to f: the load of a stress σ = D ε + σ₀ (generalised plane strain: σ₀ = λ ε33 (1, 1, 0)).
+void add_eigen_stress(const mesh::Mesh& mesh, int s, const Eigen::Vector3d& sigma0, Eigen::VectorXd& f);
+
 // ∫ N_p ds over the edge with nodes x (2: straight, 3: a, b, mid on a parabola), per node: the
 // consistent nodal weights of a unit line load.
 std::array<double, 3> edge_weights(std::span<const Eigen::Vector2d> x);
@@ -41,13 +45,16 @@ Eigen::Matrix2d edge_moment(const mesh::Mesh& mesh, const mesh::Edge& edge, cons
 
 // Stresses of every triangle (Voigt: σxx, σyy, σxy) from the global displacement u, with each
 // triangle's subdomain material: at the centroid (L₁ = L₂ = ⅓) and the volume average
-// (1/A) ∫ σ dA; the two agree for p1 (constant strain). `area` is each triangle's area.
+// (1/A) ∫ σ dA; the two agree for p1 (constant strain). `area` is each triangle's area. With a
+// longitudinal strain ε33 (generalised plane strain) the in-plane stresses carry λ ε33 (1, 1, 0)
+// and `zz_average` is the average of σzz = λ (εxx + εyy) + (λ + 2μ) ε33 (plane strain: ε33 = 0).
 struct ElementStresses {
-  Eigen::MatrixXd centroid;  // T × 3
-  Eigen::MatrixXd average;   // T × 3
-  Eigen::VectorXd area;      // T
+  Eigen::MatrixXd centroid;    // T × 3
+  Eigen::MatrixXd average;     // T × 3
+  Eigen::VectorXd area;        // T
+  Eigen::VectorXd zz_average;  // T
 };
 ElementStresses element_stresses(const mesh::Mesh& mesh, const Material& fibre, const Material& matrix,
-                                 const Eigen::VectorXd& u);
+                                 const Eigen::VectorXd& u, double eps33 = 0);
 
 }  // namespace dualcell::fem

@@ -13,6 +13,8 @@ Eigen::Matrix3d plane_strain_D(const Material& m) {
   return scale * D;
 }
 
+Lame lame(const Material& m) { return {m.E * m.nu / ((1 + m.nu) * (1 - 2 * m.nu)), m.E / (2 * (1 + m.nu))}; }
+
 Matrix36 strain_displacement(const Eigen::Vector2d& p0, const Eigen::Vector2d& p1, const Eigen::Vector2d& p2,
                              double& area) {
   // Shape function gradients: ∇φ_i = (y_j - y_k, x_k - x_j) / (2A) for (i, j, k) cyclic.

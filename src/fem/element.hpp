@@ -26,6 +26,14 @@ using Vector6 = Eigen::Matrix<double, 6, 1>;
 // Plane-strain elasticity matrix D (Voigt, engineering shear).
 Eigen::Matrix3d plane_strain_D(const Material& material);
 
+// Lamé's constants of an isotropic material: λ = Eν/((1+ν)(1−2ν)), μ = E/(2(1+ν)). In
+// generalised plane strain (a uniform ε33 along the fibres, docs/method.md §3a) the in-plane
+// stress is D ε + λ ε33 (1, 1, 0) and σzz = λ (εxx + εyy) + (λ + 2μ) ε33.
+struct Lame {
+  double lambda = 0, mu = 0;
+};
+Lame lame(const Material& material);
+
 // Strain-displacement matrix of the p1 triangle (p0, p1, p2); returns its signed area in `area`.
 Matrix36 strain_displacement(const Eigen::Vector2d& p0, const Eigen::Vector2d& p1, const Eigen::Vector2d& p2,
                              double& area);

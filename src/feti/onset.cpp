@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <stdexcept>
 
 #include "feti/projected.hpp"
 #include "feti/solver.hpp"
@@ -53,6 +54,8 @@ ContactSolver::Lifted& ContactSolver::lifted() {
 }
 
 double ContactSolver::debond_onset(const Eigen::Vector3d& sigma, std::vector<int>* critical) {
+  if (eps33_ != 0)
+    throw std::logic_error("debond_onset with a longitudinal strain: the load is not linear in its factor");
   if (critical) critical->clear();
   if (!setup_.scene().interface.has_adhesion()) return std::numeric_limits<double>::infinity();
   Lifted& lifted = this->lifted();
@@ -76,6 +79,7 @@ double ContactSolver::debond_onset(const Eigen::Vector3d& sigma, std::vector<int
 }
 
 law::OnsetSurface ContactSolver::onset_surface() {
+  if (eps33_ != 0) throw std::logic_error("onset_surface with a longitudinal strain: the load is not linear");
   law::OnsetSurface out;
   if (!setup_.scene().interface.has_adhesion()) {
     out.message = "no adhesion: nothing to break";

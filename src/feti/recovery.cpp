@@ -215,7 +215,8 @@ void ContactSolver::report(const DualProblem& dual, const Eigen::VectorXd& f, co
   check(kkt.complementarity, tolerance * u_scale * lambda_scale, "complementarity");
 
   out.strain = boundary_strain(mesh, out.u);
-  out.average_stress = average_stress(mesh, scene.fibre, scene.matrix, out.u);
+  out.eps33 = eps33_;
+  out.average_stress = average_stress(mesh, scene.fibre, scene.matrix, out.u, eps33_, &out.average_stress_zz);
 }
 
 }  // namespace dualcell::feti

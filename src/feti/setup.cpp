@@ -6,6 +6,7 @@
 #include <chrono>
 
 #include "fem/assembly.hpp"
+#include "fem/element.hpp"
 #include "feti/constraints.hpp"
 
 namespace dualcell::feti {
@@ -281,7 +282,7 @@ Eigen::SparseMatrix<double, Eigen::RowMajor> FetiSetup::set_boundaries() {
   return rows.B;
 }
 
-Eigen::VectorXd FetiSetup::load(const Eigen::Vector3d& sigma) const {
+Eigen::VectorXd FetiSetup::load(const Eigen::Vector3d& sigma, double eps33) const {
   Eigen::VectorXd f = Eigen::VectorXd::Zero(n_dofs_);
   Eigen::Matrix2d sigma_bar;
   sigma_bar << sigma(0), sigma(2), sigma(2), sigma(1);
@@ -326,6 +327,11 @@ Eigen::VectorXd FetiSetup::load(const Eigen::Vector3d& sigma) const {
   const Eigen::Vector2d body(scene_.load.body_force[0], scene_.load.body_force[1]);
   if (body.squaredNorm() > 0)
     for (int s = 0; s < static_cast<int>(mesh_.subdomains.size()); ++s) fem::add_body_force(mesh_, s, body, f);
+  if (eps33 != 0)
+    for (int s = 0; s < static_cast<int>(mesh_.subdomains.size()); ++s) {
+      const double lambda = fem::lame(mesh_.subdomains[s].is_fibre ? scene_.fibre : scene_.matrix).lambda;
+      fem::add_eigen_stress(mesh_, s, lambda * eps33 * Eigen::Vector3d(1, 1, 0), f);
+    }
   return f;
 }
 

@@ -102,7 +102,10 @@ class FetiSetup {
   // With Boundary::edges the load is one pattern, the edge tractions and point loads, scaled by
   // the load factor t = p(0) of the load coordinates p = (t, 0, 0) that take σ̄'s place; the
   // prescribed displacements scale with it (B u = t·c).
-  Eigen::VectorXd load(const Eigen::Vector3d& sigma) const;
+  // eps33: a uniform longitudinal strain (generalised plane strain, docs/method.md §3a): each
+  // subdomain's eigen-stress λ ε33 (1, 1, 0) adds −∫ Bᵀ λ ε33 (1, 1, 0) dA; σ̄ is then the
+  // average of the whole in-plane stress. 0: plane strain, the load unchanged bit for bit.
+  Eigen::VectorXd load(const Eigen::Vector3d& sigma, double eps33 = 0) const;
   // t of B u = t·c: p(0) with Boundary::edges; 1 otherwise (c = 0 there).
   double load_factor(const Eigen::Vector3d& p) const { return scene_.load.boundary == Boundary::edges ? p(0) : 1.0; }
   double volume() const { return mesh_.block_width() * mesh_.block_height(); }

@@ -192,7 +192,7 @@ Solution ContactSolver::solve_problem(const DualProblem& dual, double norm_PFP, 
 
   const auto t_qp = Clock::now();
   const DualProblem::Profile profile_before = dual.profile();
-  const Eigen::VectorXd f = setup_.load(sigma);
+  const Eigen::VectorXd f = setup_.load(sigma, eps33_);
   const Eigen::VectorXd e = dual.e(f);
   const Eigen::VectorXd lambda0 = dual.lambda_0(e);
   const Eigen::VectorXd d = dual.d(f, setup_.load_factor(sigma));

@@ -75,6 +75,9 @@ struct Solution {
   Eigen::Vector3d sigma = Eigen::Vector3d::Zero();           // applied (σxx, σyy, σxy)
   Eigen::Vector3d strain = Eigen::Vector3d::Zero();          // (εxx, εyy, εxy), tensor shear
   Eigen::Vector3d average_stress = Eigen::Vector3d::Zero();  // volume average of element stresses
+  // Generalised plane strain (docs/method.md §3a): the longitudinal strain ε33 the solve had and
+  // the volume average of σzz (plane strain, ε33 = 0: ν's share of the in-plane stresses).
+  double eps33 = 0, average_stress_zz = 0;
   Eigen::VectorXd u;                                   // global DOFs (+3 macro DOFs εxx, εyy, γxy when periodic)
   Eigen::VectorXd lambda;                              // per row of B, physical (force) units
   Eigen::VectorXd multiplier;                          // SMALBE's equality multiplier m (scaled rows), for warm starts
@@ -144,6 +147,8 @@ class ContactSolver {
   // `critical`, when given, receives the pairs whose bond reaches its strength at s* (within
   // the relative at-strength tolerance): a solve at exactly s*·σ̄ cannot tell them from the
   // QP's multipliers at the scene's tolerance, so a caller stepping onto the onset breaks them.
+  // Refuses (std::logic_error) a longitudinal strain ε33 ≠ 0: the onset needs a load linear in its
+  // factor, and ε33 is a fixed part of every load.
   double debond_onset(const Eigen::Vector3d& sigma, std::vector<int>* critical = nullptr);
 
   // The exact onset surface (law/onset.hpp): the bonded rows' forces per unit stress from
@@ -162,6 +167,13 @@ class ContactSolver {
     other_ = {};
     lifted_ = {};
   }
+
+  // A uniform longitudinal strain ε33 (along the fibres) with the σ̄ of every later solve:
+  // generalised plane strain (docs/method.md §3a), each subdomain's eigen-stress λ ε33 (1, 1, 0)
+  // in the load and in the stresses, σzz averaged into Solution::average_stress_zz. 0, the
+  // default, is plane strain, every result unchanged bit for bit.
+  void set_longitudinal_strain(double eps33) { eps33_ = eps33; }
+  double longitudinal_strain() const { return eps33_; }
 
   const FetiSetup& setup() const { return setup_; }
   const DualProblem& problem(const BondState& bonds);
@@ -196,6 +208,7 @@ class ContactSolver {
   Progress* progress_ = nullptr;
   Cached intact_, other_;
   Lifted lifted_;
+  double eps33_ = 0;
 };
 
 }  // namespace dualcell::feti

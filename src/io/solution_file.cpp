@@ -130,6 +130,11 @@ void write_solution(const std::filesystem::path& h5, const mesh::Mesh& mesh, con
     f.write("/macro/strain", std::vector<double>{s.strain(0), s.strain(1), s.strain(2)}, {3});
     f.write("/macro/average_stress", std::vector<double>{s.average_stress(0), s.average_stress(1), s.average_stress(2)},
             {3});
+    if (s.eps33 != 0) {  // generalised plane strain only: a plane-strain file stays as it was
+      f.write("/macro/eps33", std::vector<double>{s.eps33}, {1});
+      f.write("/macro/average_stress_zz", std::vector<double>{s.average_stress_zz}, {1});
+      f.write("/solution/element_stress_zz_average", to_vector(stress.zz_average), {T});
+    }
 
     write_solver(f, mesh, scene, s);
     if (ranks) write_ranks(f, *ranks);
@@ -152,6 +157,8 @@ void write_solution(const std::filesystem::path& h5, const mesh::Mesh& mesh, con
                      {"stress", "/solution/element_stress", true, {T, 3}, false},
                      {"stress_average", "/solution/element_stress_average", true, {T, 3}, false},
                      {"displacement", "/solution/displacement", false, {N, 3}, false}};
+  if (s.eps33 != 0)
+    deformed.fields.push_back({"stress_zz_average", "/solution/element_stress_zz_average", true, {T}, false});
   outputs.write(xdmf, xdmf_text(name, {deformed}));
   outputs.commit();
 }

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/text.hpp"
 #include "feti/constraints.hpp"
 #include "io/atomic_output.hpp"
 #include "io/solution_file.hpp"
@@ -112,6 +113,9 @@ SolveOutcome run_solve(const SolveOptions& options) {
     if (!edges && options.stress_text.empty())
       throw InputError(scene.file.string() + ": boundary = \"" + to_string(scene.load.boundary) +
                        "\" needs --stress sxx,syy,sxy");
+    if (edges && options.eps33 != 0)
+      throw InputError("--eps33 " + formatted("%g", options.eps33) + ": " + scene.file.string() +
+                       " has boundary = \"edges\", a structure in plane strain; leave --eps33 out");
     if (edges) feti::check_positions(loaded->mesh, scene.load.edge_loads);
     if (!edges) sigma = parse_stress(options.stress_text);
     if (scene.load.boundary == Boundary::symmetry && sigma(2) != 0)
@@ -131,6 +135,7 @@ SolveOutcome run_solve(const SolveOptions& options) {
   feti::ContactSolver solver(in.mesh, in.scene, options.threads, feti::FetiSetup::default_min_dofs_per_thread,
                              par::Group::world(), &progress);
   const feti::BondState bonds = bonds_read ? *bonds_read : solver.intact();
+  solver.set_longitudinal_strain(options.eps33);
   SolveOutcome outcome;
   feti::Timings work;
   if (edges) {
@@ -145,7 +150,8 @@ SolveOutcome run_solve(const SolveOptions& options) {
     Provenance provenance;
     provenance.mesh_file = in.mesh_file;
     provenance.mesh_hash = in.mesh_hash;
-    const feti::SolutionFields fields = feti::solution_fields(in.mesh, in.scene, outcome.solution.u);
+    const feti::SolutionFields fields =
+        feti::solution_fields(in.mesh, in.scene, outcome.solution.u, outcome.solution.eps33);
     io::write_solution(options.out, in.mesh, in.scene, outcome.solution, fields, provenance,
                        outcome.steps ? &*outcome.steps : nullptr, &outcome.ranks);
     outcome.written = true;
@@ -196,6 +202,7 @@ void print_solve_summary(const SolveOptions& options, const SolveOutcome& outcom
     std::printf("  macro strain  exx %.6e  eyy %.6e  exy %.6e\n", s.strain(0), s.strain(1), s.strain(2));
     std::printf("  Hill-Mandel   <s> - s_applied = (%.2e, %.2e, %.2e)\n", s.average_stress(0) - sigma(0),
                 s.average_stress(1) - sigma(1), s.average_stress(2) - sigma(2));
+    if (s.eps33 != 0) std::printf("  longitudinal  e33 %.6e (given), <szz> %.6e\n", s.eps33, s.average_stress_zz);
   }
   std::printf(
       "  KKT: projected gradient %.2e (rel), |G l - e| %.2e (rel), bound violation %.2e,\n"

@@ -17,6 +17,7 @@ struct SolveOptions {
   std::string scene_file, mesh_file, out;
   std::string stress_text;  // "sxx,syy,sxy" as given on the command line; empty with boundary = "edges"
   std::string bonds_file;   // a solution.h5 whose bond state is the start; empty: intact
+  double eps33 = 0;         // longitudinal strain ε33 (generalised plane strain); 0: plane strain
   int threads = 0;
   bool progress = true;  // phases, QP iterations and load steps on stderr (rank 0); --quiet: none
 };

@@ -1,6 +1,8 @@
 // dualcell-solve as a user runs it: output layout, XDMF of the deformed shape, refusals.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "core/exit_codes.hpp"
 #include "io/hdf5.hpp"
 #include "test_util.hpp"
@@ -108,6 +110,44 @@ namespace {
 
 // A block of resolved cells with edge conditions: load steps with the bond history, /steps in
 // the documented layout, the first break factor; --stress refused for it, and a sweep too.
+// --eps33 (generalised plane strain, docs/method.md §3a): the summary's longitudinal line and
+// the datasets that only such a file has, with σzz between the phases' (a stretch along the
+// fibres, free across); a plane-strain file has none of them, and an ε33 out of range is refused.
+TEST(SolveStage, ALongitudinalStrainWritesTheLongitudinalStress) {
+  Prepared p;
+  prepare(p, "[load]\nboundary = \"periodic\"\n");
+  const std::string cfg = " --config " + p.scene.string() + " --mesh " + p.mesh.string();
+  const auto out = p.dir / "solution.h5";
+  const auto r = run_command(bin("dualcell-solve") + cfg + " --stress 0,0,0 --eps33 0.01 --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("longitudinal  e33 1.000000e-02 (given), <szz>"), std::string::npos) << r.output;
+  const io::File f = io::File::open_read(out);
+  EXPECT_EQ(f.read_doubles("/macro/eps33", {1})[0], 0.01);
+  const double zz = f.read_doubles("/macro/average_stress_zz", {1})[0];
+  const auto triangles = f.read_ints("/mesh/triangle_subdomain", {io::any_extent});
+  const auto element_zz = f.read_doubles("/solution/element_stress_zz_average", {triangles.size()});
+  double lowest = element_zz[0], highest = element_zz[0];
+  for (double v : element_zz) lowest = std::min(lowest, v), highest = std::max(highest, v);
+  // Stretched along the fibres and free across: every element pulls, the stiff fibres most, and
+  // the average lies between (E_m = 1 < ⟨σzz⟩/ε33 < E_f = 100).
+  EXPECT_GT(lowest, 0);
+  EXPECT_GT(zz, lowest);
+  EXPECT_LT(zz, highest);
+  EXPECT_GT(zz / 0.01, 1.0);
+  EXPECT_LT(zz / 0.01, 100.0);
+  const auto plane = p.dir / "plane.h5";
+  const auto r2 = run_command(bin("dualcell-solve") + " --quiet" + cfg + " --stress 0.01,0,0 --out " + plane.string());
+  ASSERT_EQ(r2.exit_code, 0) << r2.output;
+  const io::File g = io::File::open_read(plane);
+  for (const char* name : {"/macro/eps33", "/macro/average_stress_zz", "/solution/element_stress_zz_average"})
+    EXPECT_FALSE(g.exists(name)) << name;
+  const auto bad =
+      run_command(bin("dualcell-solve") + cfg + " --stress 0,0,0 --eps33 2 --out " + (p.dir / "bad.h5").string());
+  EXPECT_NE(bad.exit_code, 0) << bad.output;
+  EXPECT_NE(bad.output.find("--eps33"), std::string::npos) << bad.output;
+  EXPECT_FALSE(std::filesystem::exists(p.dir / "bad.h5"));
+}
+
 TEST(SolveStage, EdgesBoundarySolvesTheLoadStepsWithTheBondHistory) {
   Prepared p;
   prepare(p,
@@ -140,6 +180,9 @@ TEST(SolveStage, EdgesBoundarySolvesTheLoadStepsWithTheBondHistory) {
       run_command(bin("dualcell-solve") + cfg + " --stress 0.01,0,0 --out " + (p.dir / "x.h5").string());
   EXPECT_EQ(stress.exit_code, exit_input_error) << stress.output;
   EXPECT_NE(stress.output.find("leave --stress out"), std::string::npos) << stress.output;
+  const auto eps33 = run_command(bin("dualcell-solve") + cfg + " --eps33 0.01 --out " + (p.dir / "x.h5").string());
+  EXPECT_EQ(eps33.exit_code, exit_input_error) << eps33.output;
+  EXPECT_NE(eps33.output.find("leave --eps33 out"), std::string::npos) << eps33.output;
   const auto sweep = run_command(bin("dualcell-sweep") + cfg + " --out " + (p.dir / "sweep.h5").string());
   EXPECT_EQ(sweep.exit_code, exit_input_error) << sweep.output;
   EXPECT_FALSE(std::filesystem::exists(p.dir / "x.h5"));
