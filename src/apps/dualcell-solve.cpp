@@ -31,6 +31,9 @@ int main(int argc, char** argv) {
                  "longitudinal strain e33 along the fibres (generalised plane strain, docs/method.md §3a); "
                  "default 0: plane strain")
       ->check(CLI::Range(-1.0, 1.0));
+  app.add_flag("--longitudinal-shear", options.longitudinal_shear,
+               "also the cell's longitudinal shear moduli Gxz, Gyz with the bonds this load left (periodic "
+               "boundary; docs/method.md §3b)");
   app.add_option("--out", options.out, "output HDF5 file; the XDMF file is written beside it")->required();
   app.add_option("--bonds", options.bonds_file,
                  "solution.h5 whose /interface/bonded is the bond state before this load (default: intact)");

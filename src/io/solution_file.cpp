@@ -75,7 +75,8 @@ void write_steps(File& f, const LoadSteps& steps) {
 
 void write_solution(const std::filesystem::path& h5, const mesh::Mesh& mesh, const Scene& scene,
                     const feti::Solution& s, const feti::SolutionFields& fields, const Provenance& provenance,
-                    const LoadSteps* steps, const RankTable* ranks) {
+                    const LoadSteps* steps, const RankTable* ranks,
+                    const primal::LongitudinalShear* longitudinal_shear) {
   const std::filesystem::path xdmf = xdmf_beside(h5);
   AtomicOutputs outputs;
   outputs.add(h5);
@@ -130,6 +131,14 @@ void write_solution(const std::filesystem::path& h5, const mesh::Mesh& mesh, con
     f.write("/macro/strain", std::vector<double>{s.strain(0), s.strain(1), s.strain(2)}, {3});
     f.write("/macro/average_stress", std::vector<double>{s.average_stress(0), s.average_stress(1), s.average_stress(2)},
             {3});
+    if (longitudinal_shear) {  // asked for only: a file without it stays as it was
+      const Eigen::Matrix2d& G = longitudinal_shear->G;
+      f.write("/macro/longitudinal_shear_moduli", std::vector<double>{G(0, 0), G(0, 1), G(1, 0), G(1, 1)}, {2, 2});
+      std::vector<double> w;
+      for (hsize_t v = 0; v < N; ++v)
+        w.insert(w.end(), {longitudinal_shear->w_tilde(v, 0), longitudinal_shear->w_tilde(v, 1)});
+      f.write("/solution/longitudinal_w", w, {N, 2});
+    }
     if (s.eps33 != 0) {  // generalised plane strain only: a plane-strain file stays as it was
       f.write("/macro/eps33", std::vector<double>{s.eps33}, {1});
       f.write("/macro/average_stress_zz", std::vector<double>{s.average_stress_zz}, {1});
@@ -159,6 +168,8 @@ void write_solution(const std::filesystem::path& h5, const mesh::Mesh& mesh, con
                      {"displacement", "/solution/displacement", false, {N, 3}, false}};
   if (s.eps33 != 0)
     deformed.fields.push_back({"stress_zz_average", "/solution/element_stress_zz_average", true, {T}, false});
+  if (longitudinal_shear)
+    deformed.fields.push_back({"longitudinal_w", "/solution/longitudinal_w", false, {N, 2}, false});
   outputs.write(xdmf, xdmf_text(name, {deformed}));
   outputs.commit();
 }

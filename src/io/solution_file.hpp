@@ -11,6 +11,7 @@
 #include "feti/macro.hpp"
 #include "feti/solver.hpp"
 #include "mesh/mesh.hpp"
+#include "primal/antiplane.hpp"
 
 namespace dualcell::io {
 
@@ -100,7 +101,8 @@ RankTable unpack_rank_table(const std::vector<double>& packed);  // the gathered
 // mesh_hash); the scene's text is taken from `scene`. `steps`, when given, is written to /steps.
 void write_solution(const std::filesystem::path& h5, const mesh::Mesh& mesh, const Scene& scene,
                     const feti::Solution& solution, const feti::SolutionFields& fields, const Provenance& provenance,
-                    const LoadSteps* steps = nullptr, const RankTable* ranks = nullptr);
+                    const LoadSteps* steps = nullptr, const RankTable* ranks = nullptr,
+                    const primal::LongitudinalShear* longitudinal_shear = nullptr);
 
 // The bond state stored in a solution file (/interface/bonded), checked against the mesh: the
 // file must have been solved on the mesh whose hash is `mesh_hash`.

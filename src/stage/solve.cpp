@@ -12,6 +12,7 @@
 #include "io/atomic_output.hpp"
 #include "io/solution_file.hpp"
 #include "par/parallel.hpp"
+#include "primal/antiplane.hpp"
 #include "stage/stage.hpp"
 #include "sweep/sweep.hpp"
 
@@ -116,6 +117,9 @@ SolveOutcome run_solve(const SolveOptions& options) {
     if (edges && options.eps33 != 0)
       throw InputError("--eps33 " + formatted("%g", options.eps33) + ": " + scene.file.string() +
                        " has boundary = \"edges\", a structure in plane strain; leave --eps33 out");
+    if (options.longitudinal_shear && scene.load.boundary != Boundary::periodic)
+      throw InputError("--longitudinal-shear: " + scene.file.string() + " has boundary = \"" +
+                       to_string(scene.load.boundary) + "\"; the longitudinal shear of a cell needs \"periodic\"");
     if (edges) feti::check_positions(loaded->mesh, scene.load.edge_loads);
     if (!edges) sigma = parse_stress(options.stress_text);
     if (scene.load.boundary == Boundary::symmetry && sigma(2) != 0)
@@ -146,6 +150,14 @@ SolveOutcome run_solve(const SolveOptions& options) {
     work = outcome.solution.seconds;
   }
   outcome.ranks = io::unpack_rank_table(solver.setup().group().gather(io::pack(rank_entry(solver, work))));
+  std::optional<primal::LongitudinalShear> shear;
+  if (options.longitudinal_shear && par::rank() == 0) {
+    std::vector<char> bonded(in.mesh.interface_pairs.size(), 0);
+    if (in.scene.interface.has_adhesion())
+      for (std::size_t p = 0; p < bonded.size(); ++p) bonded[p] = outcome.solution.bonds[p] != 0;
+    shear = primal::longitudinal_shear(in.mesh, in.scene.fibre, in.scene.matrix, bonded);
+    outcome.longitudinal_shear = shear->G;
+  }
   if (par::rank() == 0) {
     Provenance provenance;
     provenance.mesh_file = in.mesh_file;
@@ -153,7 +165,7 @@ SolveOutcome run_solve(const SolveOptions& options) {
     const feti::SolutionFields fields =
         feti::solution_fields(in.mesh, in.scene, outcome.solution.u, outcome.solution.eps33);
     io::write_solution(options.out, in.mesh, in.scene, outcome.solution, fields, provenance,
-                       outcome.steps ? &*outcome.steps : nullptr, &outcome.ranks);
+                       outcome.steps ? &*outcome.steps : nullptr, &outcome.ranks, shear ? &*shear : nullptr);
     outcome.written = true;
   }
   outcome.dim_u = in.mesh.dim_u();
@@ -203,6 +215,11 @@ void print_solve_summary(const SolveOptions& options, const SolveOutcome& outcom
     std::printf("  Hill-Mandel   <s> - s_applied = (%.2e, %.2e, %.2e)\n", s.average_stress(0) - sigma(0),
                 s.average_stress(1) - sigma(1), s.average_stress(2) - sigma(2));
     if (s.eps33 != 0) std::printf("  longitudinal  e33 %.6e (given), <szz> %.6e\n", s.eps33, s.average_stress_zz);
+  }
+  if (outcome.longitudinal_shear) {
+    const Eigen::Matrix2d& G = *outcome.longitudinal_shear;
+    std::printf("  longitudinal shear moduli (bonds as this load left them): Gxz %.6g  Gyz %.6g  Gxz,yz %.3g\n",
+                G(0, 0), G(1, 1), G(0, 1));
   }
   std::printf(
       "  KKT: projected gradient %.2e (rel), |G l - e| %.2e (rel), bound violation %.2e,\n"

@@ -15,15 +15,20 @@ namespace dualcell::stage {
 
 struct SolveOptions {
   std::string scene_file, mesh_file, out;
-  std::string stress_text;  // "sxx,syy,sxy" as given on the command line; empty with boundary = "edges"
-  std::string bonds_file;   // a solution.h5 whose bond state is the start; empty: intact
-  double eps33 = 0;         // longitudinal strain ε33 (generalised plane strain); 0: plane strain
+  std::string stress_text;          // "sxx,syy,sxy" as given on the command line; empty with boundary = "edges"
+  std::string bonds_file;           // a solution.h5 whose bond state is the start; empty: intact
+  double eps33 = 0;                 // longitudinal strain ε33 (generalised plane strain); 0: plane strain
+  bool longitudinal_shear = false;  // also the cell's longitudinal shear moduli in the solution's bond state
   int threads = 0;
   bool progress = true;  // phases, QP iterations and load steps on stderr (rank 0); --quiet: none
 };
 
 struct SolveOutcome {
   Scene scene;
+  // With SolveOptions::longitudinal_shear: G of ⟨τ⟩ = G Γ (τxz, τyz against γxz, γyz) with the
+  // interface pairs bonded as the solution left them (none without adhesion: frictionless contact
+  // carries no shear along z).
+  std::optional<Eigen::Matrix2d> longitudinal_shear;
   int dim_u = 0, threads_used = 1;
   feti::Solution solution;             // the last step's with boundary = "edges"
   std::optional<io::LoadSteps> steps;  // boundary = "edges" only

@@ -148,6 +148,54 @@ TEST(SolveStage, ALongitudinalStrainWritesTheLongitudinalStress) {
   EXPECT_FALSE(std::filesystem::exists(p.dir / "bad.h5"));
 }
 
+// --longitudinal-shear (docs/method.md §3b): the longitudinal shear moduli with the bonds the
+// load left. Bonded stiff fibres stiffen the matrix (μ_m = E/(2(1 + ν)) = 1/2.7); a load that
+// breaks bonds lowers them; without adhesion (frictionless contact, no shear along z) the fibres
+// are holes and the cell is softer than its matrix. Only a periodic cell has them.
+TEST(SolveStage, TheLongitudinalShearModuliFollowTheBonds) {
+  const double mu_m = 1 / 2.7;
+  const auto moduli = [](const std::filesystem::path& file) {
+    return io::File::open_read(file).read_doubles("/macro/longitudinal_shear_moduli", {2, 2});
+  };
+  Prepared bonded;
+  prepare(bonded, "[interface]\nnormal_strength = 0.05\ntangential_strength = 0.05\n[load]\nboundary = \"periodic\"\n");
+  const std::string cfg = " --config " + bonded.scene.string() + " --mesh " + bonded.mesh.string();
+  const auto low = bonded.dir / "low.h5", high = bonded.dir / "high.h5";
+  const auto r =
+      run_command(bin("dualcell-solve") + cfg + " --stress 0.001,0,0 --longitudinal-shear --out " + low.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("longitudinal shear moduli (bonds as this load left them): Gxz"), std::string::npos)
+      << r.output;
+  ASSERT_EQ(run_command(bin("dualcell-solve") + " --quiet" + cfg + " --stress 0.3,0,0 --longitudinal-shear --out " +
+                        high.string())
+                .exit_code,
+            0);
+  const auto G_low = moduli(low), G_high = moduli(high);
+  EXPECT_GT(G_low[0], mu_m);
+  EXPECT_LT(G_high[0], G_low[0]) << "broken bonds carry no longitudinal shear";
+  EXPECT_EQ(G_low[1], G_low[2]) << "symmetric";
+  const auto w = io::File::open_read(low).read_doubles("/solution/longitudinal_w", {io::any_extent, 2});
+  EXPECT_GT(w.size(), 0u);
+
+  Prepared contact;
+  prepare(contact, "[load]\nboundary = \"periodic\"\n");
+  const auto holes = contact.dir / "holes.h5";
+  ASSERT_EQ(run_command(bin("dualcell-solve") + " --quiet --config " + contact.scene.string() + " --mesh " +
+                        contact.mesh.string() + " --stress -0.01,0,0 --longitudinal-shear --out " + holes.string())
+                .exit_code,
+            0);
+  EXPECT_LT(moduli(holes)[0], mu_m) << "without adhesion the fibres are holes along z";
+
+  Prepared traction;
+  prepare(traction, "[load]\nboundary = \"traction\"\n");
+  const auto refused =
+      run_command(bin("dualcell-solve") + " --config " + traction.scene.string() + " --mesh " + traction.mesh.string() +
+                  " --stress 0.01,0,0 --longitudinal-shear --out " + (traction.dir / "x.h5").string());
+  EXPECT_EQ(refused.exit_code, exit_input_error) << refused.output;
+  EXPECT_NE(refused.output.find("needs \"periodic\""), std::string::npos) << refused.output;
+  EXPECT_FALSE(std::filesystem::exists(traction.dir / "x.h5"));
+}
+
 TEST(SolveStage, EdgesBoundarySolvesTheLoadStepsWithTheBondHistory) {
   Prepared p;
   prepare(p,

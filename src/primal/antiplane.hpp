@@ -1,0 +1,33 @@
+#pragma once
+// Longitudinal (antiplane) shear of a periodic cell (docs/method.md §3b): the displacement w(x, y)
+// along the fibres under a macro shear Γ = (γxz, γyz), w = Γ·x + w̃ with w̃ periodic, the shear
+// stress τ = (τxz, τyz) = μ ∇w in each phase and div τ = 0. A bonded interface pair ties w across
+// the rim; a broken pair (and frictionless contact, which carries no shear along z) leaves w free
+// to jump, so no shear crosses it. The problem is linear for a given bond state and scalar: it is
+// solved as one body (the mesh's points merged with their periodic partners and, where bonded,
+// their interface partners; one held value per piece left floating, w̃ being defined up to a
+// constant on each), K = Σ ∫ μ ∇φᵀ∇φ dA by the 6-point rule, one CHOLMOD factorisation for both
+// unit shears. It is the 2D conductivity problem, so Keller's theorem holds for it.
+#include <Eigen/Core>
+#include <vector>
+
+#include "core/scene.hpp"
+#include "mesh/mesh.hpp"
+
+namespace dualcell::primal {
+
+struct LongitudinalShear {
+  // ⟨τ⟩ = G Γ, symmetric: the cell's longitudinal shear moduli, G(0, 0) = G_xz and G(1, 1) = G_yz
+  // (a ply's G12 and G13, its axis 1 along the fibres, z here).
+  Eigen::Matrix2d G = Eigen::Matrix2d::Zero();
+  // Per node, w̃ of the unit shears Γ = (1, 0) and (0, 1) (columns): w = Γ·x + w̃ Γ.
+  Eigen::MatrixXd w_tilde;
+};
+
+// `bonded`: per interface pair whether its bond holds (size mesh.interface_pairs.size()); empty:
+// every pair bonded. Materials: the scene's fibre and matrix (shear modulus E/(2(1+ν))).
+// Throws std::runtime_error when the factorisation fails.
+LongitudinalShear longitudinal_shear(const mesh::Mesh& mesh, const Material& fibre, const Material& matrix,
+                                     const std::vector<char>& bonded = {});
+
+}  // namespace dualcell::primal
