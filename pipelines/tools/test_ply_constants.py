@@ -1,0 +1,87 @@
+#!/usr/bin/python3
+"""Tests of ply_constants.py on the real stages (run by ctest; the stages' folder is the argument):
+a cell whose fibre is its matrix is one isotropic material, whose nine constants are E, ν and
+E/(2(1+ν)) exactly; a cell without adhesion is refused (its constants are not one set).
+"""
+import os
+import subprocess
+import sys
+import tempfile
+import unittest
+
+import ply_constants
+
+BIN = None
+
+SCENE = """[geometry]
+cells = [1, 1]
+cell_size = 1.0
+fibre_radius = 0.3
+degree = 2
+
+[fibre]
+E = 3.0
+nu = 0.3
+
+[matrix]
+E = 3.0
+nu = 0.3
+{interface}
+[load]
+boundary = "periodic"
+"""
+
+
+def cell(folder, interface):
+    scene = os.path.join(folder, "s.toml")
+    with open(scene, "w") as f:
+        f.write(SCENE.format(interface=interface))
+    mesh = os.path.join(folder, "mesh.h5")
+    subprocess.run([os.path.join(BIN, "dualcell-mesh"), "--quiet", "--config", scene, "--out", mesh], check=True)
+    return scene, mesh
+
+
+class Constants(unittest.TestCase):
+    def test_one_material_gives_its_own_constants(self):
+        # 1e-8 relative: the solves' tolerance (1e-10 on the dual problem, amplified by its
+        # condition) on loads of 1e-8.
+        with tempfile.TemporaryDirectory() as folder:
+            scene, mesh = cell(folder, "\n[interface]\nnormal_strength = 0.01\ntangential_strength = 0.01\n")
+            c = ply_constants.constants(BIN, scene, mesh, folder)
+            E, nu = 3.0, 0.3
+            for name, expected in (("E1", E), ("E2", E), ("E3", E), ("nu12", nu), ("nu13", nu), ("nu23", nu),
+                                   ("G12", E / (2 * (1 + nu))), ("G13", E / (2 * (1 + nu))),
+                                   ("G23", E / (2 * (1 + nu)))):
+                self.assertAlmostEqual(c[name] / expected, 1, delta=1e-8, msg=name)
+            self.assertLess(c["reciprocity"], 1e-8)
+
+    def test_stiff_fibres_give_a_ply_stiff_along_them(self):
+        # Glass-like fibres (E 70, ν 0.2) in a matrix (E 3, ν 0.3), v_f = π 0.3²: E1 is the rule of
+        # mixtures but for Hill's correction (below 1 %, docs/method.md §3a), ν12 = ν13 near the
+        # mixtures' ν, while across the fibres the ply is far softer and ν23 larger (the matrix
+        # takes the transverse strain): the axes are where the table puts them.
+        with tempfile.TemporaryDirectory() as folder:
+            scene, mesh = cell(folder, "\n[interface]\nnormal_strength = 0.01\ntangential_strength = 0.01\n")
+            with open(scene) as f:
+                text = f.read().replace("[fibre]\nE = 3.0\nnu = 0.3", "[fibre]\nE = 70.0\nnu = 0.2")
+            with open(scene, "w") as f:
+                f.write(text)
+            c = ply_constants.constants(BIN, scene, mesh, folder)
+            vf = 3.141592653589793 * 0.09
+            self.assertAlmostEqual(c["E1"] / (vf * 70 + (1 - vf) * 3), 1, delta=0.01)
+            self.assertAlmostEqual(c["nu12"], vf * 0.2 + (1 - vf) * 0.3, delta=0.01)
+            self.assertAlmostEqual(c["nu12"], c["nu13"], delta=1e-8)
+            self.assertLess(c["E2"], c["E1"] / 2)
+            self.assertGreater(c["nu23"], c["nu12"])
+            self.assertLess(c["reciprocity"], 1e-8)
+
+    def test_a_cell_without_adhesion_is_refused(self):
+        with tempfile.TemporaryDirectory() as folder:
+            scene, mesh = cell(folder, "")
+            with self.assertRaisesRegex(ValueError, "no adhesion"):
+                ply_constants.constants(BIN, scene, mesh, folder)
+
+
+if __name__ == "__main__":
+    BIN = sys.argv.pop(1)
+    unittest.main()
