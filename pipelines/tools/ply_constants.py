@@ -5,31 +5,37 @@ usage:
   ply_constants.py BIN OUT.md SCENE_MESH...     SCENE_MESH: scene.toml:mesh.h5 (a periodic cell
                                                  with adhesion, whose bonds hold at the loads used)
 
-The fibres run along z, the ply's axis 1; x and y are its axes 2 and 3. Per cell, with the bonds
-intact (loads of 1e-6 of the interface strength: linear, nothing breaks), dualcell-solve gives
-four generalised plane strain solves, the unit in-plane stresses at ε33 = 0 and ε33 at σ̄ = 0, and
-the longitudinal shear moduli: the in-plane response ε = S_ps σ̄ + a ε33 and σ33 = b·σ̄ + c ε33 make
-the compliance in (σxx, σyy, σxy, σ33),
+The fibres run along z, the ply's axis 1; x and y are its axes 2 and 3 (the export's solid
+cards, law/solid.hpp, put the fibres on their axis 3 instead). Per cell, with the bonds intact
+(loads of 1e-8: linear, nothing breaks), dualcell-solve gives seven solves: the unit in-plane
+stresses at ε33 = 0 (with the longitudinal shear moduli G of ⟨τxz, τyz⟩ = G (γxz, γyz)), ε33
+alone, and both together (σzz is written only with ε33): the in-plane response
+ε = S_ps σ̄ + a ε33 and σ33 = b·σ̄ + c ε33 make the compliance in (σxx, σyy, σxy, σ33),
 
     S = [ S_ps − a bᵀ/c   a/c ]
         [ −bᵀ/c           1/c ],
 
 which reciprocity makes symmetric (a = −b: its asymmetry is printed as a check), and
 
-    E1 = 1/S33, ν12 = −S03/S33, ν13 = −S13/S33, E2 = 1/S00, E3 = 1/S11, ν23 = −S01/S00,
-    G23 = 1/S22, G12 = G_xz, G13 = G_yz (dualcell-solve --longitudinal-shear).
+    E1 = 1/S33, ν12 = −S03/S33, ν13 = −S13/S33, E2 = 1/S00, E3 = 1/S11, ν23 = −S10/S00,
+    G23 = 1/S22, G12 = 1/(G⁻¹)00, G13 = 1/(G⁻¹)11 (compliances, as the others).
+
+An orthotropic ply has no coupling of shear to the normal components nor of the two longitudinal
+shears; a cell without its symmetries has some, and column `coupling` gives the largest of
+|S_i2|/√(S_ii S22) (i = 0, 1, 3) and |G01|/√(G00 G11): the constants leave it out.
 
 Writes OUT.md (one row per cell) and OUT.csv beside it, atomically.
 """
 import csv
 import io
+import math
 import os
 
 import h5py
 
 import common
 
-COLUMNS = ["cell", "E1", "E2", "E3", "nu12", "nu13", "nu23", "G12", "G13", "G23", "reciprocity"]
+COLUMNS = ["cell", "E1", "E2", "E3", "nu12", "nu13", "nu23", "G12", "G13", "G23", "reciprocity", "coupling"]
 
 
 def solve(bin_dir, scene, mesh, out, stress, eps33=None, shear=False):
@@ -76,17 +82,20 @@ def constants(bin_dir, scene, mesh, folder):
     S = [[columns[j][i] - a[i] * b[j] / c for j in range(3)] + [a[i] / c] for i in range(3)]
     S.append([-b[j] / c for j in range(3)] + [1 / c])
     reciprocity = max(abs(S[i][3] - S[3][i]) for i in range(3)) / max(abs(S[3][3]), 1e-300)
+    det = G_long[0][0] * G_long[1][1] - G_long[0][1] * G_long[1][0]
+    coupling = max([abs(S[i][2]) / math.sqrt(S[i][i] * S[2][2]) for i in (0, 1, 3)] +
+                   [abs(G_long[0][1]) / math.sqrt(G_long[0][0] * G_long[1][1])])
     return {"E1": 1 / S[3][3], "E2": 1 / S[0][0], "E3": 1 / S[1][1], "nu12": -S[0][3] / S[3][3],
-            "nu13": -S[1][3] / S[3][3], "nu23": -S[0][1] / S[0][0], "G12": G_long[0][0], "G13": G_long[1][1],
-            "G23": 1 / S[2][2], "reciprocity": reciprocity}
+            "nu13": -S[1][3] / S[3][3], "nu23": -S[1][0] / S[0][0], "G12": det / G_long[1][1],
+            "G13": det / G_long[0][0], "G23": 1 / S[2][2], "reciprocity": reciprocity, "coupling": coupling}
 
 
 def markdown(rows):
-    lines = ["| cell | E1 | E2 | E3 | ν12 | ν13 | ν23 | G12 | G13 | G23 | reciprocity |",
-             "|---|---|---|---|---|---|---|---|---|---|---|"]
+    lines = ["| cell | E1 | E2 | E3 | ν12 | ν13 | ν23 | G12 | G13 | G23 | reciprocity | coupling |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
-        lines.append(f"| {r['cell']} | " + " | ".join(f"{r[k]:.5g}" for k in COLUMNS[1:-1]) +
-                     f" | {r['reciprocity']:.1e} |")
+        lines.append(f"| {r['cell']} | " + " | ".join(f"{r[k]:.5g}" for k in COLUMNS[1:-2]) +
+                     f" | {r['reciprocity']:.1e} | {r['coupling']:.1e} |")
     return "\n".join(lines) + "\n"
 
 

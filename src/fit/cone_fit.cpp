@@ -286,7 +286,7 @@ void set_direction_residuals(const std::vector<ConePoint>& points, law::ConeFit&
 
 }  // namespace
 
-// One is kept when the law maps every 24th sampled state onto its image: ε̄(Rσ̄) = R ε̄(σ̄) to 1e-8
+// One is kept when the law maps about 24 evenly spaced sampled states onto their images: ε̄(Rσ̄) = R ε̄(σ̄) to 1e-8
 // (the QP's round-off is 1e-11; a cell off its symmetry, an off-centre fibre or a 2 × 1 block,
 // misses by far more).
 std::vector<Eigen::Matrix3d> cell_symmetries(const law::CondensedCell& cell, const law::CellSample& sample) {

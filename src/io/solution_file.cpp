@@ -134,10 +134,8 @@ void write_solution(const std::filesystem::path& h5, const mesh::Mesh& mesh, con
     if (longitudinal_shear) {  // asked for only: a file without it stays as it was
       const Eigen::Matrix2d& G = longitudinal_shear->G;
       f.write("/macro/longitudinal_shear_moduli", std::vector<double>{G(0, 0), G(0, 1), G(1, 0), G(1, 1)}, {2, 2});
-      std::vector<double> w;
-      for (hsize_t v = 0; v < N; ++v)
-        w.insert(w.end(), {longitudinal_shear->w_tilde(v, 0), longitudinal_shear->w_tilde(v, 1)});
-      f.write("/solution/longitudinal_w", w, {N, 2});
+      f.write("/solution/longitudinal_w_xz", to_vector(longitudinal_shear->w_tilde.col(0)), {N});
+      f.write("/solution/longitudinal_w_yz", to_vector(longitudinal_shear->w_tilde.col(1)), {N});
     }
     if (s.eps33 != 0) {  // generalised plane strain only: a plane-strain file stays as it was
       f.write("/macro/eps33", std::vector<double>{s.eps33}, {1});
@@ -169,7 +167,9 @@ void write_solution(const std::filesystem::path& h5, const mesh::Mesh& mesh, con
   if (s.eps33 != 0)
     deformed.fields.push_back({"stress_zz_average", "/solution/element_stress_zz_average", true, {T}, false});
   if (longitudinal_shear)
-    deformed.fields.push_back({"longitudinal_w", "/solution/longitudinal_w", false, {N, 2}, false});
+    for (const char* c : {"xz", "yz"})
+      deformed.fields.push_back(
+          {std::string("longitudinal_w_") + c, std::string("/solution/longitudinal_w_") + c, false, {N}, false});
   outputs.write(xdmf, xdmf_text(name, {deformed}));
   outputs.commit();
 }

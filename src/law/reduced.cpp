@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "core/text.hpp"
+#include "core/union_find.hpp"
 
 namespace dualcell::law {
 
@@ -20,13 +21,7 @@ constexpr double repeat_floor = 1e-6;
 // its own (nonnegative, and G p = 0 holds body by body).
 std::vector<std::vector<int>> bodies_of(const CondensedCell& cell) {
   const int n = cell.n_rows();
-  std::vector<int> parent(static_cast<std::size_t>(n));
-  for (int i = 0; i < n; ++i) parent[static_cast<std::size_t>(i)] = i;
-  const auto root = [&](int i) {
-    while (parent[static_cast<std::size_t>(i)] != i)
-      i = parent[static_cast<std::size_t>(i)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(i)])];
-    return i;
-  };
+  UnionFind bodies(n);
   const double floor = 1e-12 * (cell.G.size() > 0 ? cell.G.cwiseAbs().maxCoeff() : 1.0);
   for (Eigen::Index k = 0; k < cell.G.rows(); ++k) {
     int first = -1;
@@ -35,13 +30,13 @@ std::vector<std::vector<int>> bodies_of(const CondensedCell& cell) {
       if (first < 0)
         first = j;
       else
-        parent[static_cast<std::size_t>(root(j))] = root(first);
+        bodies.join(j, first);
     }
   }
   std::vector<std::vector<int>> groups;
   std::vector<int> group_of(static_cast<std::size_t>(n), -1);
   for (int i = 0; i < n; ++i) {
-    int& g = group_of[static_cast<std::size_t>(root(i))];
+    int& g = group_of[static_cast<std::size_t>(bodies.find(i))];
     if (g < 0) g = static_cast<int>(groups.size()), groups.emplace_back();
     groups[static_cast<std::size_t>(g)].push_back(i);
   }

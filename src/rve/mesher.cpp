@@ -14,6 +14,7 @@
 
 #include "core/error.hpp"
 #include "core/text.hpp"
+#include "core/union_find.hpp"
 #include "rve/disk_grid.hpp"
 #include "rve/gmsh_model.hpp"
 
@@ -116,24 +117,19 @@ std::pair<std::vector<int>, int> split_matrix(const std::vector<std::vector<std:
       throw InputError("METIS could not split the matrix into " + std::to_string(n_parts) + " parts");
   }
   // Connected pieces of each part: triangles of one part sharing an edge, by union-find.
-  std::vector<idx_t> parent(n);
-  std::iota(parent.begin(), parent.end(), 0);
-  const auto find = [&](idx_t v) {
-    while (parent[v] != v) v = parent[v] = parent[parent[v]];
-    return v;
-  };
+  UnionFind pieces(static_cast<int>(n));
   std::map<std::pair<std::size_t, std::size_t>, idx_t> edge_owner;
   for (idx_t e = 0; e < n; ++e)
     for (int c = 0; c < 3; ++c) {
       const std::size_t a = triangles[e][c], b = triangles[e][(c + 1) % 3];
       const auto key = std::minmax(a, b);
       const auto [it, fresh] = edge_owner.emplace(key, e);
-      if (!fresh && part[it->second] == part[e]) parent[find(e)] = find(it->second);
+      if (!fresh && part[it->second] == part[e]) pieces.join(static_cast<int>(e), static_cast<int>(it->second));
     }
   std::vector<int> subdomain(n, -1);
   std::map<idx_t, int> number;
   for (idx_t e = 0; e < n; ++e) {
-    const idx_t root = find(e);
+    const idx_t root = pieces.find(static_cast<int>(e));
     const auto [it, fresh] = number.emplace(root, static_cast<int>(number.size()));
     subdomain[e] = it->second;
   }
