@@ -6,6 +6,7 @@
 
 #include <Eigen/Dense>
 #include <cmath>
+#include <tuple>
 
 #include "fem/assembly.hpp"
 #include "fem/element.hpp"
@@ -114,6 +115,42 @@ TEST(GeneralisedPlaneStrain, HillsRelationsHoldOnAnyGeometry) {
     EXPECT_NEAR(E1, E1_hill, 1e-7 * E1_hill) << "offset " << offset.transpose();
     EXPECT_NEAR(nu12, nu12_hill, 1e-7 * nu12_hill) << "offset " << offset.transpose();
   }
+}
+
+// Without bonds (frictionless contact) ε33 meets the interface's one-sidedness. Stretched along
+// the fibres (ε33 > 0) the matrix, of the larger ν, contracts onto the fibre: the rim stays
+// closed, and E1 and ν12 are the bonded cell's but for the rim's free sliding (measured: E1 by
+// 4e-6, ν12 by 3e-5; asked 1e-4 and 1e-3). Shortened (ε33 < 0) the matrix swells away from the
+// fibre: the whole rim opens, the fibre no longer pulls the matrix in, and the phases work apart,
+// each a uniform uniaxial state: E1 is the rule of mixtures ⟨E⟩ exactly (Hill's correction gone)
+// and ν12 the matrix's own ν (to the solver's 1e-10 amplified by the contrast: asked 1e-8).
+TEST(GeneralisedPlaneStrain, WithoutBondsTheFibreStopsPullingTheMatrixInWhenShortened) {
+  Scene bonded = bonded_scene(Boundary::periodic);
+  Scene contact = bonded;
+  contact.interface.normal_strength = contact.interface.tangential_strength = 0;
+  const mesh::Mesh m = mesh::build_mesh(bonded.geometry);
+  ContactSolver with_bonds(m, bonded), without(m, contact);
+  const auto constants = [](ContactSolver& solver, double eps33) {
+    solver.set_longitudinal_strain(eps33);
+    const Solution s = solver.solve(Eigen::Vector3d::Zero(), solver.intact());
+    EXPECT_TRUE(s.converged()) << s.qp.message;
+    long open = 0;
+    for (double f : s.normal_force) open += f == 0;
+    return std::tuple{s.average_stress_zz / eps33, -(s.strain(0) + s.strain(1)) / (2 * eps33), open};
+  };
+  const auto [E1, nu12, none] = constants(with_bonds, 0.01);
+  const auto [E1_stretched, nu12_stretched, open_stretched] = constants(without, 0.01);
+  const auto [E1_shortened, nu12_shortened, open_shortened] = constants(without, -0.01);
+  EXPECT_EQ(none, 0);
+  EXPECT_EQ(open_stretched, 0);
+  EXPECT_NEAR(E1_stretched, E1, 1e-4 * E1);
+  EXPECT_NEAR(nu12_stretched, nu12, 1e-3);
+  EXPECT_EQ(open_shortened, static_cast<long>(m.interface_pairs.size()));
+  const double vf = fibre_fraction(m);
+  const double mixture = vf * contact.fibre.E + (1 - vf) * contact.matrix.E;
+  EXPECT_NEAR(E1_shortened, mixture, 1e-8 * mixture);
+  EXPECT_NEAR(nu12_shortened, contact.matrix.nu, 1e-8);
+  EXPECT_GT(E1, mixture * (1 + 1e-4)) << "bonded, Hill's correction stiffens";
 }
 
 // The onset needs a load linear in its factor: with ε33 it is refused, not computed wrong.
