@@ -24,18 +24,25 @@ An orthotropic ply has no coupling of shear to the normal components nor of the 
 shears; a cell without its symmetries has some, and column `coupling` gives the largest of
 |S_i2|/√(S_ii S22) (i = 0, 1, 3) and |G01|/√(G00 G11): the constants leave it out.
 
+With --ccx PATH each cell's constants are also written as a CalculiX card (OUT folder,
+<cell>.inp: *ELASTIC, TYPE=ENGINEERING CONSTANTS, the fibres along the material's axis 1) and
+checked by CalculiX itself: one C3D8 cube under uniaxial stress along each axis in turn (uniform
+stress, so the element is exact) gives back E1, E2, E3 and the ν's; column `ccx` is their largest
+relative difference (the .dat file's 7 digits limit it to about 1e-7).
+
 Writes OUT.md (one row per cell) and OUT.csv beside it, atomically.
 """
 import csv
 import io
 import math
 import os
+import subprocess
 
 import h5py
 
 import common
 
-COLUMNS = ["cell", "E1", "E2", "E3", "nu12", "nu13", "nu23", "G12", "G13", "G23", "reciprocity", "coupling"]
+COLUMNS = ["cell", "E1", "E2", "E3", "nu12", "nu13", "nu23", "G12", "G13", "G23", "reciprocity", "coupling", "ccx"]
 
 
 def solve(bin_dir, scene, mesh, out, stress, eps33=None, shear=False):
@@ -90,12 +97,66 @@ def constants(bin_dir, scene, mesh, folder):
             "G13": det / G_long[0][0], "G23": 1 / S[2][2], "reciprocity": reciprocity, "coupling": coupling}
 
 
+def card(name, c):
+    """The CalculiX material of the constants `c`, fibres along axis 1 (shear moduli G12, G13, G23)."""
+    return (f"*MATERIAL, NAME={name}\n*ELASTIC, TYPE=ENGINEERING CONSTANTS\n"
+            + ", ".join(f"{c[k]:.12g}" for k in ("E1", "E2", "E3", "nu12", "nu13", "nu23", "G12", "G13")) +
+            f"\n{c['G23']:.12g}, 0.\n")
+
+
+def ccx_check(ccx, folder, name, c):
+    """The largest relative difference between the constants and what CalculiX gives back from the
+    card: a unit C3D8 cube, symmetric supports on the faces x = 0, y = 0, z = 0, a unit force on the
+    opposite face along each axis in turn (three steps), strains from the far corner's
+    displacement."""
+    nodes = [(x, y, z) for z in (0, 1) for y in (0, 1) for x in (0, 1)]
+    order = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1)]
+    number = {p: nodes.index(p) + 1 for p in nodes}
+    deck = ["*NODE"] + [f"{number[p]}, {p[0]}, {p[1]}, {p[2]}" for p in nodes]
+    deck += ["*ELEMENT, TYPE=C3D8, ELSET=CUBE", "1, " + ", ".join(str(number[p]) for p in order)]
+    deck += [card(name, c).rstrip("\n"), f"*SOLID SECTION, ELSET=CUBE, MATERIAL={name}"]
+    deck += ["*BOUNDARY"] + [f"{number[p]}, {axis + 1}, {axis + 1}" for p in nodes for axis in range(3)
+                             if p[axis] == 0]
+    for axis in range(3):
+        deck += ["*STEP", "*STATIC", "*CLOAD, OP=NEW"]  # each step its own load, not added to the last
+        deck += [f"{number[p]}, {axis + 1}, 0.25" for p in nodes if p[axis] == 1]
+        deck += ["*NODE PRINT, NSET=NALL", "U", "*END STEP"]
+    deck.insert(deck.index("*ELEMENT, TYPE=C3D8, ELSET=CUBE"), "*NSET, NSET=NALL, GENERATE\n1, 8, 1")
+    job = os.path.join(folder, "cube")
+    with open(job + ".inp", "w") as f:
+        f.write("\n".join(deck) + "\n")
+    env = dict(os.environ, OMP_NUM_THREADS="1")
+    done = common.run([ccx, "-i", "cube"], env, check=False, cwd=folder, stderr=subprocess.STDOUT)
+    errors = [line.strip() for line in done.stdout.splitlines() if "*ERROR" in line]
+    if done.returncode != 0 or errors:
+        raise RuntimeError(f"ccx exit {done.returncode}: {errors[0] if errors else done.stdout.strip()[-300:]}")
+    # The far corner (1, 1, 1) of each step: its displacement is the strain (unit lengths).
+    corner, strains, reading = str(number[(1, 1, 1)]), [], False
+    with open(job + ".dat") as f:
+        for line in f:
+            if line.strip().startswith("displacements"):
+                reading = True
+                continue
+            words = line.split()
+            if reading and words and words[0] == corner:
+                strains.append([float(v) for v in words[1:4]])
+                reading = False
+    if len(strains) != 3:
+        raise RuntimeError(f"ccx printed {len(strains)} displacements of the corner, not 3")
+    got = {"E1": 1 / strains[0][0], "E2": 1 / strains[1][1], "E3": 1 / strains[2][2],
+           "nu12": -strains[0][1] / strains[0][0], "nu13": -strains[0][2] / strains[0][0],
+           "nu23": -strains[1][2] / strains[1][1]}
+    return max(abs(got[k] / c[k] - 1) for k in got)
+
+
 def markdown(rows):
-    lines = ["| cell | E1 | E2 | E3 | ν12 | ν13 | ν23 | G12 | G13 | G23 | reciprocity | coupling |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    ccx = all("ccx" in r for r in rows)
+    lines = ["| cell | E1 | E2 | E3 | ν12 | ν13 | ν23 | G12 | G13 | G23 | reciprocity | coupling |" +
+             (" CalculiX from the card |" if ccx else ""),
+             "|---|---|---|---|---|---|---|---|---|---|---|---|" + ("---|" if ccx else "")]
     for r in rows:
-        lines.append(f"| {r['cell']} | " + " | ".join(f"{r[k]:.5g}" for k in COLUMNS[1:-2]) +
-                     f" | {r['reciprocity']:.1e} | {r['coupling']:.1e} |")
+        lines.append(f"| {r['cell']} | " + " | ".join(f"{r[k]:.5g}" for k in COLUMNS[1:-3]) +
+                     f" | {r['reciprocity']:.1e} | {r['coupling']:.1e} |" + (f" {r['ccx']:.1e} |" if ccx else ""))
     return "\n".join(lines) + "\n"
 
 
@@ -104,6 +165,7 @@ def main(argv):
     parser.add_argument("bin")
     parser.add_argument("out")
     parser.add_argument("cells", nargs="+", help="scene.toml:mesh.h5")
+    parser.add_argument("--ccx", help="CalculiX: write each cell's card and check it on a cube")
     args = parser.parse_args(argv[1:])
     rows = []
     for cell in args.cells:
@@ -113,10 +175,15 @@ def main(argv):
         os.makedirs(folder, exist_ok=True)
         r = constants(args.bin, scene, mesh, folder)
         r["cell"] = os.path.basename(os.path.dirname(os.path.abspath(mesh)))
+        if args.ccx:
+            name = r["cell"].upper().replace("-", "_")
+            common.write_atomic(os.path.join(os.path.dirname(os.path.abspath(args.out)), r["cell"] + ".inp"),
+                                card(name, r))
+            r["ccx"] = ccx_check(args.ccx, folder, name, r)
         rows.append(r)
     common.write_atomic(args.out, markdown(rows))
     text = io.StringIO()
-    writer = csv.DictWriter(text, fieldnames=COLUMNS, lineterminator="\n")
+    writer = csv.DictWriter(text, fieldnames=COLUMNS, lineterminator="\n", restval="")
     writer.writeheader()
     writer.writerows(rows)
     common.write_atomic(os.path.splitext(args.out)[0] + ".csv", text.getvalue())

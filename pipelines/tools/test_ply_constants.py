@@ -88,6 +88,22 @@ class Constants(unittest.TestCase):
             self.assertLess(c["G12"], upper)
             self.assertLess(c["G12"], 1.1 * lower)
 
+    def test_calculix_gives_the_constants_back_from_the_card(self):
+        # The card's order (E1 E2 E3 ν12 ν13 ν23 G12 G13 / G23) and ν's convention are CalculiX's:
+        # its cube under uniaxial stress gives E1…E3 and the ν's back to the .dat file's 7 digits
+        # (asked 1e-6), here of constants that are not one material's.
+        with tempfile.TemporaryDirectory() as folder:
+            c = {"E1": 40.0, "E2": 9.0, "E3": 11.0, "nu12": 0.28, "nu13": 0.26, "nu23": 0.37, "G12": 3.3,
+                 "G13": 3.9, "G23": 3.1}
+            self.assertLess(ply_constants.ccx_check("ccx", folder, "PLY", c), 1e-6)
+            # A card that swaps axes 2 and 3 is caught.
+            card = ply_constants.card
+            try:
+                ply_constants.card = lambda name, k: card(name, dict(k, E2=k["E3"], E3=k["E2"]))
+                self.assertGreater(ply_constants.ccx_check("ccx", folder, "PLY", c), 0.1)
+            finally:
+                ply_constants.card = card
+
     def test_a_cell_without_adhesion_is_refused(self):
         with tempfile.TemporaryDirectory() as folder:
             scene, mesh = cell(folder, "")
