@@ -19,8 +19,6 @@ Each command is measured by common.run: its wall seconds and, as its peak memory
 (os.wait4's ru_maxrss). Writes OUT_DIR/rve.md and rve.csv atomically; the RVE's files stay in
 OUT_DIR/rve-N<n>/.
 """
-import csv
-import io
 import os
 
 import h5py
@@ -119,12 +117,8 @@ def main(argv):
         tolerance = f"{r['tolerance']:g}" if r["tolerance"] != "" else ""
         lines.append(f"| {r['step']} | {tolerance} | {r['seconds']:.1f} | {r['peak_MiB']:.0f} | {error} | {r['note']} |")
     common.write_atomic(os.path.join(args.out_dir, "rve.md"), "\n".join(lines) + "\n")
-    text = io.StringIO()
-    writer = csv.DictWriter(text, fieldnames=["step", "tolerance", "seconds", "peak_MiB", "E_error", "note"],
-                            lineterminator="\n")
-    writer.writeheader()
-    writer.writerows(rows)
-    common.write_atomic(os.path.join(args.out_dir, "rve.csv"), text.getvalue())
+    common.write_csv(os.path.join(args.out_dir, "rve.csv"), ["step", "tolerance", "seconds", "peak_MiB", "E_error", "note"],
+                     rows)
     print("\n".join(lines))
 
 

@@ -7,6 +7,8 @@ own folder first on sys.path, so no sys.path edit is needed.
 """
 import argparse
 import contextlib
+import csv
+import io
 import os
 import re
 import subprocess
@@ -151,6 +153,16 @@ def write_atomic(path, content):
         with contextlib.suppress(FileNotFoundError):
             os.remove(tmp)
         raise
+
+
+def write_csv(path, columns, rows):
+    """Writes the dicts `rows` as CSV with the header `columns` (missing keys empty, others
+    ignored), atomically (write_atomic)."""
+    text = io.StringIO()
+    writer = csv.DictWriter(text, fieldnames=columns, extrasaction="ignore", restval="", lineterminator="\n")
+    writer.writeheader()
+    writer.writerows(rows)
+    write_atomic(path, text.getvalue())
 
 
 def write_seconds(path, seconds):

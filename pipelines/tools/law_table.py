@@ -15,8 +15,6 @@ and its largest and rms error against the exact law (or the held-out full solves
 adhesion the small cell with a fuse in the second table, along the exact law's cascade paths.
 Writes OUT.md and OUT.csv beside it, atomically.
 """
-import csv
-import io
 import os
 
 import h5py
@@ -122,11 +120,7 @@ def main(argv):
     args = parser.parse_args(argv[1:])
     rows = [row(p) for p in args.laws]
     common.write_atomic(args.out, markdown(rows))
-    text = io.StringIO()
-    writer = csv.DictWriter(text, fieldnames=COLUMNS, extrasaction="ignore", lineterminator="\n")
-    writer.writeheader()
-    writer.writerows(rows)
-    common.write_atomic(os.path.splitext(args.out)[0] + ".csv", text.getvalue())
+    common.write_csv(os.path.splitext(args.out)[0] + ".csv", COLUMNS, rows)
 
 
 if __name__ == "__main__":

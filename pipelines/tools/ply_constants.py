@@ -35,8 +35,6 @@ is the largest relative difference of its nine constants from these.
 
 Writes OUT.md (one row per cell) and OUT.csv beside it, atomically.
 """
-import csv
-import io
 import math
 import os
 import subprocess
@@ -174,6 +172,8 @@ def main(argv):
     args = parser.parse_args(argv[1:])
     rows = []
     for cell in args.cells:
+        if ":" not in cell:
+            raise ValueError(f"{cell}: expected scene.toml:mesh.h5 (the cell's scene and its mesh, a colon between)")
         scene, mesh = cell.split(":", 1)
         folder = os.path.join(os.path.dirname(os.path.abspath(args.out)), "solves",
                               os.path.basename(os.path.dirname(os.path.abspath(mesh))))
@@ -189,11 +189,7 @@ def main(argv):
             r["ccx_3d"] = max(abs(independent[k] / r[k] - 1) for k in COLUMNS[1:10])
         rows.append(r)
     common.write_atomic(args.out, markdown(rows))
-    text = io.StringIO()
-    writer = csv.DictWriter(text, fieldnames=COLUMNS, lineterminator="\n", restval="")
-    writer.writeheader()
-    writer.writerows(rows)
-    common.write_atomic(os.path.splitext(args.out)[0] + ".csv", text.getvalue())
+    common.write_csv(os.path.splitext(args.out)[0] + ".csv", COLUMNS, rows)
     print(markdown(rows), end="")
 
 

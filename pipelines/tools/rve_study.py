@@ -22,7 +22,6 @@ realisation per N, fibres on their mesh) and debonded-N<n>.png/svg (that realisa
 under sxx = 1.2 x its onset along 0 deg: the broken rims and open gaps on the deformed mesh;
 its solution in N<n>-r0/debonded/).
 """
-import csv
 import io
 import math
 import os
@@ -227,11 +226,7 @@ def main(argv):
               "was checked against:", ""] + exact_law_lines(checks)
     os.makedirs(args.out_dir, exist_ok=True)
     common.write_atomic(os.path.join(args.out_dir, "table.md"), "\n".join(lines) + "\n")
-    text = io.StringIO()
-    writer = csv.DictWriter(text, fieldnames=list(rows[0].keys()), lineterminator="\n")
-    writer.writeheader()
-    writer.writerows(rows)
-    common.write_atomic(os.path.join(args.out_dir, "table.csv"), text.getvalue())
+    common.write_csv(os.path.join(args.out_dir, "table.csv"), list(rows[0].keys()), rows)
 
     # Convergence: each figure relative to the largest N's mean.
     data = io.StringIO()

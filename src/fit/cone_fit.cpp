@@ -380,19 +380,21 @@ double fit_plane_orbits(const std::vector<ConePoint>& points, const std::vector<
 }  // namespace
 
 law::ConeFit fit_cone_to_cell(const law::CondensedCell& cell, const std::vector<ConePoint>& points, int n_directions,
-                              Fitted fitted, int n, const law::CellSample* past_fuse_sample) {
+                              Fitted fitted, int n, const law::CellSample* past_fuse_sample,
+                              const std::vector<Eigen::Matrix3d>* symmetries) {
   law::ConeFit out;
   out.n_points = static_cast<int>(points.size());
   out.direction_residual.assign(n_directions, std::numeric_limits<double>::quiet_NaN());
   out.one_plane_residual = out.struts_residual = std::numeric_limits<double>::quiet_NaN();
-  const law::CellSample bonded = law::sample_cell(cell, n);
   if (cell.n_macro != 3) {
     out.message = "the cell carries no shear (symmetry boundary)";
     return out;
   }
   // The sample and its images under the cell's symmetries (measured on the law itself, bonded:
   // the bonds the cascade leaves are the images of the image's).
-  const std::vector<Eigen::Matrix3d> group = cell_symmetries(cell, bonded);
+  const law::CellSample bonded =
+      fitted == Fitted::bonded || !symmetries ? law::sample_cell(cell, n) : law::CellSample{};
+  const std::vector<Eigen::Matrix3d> group = symmetries ? *symmetries : cell_symmetries(cell, bonded);
   const law::CellSample sample = fitted == Fitted::bonded ? bonded
                                  : past_fuse_sample       ? *past_fuse_sample
                                                     : law::sample_cell_past_fuse(cell, n, law::past_fuse_load_ratio);

@@ -43,11 +43,12 @@ law::ConeFit fit_cone(const std::vector<ConePoint>& points, int n_directions,
 // `points`, as fit_cone's are; form "planes fitted to the exact law, N symmetries of the cell".
 // Not ok where no admissible law results. `past_fuse`: the same fitted to the exact law past the
 // fuse (law::sample_cell_past_fuse at n directions, or `past_fuse_sample` where given), for
-// Law::cone_after_fuse.
+// Law::cone_after_fuse. `symmetries`: the cell's (cell_symmetries), where the caller has them.
 enum class Fitted { bonded, past_fuse };
 law::ConeFit fit_cone_to_cell(const law::CondensedCell& cell, const std::vector<ConePoint>& points, int n_directions,
                               Fitted fitted = Fitted::bonded, int n = 800,
-                              const law::CellSample* past_fuse_sample = nullptr);
+                              const law::CellSample* past_fuse_sample = nullptr,
+                              const std::vector<Eigen::Matrix3d>* symmetries = nullptr);
 
 // The symmetries of a cell that its exact law shows at the states of `sample` (law::sample_cell),
 // among the eight of the square (reflections x → −x and y → −y, which flip γxy and σxy, and the

@@ -362,7 +362,7 @@ void check_against_cell(law::Law& law, const std::vector<ConePoint>& bonded, con
                 past_fuse ? *past_fuse
                           : law::sample_cell_past_fuse(cell, past_fuse_check_directions, law::past_fuse_load_ratio),
                 fit_cone_to_cell(cell, debonded, n_directions, Fitted::past_fuse, fit_directions,
-                                 past_fuse_paths ? &*past_fuse_paths : nullptr));
+                                 past_fuse_paths ? &*past_fuse_paths : nullptr, past_fuse_paths ? &group : nullptr));
 }
 
 // Where the exact law is too large to sample (or missing) the sweep built the cell on a basis of

@@ -70,8 +70,8 @@ TEST(GeneralisedPlaneStrain, TheDualSolveIsTheOneBodySolveOfTheLoadWithItsEigenS
   }
 }
 
-// Hill (1964): for two isotropic phases bonded in any geometry, E1 and ν12 follow from the
-// transverse (plane-strain) bulk modulus k23 of the same cell:
+// Hill's exact relations (docs/method.md §3a): for two isotropic phases bonded in any geometry,
+// E1 and ν12 follow from the transverse (plane-strain) bulk modulus k23 of the same cell:
 //   E1  = ⟨E⟩ + 4 (ν_f − ν_m)² / (1/k_f − 1/k_m)² · (⟨1/k⟩ − 1/k23),
 //   ν12 = ⟨ν⟩ + (ν_f − ν_m) / (1/k_m − 1/k_f) · (⟨1/k⟩ − 1/k23),
 // k = λ + μ of each phase, ⟨·⟩ the volume average. 1/k23 = ε̄xx + ε̄yy under σ̄ = (1, 1, 0),
