@@ -11,7 +11,7 @@ LAWS_OUT := $(OUT_ROOT)/laws
 
 laws: $(LAWS_OUT)/table.md
 
-# ---- the ply's nine constants (docs/method.md §3a, §3b) ------------------------------------
+# ---- the ply's nine constants (docs/method.md §3a, §3b, §3c) -------------------------------
 # The bonded cells' engineering constants for a 3D model (fibres along z, the ply's axis 1):
 # seven dualcell-solve runs per cell (unit in-plane stresses, e33 and both together, the
 # longitudinal shear), on the laws' meshes; each cell's CalculiX card (<cell>.inp) checked by
@@ -19,11 +19,20 @@ laws: $(LAWS_OUT)/table.md
 PLY_SCENES ?= default structure-cell-adhesion rve4-adhesion
 PLY_OUT := $(OUT_ROOT)/ply
 
-ply: $(PLY_OUT)/constants.md
+ply: $(PLY_OUT)/constants.md $(PLY_OUT)/states.md
 
 $(PLY_OUT)/constants.md: $(foreach s,$(PLY_SCENES),$(LAWS_OUT)/$(s)/law.h5) $(TOOLS)/ply_constants.py $(TOOLS)/ccx_ply.py
 	@mkdir -p $(dir $@)
 	$(PY) $(TOOLS)/ply_constants.py $(BIN) $@ $(foreach s,$(PLY_SCENES),$(SCENES)/$(s).toml:$(LAWS_OUT)/$(s)/mesh.h5) \
+	  --ccx ccx
+
+# The constants per bond state (bonded, after the fuse, a contact cell's), in tension and in
+# compression (tools/ply_states.py, docs/method.md §3c), each state's cards checked by CalculiX.
+PLY_STATE_SCENES ?= default rve4-adhesion bimodular
+
+$(PLY_OUT)/states.md: $(foreach s,$(PLY_STATE_SCENES),$(LAWS_OUT)/$(s)/law.h5) $(TOOLS)/ply_states.py $(TOOLS)/ply_constants.py
+	@mkdir -p $(dir $@)
+	$(PY) $(TOOLS)/ply_states.py $(BIN) $@ $(foreach s,$(PLY_STATE_SCENES),$(SCENES)/$(s).toml:$(LAWS_OUT)/$(s)/mesh.h5) \
 	  --ccx ccx
 
 # ---- the small cell (src/study/bench_small_cell.cpp, docs/method.md §16c) -------------------

@@ -165,6 +165,13 @@ def write_csv(path, columns, rows):
     write_atomic(path, text.getvalue())
 
 
+def write_table(path, markdown, columns, rows):
+    """A study's table: the Markdown text `markdown` to `path` and the dicts `rows` as CSV beside
+    it (the same name, .csv; write_csv), both atomically."""
+    write_atomic(path, markdown)
+    write_csv(os.path.splitext(path)[0] + ".csv", columns, rows)
+
+
 def write_seconds(path, seconds):
     """Writes a measured wall time to `path` as the tables read it (tools/convergence_table.py,
     tools/structures.py): the seconds on one line, to six significant digits."""

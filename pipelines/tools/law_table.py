@@ -119,8 +119,7 @@ def main(argv):
     parser.add_argument("laws", nargs="+")
     args = parser.parse_args(argv[1:])
     rows = [row(p) for p in args.laws]
-    common.write_atomic(args.out, markdown(rows))
-    common.write_csv(os.path.splitext(args.out)[0] + ".csv", COLUMNS, rows)
+    common.write_table(args.out, markdown(rows), COLUMNS, rows)
 
 
 if __name__ == "__main__":

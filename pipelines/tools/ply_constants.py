@@ -47,26 +47,39 @@ import common
 COLUMNS = ["cell", "E1", "E2", "E3", "nu12", "nu13", "nu23", "G12", "G13", "G23", "reciprocity", "coupling", "ccx", "ccx_3d"]
 
 
-def solve(bin_dir, scene, mesh, out, stress, eps33=None, shear=False):
+def solve(bin_dir, scene, mesh, out, stress, eps33=None, shear=False, bonds=None):
+    """One dualcell-solve of the cell at the macro stress `stress` (tensor shear), with a
+    longitudinal strain `eps33`, the longitudinal shear moduli with `shear`, from the bond state of
+    the solution file `bonds` (default intact). Returns the macro strain (engineering shear), the
+    average σzz (None at ε33 = 0: not written), the 2 × 2 longitudinal shear moduli (None without
+    `shear`) and the bond state per pair after the load."""
     command = [os.path.join(bin_dir, "dualcell-solve"), "--quiet", "--config", scene, "--mesh", mesh,
                "--stress", ",".join(f"{v:.17g}" for v in stress), "--out", out]
     if eps33 is not None:
         command += ["--eps33", f"{eps33:.17g}"]
     if shear:
         command.append("--longitudinal-shear")
+    if bonds is not None:
+        command += ["--bonds", bonds]
     common.run_stage(command, out)
     with h5py.File(out, "r") as f:
         strain = f["/macro/strain"][:]
         bonded = f["/interface/bonded"][:]
-        if len(bonded) == 0 or bonded.max() == 0:
-            raise ValueError(f"{scene}: no adhesion: the bonded constants need bonds (a contact cell's differ "
-                             "in tension and compression)")
-        if bonded.min() == 0:
-            raise ValueError(f"{scene}: a bond broke at the load {stress} (the constants are the bonded cell's)")
         zz = float(f["/macro/average_stress_zz"][0]) if "/macro/average_stress_zz" in f else None
         G = f["/macro/longitudinal_shear_moduli"][:] if shear else None
     # engineering shear γxy = 2 εxy
-    return [strain[0], strain[1], 2 * strain[2]], zz, G
+    return [strain[0], strain[1], 2 * strain[2]], zz, G, bonded
+
+
+def bonded_solve(bin_dir, scene, mesh, out, stress, eps33=None, shear=False):
+    """solve() of the intact cell, refused when it has no bonds or one broke."""
+    strain, zz, G, bonded = solve(bin_dir, scene, mesh, out, stress, eps33, shear)
+    if len(bonded) == 0 or bonded.max() == 0:
+        raise ValueError(f"{scene}: no adhesion: the bonded constants need bonds (a contact cell's differ "
+                         "in tension and compression: tools/ply_states.py)")
+    if bonded.min() == 0:
+        raise ValueError(f"{scene}: a bond broke at the load {stress} (the constants are the bonded cell's)")
+    return strain, zz, G
 
 
 def constants(bin_dir, scene, mesh, folder):
@@ -75,18 +88,18 @@ def constants(bin_dir, scene, mesh, folder):
     for k in range(3):
         unit = [0.0, 0.0, 0.0]
         unit[k] = s
-        strain, _, G = solve(bin_dir, scene, mesh, os.path.join(folder, f"unit-{k}.h5"), unit, shear=(k == 0))
+        strain, _, G = bonded_solve(bin_dir, scene, mesh, os.path.join(folder, f"unit-{k}.h5"), unit, shear=(k == 0))
         if k == 0:
             G_long = G
         columns.append([v / s for v in strain])
-    strain, zz, _ = solve(bin_dir, scene, mesh, os.path.join(folder, "eps33.h5"), [0.0, 0.0, 0.0], eps33=e)
+    strain, zz, _ = bonded_solve(bin_dir, scene, mesh, os.path.join(folder, "eps33.h5"), [0.0, 0.0, 0.0], eps33=e)
     a = [v / e for v in strain]
     c = zz / e
     # b from the solves at ε33 = e with σ̄ = unit: σ33 = b·σ̄ + c ε33.
     for k in range(3):
         unit = [0.0, 0.0, 0.0]
         unit[k] = s
-        _, zz_k, _ = solve(bin_dir, scene, mesh, os.path.join(folder, f"mixed-{k}.h5"), unit, eps33=e)
+        _, zz_k, _ = bonded_solve(bin_dir, scene, mesh, os.path.join(folder, f"mixed-{k}.h5"), unit, eps33=e)
         b.append((zz_k - c * e) / s)
     S = [[columns[j][i] - a[i] * b[j] / c for j in range(3)] + [a[i] / c] for i in range(3)]
     S.append([-b[j] / c for j in range(3)] + [1 / c])
@@ -163,6 +176,14 @@ def markdown(rows):
     return "\n".join(lines) + "\n"
 
 
+def scene_meshes(cells):
+    """The command line's cells, scene.toml:mesh.h5 each, as (scene, mesh) pairs."""
+    for cell in cells:
+        if ":" not in cell:
+            raise ValueError(f"{cell}: expected scene.toml:mesh.h5 (the cell's scene and its mesh, a colon between)")
+        yield tuple(cell.split(":", 1))
+
+
 def main(argv):
     parser = common.Parser(description=__doc__)
     parser.add_argument("bin")
@@ -171,10 +192,7 @@ def main(argv):
     parser.add_argument("--ccx", help="CalculiX: write each cell's card and check it on a cube")
     args = parser.parse_args(argv[1:])
     rows = []
-    for cell in args.cells:
-        if ":" not in cell:
-            raise ValueError(f"{cell}: expected scene.toml:mesh.h5 (the cell's scene and its mesh, a colon between)")
-        scene, mesh = cell.split(":", 1)
+    for scene, mesh in scene_meshes(args.cells):
         folder = os.path.join(os.path.dirname(os.path.abspath(args.out)), "solves",
                               os.path.basename(os.path.dirname(os.path.abspath(mesh))))
         os.makedirs(folder, exist_ok=True)
@@ -188,8 +206,7 @@ def main(argv):
             independent = ccx_ply.constants(mesh, args.ccx)
             r["ccx_3d"] = max(abs(independent[k] / r[k] - 1) for k in COLUMNS[1:10])
         rows.append(r)
-    common.write_atomic(args.out, markdown(rows))
-    common.write_csv(os.path.splitext(args.out)[0] + ".csv", COLUMNS, rows)
+    common.write_table(args.out, markdown(rows), COLUMNS, rows)
     print(markdown(rows), end="")
 
 

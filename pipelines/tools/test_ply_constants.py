@@ -1,7 +1,8 @@
 #!/usr/bin/python3
-"""Tests of ply_constants.py on the real stages (run by ctest; the stages' folder is the argument):
-a cell whose fibre is its matrix is one isotropic material, whose nine constants are E, ν and
-E/(2(1+ν)) exactly; a cell without adhesion is refused (its constants are not one set).
+"""Tests of ply_constants.py and ply_states.py on the real stages (run by ctest; the stages' folder
+is the argument): a cell whose fibre is its matrix is one isotropic material, whose nine constants
+are E, ν and E/(2(1+ν)) exactly; a cell without adhesion is refused by the bonded constants (its
+constants are not one set) and has one set per sign of load instead, whose physics is checked.
 """
 import os
 import subprocess
@@ -11,6 +12,7 @@ import unittest
 
 import ccx_ply
 import ply_constants
+import ply_states
 
 BIN = None
 
@@ -123,6 +125,66 @@ class Constants(unittest.TestCase):
             scene, mesh = cell(folder, "")
             with self.assertRaisesRegex(ValueError, "no adhesion"):
                 ply_constants.constants(BIN, scene, mesh, folder)
+
+
+class States(unittest.TestCase):
+    def test_the_bonded_state_is_one_set_by_either_route(self):
+        # Bonded, the ply is linear: tension and compression give the same constants, and the
+        # secants with σ33 driven to zero give the superposition's seven solves (column check):
+        # both to the solves' 1e-9 amplified by the algebra (asked 1e-6).
+        with tempfile.TemporaryDirectory() as folder:
+            scene, mesh = cell(folder, BONDED, GLASS)
+            rows = ply_states.cell_rows(BIN, scene, mesh, folder, [0.04, 0.0, 0.0])
+            tension, compression = rows[0], rows[1]
+            self.assertEqual((tension["state"], compression["state"]), ("bonded", "bonded"))
+            self.assertLess(tension["check"], 1e-6)
+            self.assertLess(compression["check"], 1e-6)
+            for k in ply_states.CONSTANTS:
+                self.assertAlmostEqual(tension[k] / compression[k], 1, delta=1e-6, msg=k)
+                self.assertLessEqual(tension["sigma33_left"], ply_states.SIGMA33_TOLERANCE)
+
+    def test_a_contact_cell_is_bimodular_and_carries_no_longitudinal_shear(self):
+        # Frictionless, debonded: no longitudinal shear crosses the rim, so G12 and G13 are the
+        # matrix's with holes whatever the fibre (a ten times stiffer one changes nothing, to the
+        # solves' tolerance); shortened along the fibres the rims open and ν12 is the matrix's
+        # exactly; stretched they stay closed (ν_f < ν_m), so E1 in tension is above the rule of
+        # mixtures of compression; across the fibres open gaps make tension far softer.
+        with tempfile.TemporaryDirectory() as folder:
+            rows = {}
+            for name, fibre in (("glass", GLASS), ("stiff", "E = 700.0\nnu = 0.2")):
+                sub = os.path.join(folder, name)
+                os.makedirs(sub)
+                scene, mesh = cell(sub, "", fibre)
+                rows[name] = ply_states.cell_rows(BIN, scene, mesh, sub, [0.04, 0.0, 0.0])
+            tension, compression = rows["glass"]
+            self.assertEqual((tension["state"], compression["state"]), ("contact", "contact"))
+            self.assertLess(compression["check"], 1e-8)
+            self.assertAlmostEqual(compression["nu12"], 0.3, delta=1e-8)
+            self.assertGreater(tension["E1"], compression["E1"])
+            self.assertLess(tension["E2"], 0.5 * compression["E2"])
+            for stiff, glass in zip(rows["stiff"], rows["glass"]):
+                for k in ("G12", "G13"):
+                    self.assertAlmostEqual(stiff[k] / glass[k], 1, delta=1e-8, msg=k)
+            self.assertAlmostEqual(tension["G12"] / tension["G13"], 1, delta=1e-8)
+
+    def test_the_fuse_leaves_a_softer_state_and_a_load_that_breaks_is_refused(self):
+        with tempfile.TemporaryDirectory() as folder:
+            scene, mesh = cell(folder, BONDED, GLASS)
+            rows = ply_states.cell_rows(BIN, scene, mesh, folder, [0.04, 0.0, 0.0])
+            bonded, fused = rows[0], rows[2]
+            self.assertEqual(fused["state"], "after fuse")
+            self.assertNotEqual(fused["broken"].split("/")[0], "0")
+            for k in ("E2", "G12", "G23"):
+                self.assertLess(fused[k], bonded[k], msg=k)
+            # A secant set need not be one material: the card of an isotropic one is, a set
+            # whose ν23 ν32 passes 1 (rve4-adhesion's after the fuse, in compression) is not.
+            iso = dict(E1=3.0, E2=3.0, E3=3.0, nu12=0.3, nu13=0.3, nu23=0.3, G12=1.15, G13=1.15, G23=1.15)
+            self.assertTrue(ply_states.positive_definite(iso))
+            self.assertFalse(ply_states.positive_definite(dict(iso, E3=3.2, nu23=1.005)))
+            state = ply_states.State(BIN, scene, mesh, folder, None)
+            state.solve([1e-8, 0.0, 0.0])
+            with self.assertRaisesRegex(RuntimeError, "changed the bond state"):
+                state.solve([0.04, 0.0, 0.0])
 
 
 if __name__ == "__main__":
