@@ -19,12 +19,18 @@ laws: $(LAWS_OUT)/table.md
 PLY_SCENES ?= default structure-cell-adhesion rve4-adhesion
 PLY_OUT := $(OUT_ROOT)/ply
 
-ply: $(PLY_OUT)/constants.md $(PLY_OUT)/states.md
+ply: $(PLY_OUT)/constants.md $(PLY_OUT)/states.md $(PLY_OUT)/laminate/laminate.md
 
 $(PLY_OUT)/constants.md: $(foreach s,$(PLY_SCENES),$(LAWS_OUT)/$(s)/law.h5) $(TOOLS)/ply_constants.py $(TOOLS)/ccx_ply.py
 	@mkdir -p $(dir $@)
 	$(PY) $(TOOLS)/ply_constants.py $(BIN) $@ $(foreach s,$(PLY_SCENES),$(SCENES)/$(s).toml:$(LAWS_OUT)/$(s)/mesh.h5) \
 	  --ccx ccx
+
+# How a 3D model uses them: a [0/90]s beam of C3D20R bricks in CalculiX, the plies the default
+# cell's bonded card, against laminate theory (tools/ccx_laminate.py), with its picture
+# (laminate.png: σxx through the thickness). About 10 s.
+$(PLY_OUT)/laminate/laminate.md: $(PLY_OUT)/constants.md $(TOOLS)/ccx_laminate.py
+	$(PY) $(TOOLS)/ccx_laminate.py $(PLY_OUT)/constants.csv default $(dir $@) --ccx ccx
 
 # The constants per bond state (bonded, after the fuse, a contact cell's), in tension and in
 # compression (tools/ply_states.py, docs/method.md §3c), each state's cards checked by CalculiX.

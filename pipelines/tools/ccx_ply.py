@@ -14,10 +14,8 @@ average stress, so the six columns are the stiffness C; its inverse gives the co
 fibres along the ply's axis 1 (z here), x and y its axes 2 and 3.
 """
 import json
-import math
 import os
 import shutil
-import subprocess
 import tempfile
 
 import h5py
@@ -170,11 +168,7 @@ def constants(mesh_path, ccx="ccx", work=None):
     try:
         with open(os.path.join(folder, "ply.inp"), "w") as out:
             out.write(text)
-        done = common.run([ccx, "-i", "ply"], dict(os.environ, OMP_NUM_THREADS="1"), check=False, cwd=folder,
-                          stderr=subprocess.STDOUT)
-        errors = [line.strip() for line in done.stdout.splitlines() if "*ERROR" in line]
-        if done.returncode != 0 or errors:
-            raise RuntimeError(f"ccx exit {done.returncode}: {errors[0] if errors else done.stdout.strip()[-300:]}")
+        common.run_ccx(ccx, folder, "ply")
         U = read_energies(os.path.join(folder, "ply.dat"))
     finally:
         if not work:

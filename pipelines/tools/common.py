@@ -124,6 +124,18 @@ def run_stage(command, out, unconverged_kept=False, **options):
     return done
 
 
+def run_ccx(ccx, folder, job, env=None):
+    """Runs CalculiX `ccx` on `job`.inp in `folder` (one thread unless `env` says otherwise) and
+    returns its Finished (stdout with stderr); a non-zero exit or an *ERROR line in its output
+    raises RuntimeError with the first such line."""
+    env = env or dict(os.environ, OMP_NUM_THREADS="1")
+    done = run([ccx, "-i", job], env, check=False, cwd=folder, stderr=subprocess.STDOUT)
+    errors = [line.strip() for line in done.stdout.splitlines() if "*ERROR" in line]
+    if done.returncode != 0 or errors:
+        raise RuntimeError(f"ccx exit {done.returncode}: {errors[0] if errors else done.stdout.strip()[-300:]}")
+    return done
+
+
 def law_chain(bin_dir, scene, folder):
     """mesh -> sweep -> fit of `scene` (a scene file) into `folder`: mesh.h5, sweep.h5 and law.h5,
     the stages run --quiet from `bin_dir`, a sweep that did not converge everywhere kept

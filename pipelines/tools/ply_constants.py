@@ -37,7 +37,6 @@ Writes OUT.md (one row per cell) and OUT.csv beside it, atomically.
 """
 import math
 import os
-import subprocess
 
 import h5py
 
@@ -140,11 +139,7 @@ def ccx_check(ccx, folder, name, c):
     job = os.path.join(folder, "cube")
     with open(job + ".inp", "w") as f:
         f.write("\n".join(deck) + "\n")
-    env = dict(os.environ, OMP_NUM_THREADS="1")
-    done = common.run([ccx, "-i", "cube"], env, check=False, cwd=folder, stderr=subprocess.STDOUT)
-    errors = [line.strip() for line in done.stdout.splitlines() if "*ERROR" in line]
-    if done.returncode != 0 or errors:
-        raise RuntimeError(f"ccx exit {done.returncode}: {errors[0] if errors else done.stdout.strip()[-300:]}")
+    common.run_ccx(ccx, folder, "cube")
     # The far corner (1, 1, 1) of each step: its displacement is the strain (unit lengths).
     corner, strains, reading = str(number[(1, 1, 1)]), [], False
     with open(job + ".dat") as f:
