@@ -28,6 +28,7 @@ import os
 import numpy as np
 
 import common
+from ccx_cell import real
 import plot
 import ply_constants
 
@@ -72,7 +73,7 @@ class Grid:
 
 
 def deck(c, grid):
-    lines = ["*NODE"] + [f"{n}, {x:.12g}, {y:.12g}, {z:.12g}" for p, n in grid.number.items()
+    lines = ["*NODE"] + [f"{n}, {real(x)}, {real(y)}, {real(z)}" for p, n in grid.number.items()
                          for x, y, z in [grid.x(p)]]
     elements, mid = {0: [], 90: []}, []
     for g in range(grid.nz):
@@ -101,8 +102,8 @@ def deck(c, grid):
     # One job per case: a step's *BOUNDARY, OP=NEW does not simply drop the last step's.
     tension = lines + ["*STEP", "*STATIC", "*BOUNDARY", "FIX, 1, 1", f"{corner}, 2, 3", f"{side}, 3, 3",
                        f"END, 1, 1, {DELTA}", "*NODE PRINT, NSET=END, TOTALS=ONLY", "RF", "*END STEP"]
-    bending = lines + ["*STEP", "*STATIC", "*BOUNDARY", "FIX, 1, 3", "*CLOAD"]  # fields: 20 characters at most
-    bending += [f"{n}, 3, {-v:.12g}" for n, v in tip_loads(grid).items()]
+    bending = lines + ["*STEP", "*STATIC", "*BOUNDARY", "FIX, 1, 3", "*CLOAD"]
+    bending += [f"{n}, 3, {real(-v)}" for n, v in tip_loads(grid).items()]
     bending += ["*NODE PRINT, NSET=TIP", "U", "*EL PRINT, ELSET=MID", "S", "*END STEP"]
     return {"tension": "\n".join(tension) + "\n", "bending": "\n".join(bending) + "\n"}, mid
 
