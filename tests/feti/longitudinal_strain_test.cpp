@@ -11,6 +11,7 @@
 #include "fem/assembly.hpp"
 #include "fem/element.hpp"
 #include "feti/solver.hpp"
+#include "hill_relations.hpp"
 #include "primal/one_body.hpp"
 #include "test_util.hpp"
 
@@ -28,15 +29,6 @@ Scene bonded_scene(Boundary boundary, const Eigen::Vector2d& offset = Eigen::Vec
   s.interface.normal_strength = s.interface.tangential_strength = 1e12;
   s.solver.tolerance = 1e-10;
   return s;
-}
-
-// The fibres' share of the block's area, from the elements themselves.
-double fibre_fraction(const mesh::Mesh& m) {
-  const fem::ElementStresses e = fem::element_stresses(m, {1, 0.3}, {1, 0.3}, Eigen::VectorXd::Zero(m.dim_u()));
-  double fibre = 0;
-  for (int t = 0; t < e.area.size(); ++t)
-    if (m.subdomains[m.triangle_subdomain[t]].is_fibre) fibre += e.area(t);
-  return fibre / e.area.sum();
 }
 
 // With ε33 the load gains each subdomain's eigen-stress; the dual solution is still the one-body
@@ -70,50 +62,14 @@ TEST(GeneralisedPlaneStrain, TheDualSolveIsTheOneBodySolveOfTheLoadWithItsEigenS
   }
 }
 
-// Hill's exact relations (docs/method.md §3a): for two isotropic phases bonded in any geometry,
-// E1 and ν12 follow from the transverse (plane-strain) bulk modulus k23 of the same cell:
-//   E1  = ⟨E⟩ + 4 (ν_f − ν_m)² / (1/k_f − 1/k_m)² · (⟨1/k⟩ − 1/k23),
-//   ν12 = ⟨ν⟩ + (ν_f − ν_m) / (1/k_m − 1/k_f) · (⟨1/k⟩ − 1/k23),
-// k = λ + μ of each phase, ⟨·⟩ the volume average. 1/k23 = ε̄xx + ε̄yy under σ̄ = (1, 1, 0),
-// ε33 = 0; E1 = ⟨σ33⟩ and ν12 = −(ε̄xx + ε̄yy)/2 under ε33 = 1, σ̄ = 0. The proof is a state of
-// uniform strain (e, e, 0) in every element under ε33 = 1 and σ̄ = (s, s, 0), with
-// e = −(λ_f − λ_m)/(2(k_f − k_m)) and s = 2 k_f e + λ_f: both phases then carry the same in-plane
-// stress, so it solves the discrete problem exactly, whatever the mesh. Tolerance 1e-7: the QP's
-// 1e-10 amplified by cond(PFP) and by the relations' differences of like terms.
+// Hill's exact relations (hill_relations.hpp) on a centred and an off-centre cell. Tolerance
+// 1e-7: the QP's 1e-10 amplified by cond(PFP) and by the relations' differences of like terms.
 TEST(GeneralisedPlaneStrain, HillsRelationsHoldOnAnyGeometry) {
   for (const Eigen::Vector2d& offset : {Eigen::Vector2d(0, 0), Eigen::Vector2d(0.12, -0.07)}) {
     const Scene scene = bonded_scene(Boundary::periodic, offset);
     const mesh::Mesh m = mesh::build_mesh(scene.geometry);
-    ContactSolver solver(m, scene);
-    const double vf = fibre_fraction(m), vm = 1 - vf;
-    const fem::Lame f = fem::lame(scene.fibre), mx = fem::lame(scene.matrix);
-    const double kf = f.lambda + f.mu, km = mx.lambda + mx.mu;
-
-    // The uniform state.
-    const double e = -(f.lambda - mx.lambda) / (2 * (kf - km)), s = 2 * kf * e + f.lambda;
-    solver.set_longitudinal_strain(1);
-    const Solution uniform = solver.solve_fixed(Eigen::Vector3d(s, s, 0), solver.intact());
-    ASSERT_TRUE(uniform.converged()) << uniform.qp.message;
-    EXPECT_LE((uniform.strain - Eigen::Vector3d(e, e, 0)).norm(), 1e-7 * std::abs(e));
-    const double zz = vf * (2 * f.lambda * e + f.lambda + 2 * f.mu) + vm * (2 * mx.lambda * e + mx.lambda + 2 * mx.mu);
-    EXPECT_NEAR(uniform.average_stress_zz, zz, 1e-7 * zz);
-
-    // k23, then E1 and ν12, against Hill's relations.
-    solver.set_longitudinal_strain(0);
-    const Solution biaxial = solver.solve_fixed(Eigen::Vector3d(1, 1, 0), solver.intact());
-    solver.set_longitudinal_strain(1);
-    const Solution axial = solver.solve_fixed(Eigen::Vector3d::Zero(), solver.intact());
-    ASSERT_TRUE(biaxial.converged() && axial.converged());
-    const double inv_k23 = biaxial.strain(0) + biaxial.strain(1);
-    const double E1 = axial.average_stress_zz, nu12 = -(axial.strain(0) + axial.strain(1)) / 2;
-    const double Ef = scene.fibre.E, Em = scene.matrix.E, nuf = scene.fibre.nu, num = scene.matrix.nu;
-    const double excess = vf / kf + vm / km - inv_k23;  // ⟨1/k⟩ − 1/k23 ≥ 0 (Reuss)
-    EXPECT_GT(excess, 0);
-    const double E1_hill =
-        vf * Ef + vm * Em + 4 * (nuf - num) * (nuf - num) / ((1 / kf - 1 / km) * (1 / kf - 1 / km)) * excess;
-    const double nu12_hill = vf * nuf + vm * num + (nuf - num) / (1 / km - 1 / kf) * excess;
-    EXPECT_NEAR(E1, E1_hill, 1e-7 * E1_hill) << "offset " << offset.transpose();
-    EXPECT_NEAR(nu12, nu12_hill, 1e-7 * nu12_hill) << "offset " << offset.transpose();
+    testing::expect_hill_relations(m, scene, 1e-7,
+                                   "offset (" + std::to_string(offset.x()) + ", " + std::to_string(offset.y()) + ")");
   }
 }
 
@@ -146,7 +102,7 @@ TEST(GeneralisedPlaneStrain, WithoutBondsTheFibreStopsPullingTheMatrixInWhenShor
   EXPECT_NEAR(E1_stretched, E1, 1e-4 * E1);
   EXPECT_NEAR(nu12_stretched, nu12, 1e-3);
   EXPECT_EQ(open_shortened, static_cast<long>(m.interface_pairs.size()));
-  const double vf = fibre_fraction(m);
+  const double vf = testing::fibre_fraction(m);
   const double mixture = vf * contact.fibre.E + (1 - vf) * contact.matrix.E;
   EXPECT_NEAR(E1_shortened, mixture, 1e-8 * mixture);
   EXPECT_NEAR(nu12_shortened, contact.matrix.nu, 1e-8);

@@ -17,6 +17,7 @@
 #include "fem/element.hpp"
 #include "feti/condense.hpp"
 #include "feti/constraints.hpp"
+#include "feti/hill_relations.hpp"
 #include "feti/solver.hpp"
 #include "law/condensed.hpp"
 #include "mesh/mesh.hpp"
@@ -245,6 +246,20 @@ TEST(RveMesher, ARandomRveLiesWithinTheBoundsAndOpensIntoHoles) {
   holes.fibre = {1e-6 * s.matrix.E, 0.3};
   const Eigen::Vector3d open = strain_of(mesh, contact, biaxial), hole = strain_of(mesh, holes, biaxial);
   EXPECT_LE((open - hole).norm(), 1e-5 * hole.norm()) << open.transpose() << " / " << hole.transpose();
+}
+
+// Hill's exact relations (feti/hill_relations.hpp) hold on a random RVE too: 16 fibres, some
+// cut by the sides, bonded (strengths that nothing reaches). Tolerance 1e-7 as on the mapped
+// cells (the QP's 1e-10 amplified by cond(PFP) and the relations' differences).
+TEST(RveMesher, HillsRelationsHoldOnARandomRve) {
+  Scene s = base_scene(true);
+  s.interface.normal_strength = s.interface.tangential_strength = 1e12;
+  s.fibre = {20.0, 0.22};
+  s.geometry.layout = FibreLayout::random;
+  s.geometry.size = {1, 1};
+  s.geometry.degree = 2;
+  s.geometry.random = {0.5, 0.1, 0.005, 0.01, 5, 20000};
+  testing::expect_hill_relations(rve_mesh(s), s, 1e-7, "random RVE");
 }
 
 // The exact law of an RVE whose fibres are cut by the sides: the pieces of a cut fibre turn
