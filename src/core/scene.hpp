@@ -96,8 +96,14 @@ struct Interface {
 enum class Boundary { symmetry, traction, periodic, edges };
 const char* to_string(Boundary b);
 
+// Which macro components a cell's law carries (docs/method.md §3a): the transverse plane strain
+// (εxx, εyy, γxy), or also the strain ε33 along the fibres (generalised plane strain), whose
+// column the exact law then condenses too.
+enum class Macro { transverse, full };
+
 struct Load {
   Boundary boundary = Boundary::symmetry;
+  Macro macro = Macro::transverse;
   std::array<double, 2> body_force{0, 0};  // force per unit area, both materials
   EdgeLoads edge_loads;                    // Boundary::edges only
 };

@@ -226,6 +226,10 @@ void read_interface_and_load(SceneReading& r) {
   }
   const auto bf = lt.reals("body_force", {0, 0}, 2, 2);
   scene.load.body_force = {bf[0], bf[1]};
+  const std::string macro = lt.string("macro", "transverse", {"transverse", "full"});
+  scene.load.macro = macro == "full" ? Macro::full : Macro::transverse;
+  if (scene.load.macro == Macro::full && scene.load.boundary == Boundary::edges)
+    lt.fail(lt.node("macro"), "macro", "\"full\"", "a cell's law only: boundary = \"edges\" is a structure");
   lt.finish();
 }
 

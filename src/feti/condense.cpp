@@ -41,45 +41,51 @@ std::vector<int> all(Eigen::Index n) {
 }
 
 // The macro load per unit stress component k: the load f_k, the dual right-hand sides d_k and
-// e_k of §6.
+// e_k of §6; with the strain along the fibres, one more column k = n_macro: the load of ε33 = 1
+// at σ̄ = 0 (its eigen-stress, §3a; no prescribed displacement scales with it).
 struct MacroLoad {
   std::vector<Eigen::VectorXd> f;
   Eigen::MatrixXd D, e;  // columns k
 };
 
-MacroLoad macro_load(const FetiSetup& setup, const DualProblem& dual, int n_macro) {
+MacroLoad macro_load(const FetiSetup& setup, const DualProblem& dual, int n_macro, bool longitudinal) {
+  const int n_load = n_macro + (longitudinal ? 1 : 0);
   MacroLoad load;
-  load.f.resize(n_macro);
-  load.D.resize(dual.constraints().n_rows(), n_macro);
-  load.e.resize(dual.G().rows(), n_macro);
-  for (int k = 0; k < n_macro; ++k) {
-    const Eigen::Vector3d unit = Eigen::Vector3d::Unit(k);
-    load.f[k] = setup.load(unit);
-    load.D.col(k) = dual.d(load.f[k], setup.load_factor(unit));
+  load.f.resize(n_load);
+  load.D.resize(dual.constraints().n_rows(), n_load);
+  load.e.resize(dual.G().rows(), n_load);
+  for (int k = 0; k < n_load; ++k) {
+    const bool eps33 = k == n_macro;
+    const Eigen::Vector3d unit = eps33 ? Eigen::Vector3d::Zero() : Eigen::Vector3d::Unit(k).eval();
+    load.f[k] = setup.load(unit, eps33 ? 1.0 : 0.0);
+    load.D.col(k) = dual.d(load.f[k], eps33 ? 0.0 : setup.load_factor(unit));
     load.e.col(k) = dual.e(load.f[k]);
   }
   return load;
 }
 
 // ε̄ = W u (engineering shear) as coefficients: per component k, on λ (−B K⁺ wₖ), on α (R̂ᵀwₖ)
-// and on σ̄ (wₖᵀK⁺f).
+// and on the load columns (wₖᵀK⁺f). With the strain along the fibres one more row: the part of
+// σ33 that u gives, ⟨λ (εxx + εyy)⟩ = −f₃₃ᵀu/|Ω| (f₃₃ the load of ε33 = 1, which is −∫Bᵀλ(1, 1, 0)
+// dA); the rest of σ33, ⟨λ + 2μ⟩ ε33, is added after the elimination.
 struct StrainMap {
   Eigen::MatrixXd lambda, alpha, sigma;
 };
 
 StrainMap strain_map(const FetiSetup& setup, const DualProblem& dual, const MacroLoad& load, int n_macro) {
-  const int m = dual.constraints().n_rows();
+  const int m = dual.constraints().n_rows(), n_load = static_cast<int>(load.f.size());
+  const bool longitudinal = n_load > n_macro;
   Eigen::MatrixXd W = boundary_strain_matrix(setup.mesh(), setup.n_dofs());
   W.row(2) *= 2;  // the boundary formula gives tensor shear; the law's is engineering (core/strain.hpp)
-  StrainMap T{Eigen::MatrixXd(n_macro, m), Eigen::MatrixXd(n_macro, dual.G().rows()),
-              Eigen::MatrixXd(n_macro, n_macro)};
+  StrainMap T{Eigen::MatrixXd(n_load, m), Eigen::MatrixXd(n_load, dual.G().rows()), Eigen::MatrixXd(n_load, n_load)};
   const Eigen::VectorXd no_lambda = Eigen::VectorXd::Zero(m);
-  for (int k = 0; k < n_macro; ++k) {
-    const Eigen::VectorXd w = W.row(k).transpose();
+  for (int k = 0; k < n_load; ++k) {
+    const Eigen::VectorXd w =
+        longitudinal && k == n_macro ? (-load.f[n_macro] / setup.volume()).eval() : W.row(k).transpose().eval();
     const Eigen::VectorXd v = dual.K_plus_residual(w, no_lambda);
     T.lambda.row(k) = -dual.d(w, 0.0).transpose();
     T.alpha.row(k) = dual.e(w).transpose();
-    for (int j = 0; j < n_macro; ++j) T.sigma(k, j) = v.dot(load.f[j]);
+    for (int j = 0; j < n_load; ++j) T.sigma(k, j) = v.dot(load.f[j]);
   }
   return T;
 }
@@ -123,9 +129,11 @@ struct Modes {
   Eigen::MatrixXd G_M, G_N, e_M, e_N, alpha_M, alpha_N;
 };
 
+// The boundary's motion is the macro strain's rows (n_macro); σ33's row, zero on rigid motions
+// identically, would only add its round-off (check_fibres_still).
 Modes split_modes(const Eigen::MatrixXd& G, const std::vector<int>& E, const MacroLoad& load, const StrainMap& T,
                   int n_macro) {
-  const int m = static_cast<int>(G.cols());
+  const int m = static_cast<int>(G.cols()), n_load = static_cast<int>(load.e.cols());
   std::vector<int> M, N;
   for (Eigen::Index g = 0; g < G.rows(); ++g) {
     bool seen = false;
@@ -134,10 +142,10 @@ Modes split_modes(const Eigen::MatrixXd& G, const std::vector<int>& E, const Mac
   }
   Modes out{pick(G, M, all(m)),
             pick(G, N, all(m)),
-            pick(load.e, M, all(n_macro)),
-            pick(load.e, N, all(n_macro)),
-            pick(T.alpha, all(n_macro), M),
-            pick(T.alpha, all(n_macro), N)};
+            pick(load.e, M, all(n_load)),
+            pick(load.e, N, all(n_load)),
+            pick(T.alpha, all(n_load), M),
+            pick(T.alpha, all(n_load), N)};
   const Eigen::MatrixXd G_ME = pick(G, M, E);
   const NullSplit split = split_null_space(G_ME * G_ME.transpose());
   if (split.null.cols() == 0) return out;
@@ -152,7 +160,7 @@ Modes split_modes(const Eigen::MatrixXd& G, const std::vector<int>& E, const Mac
       continue;
     }
     if ((z.transpose() * out.e_M).norm() > load_round_off * std::max(load.e.norm(), 1e-300) ||
-        (out.alpha_M * z).norm() > null_mode_tolerance * T.alpha.norm())
+        (out.alpha_M.topRows(n_macro) * z).norm() > null_mode_tolerance * T.alpha.topRows(n_macro).norm())
       throw InputError("a rigid motion no row sees is loaded or moves the cell's boundary: this cell has no law");
   }
   const Eigen::MatrixXd& W = split.range;
@@ -190,7 +198,8 @@ struct Eliminated {
 };
 
 Eliminated eliminate(const InterfaceBlocks& b, const Modes& modes, const MacroLoad& load, const StrainMap& T,
-                     const std::vector<int>& E, int n_macro) {
+                     const std::vector<int>& E) {
+  const int n_load = static_cast<int>(load.D.cols());
   const int mE = static_cast<int>(E.size()), nM = static_cast<int>(modes.G_M.rows());
   const Eigen::Index nI = b.F_EI.cols();
   const std::vector<int> rows_M = all(nM);
@@ -198,9 +207,9 @@ Eliminated eliminate(const InterfaceBlocks& b, const Modes& modes, const MacroLo
   K.topLeftCorner(mE, mE) = b.F_EE;
   K.topRightCorner(mE, nM) = pick(modes.G_M, rows_M, E).transpose();
   K.bottomLeftCorner(nM, mE) = pick(modes.G_M, rows_M, E);
-  Eigen::MatrixXd rhs_p(mE + nM, nI), rhs_s(mE + nM, n_macro);
+  Eigen::MatrixXd rhs_p(mE + nM, nI), rhs_s(mE + nM, n_load);
   rhs_p << -b.F_EI, -b.G_MI;
-  rhs_s << pick(load.D, E, all(n_macro)), modes.e_M;
+  rhs_s << pick(load.D, E, all(n_load)), modes.e_M;
   const Eigen::PartialPivLU<Eigen::MatrixXd> lu(K);
   const Eigen::MatrixXd X_p = lu.solve(rhs_p), X_s = lu.solve(rhs_s);
   const double solve_error = std::max((K * X_p - rhs_p).norm() / std::max(rhs_p.norm(), 1e-300),
@@ -208,7 +217,7 @@ Eliminated eliminate(const InterfaceBlocks& b, const Modes& modes, const MacroLo
   if (!(solve_error < elimination_tolerance))
     throw InputError("the cell's rows other than the interface do not hold it (the eliminated system is singular)");
   const auto X_pE = X_p.topRows(mE), X_pM = X_p.bottomRows(nM), X_sE = X_s.topRows(mE), X_sM = X_s.bottomRows(nM);
-  const Eigen::MatrixXd lambda_E = pick(T.lambda, all(n_macro), E);
+  const Eigen::MatrixXd lambda_E = pick(T.lambda, all(n_load), E);
   Eliminated out;
   out.H = b.F_II + b.F_EI.transpose() * X_pE + b.G_MI.transpose() * X_pM;
   out.Y = b.D_I - b.F_EI.transpose() * X_sE - b.G_MI.transpose() * X_sM;
@@ -226,10 +235,14 @@ struct Prepared {
   StrainMap T;
   Modes modes;
   int n_macro = 3;
+  // The load columns: n_macro, and the strain along the fibres (a scene's [load] macro = "full",
+  // not on a basis: condense only).
+  bool longitudinal = false;
+  int n_load = 3;
   BondState intact;
 };
 
-Prepared prepare(const FetiSetup& setup, int max_rows) {
+Prepared prepare(const FetiSetup& setup, int max_rows, bool longitudinal) {
   const Scene& scene = setup.scene();
   const mesh::Mesh& mesh = setup.mesh();
   if (scene.load.boundary == Boundary::edges)
@@ -238,6 +251,7 @@ Prepared prepare(const FetiSetup& setup, int max_rows) {
     throw InputError("a cell with a body force has no homogeneous law: set [load] body_force = [0, 0]");
   Prepared p;
   p.n_macro = scene.load.boundary == Boundary::symmetry ? 2 : 3;
+  p.longitudinal = longitudinal;
   p.intact = intact_bonds(mesh, scene.interface);
   p.dual = std::make_unique<DualProblem>(setup, build_constraints(mesh, scene, p.intact));
   const Constraints& con = p.dual->constraints();
@@ -246,7 +260,8 @@ Prepared prepare(const FetiSetup& setup, int max_rows) {
     throw InputError("the cell has " + std::to_string(m) + " constraint rows, more than the " +
                      std::to_string(max_rows) + " a dense condensation pays for");
   for (int r = 0; r < m; ++r) (is_interface(con.kind[r]) ? p.I : p.E).push_back(r);
-  p.load = macro_load(setup, *p.dual, p.n_macro);
+  p.load = macro_load(setup, *p.dual, p.n_macro, p.longitudinal);
+  p.n_load = static_cast<int>(p.load.f.size());
   p.T = strain_map(setup, *p.dual, p.load, p.n_macro);
   // The rigid-body modes' rows of G scaled to unit length, D = diag(1/‖G_g‖), with their loads e
   // (rows) and the strain map's α (columns), so that the law is unchanged (G p = 0 is the same
@@ -267,8 +282,11 @@ Prepared prepare(const FetiSetup& setup, int max_rows) {
   return p;
 }
 
+// The macro strain's rows only: σ33's row (the strain along the fibres) is zero on every rigid
+// motion identically, which strains nothing, and its round-off is not a motion of the boundary.
 void check_fibres_still(const Prepared& p) {
-  if (p.modes.alpha_N.cols() > 0 && p.modes.alpha_N.norm() > null_mode_tolerance * p.T.alpha.norm())
+  const Eigen::MatrixXd alpha_N = p.modes.alpha_N.topRows(p.n_macro);
+  if (alpha_N.cols() > 0 && alpha_N.norm() > null_mode_tolerance * p.T.alpha.topRows(p.n_macro).norm())
     throw InputError("a body held only by interface rows moves the cell's boundary: this cell has no condensed law");
 }
 
@@ -281,22 +299,42 @@ double reciprocity(const Eigen::MatrixXd& H, const Eigen::MatrixXd& Y, const Eig
                    (S0 - S0.transpose()).norm() / std::max(S0.norm(), 1e-300)});
 }
 
+// The strain along the fibres (docs/method.md §16a): from the eliminated system's extra column
+// and row (load column and strain row n_macro, physical units), A33, C33 and y33 into `cell`,
+// each symmetrised by its reciprocity, which is measured (relative) and returned: the open cell's
+// ε̄ per unit ε33 against minus its σ33 per unit σ̄, and y33 (the openings per unit ε33) against
+// |Ω| ∂σ33/∂p.
+double set_longitudinal(const FetiSetup& setup, const Eigen::MatrixXd& Y, const Eigen::MatrixXd& E_p,
+                        const Eigen::MatrixXd& S0, int m, law::CondensedCell& cell) {
+  const double volume = setup.volume();
+  double zz = 0;  // ⟨λ + 2μ⟩: σ33 of ε33 = 1 with u = 0
+  average_stress(setup.mesh(), setup.scene().fibre, setup.scene().matrix, Eigen::VectorXd::Zero(setup.mesh().dim_u()),
+                 1.0, &zz);
+  const Eigen::VectorXd a = S0.col(m).head(m), b = S0.row(m).head(m).transpose();
+  const Eigen::VectorXd y = Y.col(m), g = volume * E_p.row(m).transpose();
+  cell.longitudinal = 1;
+  cell.A33 = 0.5 * (a - b);
+  cell.C33 = Eigen::MatrixXd::Constant(1, 1, S0(m, m) + zz);
+  cell.y33 = 0.5 * (y + g);
+  return std::max((a + b).norm() / std::max(a.norm(), 1e-300), (y - g).norm() / std::max(y.norm(), 1e-300));
+}
+
 }  // namespace
 
 law::CondensedCell condense(const FetiSetup& setup, int max_rows) {
   const auto start = std::chrono::steady_clock::now();
-  const Prepared p = prepare(setup, max_rows);
+  const Prepared p = prepare(setup, max_rows, setup.scene().load.macro == Macro::full);
   const Constraints& con = p.dual->constraints();
   const std::vector<int>& I = p.I;
-  const int n_macro = p.n_macro;
+  const int n_macro = p.n_macro, n_load = p.n_load;
   const Eigen::MatrixXd F = p.dual->explicit_F();
   InterfaceBlocks blocks{pick(F, p.E, p.E),
                          pick(F, p.E, I),
                          pick(F, I, I),
-                         pick(p.load.D, I, all(n_macro)),
+                         pick(p.load.D, I, all(n_load)),
                          pick(p.modes.G_M, all(p.modes.G_M.rows()), I),
-                         pick(p.T.lambda, all(n_macro), I)};
-  Eliminated x = eliminate(blocks, p.modes, p.load, p.T, p.E, n_macro);
+                         pick(p.T.lambda, all(n_load), I)};
+  Eliminated x = eliminate(blocks, p.modes, p.load, p.T, p.E);
   check_fibres_still(p);
 
   // Physical interface forces p = w λ_scaled: H, Y, E_p and G scaled by 1/w.
@@ -304,13 +342,17 @@ law::CondensedCell condense(const FetiSetup& setup, int max_rows) {
   Eigen::VectorXd inverse_weight(nI);
   for (int i = 0; i < nI; ++i) inverse_weight(i) = 1 / con.weight(I[i]);
   const Eigen::MatrixXd H = inverse_weight.asDiagonal() * x.H * inverse_weight.asDiagonal();
-  const Eigen::MatrixXd Y = inverse_weight.asDiagonal() * x.Y;
-  const Eigen::MatrixXd E_p = x.E_p * inverse_weight.asDiagonal();
-  const Eigen::MatrixXd& S0 = x.S0;
+  const Eigen::MatrixXd Y_all = inverse_weight.asDiagonal() * x.Y;
+  const Eigen::MatrixXd E_p_all = x.E_p * inverse_weight.asDiagonal();
+  const Eigen::MatrixXd Y = Y_all.leftCols(n_macro), E_p = E_p_all.topRows(n_macro);
+  const Eigen::MatrixXd S0 = x.S0.topLeftCorner(n_macro, n_macro);
   const double volume = setup.volume();
   law::CondensedCell cell;
-  cell.operator_applications = 2 * n_macro;  // d and the strain map; F comes from the subdomains' blocks
+  cell.operator_applications = 2 * n_load;  // d and the strain map; F comes from the subdomains' blocks
   cell.reciprocity_error = reciprocity(H, Y, E_p, S0, volume);
+  if (p.longitudinal)
+    cell.reciprocity_error =
+        std::max(cell.reciprocity_error, set_longitudinal(setup, Y_all, E_p_all, x.S0, n_macro, cell));
   cell.n_macro = n_macro;
   cell.volume = volume;
   cell.S0 = 0.5 * (S0 + S0.transpose());
@@ -326,7 +368,7 @@ law::CondensedCell condense(const FetiSetup& setup, int max_rows) {
 
 law::CondensedCell condense_on_solutions(const FetiSetup& setup, const std::vector<Eigen::VectorXd>& lambdas) {
   const auto start = std::chrono::steady_clock::now();
-  const Prepared p = prepare(setup, std::numeric_limits<int>::max());
+  const Prepared p = prepare(setup, std::numeric_limits<int>::max(), false);
   const Constraints& con = p.dual->constraints();
   const DualProblem& dual = *p.dual;
   if (setup.scene().interface.has_adhesion())
@@ -373,7 +415,7 @@ law::CondensedCell condense_on_solutions(const FetiSetup& setup, const std::vect
                          V_I.transpose() * pick(p.load.D, p.I, all(n_macro)),
                          pick(p.modes.G_M, all(p.modes.G_M.rows()), p.I) * V_I,
                          pick(p.T.lambda, all(n_macro), p.I) * V_I};
-  const Eliminated e = eliminate(blocks, p.modes, p.load, p.T, p.E, n_macro);
+  const Eliminated e = eliminate(blocks, p.modes, p.load, p.T, p.E);
   check_fibres_still(p);
   const double volume = setup.volume();
   law::CondensedCell macro;

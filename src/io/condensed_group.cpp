@@ -31,9 +31,15 @@ Eigen::MatrixXd from_row_major(const std::vector<double>& v, hsize_t rows, hsize
 void write_condensed(File& f, const std::string& group, const law::CondensedCell& cell) {
   f.create_group(group);
   const auto dim = [&](law::Extent e) { return static_cast<hsize_t>(law::extent(cell, e)); };
+  // Without the strain along the fibres its members are left out (a file without them reads as
+  // a cell without it; h5diff cannot compare the empty arrays they would be).
+  const bool without = cell.longitudinal == 0;
   law::for_each_member(cell, [&](const law::Member& m, const auto& value) {
     using T = std::remove_cvref_t<decltype(value)>;
     const std::string name = group + "/" + m.name;
+    if (without && (m.sizes == law::Extent::longitudinal || m.rows == law::Extent::longitudinal ||
+                    m.cols == law::Extent::longitudinal))
+      return;
     if constexpr (law::CountMember<T>)
       f.write(name, std::vector<std::int64_t>{value}, {1});
     else if constexpr (law::RealMember<T>)
@@ -56,8 +62,8 @@ law::CondensedCell read_condensed(const File& f, const std::string& group) {
   law::CondensedCell cell;
   // Each extent as it becomes known (from a count, or from the first array that has it), and
   // the object it came from, for the message of an array that disagrees.
-  hsize_t size[5] = {1, any_extent, any_extent, any_extent, any_extent};
-  std::string like[5];
+  hsize_t size[6] = {1, any_extent, any_extent, any_extent, any_extent, any_extent};
+  std::string like[6];
   const auto known = [&](law::Extent e, hsize_t found, const std::string& from) {
     const auto i = static_cast<std::size_t>(e);
     if (size[i] == any_extent) size[i] = found, like[i] = " like " + from;
@@ -77,6 +83,18 @@ law::CondensedCell read_condensed(const File& f, const std::string& group) {
     using T = std::remove_cvref_t<decltype(value)>;
     const std::string name = group + "/" + m.name;
     const auto rows = static_cast<std::size_t>(m.rows), cols = static_cast<std::size_t>(m.cols);
+    // An optional count an older file does not have is 0, and so is an array of its extent.
+    if (m.optional && !f.exists(name)) {
+      if constexpr (law::CountMember<T>) value = 0;
+      known(m.sizes, 0, name);
+      return;
+    }
+    if constexpr (law::ArrayMember<T>)
+      if ((m.rows == law::Extent::longitudinal || m.cols == law::Extent::longitudinal) &&
+          (size[rows] == 0 || size[cols] == 0) && !f.exists(name)) {
+        value = Eigen::MatrixXd(static_cast<Eigen::Index>(size[rows]), static_cast<Eigen::Index>(size[cols]));
+        return;
+      }
     if constexpr (law::CountMember<T>) {
       const std::int64_t v = f.read_ints(name, {1})[0];
       const std::int64_t lo = std::max<std::int64_t>(m.lo, std::numeric_limits<T>::min());

@@ -13,7 +13,7 @@ namespace dualcell::law {
 
 namespace {
 
-constexpr const char* header = "dualcell cell law 1";
+constexpr const char* header = "dualcell cell law 2";  // 2: the strain along the fibres (longitudinal, A33, C33, y33)
 
 std::string number(double v) {
   if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
@@ -117,7 +117,7 @@ CondensedCell read_cell_text(std::istream& in, std::string& error) {
     return {};
   }
   // The extents as the text states them, before the arrays.
-  Eigen::Index size[5] = {1, 0, 0, 0, 0};
+  Eigen::Index size[6] = {1, 0, 0, 0, 0, 0};
   bool ok = true;
   for_each_member(cell, [&](const Member& m, auto&& value) {
     using T = std::remove_cvref_t<decltype(value)>;

@@ -83,10 +83,19 @@ double CellEvaluator::strength_use(const Eigen::VectorXd& forces, const std::vec
   return use;
 }
 
-void CellEvaluator::check_shear(const Eigen::Vector3d& v, CellResponse& out) const {
-  if (!v.allFinite()) out.message = "a non-finite input";
+void CellEvaluator::check_shear(const Eigen::Vector3d& v, double eps33, CellResponse& out) const {
+  if (!v.allFinite() || !std::isfinite(eps33)) out.message = "a non-finite input";
   if (cell_.n_macro == 2 && v(2) != 0)
     out.message = "the cell has the symmetry boundary: it carries no shear (the third component must be 0)";
+  if (eps33 != 0 && cell_.longitudinal == 0)
+    out.message = "the cell has no strain along the fibres (its scene's [load] macro is not \"full\"): eps33 must be 0";
+}
+
+void CellEvaluator::set_stress_zz(double eps33, CellResponse& out) const {
+  if (cell_.longitudinal == 0) return;
+  const int m = cell_.n_macro;
+  out.stress_zz = -cell_.A33.col(0).dot(out.stress.head(m)) + cell_.C33(0, 0) * eps33 +
+                  cell_.y33.col(0).dot(out.forces) / cell_.volume;
 }
 
 // Solve, break the bonded rows that end at their strength, solve again: the debond cascade
@@ -130,9 +139,9 @@ bool CellEvaluator::solve_qp(qp::DenseActiveSet& qp, std::vector<qp::Bound>& act
   return true;
 }
 
-CellResponse CellEvaluator::at_stress(const Eigen::Vector3d& sigma, CellHistory& h) {
+CellResponse CellEvaluator::at_stress(const Eigen::Vector3d& sigma, CellHistory& h, double eps33) {
   CellResponse out;
-  check_shear(sigma, out);
+  check_shear(sigma, eps33, out);
   if (!out.message.empty()) return out;
   const int m = cell_.n_macro, n = cell_.n_rows();
   if (h.active.size() != static_cast<std::size_t>(n)) h.active.clear();
@@ -140,11 +149,14 @@ CellResponse CellEvaluator::at_stress(const Eigen::Vector3d& sigma, CellHistory&
   out = cascade(h, true, [&](CellResponse& r) {
     set_bounds(h.bonded, 0);
     b_ = cell_.Y * sigma.head(m);
+    if (eps33 != 0) b_ += cell_.y33.col(0) * eps33;
     return solve_qp(stress_qp_, h.active, r, r.forces);
   });
   if (!out.ok) return out;
   out.stress.head(m) = sigma.head(m);
   out.strain.head(m) = cell_.S0 * sigma.head(m) - cell_.Y.transpose() * out.forces / cell_.volume;
+  if (eps33 != 0) out.strain.head(m) += cell_.A33.col(0) * eps33;
+  set_stress_zz(eps33, out);
   // Compliance tangent dε̄/dσ̄ = S₀ − Yᵀ (dp/dσ̄)/|Ω| on the final active set; the stiffness
   // tangent is its inverse.
   if (stress_tangent_of_ != stress_qp_.generation()) {
@@ -160,17 +172,23 @@ CellResponse CellEvaluator::at_stress(const Eigen::Vector3d& sigma, CellHistory&
   return out;
 }
 
-CellResponse CellEvaluator::at_strain(const Eigen::Vector3d& strain, CellHistory& h, BondMode bonds) {
+CellResponse CellEvaluator::at_strain(const Eigen::Vector3d& strain, CellHistory& h, BondMode bonds, double eps33) {
   CellResponse out;
-  check_shear(strain, out);
+  check_shear(strain, eps33, out);
   if (!out.message.empty()) return out;
   const int m = cell_.n_macro, n = cell_.n_rows();
   if (h.active.size() != static_cast<std::size_t>(m + n)) h.active.clear();
   Eigen::VectorXd z;
   out = cascade(h, bonds == BondMode::cascade, [&](CellResponse& r) {
     set_bounds(h.bonded, m, bonds == BondMode::lifted);
+    // With ε33 the mixed energy gains ε33 (|Ω| A33·σ̄ − y33·p) − ½ |Ω| C33 ε33² (docs/method.md
+    // §16a): the linear term moves, 𝓗 stays.
     b_ = Eigen::VectorXd::Zero(m + n);
     b_.head(m) = cell_.volume * strain.head(m);
+    if (eps33 != 0) {
+      b_.head(m) -= cell_.volume * cell_.A33.col(0) * eps33;
+      b_.tail(n) = cell_.y33.col(0) * eps33;
+    }
     if (!solve_qp(strain_qp_, h.active, r, z)) return false;
     r.forces = z.tail(n);
     return true;
@@ -179,6 +197,10 @@ CellResponse CellEvaluator::at_strain(const Eigen::Vector3d& strain, CellHistory
   out.stress.head(m) = z.head(m);
   out.strain.head(m) = strain.head(m);
   out.energy = strain.head(m).dot(z.head(m)) - 0.5 * z.dot(energy_ * z) / cell_.volume;
+  if (eps33 != 0)
+    out.energy -= eps33 * (cell_.A33.col(0).dot(z.head(m)) - cell_.y33.col(0).dot(z.tail(n)) / cell_.volume) -
+                  0.5 * cell_.C33(0, 0) * eps33 * eps33;
+  set_stress_zz(eps33, out);
   // dσ̄/dε̄: the σ̄ rows of dz/db for db = (|Ω| I, 0), symmetric as the KKT system is.
   if (strain_tangent_of_ != strain_qp_.generation()) {
     Eigen::MatrixXd db = Eigen::MatrixXd::Zero(m + n, m);
@@ -186,9 +208,24 @@ CellResponse CellEvaluator::at_strain(const Eigen::Vector3d& strain, CellHistory
     const Eigen::MatrixXd dz = strain_qp_.sensitivity(db);
     strain_tangent_.setZero();
     strain_tangent_.topLeftCorner(m, m) = 0.5 * (dz.topRows(m) + dz.topRows(m).transpose());
+    if (cell_.longitudinal == 1) {
+      // dz/dε33 for db = (−|Ω| A33, y33); dσ33/dε33 = −A33·dσ̄/dε33 + C33 + y33·dp/dε33/|Ω|, and
+      // dσ̄/dε33 is the row dσ33/dε̄ (the mixed energy's symmetry).
+      Eigen::VectorXd d33(m + n);
+      d33 << -cell_.volume * cell_.A33.col(0), cell_.y33.col(0);
+      const Eigen::VectorXd dz33 = strain_qp_.sensitivity(d33);
+      strain_tangent_zz_.setConstant(nan);
+      strain_tangent_zz_.head(m) = dz33.head(m);
+      strain_tangent_zz_zz_ =
+          -cell_.A33.col(0).dot(dz33.head(m)) + cell_.C33(0, 0) + cell_.y33.col(0).dot(dz33.tail(n)) / cell_.volume;
+    }
     strain_tangent_of_ = strain_qp_.generation();
   }
   out.tangent = strain_tangent_;
+  if (cell_.longitudinal == 1) {
+    out.tangent_zz = strain_tangent_zz_;
+    out.tangent_zz_zz = strain_tangent_zz_zz_;
+  }
   if (m == 2) mark_no_shear(out);
   return out;
 }

@@ -22,6 +22,7 @@
 // more breaks: the debond cascade of the cell, carried to the next evaluation of the same point.
 #include <Eigen/Core>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -49,6 +50,14 @@ struct CondensedCell {
   Eigen::VectorXd lower_bonded, upper_bonded, lower_broken, upper_broken;
   int n_pairs = 0;
   std::vector<std::uint8_t> bonded;  // the bond state of the unloaded cell, per pair
+  // Generalised plane strain (docs/method.md §16a, "The strain along the fibres"): with
+  // longitudinal = 1 the cell also takes a uniform strain ε33 along the fibres. A33 (n_macro × 1)
+  // is the open cell's ε̄ per unit ε33 (σ̄ = 0), C33 (1 × 1) its σ33 per unit ε33, y33
+  // (n_rows × 1) the interface rows' opening per unit ε33: the rows' right-hand side becomes
+  // Y σ̄ + y33 ε33, ε̄ gains A33 ε33, and σ33 = −A33·σ̄ + C33 ε33 + y33·p/|Ω|. With 0 the three
+  // are empty: plane strain only (a scene's [load] macro = "transverse", a cell on a basis).
+  int longitudinal = 0;
+  Eigen::MatrixXd A33, C33, y33;
 
   // What the condensation measured: the asymmetry of 𝓗 before it was symmetrised (reciprocity,
   // relative), its seconds, and the applications of B K⁺ it took (F itself is summed from the
@@ -101,6 +110,12 @@ struct CellResponse {
   // The largest force of a bonded row over its strength (0 … 1; 1: at its strength), over the
   // bonded rows of the history the evaluation ends with.
   double strength_use = 0;
+  // With ε33 (the cell's longitudinal data): σ33, and the tangent's column dσ̄/dε33 (equal to
+  // the row dσ33/dε̄, by symmetry) and dσ33/dε33 (strain-driven; NaN stress-driven). NaN
+  // without ε33 data.
+  double stress_zz = std::numeric_limits<double>::quiet_NaN();
+  Eigen::Vector3d tangent_zz = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  double tangent_zz_zz = std::numeric_limits<double>::quiet_NaN();
   int broken = 0;        // pairs broken after this evaluation
   int newly_broken = 0;  // of which broke in it
   int iterations = 0;    // active-set subproblems, over all rounds
@@ -118,9 +133,11 @@ class CellEvaluator {
   // The unloaded cell's history.
   CellHistory unloaded() const;
   // The response to a macro stress σ̄ (stress-driven) or a macro strain ε̄ (strain-driven,
-  // engineering shear), from the history h, which is updated (breaks are irreversible).
-  CellResponse at_stress(const Eigen::Vector3d& sigma, CellHistory& h);
-  CellResponse at_strain(const Eigen::Vector3d& strain, CellHistory& h, BondMode bonds = BondMode::cascade);
+  // engineering shear), from the history h, which is updated (breaks are irreversible); with a
+  // strain eps33 along the fibres (the cell must carry its longitudinal data when eps33 ≠ 0).
+  CellResponse at_stress(const Eigen::Vector3d& sigma, CellHistory& h, double eps33 = 0);
+  CellResponse at_strain(const Eigen::Vector3d& strain, CellHistory& h, BondMode bonds = BondMode::cascade,
+                         double eps33 = 0);
   // The load factor s* at which the first bond of the unloaded cell breaks under s·σ̄ (+inf
   // without adhesion or when no bond ever reaches its strength along σ̄): the bonded cell with
   // its strengths lifted is homogeneous of degree one in σ̄, so s* = min over bonded rows of
@@ -132,7 +149,9 @@ class CellEvaluator {
   CellResponse cascade(CellHistory& h, bool breaks, Solve&& solve);
   void set_bounds(const std::vector<std::uint8_t>& bonded, int offset, bool lifted = false);
   double strength_use(const Eigen::VectorXd& forces, const std::vector<std::uint8_t>& bonded) const;
-  void check_shear(const Eigen::Vector3d& v, CellResponse& out) const;
+  void check_shear(const Eigen::Vector3d& v, double eps33, CellResponse& out) const;
+  // σ33 of a solution (σ̄, p) at eps33, when the cell has the data.
+  void set_stress_zz(double eps33, CellResponse& out) const;
   // One QP of the cascade with the bounds and linear term set (lower_, upper_, b_): its counts
   // into r, its solution into x; false, with r.message, when it did not converge.
   bool solve_qp(qp::DenseActiveSet& qp, std::vector<qp::Bound>& active, CellResponse& r, Eigen::VectorXd& x);
@@ -148,6 +167,8 @@ class CellEvaluator {
   // The last tangents and the factorisation they came from: the same factorisation (the same
   // free set) gives the same tangent, so a warm evaluation does not solve for it again.
   Eigen::Matrix3d stress_tangent_, strain_tangent_;
+  Eigen::Vector3d strain_tangent_zz_;
+  double strain_tangent_zz_zz_ = 0;
   long stress_tangent_of_ = -1, strain_tangent_of_ = -1;
 };
 

@@ -52,6 +52,8 @@ long extent_limit(Extent e) {
     case Extent::pairs:
     case Extent::fibre_modes:
       return max_cell_rows;
+    case Extent::longitudinal:
+      return 1;
   }
   return 0;
 }
@@ -68,6 +70,8 @@ long extent(const CondensedCell& cell, Extent e) {
       return cell.n_pairs;
     case Extent::fibre_modes:
       return cell.G.rows();
+    case Extent::longitudinal:
+      return cell.longitudinal;
   }
   return 0;
 }
@@ -84,6 +88,8 @@ const char* extent_name(Extent e) {
       return "n_pairs";
     case Extent::fibre_modes:
       return "fibre_modes";
+    case Extent::longitudinal:
+      return "longitudinal";
   }
   return "";
 }
@@ -114,8 +120,10 @@ std::optional<CellProblem> size_problem(const CondensedCell& cell) {
       if constexpr (ArrayMember<T>) rows = value.rows(), cols = value.cols();
       // G's rows (fibre_modes) are its own, and without any its columns do not matter.
       const bool free_rows = m.rows == Extent::fibre_modes;
-      const bool shaped =
-          (free_rows || rows == extent(cell, m.rows)) && (cols == extent(cell, m.cols) || (free_rows && rows == 0));
+      // An extent of 0 (no longitudinal data) takes an empty array of any shape.
+      const bool none = (extent(cell, m.rows) == 0 || extent(cell, m.cols) == 0) && rows * cols == 0;
+      const bool shaped = none || ((free_rows || rows == extent(cell, m.rows)) &&
+                                   (cols == extent(cell, m.cols) || (free_rows && rows == 0)));
       if (!shaped)
         report(name + " is not " + extent_name(m.rows) +
                (m.cols == Extent::one ? std::string(" long") : std::string(" × ") + extent_name(m.cols)));
@@ -209,6 +217,9 @@ std::optional<CellProblem> convexity_problem(const CondensedCell& cell) {
 std::optional<CellProblem> find_problem(const CondensedCell& cell) {
   if (auto problem = size_problem(cell)) return problem;
   if (auto problem = value_problem(cell)) return problem;
+  // The open cell stretched along the fibres at σ̄ = 0 stores energy: C33 > 0.
+  if (cell.longitudinal == 1 && !(cell.C33(0, 0) > 0))
+    return CellProblem{"C33", "is not positive: the cell would give way along the fibres"};
   for (int r = 0; r < cell.n_rows(); ++r) {
     const bond::Bounds rule = bond::bounds(cell.kind(r), bond::State::broken, 0, 0, 0);
     if (cell.lower_broken(r) != rule.lower || cell.upper_broken(r) != rule.upper)

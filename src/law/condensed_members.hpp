@@ -16,9 +16,9 @@
 
 namespace dualcell::law {
 
-// The sizes of the cell's arrays: one (a scalar), m = n_macro, n = n_rows(), P = n_pairs, and
-// k = G.rows(), which only G has (free).
-enum class Extent { one, macro, rows, pairs, fibre_modes };
+// The sizes of the cell's arrays: one (a scalar), m = n_macro, n = n_rows(), P = n_pairs,
+// k = G.rows(), which only G has (free), and L = longitudinal (0 or 1: the ε33 column).
+enum class Extent { one, macro, rows, pairs, fibre_modes, longitudinal };
 
 // What a member's values must satisfy besides their shape (consistency_problem). The matrix
 // rules include the ones before them: symmetric is finite too.
@@ -46,6 +46,9 @@ struct Member {
   // not in the text (the evaluation does not need it): `measured`.
   const char* text = nullptr;
   bool measured = false;
+  // A count that an older law.h5 or sweep.h5 does not have: read as 0 there, and the arrays of
+  // its extent as empty.
+  bool optional = false;
 };
 
 // A size that the cell's text states before its arrays (law.h5 and the JSON have it in the
@@ -75,6 +78,10 @@ void for_each_member(Cell& cell, Visit&& visit) {
   visit(Member{.name = "lower_broken", .rows = rows, .values = Values::at_most_zero}, cell.lower_broken);
   visit(Member{.name = "upper_broken", .rows = rows, .values = Values::at_least_zero}, cell.upper_broken);
   visit(Member{.name = "bonded", .rows = pairs, .values = Values::zero_one}, cell.bonded);
+  visit(Member{.name = "longitudinal", .hi = 1, .sizes = longitudinal, .optional = true}, cell.longitudinal);
+  visit(Member{.name = "A33", .rows = macro, .cols = longitudinal, .values = Values::finite}, cell.A33);
+  visit(Member{.name = "C33", .rows = longitudinal, .cols = longitudinal, .values = Values::finite}, cell.C33);
+  visit(Member{.name = "y33", .rows = rows, .cols = longitudinal, .values = Values::finite}, cell.y33);
   visit(Member{.name = "reciprocity_error", .measured = true}, cell.reciprocity_error);
   visit(Member{.name = "seconds", .measured = true}, cell.seconds);
   visit(Member{.name = "operator_applications", .measured = true}, cell.operator_applications);
@@ -100,7 +107,8 @@ struct CellProblem {
 };
 std::optional<CellProblem> find_problem(const CondensedCell& cell);
 
-// The largest value an extent may take (rows, pairs, fibre modes: max_cell_rows; n_macro: 3).
+// The largest value an extent may take (rows, pairs, fibre modes: max_cell_rows; n_macro: 3;
+// longitudinal: 1).
 long extent_limit(Extent e);
 // The value of an extent for the cell as it stands (fibre_modes: G's rows).
 long extent(const CondensedCell& cell, Extent e);
