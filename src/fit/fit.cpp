@@ -213,6 +213,33 @@ int replay_stride(const std::vector<sweep::PathResult>& paths, int rows, int che
   return static_cast<int>(std::max(1L, (points + max_replayed_points - 1) / max_replayed_points));
 }
 
+law::CellReplay replay_longitudinal(const law::CondensedCell& cell, const std::vector<sweep::LongitudinalPoint>& points,
+                                    double qp_tolerance) {
+  law::CellReplay replay;
+  replay.limit = 1e3 * qp_tolerance;
+  replay.max_error = 0;
+  law::CellEvaluator evaluator(cell);
+  double sum = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const sweep::LongitudinalPoint& p = points[i];
+    law::CellHistory history = evaluator.unloaded();
+    const law::CellResponse r = evaluator.at_stress(p.stress, history, p.eps33);
+    if (!r.ok)
+      throw ExactLawFailed("not kept: its QP failed at the check of the strain along the fibres: " + r.message);
+    Eigen::Vector3d expected = engineering_from_tensor(p.strain), strain = r.strain;
+    if (cell.n_macro == 2) expected(2) = strain(2) = 0;
+    const double error = std::max((strain - expected).norm() / (expected.norm() + std::abs(p.eps33)),
+                                  std::abs(r.stress_zz - p.stress_zz) / (std::abs(p.stress_zz) + p.stress.norm()));
+    ++replay.points;
+    sum += error * error;
+    if (error > replay.max_error || std::isnan(error))
+      replay.max_error = error, replay.worst_path = static_cast<int>(i);
+    replay.break_mismatches += r.broken != 0;
+  }
+  replay.rms_error = replay.points > 0 ? std::sqrt(sum / replay.points) : nan;
+  return replay;
+}
+
 law::CellReplay replay_cell(const law::CondensedCell& cell, const std::vector<sweep::PathResult>& paths,
                             double qp_tolerance, int path_stride) {
   law::CellReplay replay;
@@ -517,6 +544,8 @@ law::Law fit_law(const std::vector<sweep::PathResult>& paths, const sweep::Sweep
     try {
       law.cell_replay =
           replay_cell(*law.cell, paths, header.qp_tolerance, replay_stride(paths, law.cell->n_rows(), checked_rows));
+      if (law.cell->longitudinal == 1)
+        law.cell_longitudinal_replay = replay_longitudinal(*law.cell, header.longitudinal_points, header.qp_tolerance);
     } catch (const ExactLawFailed& e) {
       // The condensation may be right and its QP still beyond the dense method (an RVE of many
       // hundred interface rows): the law is not kept, and the file says why.

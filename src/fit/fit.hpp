@@ -49,6 +49,12 @@ struct ExactLawFailed : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 // `path_stride`: every path_stride-th path only (replay_stride).
+// The exact law at the sweep's checks of the strain along the fibres (docs/method.md §16a): per
+// point the larger of ‖ε̄ − ε̄_solve‖/(‖ε̄_solve‖ + |ε33|) and |σ33 − σ33_solve|/(|σ33_solve| + ‖σ̄‖),
+// from the intact cell; limit 1e3 × the QP tolerance, as the replay of the paths.
+law::CellReplay replay_longitudinal(const law::CondensedCell& cell, const std::vector<sweep::LongitudinalPoint>& points,
+                                    double qp_tolerance);
+
 law::CellReplay replay_cell(const law::CondensedCell& cell, const std::vector<sweep::PathResult>& paths,
                             double qp_tolerance, int path_stride = 1);
 

@@ -134,12 +134,16 @@ void add_exact_law(JsonObject& o, const Law& law) {
       cell.add(m.name, json_ints(value));
   });
   o.add("cell", cell.add("bytes", std::to_string(law.cell->bytes())).str(4));
-  JsonObject replay;
-  for (const law::CellReplayField& field : law::cell_replay_fields) {
-    if (field.count) replay.add(field.name, std::to_string(law.cell_replay.*field.count));
-    if (field.value) replay.add(field.name, json_number(law.cell_replay.*field.value));
+  for (const auto& [name, r] :
+       {std::pair{"cell_replay", &law.cell_replay}, {"cell_longitudinal_replay", &law.cell_longitudinal_replay}}) {
+    if (r == &law.cell_longitudinal_replay && law.cell->longitudinal == 0) continue;
+    JsonObject replay;
+    for (const law::CellReplayField& field : law::cell_replay_fields) {
+      if (field.count) replay.add(field.name, std::to_string(r->*field.count));
+      if (field.value) replay.add(field.name, json_number(r->*field.value));
+    }
+    o.add(name, replay.str(4));
   }
-  o.add("cell_replay", replay.str(4));
 }
 
 // The compact laws' checks (/law/cone_check, /law/cone_after_fuse_check), against the exact law

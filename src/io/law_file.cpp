@@ -250,11 +250,15 @@ void write_law(const std::filesystem::path& file, const Law& law) {
     write_onset(f, object("onset"), law.onset);
     if (law.cell) {
       write_condensed(f, object("cell"), *law.cell);
-      f.create_group(object("cell_replay"));
-      for (const law::CellReplayField& field : law::cell_replay_fields) {
-        const std::string name = std::string("cell_replay/") + field.name;
-        if (field.count) write_count(f, name, law.cell_replay.*field.count);
-        if (field.value) write_scalar(f, name, law.cell_replay.*field.value);
+      for (const auto& [group, replay] :
+           {std::pair{"cell_replay", &law.cell_replay}, {"cell_longitudinal_replay", &law.cell_longitudinal_replay}}) {
+        if (replay == &law.cell_longitudinal_replay && law.cell->longitudinal == 0) continue;
+        f.create_group(object(group));
+        for (const law::CellReplayField& field : law::cell_replay_fields) {
+          const std::string name = std::string(group) + "/" + field.name;
+          if (field.count) write_count(f, name, replay->*field.count);
+          if (field.value) write_scalar(f, name, replay->*field.value);
+        }
       }
     }
     if (!law.cone_check.directions.empty()) write_cone_check(f, "cone_check", law.cone_check);
@@ -317,12 +321,15 @@ Law read_law(const std::filesystem::path& file) {
   law.onset = read_onset(f, object("onset"));
   if (f.exists(object("cell"))) {
     law.cell = read_condensed(f, object("cell"));
-    for (const law::CellReplayField& field : law::cell_replay_fields) {
-      const std::string name = std::string("cell_replay/") + field.name;
-      if (field.count)
-        law.cell_replay.*field.count =
-            static_cast<int>(r.count(name, field.min_count, std::numeric_limits<int>::max()));
-      if (field.value) law.cell_replay.*field.value = r.scalar(name);
+    for (const auto& [group, replay] :
+         {std::pair{"cell_replay", &law.cell_replay}, {"cell_longitudinal_replay", &law.cell_longitudinal_replay}}) {
+      if (replay == &law.cell_longitudinal_replay && law.cell->longitudinal == 0) continue;
+      for (const law::CellReplayField& field : law::cell_replay_fields) {
+        const std::string name = std::string(group) + "/" + field.name;
+        if (field.count)
+          replay->*field.count = static_cast<int>(r.count(name, field.min_count, std::numeric_limits<int>::max()));
+        if (field.value) replay->*field.value = r.scalar(name);
+      }
     }
   }
   if (f.exists(object("cone_check"))) law.cone_check = read_cone_check(f, r, "cone_check");

@@ -121,6 +121,41 @@ sweep::PathResult read_path(const File& f, int index) {
   return p;
 }
 
+// /longitudinal_check: stress (N×3), eps33 (N), strain (N×3), stress_zz (N).
+void write_longitudinal_points(File& f, const std::vector<sweep::LongitudinalPoint>& points) {
+  const auto n = static_cast<hsize_t>(points.size());
+  std::vector<double> stress, eps33, strain, zz;
+  for (const sweep::LongitudinalPoint& p : points) {
+    stress.insert(stress.end(), p.stress.data(), p.stress.data() + 3);
+    strain.insert(strain.end(), p.strain.data(), p.strain.data() + 3);
+    eps33.push_back(p.eps33);
+    zz.push_back(p.stress_zz);
+  }
+  f.create_group("/longitudinal_check");
+  f.write("/longitudinal_check/stress", stress, {n, 3});
+  f.write("/longitudinal_check/eps33", eps33, {n});
+  f.write("/longitudinal_check/strain", strain, {n, 3});
+  f.write("/longitudinal_check/stress_zz", zz, {n});
+}
+
+std::vector<sweep::LongitudinalPoint> read_longitudinal_points(const File& f) {
+  const std::string g = "/longitudinal_check";
+  const std::vector<double> eps33 = f.read_doubles(g + "/eps33", {any_extent});
+  const hsize_t n = eps33.size();
+  const std::string like = " like " + g + "/eps33";
+  const std::vector<double> stress = f.read_doubles(g + "/stress", {n, 3}, like);
+  const std::vector<double> strain = f.read_doubles(g + "/strain", {n, 3}, like);
+  const std::vector<double> zz = f.read_doubles(g + "/stress_zz", {n}, like);
+  std::vector<sweep::LongitudinalPoint> points(n);
+  for (hsize_t i = 0; i < n; ++i) {
+    points[i].stress = Eigen::Vector3d(stress[3 * i], stress[3 * i + 1], stress[3 * i + 2]);
+    points[i].strain = Eigen::Vector3d(strain[3 * i], strain[3 * i + 1], strain[3 * i + 2]);
+    points[i].eps33 = eps33[i];
+    points[i].stress_zz = zz[i];
+  }
+  return points;
+}
+
 void write_header(File& f, const SweepHeader& header, std::size_t n_paths) {
   write_provenance(f, sweep_format, header.provenance);
   f.write_attribute("/", "inputs_key", inputs_key(header));
@@ -131,6 +166,7 @@ void write_header(File& f, const SweepHeader& header, std::size_t n_paths) {
   f.write_attribute("/", "cell_note", header.cell_note);
   if (header.cell_basis) write_condensed(f, "/cell_basis", *header.cell_basis);
   if (!header.cell_basis_note.empty()) f.write_attribute("/", "cell_basis_note", header.cell_basis_note);
+  if (!header.longitudinal_points.empty()) write_longitudinal_points(f, header.longitudinal_points);
   f.write_attribute("/", "qp_tolerance", header.qp_tolerance);
 }
 
@@ -199,6 +235,7 @@ SweepHeader read_sweep_header(const std::filesystem::path& file) {
   if (f.has_attribute("/", "cell_note")) header.cell_note = f.read_string_attribute("/", "cell_note");
   if (f.exists("/cell_basis")) header.cell_basis = read_condensed(f, "/cell_basis");
   if (f.has_attribute("/", "cell_basis_note")) header.cell_basis_note = f.read_string_attribute("/", "cell_basis_note");
+  if (f.exists("/longitudinal_check")) header.longitudinal_points = read_longitudinal_points(f);
   if (f.has_attribute("/", "qp_tolerance")) header.qp_tolerance = f.read_double_attribute_value("/", "qp_tolerance");
   return header;
 }

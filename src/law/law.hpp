@@ -132,6 +132,10 @@ struct Law {
   std::optional<CondensedCell> cell;
   std::string cell_note;
   CellReplay cell_replay;
+  // Where the cell carries the strain along the fibres: its replay of the sweep's checks of it,
+  // full solves of generalised plane strain (sweep::LongitudinalPoint; worst_path is the point's
+  // index, worst_step −1). Empty (0 points) otherwise.
+  CellReplay cell_longitudinal_replay;
   // The compact law (cone) against the exact one over a dense set of directions, or without an
   // exact law against the sweep's points, each direction held out of the fit in turn
   // (ConeCheck::against); empty without a cone-wise law, or without an exact law and with one

@@ -34,6 +34,15 @@ law::Law run_fit(const std::filesystem::path& sweep_file, const std::filesystem:
                   c.worst_path, c.worst_step, c.max_error, c.limit);
     throw InputError(sweep_file.string() + ": " + text);
   }
+  if (law.cell && law.cell->longitudinal == 1 && !law.cell_longitudinal_replay.ok()) {
+    const law::CellReplay& c = law.cell_longitudinal_replay;
+    char text[300];
+    std::snprintf(text, sizeof text,
+                  "the exact law misses the sweep's check %d of the strain along the fibres by %.3g relative, more "
+                  "than %.3g (1e3 × the sweep's QP tolerance; %d checks)",
+                  c.worst_path, c.max_error, c.limit, c.points);
+    throw InputError(sweep_file.string() + ": " + text);
+  }
   law.provenance.sweep_file = sweep_file.string();
   law.provenance.sweep_hash = file_hash(sweep_file);
   io::write_law(out, law);
@@ -93,6 +102,13 @@ void print_fit_summary(const std::filesystem::path& sweep_file, const std::files
         c.max_error, c.rms_error, c.limit,
         c.break_mismatches == 0 ? "the same at every point"
                                 : (std::to_string(c.break_mismatches) + " points differ").c_str());
+    if (law.cell->longitudinal == 1) {
+      const law::CellReplay& l = law.cell_longitudinal_replay;
+      std::printf(
+          "  exact law along the fibres (e33): meets %d full solves of generalised plane strain to max %.2e, rms "
+          "%.2e (limit %.1e)\n",
+          l.points, l.max_error, l.rms_error, l.limit);
+    }
   } else {
     std::printf("  exact law: none (%s)\n", law.cell_note.c_str());
   }

@@ -5,7 +5,9 @@
 #include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <limits>
 #include <map>
+#include <numbers>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -163,6 +165,33 @@ void build_basis(feti::ContactSolver& solver, const Scene& scene, sweep::SweepHe
   }
 }
 
+// The exact law's strain along the fibres against the full solve of generalised plane strain
+// (docs/method.md §16a), at loads far below any bond's strength (the cell linear where it has
+// bonds, positively homogeneous where it has contact only): σ̄ = 0 and s·n⊗n along each of the
+// sweep's directions, both signs, each with ε33 = ±e; s a thousandth of the smallest |magnitude|,
+// e = s over the softer phase's E, so that both parts of the response count. A solve that does not
+// converge is no check (the fit counts the points it has).
+std::vector<sweep::LongitudinalPoint> longitudinal_points(feti::ContactSolver& solver, const Scene& scene) {
+  double smallest = std::numeric_limits<double>::infinity();
+  for (const double m : scene.sweep.magnitudes) smallest = std::min(smallest, std::abs(m));
+  const double s = 1e-3 * smallest, e = s / std::min(scene.fibre.E, scene.matrix.E);
+  std::vector<Eigen::Vector3d> stresses{Eigen::Vector3d::Zero()};
+  for (const double theta : scene.sweep.directions_deg) {
+    const double c = std::cos(theta * std::numbers::pi / 180), n = std::sin(theta * std::numbers::pi / 180);
+    const Eigen::Vector3d unit(c * c, n * n, scene.load.boundary == Boundary::symmetry ? 0.0 : c * n);
+    for (const double sign : {1.0, -1.0}) stresses.push_back(sign * s * unit);
+  }
+  std::vector<sweep::LongitudinalPoint> points;
+  for (const Eigen::Vector3d& sigma : stresses)
+    for (const double eps33 : {e, -e}) {
+      solver.set_longitudinal_strain(eps33);
+      const feti::Solution sol = solver.solve_fixed(sigma, solver.intact());
+      if (sol.converged()) points.push_back({sigma, eps33, sol.strain, sol.average_stress_zz});
+    }
+  solver.set_longitudinal_strain(0);
+  return points;
+}
+
 }  // namespace
 
 SweepSummary run_sweep(const SweepOptions& options) {
@@ -193,6 +222,7 @@ SweepSummary run_sweep(const SweepOptions& options) {
     } catch (const InputError& e) {
       header.cell_note = e.what();
     }
+    if (header.cell && header.cell->longitudinal == 1) header.longitudinal_points = longitudinal_points(solver, scene);
     if (needs_basis(scene, header, options)) build_basis(solver, scene, header, options.progress && par::rank() == 0);
   }
 

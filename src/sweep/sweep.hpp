@@ -47,6 +47,16 @@ struct Step {
   bool converged = true;
 };
 
+// One check of the strain along the fibres (a scene's [load] macro = "full"): the full solve of
+// generalised plane strain at the macro stress σ̄ (tensor shear) and ε33, and what it gave, ε̄
+// (tensor shear, as Step) and σ33. The fit replays them through the exact law (docs/method.md §16a).
+struct LongitudinalPoint {
+  Eigen::Vector3d stress = Eigen::Vector3d::Zero();
+  double eps33 = 0;
+  Eigen::Vector3d strain = Eigen::Vector3d::Zero();
+  double stress_zz = 0;
+};
+
 // The largest jump along a path: the bracket whose strain along the load (N:ε) grows most.
 struct Fuse {
   double onset_load = 0;   // predicted s* (signed): the first bond reaches its strength
@@ -74,6 +84,8 @@ struct SweepHeader {
   // tried) otherwise.
   std::optional<law::CondensedCell> cell_basis;
   std::string cell_basis_note;
+  // Where the exact law carries the strain along the fibres: its checks against the full solve.
+  std::vector<LongitudinalPoint> longitudinal_points;
   double qp_tolerance = std::numeric_limits<double>::quiet_NaN();  // [solver] tolerance of the paths' QPs
 };
 

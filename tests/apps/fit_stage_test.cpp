@@ -117,6 +117,39 @@ TEST(FitStage, OnsetSurfacePredictsTheFirstBreakOfEveryPath) {
   EXPECT_EQ(broke, static_cast<int>(paths.size()));
 }
 
+// [load] macro = "full": the sweep checks the exact law's strain along the fibres against full
+// solves of generalised plane strain (σ̄ = 0 and each of the 2 directions in both signs, each at
+// ε33 = ±e: 10 points), and the fit replays them (to the QP's 1e-10
+// amplified by the dual conditioning: asked within the fit's limit, 1e3 × the tolerance). A sweep
+// whose check was altered by 1 % of σ33 is refused, naming the check.
+TEST(FitStage, TheFullLawMeetsTheSweepsChecksAlongTheFibresAndAnAlteredOneIsRefused) {
+  testing::ScratchDir dir;
+  const std::string text = testing::scene_text(1, 1, 1, 0.3,
+                                               "[load]\nboundary = \"periodic\"\nmacro = \"full\"\n"
+                                               "[sweep]\ndirections_deg = [0, 90]\nmagnitudes = [-0.1, 0.1]\n"
+                                               "[solver]\ntolerance = 1e-10\n");
+  const law::Law law = io::read_law(pipeline(dir, text));
+  ASSERT_TRUE(law.cell.has_value()) << law.cell_note;
+  EXPECT_EQ(law.cell->longitudinal, 1);
+  const law::CellReplay& r = law.cell_longitudinal_replay;
+  EXPECT_EQ(r.points, 10);
+  EXPECT_LE(r.max_error, r.limit);
+  EXPECT_LE(r.max_error, 1e-7);
+  EXPECT_EQ(r.break_mismatches, 0);
+  {
+    io::File f = io::File::open_write(dir / "sweep.h5");
+    std::vector<double> zz = f.read_doubles("/longitudinal_check/stress_zz", {10});
+    zz[3] *= 1.01;
+    f.remove("/longitudinal_check/stress_zz");
+    f.write("/longitudinal_check/stress_zz", zz, {10});
+  }
+  const auto fit = run_command(bin("dualcell-fit") + " --sweep " + (dir / "sweep.h5").string() + " --out " +
+                               (dir / "altered.h5").string());
+  EXPECT_EQ(fit.exit_code, 1) << fit.output;
+  EXPECT_NE(fit.output.find("check 3 of the strain along the fibres"), std::string::npos) << fit.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "altered.h5"));
+}
+
 TEST(FitStage, CorruptTruncatedOrIncompleteSweepsAreRefused) {
   testing::ScratchDir dir;
   pipeline(dir, testing::scene_text(1, 1, 1, 0.3, "[load]\nboundary = \"traction\"\n"));
