@@ -4,7 +4,8 @@
 // σxy), engineering shear; rows with the same value in an optional first column `path` form one
 // loading path from the unloaded cell, its history (the broken bonds) carried along it; rows
 // without it each start unloaded. The output has, per row, the other quantity, the consistent
-// tangent dσ/dε (9 entries, row by row) and the broken bonds. --form cell (the default) is the
+// tangent dσ/dε (9 entries, row by row) and the broken bonds; with --eps33 each row has the strain
+// ε33 along the fibres fourth, and σ33 and the tangent's ε33 column come out too. --form cell (the default) is the
 // exact law, the cell condensed onto its interface rows; --form small its small cell (the same form
 // with few rows, fitted to it); --form cone the compact cone-wise law.
 //
@@ -35,6 +36,9 @@ int main(int argc, char** argv) {
   app.add_option("--form", form,
                  "cell: the exact condensed law (default); small: its small cell; cone: the compact cone-wise law")
       ->check(CLI::IsMember({"cell", "small", "cone"}));
+  app.add_flag("--eps33", options.eps33,
+               "each row has a fourth number, the strain e33 along the fibres (a law fitted with [load] macro = "
+               "\"full\"); the output gains szz and the tangent's e33 column");
   app.add_flag("--quiet", quiet, "do not print the summary");
   if (const auto stop = dualcell::parse_options(app, argc, argv)) return *stop;
 

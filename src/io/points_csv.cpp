@@ -40,7 +40,8 @@ bool number(std::string_view text, double& value) {
 
 }  // namespace
 
-PointsReader::PointsReader(const std::filesystem::path& file) : file_(file), line_(max_points_line + 1) {
+PointsReader::PointsReader(const std::filesystem::path& file, int numbers)
+    : file_(file), line_(max_points_line + 1), numbers_(numbers) {
   std::error_code ec;
   const auto status = std::filesystem::status(file, ec);
   if (!std::filesystem::exists(status)) throw InputError(file.string() + ": no such file");
@@ -79,29 +80,32 @@ bool PointsReader::next(LawPoint& point) {
       bool any_number = false;
       for (const std::string_view field : f) any_number = any_number || number(field, value);
       if (!any_number) {
-        if (f.size() != 3 && f.size() != 4)
-          throw InputError(where + "a header of " + std::to_string(f.size()) +
-                           " columns, expected 3 or 4 (path first)");
+        const int n = numbers_;
+        if (static_cast<int>(f.size()) != n && static_cast<int>(f.size()) != n + 1)
+          throw InputError(where + "a header of " + std::to_string(f.size()) + " columns, expected " +
+                           std::to_string(n) + " or " + std::to_string(n + 1) + " (path first)");
         columns_ = static_cast<int>(f.size());
-        if (columns_ == 4 && f[0] != "path")
-          throw InputError(where + "a header of 4 columns must start with 'path', not '" + clipped(std::string(f[0])) +
-                           "'");
+        if (columns_ == n + 1 && f[0] != "path")
+          throw InputError(where + "a header of " + std::to_string(n + 1) + " columns must start with 'path', not '" +
+                           clipped(std::string(f[0])) + "'");
         continue;
       }
     }
     if (columns_ == 0) columns_ = static_cast<int>(f.size());
-    if (columns_ != 3 && columns_ != 4)
-      throw InputError(where + std::to_string(f.size()) + " columns, expected 3 numbers or a path and 3 numbers");
+    if (columns_ != numbers_ && columns_ != numbers_ + 1)
+      throw InputError(where + std::to_string(f.size()) + " columns, expected " + std::to_string(numbers_) +
+                       " numbers or a path and " + std::to_string(numbers_) + " numbers");
     if (static_cast<int>(f.size()) != columns_)
       throw InputError(where + std::to_string(f.size()) + " columns, expected " + std::to_string(columns_) +
                        " like the first row");
-    for (int k = 0; k < 3; ++k) {
-      const std::string_view field = f[columns_ - 3 + k];
-      if (!number(field, point.value(k)) || !std::isfinite(point.value(k)))
-        throw InputError(where + "column " + std::to_string(columns_ - 2 + k) + " = '" + clipped(std::string(field)) +
-                         "' is not a finite number");
+    for (int k = 0; k < numbers_; ++k) {
+      const std::string_view field = f[columns_ - numbers_ + k];
+      double& v = k < 3 ? point.value(k) : point.eps33;
+      if (!number(field, v) || !std::isfinite(v))
+        throw InputError(where + "column " + std::to_string(columns_ - numbers_ + 1 + k) + " = '" +
+                         clipped(std::string(field)) + "' is not a finite number");
     }
-    point.path = columns_ == 4 ? std::string(f[0]) : std::string();
+    point.path = has_path() ? std::string(f[0]) : std::string();
     point.line = number_of_line_;
     ++rows_;
     return true;

@@ -24,19 +24,20 @@ inline constexpr std::size_t max_points_line = 4096;
 struct LawPoint {
   std::string path;  // empty without the path column
   Eigen::Vector3d value;
-  long line = 0;  // the row's line in the file, for messages
+  double eps33 = 0;  // the fourth number of a row of four (the strain along the fibres)
+  long line = 0;     // the row's line in the file, for messages
 };
 
 class PointsReader {
  public:
   // An InputError naming the file when it is missing, not a regular file or beyond
-  // max_points_bytes.
-  explicit PointsReader(const std::filesystem::path& file);
+  // max_points_bytes. `numbers`: per row 3 (the in-plane state) or 4 (and ε33 after it).
+  explicit PointsReader(const std::filesystem::path& file, int numbers = 3);
   // The next row into `point`; false after the last one. An InputError naming the file, the line
-  // and what is wrong for a row that is not 3 (or, with a path, 4) finite numbers, a line beyond
-  // max_points_line, or a file without rows.
+  // and what is wrong for a row that is not `numbers` (or, with a path first, one more) finite
+  // numbers, a line beyond max_points_line, or a file without rows.
   bool next(LawPoint& point);
-  bool has_path() const { return columns_ == 4; }
+  bool has_path() const { return columns_ == numbers_ + 1; }
   const std::filesystem::path& file() const { return file_; }
 
  private:
@@ -44,7 +45,7 @@ class PointsReader {
   std::ifstream in_;
   std::vector<char> line_;
   long number_of_line_ = 0, rows_ = 0;
-  int columns_ = 0;
+  int columns_ = 0, numbers_ = 3;
   bool first_row_ = true;
 };
 

@@ -46,27 +46,38 @@ ConeResponse cone_at(const law::Law& law, const Eigen::Vector3d& value, bool str
 }
 
 // values.csv's header: the path (with that column), the other quantity and the tangent by row.
-std::string header_line(bool has_path, bool strain_driven, bool cell_form) {
+std::string header_line(bool has_path, bool strain_driven, bool cell_form, bool eps33) {
   std::string out = has_path ? "path," : "";
   out += strain_driven ? "sxx,syy,sxy" : "exx,eyy,gxy";
+  if (eps33) out += ",szz";
   for (int i = 1; i <= 3; ++i)
     for (int j = 1; j <= 3; ++j) {
       out.append(",C");
       out.push_back(static_cast<char>('0' + i));
       out.push_back(static_cast<char>('0' + j));
     }
+  if (eps33) out += ",C14,C24,C34,C44";
   out += cell_form ? ",broken_pairs\n" : ",fused\n";
   return out;
 }
 
+// With ε33: σ33 and the tangent's ε33 column (dσ̄/dε33, dσ33/dε33).
+struct AlongFibres {
+  double stress_zz = 0;
+  Eigen::Vector4d tangent = Eigen::Vector4d::Zero();
+};
+
 // One row of values.csv, appended piece by piece (GCC 12 warns falsely on chains of string
 // concatenation).
 void append_row(std::string& out, const std::string* path, const Eigen::Vector3d& other, const Eigen::Matrix3d& tangent,
-                long broken) {
+                long broken, const AlongFibres* fibres) {
   if (path) out.append(*path).push_back(',');
   for (int k = 0; k < 3; ++k) out.append(csv_number(other(k))).push_back(',');
+  if (fibres) out.append(csv_number(fibres->stress_zz)).push_back(',');
   for (int a = 0; a < 3; ++a)
     for (int b = 0; b < 3; ++b) out.append(csv_number(tangent(a, b))).push_back(',');
+  if (fibres)
+    for (int k = 0; k < 4; ++k) out.append(csv_number(fibres->tangent(k))).push_back(',');
   out.append(std::to_string(broken)).push_back('\n');
 }
 
@@ -80,7 +91,7 @@ constexpr std::size_t output_piece = std::size_t{1} << 20;
 LawPointsSummary evaluate_law(const LawPointsOptions& options) {
   io::check_outputs({options.out}, {options.law_file, options.points_file});
   const law::Law law = io::read_law(options.law_file);
-  io::PointsReader points(options.points_file);
+  io::PointsReader points(options.points_file, options.eps33 ? 4 : 3);
   if (options.form == LawForm::cell && !law.cell)
     throw InputError(options.law_file.string() + ": has no exact law (" + law.cell_note +
                      "): use --form cone for the compact one");
@@ -92,6 +103,12 @@ LawPointsSummary evaluate_law(const LawPointsOptions& options) {
                                    : options.form == LawForm::small ? &*law.small
                                                                     : nullptr;
   const bool cell_form = cell != nullptr;
+  if (options.eps33 && (!cell_form || cell->longitudinal == 0))
+    throw InputError(options.law_file.string() + ": --eps33: " +
+                     (cell_form
+                          ? std::string("its cell has no strain along the fibres (fit a scene with [load] macro = "
+                                        "\"full\"; the small cell has none yet)")
+                          : std::string("the cone-wise law has no strain along the fibres (use --form cell)")));
   if (!cell_form && !law.cone.ok)
     throw InputError(options.law_file.string() + ": has no cone-wise law" +
                      (law.cone.message.empty() ? std::string() : " (" + law.cone.message + ")"));
@@ -116,7 +133,7 @@ LawPointsSummary evaluate_law(const LawPointsOptions& options) {
   io::LawPoint point;
   while (points.next(point)) {
     // After the first row: whether the file has the path column is known then.
-    if (summary.rows == 0) out = header_line(points.has_path(), options.strain_driven, cell_form);
+    if (summary.rows == 0) out = header_line(points.has_path(), options.strain_driven, cell_form, options.eps33);
     const auto where = [&] { return options.points_file.string() + ":" + std::to_string(point.line) + ": "; };
     const Eigen::Vector3d& v = point.value;
     if (points.has_path() && !(cell_form ? histories.count(point.path) : fused_paths.count(point.path))) {
@@ -129,16 +146,21 @@ LawPointsSummary evaluate_law(const LawPointsOptions& options) {
     }
     Eigen::Vector3d other;
     Eigen::Matrix3d tangent;
+    AlongFibres fibres;
     long broken = 0;
     const auto t0 = std::chrono::steady_clock::now();
     if (cell_form) {
       law::CellHistory fresh;
       law::CellHistory& h = points.has_path() ? histories.try_emplace(point.path, evaluator->unloaded()).first->second
                                               : (fresh = evaluator->unloaded());
-      const law::CellResponse r = options.strain_driven ? evaluator->at_strain(v, h) : evaluator->at_stress(v, h);
+      const law::CellResponse r = options.strain_driven
+                                      ? evaluator->at_strain(v, h, law::BondMode::cascade, point.eps33)
+                                      : evaluator->at_stress(v, h, point.eps33);
       if (!r.ok) throw InputError(where() + r.message);
       other = options.strain_driven ? r.stress : r.strain;
       tangent = r.tangent;
+      fibres.stress_zz = r.stress_zz;
+      fibres.tangent << r.tangent_zz, r.tangent_zz_zz;
       broken = r.broken;
       summary.qp_iterations += r.iterations;
       summary.qp_factorisations += r.factorisations;
@@ -156,7 +178,10 @@ LawPointsSummary evaluate_law(const LawPointsOptions& options) {
       throw InputError(where() + "the law's answer at (" + shortest(v(0)) + ", " + shortest(v(1)) + ", " +
                        shortest(v(2)) + ") is not finite (the input is beyond what the law carries in doubles)");
     ++summary.rows;
-    append_row(out, points.has_path() ? &point.path : nullptr, other, tangent, broken);
+    if (options.eps33 && !std::isfinite(fibres.stress_zz))
+      throw InputError(where() + "the law's σ33 is not finite (the input is beyond what the law carries in doubles)");
+    append_row(out, points.has_path() ? &point.path : nullptr, other, tangent, broken,
+               options.eps33 ? &fibres : nullptr);
     if (out.size() >= output_piece) {
       outputs.append(options.out, out);
       out.clear();

@@ -13,6 +13,9 @@ struct LawPointsOptions {
   std::filesystem::path law_file, points_file, out;
   bool strain_driven = true;
   LawForm form = LawForm::cell;
+  // Rows of four numbers, the fourth the strain ε33 along the fibres (a cell that carries it:
+  // [load] macro = "full"); the output gains σ33 and the tangent's ε33 column.
+  bool eps33 = false;
 };
 struct LawPointsSummary {
   int rows = 0, paths = 0;     // paths: loading paths with history (rows without a path count one each)
@@ -21,7 +24,9 @@ struct LawPointsSummary {
   long qp_factorisations = 0;  // of which needed a new factorisation
 };
 // Writes `out` atomically: per input row the other quantity, dσ/dε (9 entries, row by row,
-// engineering shear) and the broken bonds (cell: pairs broken; cone: 1 once fused).
+// engineering shear) and the broken bonds (cell: pairs broken; cone: 1 once fused); with eps33
+// also σ33 after the other quantity and, after the 9 entries, dσ/dε33 and dσ33/dε33 (C14, C24,
+// C34, C44; strain-driven only, NaN stress-driven).
 LawPointsSummary evaluate_law(const LawPointsOptions& options);
 
 }  // namespace dualcell::stage

@@ -24,25 +24,22 @@ law::Law run_fit(const std::filesystem::path& sweep_file, const std::filesystem:
   const io::SweepHeader header = io::read_sweep_header(sweep_file);
   const std::vector<sweep::PathResult> paths = io::read_sweep(sweep_file);
   law::Law law = fit::fit_law(paths, header, fit::max_checked_rows, law_tolerance);
-  // The exact law must give back the sweep it came from; one that does not is not written.
-  if (law.cell && !law.cell_replay.ok()) {
-    const law::CellReplay& c = law.cell_replay;
-    char text[300];
-    std::snprintf(text, sizeof text,
-                  "the exact law misses the sweep's point (path %d, step %d) by %.3g relative, more than %.3g "
-                  "(1e3 × the sweep's QP tolerance): the condensation is wrong for this cell",
-                  c.worst_path, c.worst_step, c.max_error, c.limit);
-    throw InputError(sweep_file.string() + ": " + text);
-  }
-  if (law.cell && law.cell->longitudinal == 1 && !law.cell_longitudinal_replay.ok()) {
-    const law::CellReplay& c = law.cell_longitudinal_replay;
-    char text[300];
-    std::snprintf(text, sizeof text,
-                  "the exact law misses the sweep's check %d of the strain along the fibres by %.3g relative, more "
-                  "than %.3g (1e3 × the sweep's QP tolerance; %d checks)",
-                  c.worst_path, c.max_error, c.limit, c.points);
-    throw InputError(sweep_file.string() + ": " + text);
-  }
+  // The exact law must give back the sweep it came from, and where it carries the strain along
+  // the fibres the sweep's checks of it; one that does not is not written.
+  const auto refuse = [&](const law::CellReplay& c, const std::string& where, const char* why) {
+    throw InputError(sweep_file.string() + ": the exact law misses the sweep's " + where + " by " +
+                     formatted("%.3g", c.max_error) + " relative, more than " + formatted("%.3g", c.limit) +
+                     " (1e3 × the sweep's QP tolerance" + why);
+  };
+  if (law.cell && !law.cell_replay.ok())
+    refuse(law.cell_replay,
+           "point (path " + std::to_string(law.cell_replay.worst_path) + ", step " +
+               std::to_string(law.cell_replay.worst_step) + ")",
+           "): the condensation is wrong for this cell");
+  if (law.cell && law.cell->longitudinal == 1 && !law.cell_longitudinal_replay.ok())
+    refuse(law.cell_longitudinal_replay,
+           "check " + std::to_string(law.cell_longitudinal_replay.worst_path) + " of the strain along the fibres",
+           ("; " + std::to_string(law.cell_longitudinal_replay.points) + " checks)").c_str());
   law.provenance.sweep_file = sweep_file.string();
   law.provenance.sweep_hash = file_hash(sweep_file);
   io::write_law(out, law);

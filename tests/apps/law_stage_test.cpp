@@ -128,6 +128,46 @@ TEST(LawStage, DualcellLawGivesBackTheSweepInBothDirections) {
     }
 }
 
+// A law fitted with [load] macro = "full" evaluated with ε33 (dualcell-law --eps33): shortened
+// along the fibres at σ̄ = 0 the rims open and the matrix contracts freely, ε̄ = ν_m |ε33| (1, 1, 0)
+// exactly (docs/method.md §16a; to the QP's round-off, asked 1e-9); strain-driven at that strain
+// the law gives σ̄ = 0 and the same σ33 back. The cone-wise form, which has no ε33, is refused.
+TEST(LawStage, DualcellLawEvaluatesTheStrainAlongTheFibres) {
+  StagesRun run(testing::scene_text(1, 1, 1, 0.3,
+                                    "[load]\nboundary = \"periodic\"\nmacro = \"full\"\n[sweep]\ndirections_deg = [0, "
+                                    "90]\nmagnitudes = [-0.1, 0.1]\n[solver]\ntolerance = 1e-10\n"));
+  const double e = 1e-3, nu_m = 0.35;  // the matrix of testing::scene_text
+  const auto stresses = run.dir.write("s.csv", "sxx,syy,sxy,e33\n0,0,0,-0.001\n0,0,0,0.001\n");
+  const auto law = [&](const std::string& args) {
+    return run_command(bin("dualcell-law") + " --quiet --law " + q(run.law) + " " + args);
+  };
+  const auto a = law("--stress " + q(stresses) + " --eps33 --out " + q(run.dir / "a.csv"));
+  ASSERT_EQ(a.exit_code, exit_ok) << a.output;
+  std::string header;
+  const auto rows = read_csv(run.dir / "a.csv", &header);
+  EXPECT_EQ(header, "exx,eyy,gxy,szz,C11,C12,C13,C21,C22,C23,C31,C32,C33,C14,C24,C34,C44,broken_pairs");
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_NEAR(rows[0][0], nu_m * e, 1e-9 * e);
+  EXPECT_NEAR(rows[0][1], nu_m * e, 1e-9 * e);
+  EXPECT_LT(rows[0][3], 0);
+  EXPECT_LT(rows[1][0], 0) << "stretched, the rims close and the fibre holds the matrix in: less than ν_m";
+  std::ostringstream back;
+  back << std::setprecision(17) << "exx,eyy,gxy,e33\n";
+  for (int i = 0; i < 2; ++i)
+    back << rows[i][0] << ',' << rows[i][1] << ',' << rows[i][2] << ',' << (i ? e : -e) << '\n';
+  const auto strains = run.dir.write("e.csv", back.str());
+  const auto b = law("--strain " + q(strains) + " --eps33 --out " + q(run.dir / "b.csv"));
+  ASSERT_EQ(b.exit_code, exit_ok) << b.output;
+  const auto again = read_csv(run.dir / "b.csv");
+  for (int i = 0; i < 2; ++i) {
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(again[i][k], 0, 1e-9 * std::abs(rows[i][3])) << i << " " << k;
+    EXPECT_NEAR(again[i][3], rows[i][3], 1e-9 * std::abs(rows[i][3])) << i;
+  }
+  const auto cone = law("--stress " + q(run.dir / "a.csv") + " --eps33 --form cone --out " + q(run.dir / "c.csv"));
+  EXPECT_EQ(cone.exit_code, exit_input_error);
+  EXPECT_NE(cone.output.find("the cone-wise law has no strain along the fibres"), std::string::npos) << cone.output;
+}
+
 TEST(LawStage, DualcellLawRefusesBadPointsWithTheLine) {
   StagesRun run(contact_scene);
   const auto try_points = [&](const std::string& text, const std::string& flag = " --stress ") {
