@@ -16,7 +16,7 @@ Two steps:
             nodal loads: corners −1/12, midsides 1/3 of each face's share): the tip deflection
             against Euler–Bernoulli with the laminate's bending stiffness b/d11 (d = D⁻¹, free
             width) and with Timoshenko's shear term (shear correction 5/6, the plies' transverse
-            shear moduli in series), and σxx through the thickness at mid-span (elements' means of
+            shear moduli in series: G13 at 0°, G23 at 90°), and σxx through the thickness at mid-span (elements' means of
             their 2 × 2 × 2 points, at their centroids, the four around x = L/2, y = b/2) against
             the laminate's ply stresses Q̄(z) z κ, κ = d M.
 Writes OUT_FOLDER/laminate.md, laminate.csv (the through-thickness stresses) and laminate.png/.svg
@@ -189,7 +189,8 @@ def study(c, folder, ccx="ccx"):
 
     A, D, plies = laminate(c)
     a, d = np.linalg.inv(A), np.linalg.inv(D)
-    G_xz = H / sum(T / (c["G12"] if angle == 0 else c["G23"]) for angle in PLIES)
+    # the beam's x–z plane: the ply's 1–3 plane at 0° (fibres along x), its 2–3 plane at 90°
+    G_xz = H / sum(T / (c["G13"] if angle == 0 else c["G23"]) for angle in PLIES)
     w_eb = P * L ** 3 / (3 * B / d[0, 0])
     kappa = d @ np.array([P * (L / 2) / B, 0, 0])  # M_x per unit width at mid-span
 

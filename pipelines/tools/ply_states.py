@@ -88,9 +88,10 @@ def matrix_nu(mesh):
 class State:
     """Solves of one cell in one bond state: `bonds` a solution file holding it (None: intact)."""
 
-    def __init__(self, bin_dir, scene, mesh, folder, bonds):
+    def __init__(self, bin_dir, scene, mesh, folder, bonds, held=None):
+        """`held`: the bond state per pair the solves must keep (None: the first solve's)."""
         self.bin_dir, self.scene, self.mesh, self.folder, self.bonds = bin_dir, scene, mesh, folder, bonds
-        self.held = None
+        self.held = None if held is None else list(held)
         self.count = 0
 
     def solve(self, stress, eps33=None, shear=False):
@@ -121,6 +122,8 @@ class State:
         points = []
         e = guess
         for _ in range(12):
+            if e == 0:  # σzz is written only with ε33 ≠ 0; a step that lands on 0 moves off it
+                e = 1e-12 * LOAD
             strain, zz, _ = self.solve(stress, eps33=e)
             points.append((e, zz))
             if abs(zz) <= SIGMA33_TOLERANCE * LOAD:
@@ -153,10 +156,10 @@ class State:
 
 
 def fuse_bonds(bin_dir, scene, mesh, folder, fuse):
-    """The solution file of the fuse load (its bond state) and the pairs it broke."""
+    """The solution file of the fuse load (its bond state), the pairs it broke and the state."""
     out = os.path.join(folder, "fuse.h5")
     _, _, _, bonded = ply_constants.solve(bin_dir, scene, mesh, out, fuse)
-    return out, len(bonded) - int(sum(bonded)), len(bonded)
+    return out, len(bonded) - int(sum(bonded)), len(bonded), bonded
 
 
 def cell_rows(bin_dir, scene, mesh, folder, fuse):
@@ -167,17 +170,17 @@ def cell_rows(bin_dir, scene, mesh, folder, fuse):
     _, _, _, bonded = ply_constants.solve(bin_dir, scene, mesh, os.path.join(intact, "probe.h5"), [0.0, 0.0, 0.0])
     states = []
     if len(bonded) and max(bonded) == 1:
-        states.append(("bonded", None, f"0/{len(bonded)}"))
-        bonds, broken, pairs = fuse_bonds(bin_dir, scene, mesh, folder, fuse)
-        states.append(("after fuse", bonds, f"{broken}/{pairs}"))
+        states.append(("bonded", None, f"0/{len(bonded)}", bonded))
+        bonds, broken, pairs, after = fuse_bonds(bin_dir, scene, mesh, folder, fuse)
+        states.append(("after fuse", bonds, f"{broken}/{pairs}", after))
     else:
-        states.append(("contact", None, "no bonds"))
+        states.append(("contact", None, "no bonds", bonded))
     nu_m = matrix_nu(mesh)
     rows = []
-    for state, bonds, broken in states:
+    for state, bonds, broken, held in states:
         sub = os.path.join(folder, state.replace(" ", "-"))
         os.makedirs(sub, exist_ok=True)
-        solves = State(bin_dir, scene, mesh, sub, bonds)
+        solves = State(bin_dir, scene, mesh, sub, bonds, held)
         reference = ply_constants.constants(bin_dir, scene, mesh, sub) if state == "bonded" else None
         all_broken = state == "contact" or broken.split("/")[0] == broken.split("/")[1]
         for sign, name in ((1, "tension"), (-1, "compression")):

@@ -316,7 +316,9 @@ double set_longitudinal(const FetiSetup& setup, const Eigen::MatrixXd& Y, const 
   cell.A33 = 0.5 * (a - b);
   cell.C33 = Eigen::MatrixXd::Constant(1, 1, S0(m, m) + zz);
   cell.y33 = 0.5 * (y + g);
-  return std::max((a + b).norm() / std::max(a.norm(), 1e-300), (y - g).norm() / std::max(y.norm(), 1e-300));
+  // Relative to the in-plane columns too: where the phases' ν agree, A33 and y33 are round-off.
+  return std::max((a + b).norm() / std::max({a.norm(), S0.topLeftCorner(m, m).norm(), 1e-300}),
+                  (y - g).norm() / std::max({y.norm(), Y.leftCols(m).norm(), 1e-300}));
 }
 
 }  // namespace

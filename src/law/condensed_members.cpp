@@ -120,8 +120,9 @@ std::optional<CellProblem> size_problem(const CondensedCell& cell) {
       if constexpr (ArrayMember<T>) rows = value.rows(), cols = value.cols();
       // G's rows (fibre_modes) are its own, and without any its columns do not matter.
       const bool free_rows = m.rows == Extent::fibre_modes;
-      // An extent of 0 (no longitudinal data) takes an empty array of any shape.
-      const bool none = (extent(cell, m.rows) == 0 || extent(cell, m.cols) == 0) && rows * cols == 0;
+      // Without longitudinal data (extent 0) its arrays may be empty of any shape.
+      const bool none = (m.rows == Extent::longitudinal || m.cols == Extent::longitudinal) && cell.longitudinal == 0 &&
+                        rows * cols == 0;
       const bool shaped = none || ((free_rows || rows == extent(cell, m.rows)) &&
                                    (cols == extent(cell, m.cols) || (free_rows && rows == 0)));
       if (!shaped)

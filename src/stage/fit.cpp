@@ -36,6 +36,10 @@ law::Law run_fit(const std::filesystem::path& sweep_file, const std::filesystem:
            "point (path " + std::to_string(law.cell_replay.worst_path) + ", step " +
                std::to_string(law.cell_replay.worst_step) + ")",
            "): the condensation is wrong for this cell");
+  if (law.cell && law.cell->longitudinal == 1 && law.cell_longitudinal_replay.points == 0)
+    throw InputError(sweep_file.string() +
+                     ": the exact law carries the strain along the fibres, but the sweep has no converged check of it "
+                     "(/longitudinal_check): not kept unchecked");
   if (law.cell && law.cell->longitudinal == 1 && !law.cell_longitudinal_replay.ok())
     refuse(law.cell_longitudinal_replay,
            "check " + std::to_string(law.cell_longitudinal_replay.worst_path) + " of the strain along the fibres",

@@ -18,6 +18,7 @@
 #include "feti/solver.hpp"
 #include "io/atomic_output.hpp"
 #include "io/sweep_file.hpp"
+#include "law/onset.hpp"
 #include "par/parallel.hpp"
 #include "stage/stage.hpp"
 #include "sweep/sweep.hpp"
@@ -168,19 +169,28 @@ void build_basis(feti::ContactSolver& solver, const Scene& scene, sweep::SweepHe
 // The exact law's strain along the fibres against the full solve of generalised plane strain
 // (docs/method.md §16a), at loads far below any bond's strength (the cell linear where it has
 // bonds, positively homogeneous where it has contact only): σ̄ = 0 and s·n⊗n along each of the
-// sweep's directions, both signs, each with ε33 = ±e; s a thousandth of the smallest |magnitude|,
-// e = s over the softer phase's E, so that both parts of the response count. A solve that does not
-// converge is no check (the fit counts the points it has).
-std::vector<sweep::LongitudinalPoint> longitudinal_points(feti::ContactSolver& solver, const Scene& scene) {
+// sweep's directions, both signs, each with ε33 = ±e; s a thousandth of the smallest |magnitude|
+// and, with adhesion, at most a hundredth of the onset along every direction (the fit replays the
+// checks with the cascade: no bond may come near its strength); e = s over the softer phase's E, so
+// that both parts of the response count. A solve that does not converge is no check (the fit
+// counts the points it has, and refuses a law with none).
+std::vector<sweep::LongitudinalPoint> longitudinal_points(feti::ContactSolver& solver, const Scene& scene,
+                                                          const law::OnsetSurface& onset) {
   double smallest = std::numeric_limits<double>::infinity();
   for (const double m : scene.sweep.magnitudes) smallest = std::min(smallest, std::abs(m));
-  const double s = 1e-3 * smallest, e = s / std::min(scene.fibre.E, scene.matrix.E);
-  std::vector<Eigen::Vector3d> stresses{Eigen::Vector3d::Zero()};
+  std::vector<Eigen::Vector3d> units;
   for (const double theta : scene.sweep.directions_deg) {
     const double c = std::cos(theta * std::numbers::pi / 180), n = std::sin(theta * std::numbers::pi / 180);
     const Eigen::Vector3d unit(c * c, n * n, scene.load.boundary == Boundary::symmetry ? 0.0 : c * n);
-    for (const double sign : {1.0, -1.0}) stresses.push_back(sign * s * unit);
+    for (const double sign : {1.0, -1.0}) units.push_back(sign * unit);
   }
+  double s = 1e-3 * smallest;
+  if (onset.linear)
+    for (const Eigen::Vector3d& u : units)
+      if (const double along = law::onset_along(onset, u); std::isfinite(along)) s = std::min(s, 1e-2 * along);
+  const double e = s / std::min(scene.fibre.E, scene.matrix.E);
+  std::vector<Eigen::Vector3d> stresses{Eigen::Vector3d::Zero()};
+  for (const Eigen::Vector3d& u : units) stresses.push_back(s * u);
   std::vector<sweep::LongitudinalPoint> points;
   for (const Eigen::Vector3d& sigma : stresses)
     for (const double eps33 : {e, -e}) {
@@ -222,7 +232,8 @@ SweepSummary run_sweep(const SweepOptions& options) {
     } catch (const InputError& e) {
       header.cell_note = e.what();
     }
-    if (header.cell && header.cell->longitudinal == 1) header.longitudinal_points = longitudinal_points(solver, scene);
+    if (header.cell && header.cell->longitudinal == 1)
+      header.longitudinal_points = longitudinal_points(solver, scene, header.onset);
     if (needs_basis(scene, header, options)) build_basis(solver, scene, header, options.progress && par::rank() == 0);
   }
 

@@ -149,8 +149,10 @@ TEST(LawStage, DualcellLawEvaluatesTheStrainAlongTheFibres) {
   ASSERT_EQ(rows.size(), 2u);
   EXPECT_NEAR(rows[0][0], nu_m * e, 1e-9 * e);
   EXPECT_NEAR(rows[0][1], nu_m * e, 1e-9 * e);
-  EXPECT_LT(rows[0][3], 0);
-  EXPECT_LT(rows[1][0], 0) << "stretched, the rims close and the fibre holds the matrix in: less than ν_m";
+  // Stretched, the rims close and the stiffer, less contracting fibre holds the matrix back: the
+  // ply contracts less than the matrix alone would (the open cell's −ν_m ε33), though it does.
+  EXPECT_GT(rows[1][0], -nu_m * e * (1 - 1e-3));
+  EXPECT_LT(rows[1][0], 0);
   std::ostringstream back;
   back << std::setprecision(17) << "exx,eyy,gxy,e33\n";
   for (int i = 0; i < 2; ++i)
@@ -163,7 +165,7 @@ TEST(LawStage, DualcellLawEvaluatesTheStrainAlongTheFibres) {
     for (int k = 0; k < 3; ++k) EXPECT_NEAR(again[i][k], 0, 1e-9 * std::abs(rows[i][3])) << i << " " << k;
     EXPECT_NEAR(again[i][3], rows[i][3], 1e-9 * std::abs(rows[i][3])) << i;
   }
-  const auto cone = law("--stress " + q(run.dir / "a.csv") + " --eps33 --form cone --out " + q(run.dir / "c.csv"));
+  const auto cone = law("--stress " + q(stresses) + " --eps33 --form cone --out " + q(run.dir / "c.csv"));
   EXPECT_EQ(cone.exit_code, exit_input_error);
   EXPECT_NE(cone.output.find("the cone-wise law has no strain along the fibres"), std::string::npos) << cone.output;
 }
