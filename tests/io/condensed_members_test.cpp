@@ -12,6 +12,7 @@
 #include <sstream>
 #include <type_traits>
 
+#include "io/hdf5.hpp"
 #include "io/law_export.hpp"
 #include "io/law_file.hpp"
 #include "law/bond.hpp"
@@ -119,6 +120,35 @@ TEST(CondensedMembers, EveryMemberReachesTheJson) {
       EXPECT_NE(cell.find("\"" + std::string(m.name) + "\": "), std::string::npos) << m.name;
     }
   });
+}
+
+// A cell without the strain along the fibres (L = 0, the transverse law): law.h5 and the JSON
+// leave its members out, the cell text writes them empty, and each reads back as that cell.
+TEST(CondensedMembers, ACellWithoutTheStrainAlongTheFibresLeavesItsMembersOut) {
+  CondensedCell cell = distinct_cell();
+  cell.longitudinal = 0;
+  cell.A33.resize(0, 0), cell.C33.resize(0, 0), cell.y33.resize(0, 0);
+  ASSERT_EQ(law::consistency_problem(cell), "");
+  testing::ScratchDir dir;
+  law::Law law = testing::synthetic_law();
+  law.cell = cell;
+  write_law(dir / "law.h5", law);
+  EXPECT_FALSE(File::open_read(dir / "law.h5").exists("/law/cell/A33"));
+  const CondensedCell back = *read_law(dir / "law.h5").cell;
+  EXPECT_EQ(back.longitudinal, 0);
+  EXPECT_EQ(back.A33.size() + back.C33.size() + back.y33.size(), 0);
+  const std::string json = law_json(law);
+  EXPECT_EQ(json.find("\"A33\""), std::string::npos);
+  std::ostringstream out;
+  law::write_cell_text(out, cell);
+  std::istringstream in(out.str());
+  std::string error;
+  const CondensedCell text = law::read_cell_text(in, error);
+  ASSERT_EQ(error, "");
+  EXPECT_EQ(text.longitudinal, 0);
+  // A cell that says L = 1 without its arrays is refused, by name.
+  cell.longitudinal = 1;
+  EXPECT_NE(law::consistency_problem(cell).find("A33"), std::string::npos) << law::consistency_problem(cell);
 }
 
 // The exact law's replay check (law::cell_replay_fields) beside it: every member its own value,
