@@ -33,7 +33,8 @@ $(PLY_OUT)/laminate/laminate.md: $(PLY_OUT)/constants.md $(TOOLS)/ccx_laminate.p
 	$(PY) $(TOOLS)/ccx_laminate.py $(PLY_OUT)/constants.csv default $(dir $@) --ccx ccx
 
 # The constants per bond state (bonded, after the fuse, a contact cell's), in tension and in
-# compression (tools/ply_states.py, docs/method.md §3c), each state's cards checked by CalculiX.
+# compression (tools/ply_states.py, docs/method.md §3c), each state's cards checked by CalculiX;
+# states.png shows each row's moduli.
 PLY_STATE_SCENES ?= default rve4-adhesion bimodular
 
 $(PLY_OUT)/states.md: $(foreach s,$(PLY_STATE_SCENES),$(LAWS_OUT)/$(s)/law.h5) $(TOOLS)/ply_states.py $(TOOLS)/ply_constants.py

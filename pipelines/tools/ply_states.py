@@ -39,7 +39,8 @@ that close different contacts need not be one elastic material: a state whose co
 orthotropic 6 × 6 of its constants, symmetric by construction) is not positive definite gets no
 card, and the table says so.
 
-Writes OUT.md (one row per cell, state and sign) and OUT.csv beside it, atomically.
+Writes OUT.md (one row per cell, state and sign) and OUT.csv beside it, atomically, and the
+picture OUT.png/.svg: the moduli of each row as bars, on a log scale (E1 is ten times the others).
 """
 import contextlib
 import os
@@ -49,6 +50,7 @@ import h5py
 import numpy
 
 import common
+import plot
 import ply_constants
 
 COLUMNS = ["cell", "state", "sign", "broken", "E1", "E2", "E3", "nu12", "nu13", "nu23", "G12", "G13", "G23",
@@ -208,6 +210,19 @@ def markdown(rows):
     return "\n".join(lines) + "\n"
 
 
+def picture(rows, outbase):
+    """The six moduli of every row (cell, state, load) as clustered bars, log scale."""
+    moduli = ["E1", "E2", "E3", "G12", "G13", "G23"]
+    data = "row " + " ".join(moduli) + "\n" + "".join(
+        f"\"{r['cell']} {r['state']} {r['sign']}\" " + " ".join(f"{r[k]:.6g}" for k in moduli) + "\n" for r in rows)
+    script = ("set style data histogram\nset style histogram cluster gap 1\nset style fill solid 0.8 border -1\n"
+              "set logscale y\nset ylabel 'modulus, in the scene units'\nset xtics rotate by -30\n"
+              "set key outside right top\nset grid ytics\nset bmargin 9\n"
+              "set title 'The ply per bond state: secant moduli in tension and compression (fibres along 1)'\n"
+              "plot for [k=2:7] 'moduli.dat' using k:xtic(1) title columnheader(k)\n")
+    plot.gnuplot(script, outbase, {"moduli.dat": data})
+
+
 def main(argv):
     parser = common.Parser(description=__doc__)
     parser.add_argument("bin")
@@ -240,6 +255,7 @@ def main(argv):
                 r["ccx"] = ply_constants.ccx_check(args.ccx, folder, name, r)
             rows.append(r)
     common.write_table(args.out, markdown(rows), COLUMNS, rows)
+    picture(rows, os.path.splitext(args.out)[0])
     print(markdown(rows), end="")
 
 
