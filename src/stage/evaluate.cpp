@@ -86,19 +86,16 @@ constexpr std::size_t max_history_bytes = std::size_t{1} << 30;
 // Output is appended in pieces of about this size, so it is never held whole.
 constexpr std::size_t output_piece = std::size_t{1} << 20;
 
-}  // namespace
-
-LawPointsSummary evaluate_law(const LawPointsOptions& options) {
-  io::check_outputs({options.out}, {options.law_file, options.points_file});
-  const law::Law law = io::read_law(options.law_file);
-  io::PointsReader points(options.points_file, options.eps33 ? 4 : 3);
+// The cell the form evaluates (the exact law or its small cell, evaluated alike), or nullptr for
+// the cone-wise law; an InputError naming the file where the law has no such form, or no ε33 for
+// --eps33.
+const law::CondensedCell* chosen_cell(const law::Law& law, const LawPointsOptions& options) {
   if (options.form == LawForm::cell && !law.cell)
     throw InputError(options.law_file.string() + ": has no exact law (" + law.cell_note +
                      "): use --form cone for the compact one");
   if (options.form == LawForm::small && !law.small)
     throw InputError(options.law_file.string() + ": has no small cell (" + law.small_note +
                      "): use --form cell or cone");
-  // The exact law and the small cell are both cells, evaluated alike.
   const law::CondensedCell* cell = options.form == LawForm::cell    ? &*law.cell
                                    : options.form == LawForm::small ? &*law.small
                                                                     : nullptr;
@@ -112,6 +109,18 @@ LawPointsSummary evaluate_law(const LawPointsOptions& options) {
   if (!cell_form && !law.cone.ok)
     throw InputError(options.law_file.string() + ": has no cone-wise law" +
                      (law.cone.message.empty() ? std::string() : " (" + law.cone.message + ")"));
+
+  return cell;
+}
+
+}  // namespace
+
+LawPointsSummary evaluate_law(const LawPointsOptions& options) {
+  io::check_outputs({options.out}, {options.law_file, options.points_file});
+  const law::Law law = io::read_law(options.law_file);
+  io::PointsReader points(options.points_file, options.eps33 ? 4 : 3);
+  const law::CondensedCell* cell = chosen_cell(law, options);
+  const bool cell_form = cell != nullptr;
 
   io::AtomicOutputs outputs;
   outputs.add(options.out);

@@ -50,6 +50,70 @@ law::Law run_fit(const std::filesystem::path& sweep_file, const std::filesystem:
   return law;
 }
 
+namespace {
+
+// The exact law's lines of the summary: its replay of the sweep and, with ε33, of its checks.
+void print_exact_law_summary(const law::Law& law) {
+  if (law.cell) {
+    const law::CellReplay& c = law.cell_replay;
+    const bool sampled = law.cell->n_rows() > fit::max_checked_rows;
+    std::printf(
+        "  exact law: the cell on %d interface rows; replays %s %d points%s to max %.2e, rms %.2e "
+        "(limit %.1e), broken bonds %s\n",
+        law.cell->n_rows(), sampled ? "of the sweep" : "the sweep's", c.points,
+        sampled ? (", every k-th path (at most " + std::to_string(fit::max_replayed_points) + " points above " +
+                   std::to_string(fit::max_checked_rows) + " rows)")
+                      .c_str()
+                : "",
+        c.max_error, c.rms_error, c.limit,
+        c.break_mismatches == 0 ? "the same at every point"
+                                : (std::to_string(c.break_mismatches) + " points differ").c_str());
+    if (law.cell->longitudinal == 1) {
+      const law::CellReplay& l = law.cell_longitudinal_replay;
+      std::printf(
+          "  exact law along the fibres (e33): meets %d full solves of generalised plane strain to max %.2e, rms "
+          "%.2e (limit %.1e)\n",
+          l.points, l.max_error, l.rms_error, l.limit);
+    }
+  } else {
+    std::printf("  exact law: none (%s)\n", law.cell_note.c_str());
+  }
+}
+
+// The small cell's line: how it was fitted and its check.
+void print_small_cell_summary(const law::Law& law) {
+  if (law.small && law.small_check.against == law::CheckedAgainst::exact_law_past_fuse) {
+    const law::SmallCellFit& s = law.small_fit;
+    const law::ConeCheck& c = law.small_check;
+    std::printf(
+        "  small cell with a fuse: bonded, the exact bonded law and onset (%d facet rows); past the fuse %d rows "
+        "fitted "
+        "to the exact law's cascade paths along %d directions (3 points each) in %.1f s (max %.1f %%, rms %.1f %%); "
+        "against %s along %zu other directions' paths (%d points each): max %.1f %% (at sxx,syy,sxy = "
+        "%.3f,%.3f,%.3f), rms %.1f %%, %s the tolerance %.1f %%\n",
+        law.small->n_rows() - s.rows, s.rows, s.training_directions, s.seconds, 100 * s.training_max_error,
+        100 * s.training_rms_error, law::checked_against_text(c.against), c.directions.size(), law::past_fuse_steps + 1,
+        100 * c.max_error, c.worst(0), c.worst(1), c.worst(2), 100 * c.rms_error,
+        c.max_error <= s.tolerance ? "within" : "OVER", 100 * s.tolerance);
+  } else if (law.small) {
+    const law::SmallCellFit& s = law.small_fit;
+    const law::ConeCheck& c = law.small_check;
+    const bool exact = c.against == law::CheckedAgainst::exact_law;
+    std::printf(
+        "  small cell: %d rows fitted to %s at %d directions in %.1f s (max %.1f %%, rms %.1f %%); "
+        "against %s at %zu other directions: max %.1f %% (at sxx,syy,sxy = %.3f,%.3f,%.3f), rms %.1f %%, "
+        "%s the tolerance %.1f %%\n",
+        s.rows, exact ? "the exact law" : "full solves", s.training_directions, s.seconds, 100 * s.training_max_error,
+        100 * s.training_rms_error, law::checked_against_text(c.against), c.directions.size(), 100 * c.max_error,
+        c.worst(0), c.worst(1), c.worst(2), 100 * c.rms_error, c.max_error <= s.tolerance ? "within" : "OVER",
+        100 * s.tolerance);
+  } else {
+    std::printf("  small cell: none (%s)\n", law.small_note.c_str());
+  }
+}
+
+}  // namespace
+
 void print_fit_summary(const std::filesystem::path& sweep_file, const std::filesystem::path& out, const law::Law& law) {
   std::printf("dualcell-fit: %s -> %s (%zu directions)\n", sweep_file.c_str(), out.c_str(), law.directions.size());
   std::printf("  %8s %12s %10s %12s %10s %8s %8s %8s %12s %10s\n", "theta", "E_tension", "se", "E_compress", "se",
@@ -89,58 +153,8 @@ void print_fit_summary(const std::filesystem::path& sweep_file, const std::files
   } else {
     std::printf("  onset surface: none (%s)\n", law.onset.message.c_str());
   }
-  if (law.cell) {
-    const law::CellReplay& c = law.cell_replay;
-    const bool sampled = law.cell->n_rows() > fit::max_checked_rows;
-    std::printf(
-        "  exact law: the cell on %d interface rows; replays %s %d points%s to max %.2e, rms %.2e "
-        "(limit %.1e), broken bonds %s\n",
-        law.cell->n_rows(), sampled ? "of the sweep" : "the sweep's", c.points,
-        sampled ? (", every k-th path (at most " + std::to_string(fit::max_replayed_points) + " points above " +
-                   std::to_string(fit::max_checked_rows) + " rows)")
-                      .c_str()
-                : "",
-        c.max_error, c.rms_error, c.limit,
-        c.break_mismatches == 0 ? "the same at every point"
-                                : (std::to_string(c.break_mismatches) + " points differ").c_str());
-    if (law.cell->longitudinal == 1) {
-      const law::CellReplay& l = law.cell_longitudinal_replay;
-      std::printf(
-          "  exact law along the fibres (e33): meets %d full solves of generalised plane strain to max %.2e, rms "
-          "%.2e (limit %.1e)\n",
-          l.points, l.max_error, l.rms_error, l.limit);
-    }
-  } else {
-    std::printf("  exact law: none (%s)\n", law.cell_note.c_str());
-  }
-  if (law.small && law.small_check.against == law::CheckedAgainst::exact_law_past_fuse) {
-    const law::SmallCellFit& s = law.small_fit;
-    const law::ConeCheck& c = law.small_check;
-    std::printf(
-        "  small cell with a fuse: bonded, the exact bonded law and onset (%d facet rows); past the fuse %d rows "
-        "fitted "
-        "to the exact law's cascade paths along %d directions (3 points each) in %.1f s (max %.1f %%, rms %.1f %%); "
-        "against %s along %zu other directions' paths (%d points each): max %.1f %% (at sxx,syy,sxy = "
-        "%.3f,%.3f,%.3f), rms %.1f %%, %s the tolerance %.1f %%\n",
-        law.small->n_rows() - s.rows, s.rows, s.training_directions, s.seconds, 100 * s.training_max_error,
-        100 * s.training_rms_error, law::checked_against_text(c.against), c.directions.size(), law::past_fuse_steps + 1,
-        100 * c.max_error, c.worst(0), c.worst(1), c.worst(2), 100 * c.rms_error,
-        c.max_error <= s.tolerance ? "within" : "OVER", 100 * s.tolerance);
-  } else if (law.small) {
-    const law::SmallCellFit& s = law.small_fit;
-    const law::ConeCheck& c = law.small_check;
-    const bool exact = c.against == law::CheckedAgainst::exact_law;
-    std::printf(
-        "  small cell: %d rows fitted to %s at %d directions in %.1f s (max %.1f %%, rms %.1f %%); "
-        "against %s at %zu other directions: max %.1f %% (at sxx,syy,sxy = %.3f,%.3f,%.3f), rms %.1f %%, "
-        "%s the tolerance %.1f %%\n",
-        s.rows, exact ? "the exact law" : "full solves", s.training_directions, s.seconds, 100 * s.training_max_error,
-        100 * s.training_rms_error, law::checked_against_text(c.against), c.directions.size(), 100 * c.max_error,
-        c.worst(0), c.worst(1), c.worst(2), 100 * c.rms_error, c.max_error <= s.tolerance ? "within" : "OVER",
-        100 * s.tolerance);
-  } else {
-    std::printf("  small cell: none (%s)\n", law.small_note.c_str());
-  }
+  print_exact_law_summary(law);
+  print_small_cell_summary(law);
   for (const auto* check : {&law.cone_check, &law.cone_after_fuse_check}) {
     if (check->directions.empty()) continue;
     const law::ConeCheck& c = *check;

@@ -7,7 +7,6 @@
 #include <cstdio>
 #include <limits>
 #include <map>
-#include <numbers>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -169,21 +168,20 @@ void build_basis(feti::ContactSolver& solver, const Scene& scene, sweep::SweepHe
 // The exact law's strain along the fibres against the full solve of generalised plane strain
 // (docs/method.md §16a), at loads far below any bond's strength (the cell linear where it has
 // bonds, positively homogeneous where it has contact only): σ̄ = 0 and s·n⊗n along each of the
-// sweep's directions, both signs, each with ε33 = ±e; s a thousandth of the smallest |magnitude|
-// and, with adhesion, at most a hundredth of the onset along every direction (the fit replays the
+// sweep's uniaxial paths (its directions in the signs its magnitudes have), each with ε33 = ±e; s a thousandth of the
+// smallest |magnitude| and, with adhesion, at most a hundredth of the onset along every direction (the fit replays the
 // checks with the cascade: no bond may come near its strength); e = s over the softer phase's E, so
 // that both parts of the response count. A solve that does not converge is no check (the fit
 // counts the points it has, and refuses a law with none).
 std::vector<sweep::LongitudinalPoint> longitudinal_points(feti::ContactSolver& solver, const Scene& scene,
+                                                          const std::vector<sweep::PathSpec>& specs,
                                                           const law::OnsetSurface& onset) {
   double smallest = std::numeric_limits<double>::infinity();
   for (const double m : scene.sweep.magnitudes) smallest = std::min(smallest, std::abs(m));
+  // The uniaxial paths' directions with their signs, as the sweep planned them.
   std::vector<Eigen::Vector3d> units;
-  for (const double theta : scene.sweep.directions_deg) {
-    const double c = std::cos(theta * std::numbers::pi / 180), n = std::sin(theta * std::numbers::pi / 180);
-    const Eigen::Vector3d unit(c * c, n * n, scene.load.boundary == Boundary::symmetry ? 0.0 : c * n);
-    for (const double sign : {1.0, -1.0}) units.push_back(sign * unit);
-  }
+  for (const sweep::PathSpec& spec : specs)
+    if (!std::isnan(spec.direction_deg)) units.push_back(spec.sign * spec.unit_stress);
   double s = 1e-3 * smallest;
   if (onset.linear)
     for (const Eigen::Vector3d& u : units)
@@ -233,7 +231,7 @@ SweepSummary run_sweep(const SweepOptions& options) {
       header.cell_note = e.what();
     }
     if (header.cell && header.cell->longitudinal == 1)
-      header.longitudinal_points = longitudinal_points(solver, scene, header.onset);
+      header.longitudinal_points = longitudinal_points(solver, scene, specs, header.onset);
     if (needs_basis(scene, header, options)) build_basis(solver, scene, header, options.progress && par::rank() == 0);
   }
 
