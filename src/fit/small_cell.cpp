@@ -45,25 +45,29 @@ struct Problem {
   Layout layout;
   std::vector<std::size_t> points;  // the training points with a finite strain
   std::vector<double> weight;       // per point: its residuals count √weight times
+  // Per point: the active set its last evaluation ended with. A Levenberg–Marquardt step moves
+  // the rows a little, so a point's own set is nearly always right at once; the previous
+  // point's (another direction) cost several factorisations per point.
+  std::vector<law::CellHistory> history;
 };
 
 // Residuals (σ(ε_i) − σ_i)/|σ_i| and, when J is given, their Jacobian in closed form: on the
 // active set F of point i, μ_F = M_FF⁻¹ D_F ε and σ = C₀ε + D_Fᵀ μ_F/|Ω|, so with
 // w_k = M_FF⁻¹ D_F e_k: ∂σ_k/∂D = (μ e_kᵀ + w_k εᵀ)/|Ω|, ∂σ_k/∂M = −(w_k μᵀ + μ w_kᵀ)/(2|Ω|)
 // symmetrised, and ∂/∂L = 2 (∂/∂M) L (lower triangle).
-bool evaluate(const double* x, const Problem& p, Eigen::VectorXd& f, Eigen::MatrixXd* J) {
+bool evaluate(const double* x, Problem& p, Eigen::VectorXd& f, Eigen::MatrixXd* J) {
   const Layout& lay = p.layout;
   const Rows rows = rows_of(lay, x);
   const law::CondensedCell small = cell_of(*p.cell, rows);
   law::CellEvaluator evaluator(small);
-  law::CellHistory history = evaluator.unloaded();
+  if (p.history.size() != p.points.size()) p.history.assign(p.points.size(), evaluator.unloaded());
   const double volume = p.cell->volume;
   for (std::size_t q = 0; q < p.points.size(); ++q) {
     const std::size_t i = p.points[q];
     const Eigen::VectorXd e = p.training->strain[i].head(lay.nm);
     const Eigen::VectorXd target = p.training->stress[i].head(lay.nm);
     const double scale = p.training->stress[i].norm() / std::sqrt(p.weight[q]);
-    const law::CellResponse r = evaluator.at_strain(p.training->strain[i], history, law::BondMode::held);
+    const law::CellResponse r = evaluator.at_strain(p.training->strain[i], p.history[q], law::BondMode::held);
     if (!r.ok) return false;
     for (int k = 0; k < lay.nm; ++k) f(lay.nm * static_cast<Eigen::Index>(q) + k) = (r.stress(k) - target(k)) / scale;
     if (!J) continue;
@@ -81,18 +85,20 @@ bool evaluate(const double* x, const Problem& p, Eigen::VectorXd& f, Eigen::Matr
       const Eigen::MatrixXd WF = MFF.llt().solve(DF);
       for (int a = 0; a < nF; ++a) W.row(F[a]) = WF.row(a);
     }
-    const Eigen::VectorXd mu = r.forces;
+    const Eigen::VectorXd& mu = r.forces;
+    // ∂/∂L = −(w μᵀ + μ wᵀ) L = −(w (Lᵀμ)ᵀ + μ (Lᵀw)ᵀ): two outer products, not an m³ product
+    // per residual (that product was half the fit's time).
+    const Eigen::VectorXd Lt_mu = rows.L.transpose() * mu;
+    const Eigen::MatrixXd Lt_W = rows.L.transpose() * W;
     for (int k = 0; k < lay.nm; ++k) {
       const Eigen::Index row = lay.nm * static_cast<Eigen::Index>(q) + k;
       const double c = 1 / (volume * scale);
       // ∂/∂D(j, l) = (μ_j δ_lk + w_k,j ε_l)
       for (int l = 0; l < lay.nm; ++l)
         for (int j = 0; j < lay.m; ++j) (*J)(row, l * lay.m + j) = c * ((l == k ? mu(j) : 0.0) + W(j, k) * e(l));
-      // ∂/∂L = −(w μᵀ + μ wᵀ) L
-      const Eigen::MatrixXd GL = -c * (W.col(k) * mu.transpose() + mu * W.col(k).transpose()) * rows.L;
       Eigen::Index col = lay.m * lay.nm;
       for (int jj = 0; jj < lay.m; ++jj)
-        for (int ii = jj; ii < lay.m; ++ii) (*J)(row, col++) = GL(ii, jj);
+        for (int ii = jj; ii < lay.m; ++ii) (*J)(row, col++) = -c * (W(ii, k) * Lt_mu(jj) + mu(ii) * Lt_W(jj, k));
     }
   }
   return true;
@@ -100,7 +106,7 @@ bool evaluate(const double* x, const Problem& p, Eigen::VectorXd& f, Eigen::Matr
 
 // The problem of an m-row cell over the training points with a finite strain, every weight 1.
 Problem problem_of(const law::CondensedCell& cell, const law::CellSample& training, int m) {
-  Problem p{&cell, &training, Layout{m, cell.n_macro}, {}, {}};
+  Problem p{&cell, &training, Layout{m, cell.n_macro}, {}, {}, {}};
   for (std::size_t i = 0; i < training.direction.size(); ++i)
     if (training.strain[i].allFinite()) p.points.push_back(i);
   p.weight.assign(p.points.size(), 1.0);
@@ -132,7 +138,7 @@ Eigen::VectorXd starting_parameters(const law::CondensedCell& cell, const law::C
 // max_iterations; false where the cell at x cannot be evaluated. JᵀJ is p × p (2 272 at m = 64),
 // formed by one symmetric rank update: a general least-squares library's unblocked BLAS made
 // that the whole cost. The matrices are allocated once per call, not per step.
-bool levenberg_marquardt(const Problem& problem, Eigen::VectorXd& x, int max_iterations, int& iterations) {
+bool levenberg_marquardt(Problem& problem, Eigen::VectorXd& x, int max_iterations, int& iterations) {
   const Eigen::Index n = problem.layout.nm * static_cast<Eigen::Index>(problem.points.size());
   const Eigen::Index p = problem.layout.size();
   Eigen::VectorXd f(n), trial_f(n), g(p), scale(p), candidate(p);
@@ -176,7 +182,7 @@ bool levenberg_marquardt(const Problem& problem, Eigen::VectorXd& x, int max_ite
 
 bool small_cell_residuals(const law::CondensedCell& cell, const law::CellSample& training, int m,
                           const Eigen::VectorXd& x, Eigen::VectorXd& f, Eigen::MatrixXd* J) {
-  const Problem problem = problem_of(cell, training, m);
+  Problem problem = problem_of(cell, training, m);
   const Eigen::Index n = cell.n_macro * static_cast<Eigen::Index>(problem.points.size());
   f.resize(n);
   if (J) J->resize(n, problem.layout.size());
