@@ -13,7 +13,7 @@ flags=${2:--O2 -DNDEBUG}
 src_root=$(cd "$(dirname "$0")/../.." && pwd)/src
 mkdir -p "$dir"
 objects=""
-for f in umat/cell_umat core/hash core/text law/condensed law/condensed_members law/bond law/cell_text qp/dense_qp; do
+for f in umat/cell_umat core/hash core/text law/condensed law/condensed_members law/bond law/cell_text qp/dense_qp qp/dense_kkt; do
   # shellcheck disable=SC2086
   g++ -std=c++20 $flags -I"$src_root" -I/usr/include/eigen3 -c "$src_root/$f.cpp" -o "$dir/dualcell_$(basename $f).o"
   objects="$objects $dir/dualcell_$(basename $f).o"

@@ -48,13 +48,13 @@ Eigen::MatrixXd strain_rows(const CondensedCell& cell) {
 
 }  // namespace
 
-CellEvaluator::CellEvaluator(const CondensedCell& cell)
+CellEvaluator::CellEvaluator(const CondensedCell& cell, qp::DenseActiveSet::Updates updates)
     : cell_(cell),
       energy_(energy_matrix(cell)),
       C_strain_(strain_rows(cell)),
-      stress_qp_(cell.H, cell.G),
-      strain_qp_(energy_, C_strain_),
-      onset_qp_(cell.H, cell.G) {}
+      stress_qp_(cell.H, cell.G, updates),
+      strain_qp_(energy_, C_strain_, updates),
+      onset_qp_(cell.H, cell.G, updates) {}
 
 CellHistory CellEvaluator::unloaded() const { return {cell_.bonded, {}}; }
 
@@ -131,6 +131,7 @@ bool CellEvaluator::solve_qp(qp::DenseActiveSet& qp, std::vector<qp::Bound>& act
   const qp::DenseQpResult result = qp.solve(b_, lower_, upper_, active);
   r.iterations += result.iterations;
   r.factorisations += result.factorisations;
+  r.updates += result.updates;
   if (!result.converged) {
     r.message = "the cell's QP: " + result.message;
     return false;

@@ -120,6 +120,7 @@ struct CellResponse {
   int newly_broken = 0;  // of which broke in it
   int iterations = 0;    // active-set subproblems, over all rounds
   int factorisations = 0;
+  int updates = 0;  // new free sets solved by bordering a kept factorisation
   bool ok = false;
   std::string message;  // why not, when not ok
 };
@@ -128,7 +129,10 @@ struct CellResponse {
 // one evaluator per thread).
 class CellEvaluator {
  public:
-  explicit CellEvaluator(const CondensedCell& cell);
+  // `updates`: how its QPs solve a new free set (qp/dense_qp.hpp): bordered on the kept
+  // factorisation (the default) or factorised each time (the reference, for comparison).
+  explicit CellEvaluator(const CondensedCell& cell,
+                         qp::DenseActiveSet::Updates updates = qp::DenseActiveSet::Updates::bordered);
   const CondensedCell& cell() const { return cell_; }
   // The unloaded cell's history.
   CellHistory unloaded() const;

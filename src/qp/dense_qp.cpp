@@ -9,18 +9,9 @@ namespace dualcell::qp {
 
 namespace {
 
-// A pivot below this fraction of the largest entry of the equilibrated KKT matrix: the free
-// set's system is singular (A not positive definite on ker C, or a variable that no row can move).
-constexpr double singular_pivot = 1e-13;
-// Rows of C_F independent to this fraction of its largest column norm (QR with column pivoting
-// of C_Fᵀ): a fibre whose rows are all held at bounds leaves its rows of C with no free column.
-constexpr double independent_row = 1e-10;
 // A bound's multiplier of the wrong sign by less than this fraction of the terms that make it
 // up is round-off: releasing it would let the variable move by round-off and be caught again.
 constexpr double multiplier_round_off = 1e-10;
-// A free variable whose unit vector has this share of its length outside the row space of C_F
-// (an orthonormal basis, so only round-off) is pinned by C.
-constexpr double pinned_round_off = 1e-8;
 // A step of a free variable below this fraction of the size of x is round-off.
 constexpr double round_off_move = 1e-12;
 // Corrections of the warm start before the method falls back to x = 0.
@@ -31,173 +22,35 @@ constexpr double feasibility_slack = 1e-12;
 
 }  // namespace
 
-DenseActiveSet::DenseActiveSet(const Eigen::MatrixXd& A, const Eigen::MatrixXd& C) : A_(A), C_(C) {}
-
-void DenseActiveSet::free_a_basis() {
-  const Eigen::MatrixXd& C = C_;
-  const Eigen::Index n = C.cols(), n_c = C.rows();
-  if (n_c == 0) return;
-  // An orthonormal basis Q of the span of the free columns of C, then every held column that
-  // adds to that span is freed (it stays where it is: a free variable may sit on its bound).
-  Eigen::MatrixXd Q(n_c, n_c);
-  int rank = 0;
-  const double scale = std::max(C.cwiseAbs().maxCoeff(), std::numeric_limits<double>::min());
-  const auto add = [&](Eigen::Index i) {
-    if (rank == n_c) return false;
-    Eigen::VectorXd v = C.col(i);
-    for (int pass = 0; pass < 2; ++pass) v -= Q.leftCols(rank) * (Q.leftCols(rank).transpose() * v);
-    if (v.norm() <= independent_row * scale) return false;
-    Q.col(rank++) = v.normalized();
-    return true;
-  };
-  for (Eigen::Index i = 0; i < n; ++i)
-    if (working_[i] == Bound::free) add(i);
-  for (Eigen::Index i = 0; i < n && rank < n_c; ++i)
-    if (working_[i] != Bound::free && add(i)) working_[i] = Bound::free;
-}
-
-void DenseActiveSet::factorise() {
-  const Eigen::MatrixXd &A = A_, &C = C_;
-  const Eigen::Index n = A.rows(), n_c = C.rows();
-  free_.clear();
-  for (Eigen::Index i = 0; i < n; ++i)
-    if (working_[i] == Bound::free) free_.push_back(static_cast<int>(i));
-  const int n_F = static_cast<int>(free_.size());
-  kept_rows_.clear();
-  pinned_.assign(n_F, 0);
-  if (n_c > 0 && n_F > 0) {
-    Eigen::MatrixXd CFt(n_F, n_c);
-    for (int j = 0; j < n_F; ++j) CFt.row(j) = C.col(free_[j]).transpose();
-    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(CFt);
-    qr.setThreshold(independent_row);
-    for (Eigen::Index k = 0; k < qr.rank(); ++k) kept_rows_.push_back(qr.colsPermutation().indices()(k));
-    std::sort(kept_rows_.begin(), kept_rows_.end());
-    // A free variable is pinned where e_j lies in the row space of C_F (orthonormal basis: the
-    // first rank columns of Q): C_F d = 0 then forces d_j = 0, so it never moves, and holding
-    // it would make the working set dependent (its multiplier meaningless).
-    const Eigen::MatrixXd basis = qr.householderQ() * Eigen::MatrixXd::Identity(n_F, qr.rank());
-    for (int j = 0; j < n_F; ++j) pinned_[j] = basis.row(j).squaredNorm() > 1 - pinned_round_off;
-  }
-  const int r = static_cast<int>(kept_rows_.size()), k = n_F + r;
-  if (kkt_.rows() < k) kkt_.resize(std::max<Eigen::Index>(k, n + n_c), std::max<Eigen::Index>(k, n + n_c));
-  if (static_cast<int>(pivot_.size()) < k) pivot_.resize(n + n_c);
-  // The system is factorised equilibrated, S K S with S diagonal: 1/√A_jj on a free variable
-  // (A_jj > 0 on every variable a row can move), 1/‖(C S)_q‖ on a kept row. The scaled A block
-  // has a unit diagonal whatever the units of the variables (a cell's macro stresses beside its
-  // interface forces, its flexibility in any length unit), so the singular-pivot test below
-  // compares like with like; unscaled, a block 10¹³ smaller than another read as singular.
-  if (static_cast<int>(kkt_scale_.size()) < k) kkt_scale_.resize(std::max<Eigen::Index>(k, n + n_c));
-  for (int j = 0; j < n_F; ++j) {
-    const double d = A(free_[j], free_[j]);
-    kkt_scale_(j) = d > 0 && std::isfinite(d) ? 1 / std::sqrt(d) : 1.0;
-  }
-  for (int q = 0; q < r; ++q) {
-    double norm = 0;
-    for (int j = 0; j < n_F; ++j) norm = std::hypot(norm, C(kept_rows_[q], free_[j]) * kkt_scale_(j));
-    kkt_scale_(n_F + q) = norm > 0 ? 1 / norm : 1.0;
-  }
-  auto K = kkt_.topLeftCorner(k, k);
-  K.setZero();
-  for (int j = 0; j < n_F; ++j)
-    for (int i = 0; i < n_F; ++i) K(i, j) = kkt_scale_(i) * A(free_[i], free_[j]) * kkt_scale_(j);
-  for (int q = 0; q < r; ++q)
-    for (int j = 0; j < n_F; ++j)
-      K(n_F + q, j) = K(j, n_F + q) = kkt_scale_(n_F + q) * C(kept_rows_[q], free_[j]) * kkt_scale_(j);
-  // LU with partial pivoting, in place (L unit lower, U upper), by panels of `panel` columns:
-  // each panel factorised column by column, then the rows to its right solved with its L and
-  // the trailing block updated by one matrix product (the work of a few hundred rows is in that
-  // product, several times faster than rank-one updates). Row swaps act on whole rows, so that
-  // lu_solve applies them in order before the two triangular solves.
-  constexpr int panel = 32;
-  const double largest = k > 0 ? K.cwiseAbs().maxCoeff() : 0.0;
-  for (int j0 = 0; j0 < k; j0 += panel) {
-    const int jb = std::min(panel, k - j0), end = j0 + jb;
-    for (int j = j0; j < end; ++j) {
-      Eigen::Index p;
-      const double pivot = K.col(j).tail(k - j).cwiseAbs().maxCoeff(&p);
-      p += j;
-      if (!(pivot > singular_pivot * largest)) {
-        factorised_ = false;
-        return;
-      }
-      pivot_[j] = static_cast<int>(p);
-      if (p != j) K.row(j).swap(K.row(p));
-      K.col(j).tail(k - j - 1) /= K(j, j);
-      K.block(j + 1, j + 1, k - j - 1, end - j - 1).noalias() -=
-          K.col(j).tail(k - j - 1) * K.row(j).segment(j + 1, end - j - 1);
-    }
-    if (end == k) break;
-    K.block(j0, j0, jb, jb).triangularView<Eigen::UnitLower>().solveInPlace(K.block(j0, end, jb, k - end));
-    K.bottomRightCorner(k - end, k - end).noalias() -= K.block(end, j0, k - end, jb) * K.block(j0, end, jb, k - end);
-  }
-  factorised_ = true;
-  generation_ = ++generations_;
-}
-
-bool DenseActiveSet::take_kept(const std::vector<int>& free) {
-  ++uses_;
-  const auto swap_with = [&](Kept& e) {
-    std::swap(free_, e.free);
-    std::swap(kept_rows_, e.kept_rows);
-    std::swap(pivot_, e.pivot);
-    std::swap(pinned_, e.pinned);
-    kkt_.swap(e.kkt);
-    kkt_scale_.swap(e.kkt_scale);
-    std::swap(generation_, e.generation);
-    e.last_used = uses_;
-  };
-  for (Kept& e : kept_)
-    if (e.free == free) {
-      const bool was_factorised = factorised_;
-      swap_with(e);
-      factorised_ = true;
-      if (!was_factorised) e.free.clear(), e.free.push_back(-1);  // no free set matches: unused
-      return true;
-    }
-  if (!factorised_) return false;
-  const std::size_t entry_bytes = sizeof(double) * static_cast<std::size_t>(kkt_.size()) + 64;
-  const std::size_t capacity = std::min(max_kept, kept_bytes / entry_bytes);
-  if (capacity == 0) return false;
-  if (kept_.size() < capacity) {
-    kept_.emplace_back();
-    swap_with(kept_.back());
-  } else {
-    swap_with(*std::min_element(kept_.begin(), kept_.end(),
-                                [](const Kept& a, const Kept& b) { return a.last_used < b.last_used; }));
-  }
-  return false;
-}
-
-void DenseActiveSet::lu_solve(Eigen::VectorXd& rhs) const {
-  // K x = rhs as (S K S)(S⁻¹ x) = S rhs.
-  const int k = static_cast<int>(rhs.size());
-  rhs.array() *= kkt_scale_.head(k).array();
-  for (int j = 0; j < k; ++j)
-    if (pivot_[j] != j) std::swap(rhs(j), rhs(pivot_[j]));
-  const auto K = kkt_.topLeftCorner(k, k);
-  K.triangularView<Eigen::UnitLower>().solveInPlace(rhs);
-  K.triangularView<Eigen::Upper>().solveInPlace(rhs);
-  rhs.array() *= kkt_scale_.head(k).array();
-}
+DenseActiveSet::DenseActiveSet(const Eigen::MatrixXd& A, const Eigen::MatrixXd& C, Updates updates)
+    : A_(A), C_(C), updates_(updates) {}
 
 void DenseActiveSet::solve_subproblem(const Eigen::VectorXd& b, const Eigen::VectorXd& x, Eigen::VectorXd& x_free,
                                       Eigen::VectorXd& mu) const {
   const Eigen::MatrixXd &A = A_, &C = C_;
-  const int n_F = static_cast<int>(free_.size()), r = static_cast<int>(kept_rows_.size());
-  // The right-hand side b_F − A_FW x_W and −C_KW x_W over the held columns W only (A symmetric).
-  Eigen::VectorXd& rhs = rhs_;
-  rhs.resize(n_F + r);
-  for (int j = 0; j < n_F; ++j) rhs(j) = b(free_[j]);
-  rhs.tail(r).setZero();
+  const int n_F0 = static_cast<int>(base_free_.size()), r = static_cast<int>(base_rows_.size());
+  const int k0 = n_F0 + r, t = static_cast<int>(border_.size());
+  // The right-hand side in the bordered unknowns (kkt_solve): b − A x_W and −C x_W over the held
+  // columns W outside the base only (A symmetric); a held base variable's border row asks for
+  // its value, an added variable's row is b_a − A_aW x_W.
+  Eigen::MatrixXd& rhs = rhs_;
+  rhs.resize(k0 + t, 1);
+  for (int j = 0; j < n_F0; ++j) rhs(j, 0) = b(base_free_[j]);
+  rhs.col(0).segment(n_F0, r).setZero();
+  for (int s = 0; s < t; ++s) rhs(k0 + s, 0) = border_added_[s] ? b(border_[s]) : x(border_[s]);
   for (Eigen::Index w = 0; w < x.size(); ++w) {
-    if (working_[w] == Bound::free || x(w) == 0) continue;
-    for (int j = 0; j < n_F; ++j) rhs(j) -= A(free_[j], w) * x(w);
-    for (int q = 0; q < r; ++q) rhs(n_F + q) -= C(kept_rows_[q], w) * x(w);
+    if (working_[w] == Bound::free || x(w) == 0 || base_index_[w] >= 0) continue;
+    for (int j = 0; j < n_F0; ++j) rhs(j, 0) -= A(base_free_[j], w) * x(w);
+    for (int q = 0; q < r; ++q) rhs(n_F0 + q, 0) -= C(base_rows_[q], w) * x(w);
+    for (int s = 0; s < t; ++s)
+      if (border_added_[s]) rhs(k0 + s, 0) -= A(border_[s], w) * x(w);
   }
-  lu_solve(rhs);
-  x_free = rhs.head(n_F);
+  kkt_solve(rhs);
+  const int n_F = static_cast<int>(free_.size());
+  x_free.resize(n_F);
+  for (int j = 0; j < n_F; ++j) x_free(j) = rhs(position_[j], 0);
   mu = Eigen::VectorXd::Zero(C.rows());
-  for (int q = 0; q < r; ++q) mu(kept_rows_[q]) = rhs(n_F + q);
+  for (int q = 0; q < r; ++q) mu(base_rows_[q]) = rhs(n_F0 + q, 0);
 }
 
 namespace {
@@ -214,31 +67,10 @@ void hold(const Eigen::VectorXd& l, const Eigen::VectorXd& u, std::vector<Bound>
 
 }  // namespace
 
-bool DenseActiveSet::refactorise(DenseQpResult& out) {
-  // The kept factorisation serves while the free set is the same (A and C are this object's).
-  bool same = factorised_;
-  if (same) {
-    int j = 0;
-    for (Eigen::Index i = 0; i < A_.rows() && same; ++i)
-      if (working_[i] == Bound::free) same = j < static_cast<int>(free_.size()) && free_[j++] == i;
-    same = same && j == static_cast<int>(free_.size());
-  }
-  if (!same) {
-    std::vector<int> free;
-    for (Eigen::Index i = 0; i < A_.rows(); ++i)
-      if (working_[i] == Bound::free) free.push_back(static_cast<int>(i));
-    if (!take_kept(free)) {
-      factorise();
-      ++out.factorisations;
-    }
-  }
-  return factorised_;
-}
-
 double DenseActiveSet::scaled_size(const Eigen::VectorXd& x, const Eigen::VectorXd& x_free) const {
   double size = 0;
   for (std::size_t j = 0; j < free_.size(); ++j)
-    size = std::max(size, (std::abs(x(free_[j])) + std::abs(x_free(j))) / kkt_scale_(static_cast<Eigen::Index>(j)));
+    size = std::max(size, (std::abs(x(free_[j])) + std::abs(x_free(j))) / free_scale_(static_cast<Eigen::Index>(j)));
   return size;
 }
 
@@ -249,7 +81,7 @@ bool DenseActiveSet::feasible(const Eigen::VectorXd& l, const Eigen::VectorXd& u
   const double size = scaled_size(x, x_free);
   for (std::size_t j = 0; j < free_.size(); ++j) {
     const int i = free_[j];
-    const double slack = feasibility_slack * (std::abs(x_free(j)) + kkt_scale_(static_cast<Eigen::Index>(j)) * size);
+    const double slack = feasibility_slack * (std::abs(x_free(j)) + free_scale_(static_cast<Eigen::Index>(j)) * size);
     if (x_free(j) < l(i) - slack || x_free(j) > u(i) + slack) return false;
   }
   return true;
@@ -298,7 +130,7 @@ bool DenseActiveSet::step_towards(const Eigen::VectorXd& l, const Eigen::VectorX
   for (std::size_t j = 0; j < free_.size(); ++j) {
     const int i = free_[j];
     double d = x_free(j) - x(i);
-    if (pinned_[j] || std::abs(d) <= round_off_move * kkt_scale_(static_cast<Eigen::Index>(j)) * size) d = 0;
+    if (pinned_[j] || std::abs(d) <= round_off_move * free_scale_(static_cast<Eigen::Index>(j)) * size) d = 0;
     if (d < 0 && std::isfinite(l(i)) && (l(i) - x(i)) / d < step)
       step = std::max(0.0, (l(i) - x(i)) / d), blocking = i, blocking_bound = Bound::lower;
     if (d > 0 && std::isfinite(u(i)) && (u(i) - x(i)) / d < step)
@@ -397,22 +229,6 @@ DenseQpResult DenseActiveSet::solve(const Eigen::VectorXd& b, const Eigen::Vecto
   out.message = "no solution within " + std::to_string(max_iterations) + " active-set iterations (cycling)";
   out.x = x;
   return out;
-}
-
-Eigen::MatrixXd DenseActiveSet::sensitivity(const Eigen::MatrixXd& db) const {
-  Eigen::MatrixXd dx = Eigen::MatrixXd::Zero(db.rows(), db.cols());
-  if (!factorised_) return dx;
-  const int n_F = static_cast<int>(free_.size()), r = static_cast<int>(kept_rows_.size()), k = n_F + r;
-  // All columns at once: the triangular solves with a block right-hand side.
-  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(k, db.cols());
-  for (int j = 0; j < n_F; ++j) rhs.row(j) = kkt_scale_(j) * db.row(free_[j]);
-  for (int j = 0; j < k; ++j)
-    if (pivot_[j] != j) rhs.row(j).swap(rhs.row(pivot_[j]));
-  const auto K = kkt_.topLeftCorner(k, k);
-  K.triangularView<Eigen::UnitLower>().solveInPlace(rhs);
-  K.triangularView<Eigen::Upper>().solveInPlace(rhs);
-  for (int j = 0; j < n_F; ++j) dx.row(free_[j]) = kkt_scale_(j) * rhs.row(j);
-  return dx;
 }
 
 }  // namespace dualcell::qp

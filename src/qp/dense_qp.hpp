@@ -27,11 +27,17 @@
 // linearly independent for its multipliers to say which bound to release). The factorisation
 // of the last working set is kept and reused while the free set stays the same, and up to 16
 // earlier ones (as many as fit in 1 MB) are kept beside it: a free set met again takes its own.
+// A free set that differs from the kept one's by a few variables (an active-set step, a round of
+// a debond cascade) is not factorised again: its KKT system is the kept one bordered by a
+// column per variable freed or held, solved through the kept LU and the small Schur complement
+// of the border (docs/method.md §16a, "Bordered updates"). One LU of k unknowns costs ⅔k³, a
+// border column 2k², so a step of a 256-row cell costs a hundredth of a factorisation.
 //
 // One object is one problem: A and C are bound at construction (referenced, not copied: the
 // caller keeps them alive and unchanged); b and the bounds change from call to call. Another A
 // or C is another object, so a kept factorisation can never belong to other matrices.
 #include <Eigen/Core>
+#include <Eigen/LU>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -47,14 +53,19 @@ struct DenseQpResult {
   Eigen::VectorXd mu, nu;
   int iterations = 0;      // subproblems solved
   int factorisations = 0;  // of those, the ones that needed a new factorisation
+  int updates = 0;         // and the ones served by bordering the kept factorisation
   bool converged = false;
   std::string message;  // why not, when not converged
 };
 
 class DenseActiveSet {
  public:
+  // How a new free set gets its KKT system solved: the kept factorisation bordered where it
+  // differs by a few variables (the default), or always a factorisation of its own (the
+  // reference the bordered solves are tested against).
+  enum class Updates { bordered, factorise_each };
   // The problem's A (n × n) and C (n_c × n; 0 × n or empty for none), for the object's life.
-  DenseActiveSet(const Eigen::MatrixXd& A, const Eigen::MatrixXd& C);
+  DenseActiveSet(const Eigen::MatrixXd& A, const Eigen::MatrixXd& C, Updates updates = Updates::bordered);
   DenseActiveSet(const DenseActiveSet&) = delete;
   DenseActiveSet& operator=(const DenseActiveSet&) = delete;
 
@@ -70,8 +81,22 @@ class DenseActiveSet {
   long generation() const { return generation_; }
 
  private:
-  // The KKT system of the free set: [A_FF C_Kᵀ; C_K 0], C_K the independent rows of C_F.
+  // The KKT system of the free set free_: [A_FF C_Kᵀ; C_K 0], C_K the independent rows of C_F,
+  // factorised; it becomes the base (no border).
   void factorise();
+  // The independent rows of C over the free set `free` and which free variables they pin.
+  void rows_of_free_set(const std::vector<int>& free, std::vector<int>& rows, std::vector<char>& pinned) const;
+  // The free set `free` as the base bordered (see the file comment); false where it differs from
+  // the base by more than max_border variables, has other independent rows of C, or its Schur
+  // complement is singular to round-off (a factorisation of its own then decides).
+  bool border(const std::vector<int>& free);
+  // The current free set's KKT system solved in place for the columns of v, in the bordered
+  // unknowns (the base's free variables and rows, then one per border variable), unscaled.
+  void kkt_solve(Eigen::Ref<Eigen::MatrixXd> v) const;
+  // The base's KKT system (equilibrated, LU) solved in place for the columns of v.
+  void base_solve(Eigen::Ref<Eigen::MatrixXd> v) const;
+  // The current free set is the base's (no border).
+  void current_is_base();
   // Frees held variables until the free columns of C span what all columns span, so that the
   // working set (held bounds and the rows of C) is linearly independent: its multipliers are
   // then unique, and a released bound moves its variable off the bound.
@@ -79,7 +104,6 @@ class DenseActiveSet {
   // x_F and μ of the subproblem with x_W held; x is updated only on the free entries.
   void solve_subproblem(const Eigen::VectorXd& b, const Eigen::VectorXd& x, Eigen::VectorXd& x_free,
                         Eigen::VectorXd& mu) const;
-  void lu_solve(Eigen::VectorXd& rhs) const;
   // Factorises the working set's free set unless the kept factorisation is of the same one;
   // false when singular.
   bool refactorise(DenseQpResult& out);
@@ -104,20 +128,39 @@ class DenseActiveSet {
 
   const Eigen::MatrixXd& A_;
   const Eigen::MatrixXd& C_;
-  std::vector<Bound> working_;  // the working set of the kept factorisation
+  const Updates updates_;
+  std::vector<Bound> working_;  // the working set of the current free set
+  // The current free set: its variables, the independent rows of C over them, which of them
+  // those rows pin (fixed by C: they cannot move), and their scales 1/√A_jj.
   std::vector<int> free_, kept_rows_;
-  std::vector<char> pinned_;   // per free variable: fixed by the rows of C (it cannot move)
-  Eigen::MatrixXd kkt_;        // LU factors of S K S in place (unit lower, upper)
-  Eigen::VectorXd kkt_scale_;  // S, the equilibration of the KKT system (factorise)
+  std::vector<char> pinned_;
+  Eigen::VectorXd free_scale_;
+  // The base: the free set whose KKT system is factorised, with its rows and pinned variables.
+  std::vector<int> base_free_, base_rows_;
+  std::vector<char> base_pinned_;
+  std::vector<int> base_index_;  // per variable: its index in base_free_, −1 where not in it
+  Eigen::MatrixXd kkt_;          // LU factors of S K S in place (unit lower, upper)
+  Eigen::VectorXd kkt_scale_;    // S, the equilibration of the KKT system (factorise)
   std::vector<int> pivot_;
-  mutable Eigen::VectorXd rhs_;  // the subproblem's right-hand side, kept between calls
-  bool factorised_ = false;
-  long generation_ = 0, generations_ = 0;  // the kept factorisation's number; how many were made
+  long base_generation_ = 0;
+  // The border of the current free set on the base: per variable freed (added) or held (its
+  // base column then held by a unit row), its scale, and the columns B̂ and Ẑ = K̂⁻¹B̂ of the
+  // equilibrated bordered system [K̂ B̂; B̂ᵀ D̂]; the LU of its Schur complement D̂ − B̂ᵀẐ.
+  std::vector<int> border_;
+  std::vector<char> border_added_;
+  Eigen::VectorXd border_scale_;
+  Eigen::MatrixXd border_B_, border_Z_;
+  Eigen::FullPivLU<Eigen::MatrixXd> schur_;
+  // Per current free variable (free_'s order): its index among the bordered unknowns.
+  std::vector<int> position_;
+  mutable Eigen::MatrixXd rhs_;            // the subproblem's right-hand side, kept between calls
+  bool factorised_ = false;                // the base is a valid factorisation
+  long generation_ = 0, generations_ = 0;  // the current free set's number; how many were made
   // Recent factorisations besides the kept one, each with the free set it is of: a material
   // point of a structure returns to its own free set after its neighbour's, so one evaluator for
   // many points refactorised at nearly every point (38 % of a 128 × 16 beam's time). As many as
   // fit in kept_bytes (none for a large cell: its factors are large and its solves rare).
-  struct Kept {
+  struct Kept {  // a base
     std::vector<int> free, kept_rows, pivot;
     std::vector<char> pinned;
     Eigen::MatrixXd kkt;
@@ -127,9 +170,13 @@ class DenseActiveSet {
   static constexpr std::size_t kept_bytes = 1 << 20, max_kept = 16;
   std::vector<Kept> kept_;
   long uses_ = 0;
-  // Swaps the kept factorisation with the entry of kept_ of free set `free` (true), or stores it
-  // in kept_ in place of the least recently used entry (false).
+  // Swaps the base with the entry of kept_ of free set `free`, which becomes the current free set
+  // (true; false where there is none).
   bool take_kept(const std::vector<int>& free);
+  // Stores the base in kept_ (in place of the least recently used entry when full).
+  void store_base();
+  void swap_base(Kept& e);
+  std::vector<int> next_free_;  // refactorise's free set, kept between calls
 };
 
 }  // namespace dualcell::qp

@@ -129,7 +129,9 @@ LawPointsSummary evaluate_law(const LawPointsOptions& options) {
 
   LawPointsSummary summary;
   std::optional<law::CellEvaluator> evaluator;
-  if (cell_form) evaluator.emplace(*cell);
+  if (cell_form)
+    evaluator.emplace(*cell, options.factorise_each ? qp::DenseActiveSet::Updates::factorise_each
+                                                    : qp::DenseActiveSet::Updates::bordered);
   // What one path's history holds: its bond state, its active set and the map's node.
   const std::size_t history_bytes =
       cell_form ? static_cast<std::size_t>(cell->n_pairs + cell->n_macro + cell->n_rows()) + 128 : 64;
@@ -173,6 +175,7 @@ LawPointsSummary evaluate_law(const LawPointsOptions& options) {
       broken = r.broken;
       summary.qp_iterations += r.iterations;
       summary.qp_factorisations += r.factorisations;
+      summary.qp_updates += r.updates;
     } else {
       bool fresh = false;
       bool& fused = points.has_path() ? fused_paths[point.path] : fresh;

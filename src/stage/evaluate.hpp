@@ -16,12 +16,16 @@ struct LawPointsOptions {
   // Rows of four numbers, the fourth the strain ε33 along the fibres (a cell that carries it:
   // [load] macro = "full"); the output gains σ33 and the tangent's ε33 column.
   bool eps33 = false;
+  // Every new free set of the exact law's QP factorised, none bordered (qp/dense_qp.hpp): the
+  // reference the bordered solves are measured against.
+  bool factorise_each = false;
 };
 struct LawPointsSummary {
   int rows = 0, paths = 0;     // paths: loading paths with history (rows without a path count one each)
   double seconds = 0;          // of the evaluations alone
   long qp_iterations = 0;      // the cell form's active-set subproblems, all rows
   long qp_factorisations = 0;  // of which needed a new factorisation
+  long qp_updates = 0;         // and of which were solved by bordering a kept one
 };
 // Writes `out` atomically: per input row the other quantity, dσ/dε (9 entries, row by row,
 // engineering shear) and the broken bonds (cell: pairs broken; cone: 1 once fused); with eps33

@@ -196,6 +196,50 @@ TEST(DenseActiveSet, TheUnitsOfTheVariablesDoNotMatter) {
   }
 }
 
+// A free set near the kept one is solved through the kept LU bordered by the variables that
+// differ (qp/dense_qp.hpp): it must give what a factorisation of its own gives, to round-off,
+// along paths whose active sets change a few variables at a time. The problems are large enough
+// to be bordered (≥ 64 unknowns), with dense rows of C and with rows that each see a block of
+// contact variables only (as a fibre's rows see its own pairs).
+TEST(DenseActiveSet, BorderedSolvesAreTheFactorisedOnes) {
+  int updates = 0, factorisations = 0, reference_factorisations = 0;
+  for (unsigned seed = 1; seed <= 8; ++seed) {
+    const int n = 150 + 20 * static_cast<int>(seed % 4), n_c = static_cast<int>(seed % 3) + 1;
+    Problem p = random_problem(n, n_c, seed, seed % 2 == 0);
+    if (seed > 4) {  // rows over blocks of 8 contact variables
+      p.C.setZero();
+      for (int q = 0; q < n_c; ++q)
+        for (int j = 8 * q; j < 8 * q + 8; ++j) p.C(q, j) = 1 + 0.1 * j, p.l(j) = 0, p.u(j) = inf;
+    }
+    DenseActiveSet bordered(p.A, p.C), reference(p.A, p.C, DenseActiveSet::Updates::factorise_each);
+    std::vector<Bound> active, reference_active;
+    std::mt19937 rng(seed);
+    std::normal_distribution<double> g;
+    Eigen::VectorXd b = p.b;
+    for (int step = 0; step < 30; ++step) {
+      for (Eigen::Index i = 0; i < n; ++i) b(i) += 0.05 * g(rng);  // a step along a path
+      const DenseQpResult r = bordered.solve(b, p.l, p.u, active);
+      const DenseQpResult ref = reference.solve(b, p.l, p.u, reference_active);
+      Problem at = p;
+      at.b = b;
+      // Round-off of an LU of size ≤ 200 and of a Schur complement of ≤ 32 on matrices of
+      // condition ≲ 1e5: 1e-9 relative.
+      expect_optimal(at, r, active, 1e-9);
+      ASSERT_TRUE(ref.converged) << ref.message;
+      EXPECT_EQ(active, reference_active) << seed << " " << step;
+      EXPECT_LE((r.x - ref.x).norm(), 1e-9 * ref.x.norm()) << seed << " " << step;
+      const Eigen::MatrixXd db = Eigen::MatrixXd::Random(n, 3);
+      EXPECT_LE((bordered.sensitivity(db) - reference.sensitivity(db)).norm(), 1e-9 * reference.sensitivity(db).norm());
+      updates += r.updates, factorisations += r.factorisations;
+      reference_factorisations += ref.factorisations;
+      EXPECT_EQ(ref.updates, 0);
+    }
+  }
+  // The test must see the bordered solves, and they must save most of the factorisations.
+  EXPECT_GT(updates, 200);
+  EXPECT_LT(4 * factorisations, reference_factorisations) << updates << " " << factorisations;
+}
+
 TEST(DenseActiveSet, RefusesWhatItCannotSolve) {
   Problem p = random_problem(6, 1, 3, false);
   DenseActiveSet qp(p.A, p.C);
