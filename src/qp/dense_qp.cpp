@@ -23,7 +23,7 @@ constexpr double feasibility_slack = 1e-12;
 }  // namespace
 
 DenseActiveSet::DenseActiveSet(const Eigen::MatrixXd& A, const Eigen::MatrixXd& C, Updates updates)
-    : A_(A), C_(C), updates_(updates) {}
+    : A_(A), C_(C), updates_(updates), C_rank_(rank_of_rows(C)) {}
 
 void DenseActiveSet::solve_subproblem(const Eigen::VectorXd& b, const Eigen::VectorXd& x, Eigen::VectorXd& x_free,
                                       Eigen::VectorXd& mu) const {

@@ -37,6 +37,7 @@
 // caller keeps them alive and unchanged); b and the bounds change from call to call. Another A
 // or C is another object, so a kept factorisation can never belong to other matrices.
 #include <Eigen/Core>
+#include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <cstdint>
 #include <string>
@@ -101,6 +102,8 @@ class DenseActiveSet {
   // working set (held bounds and the rows of C) is linearly independent: its multipliers are
   // then unique, and a released bound moves its variable off the bound.
   void free_a_basis();
+  // The rank of the rows of C, to free_a_basis's threshold.
+  static int rank_of_rows(const Eigen::MatrixXd& C);
   // x_F and μ of the subproblem with x_W held; x is updated only on the free entries.
   void solve_subproblem(const Eigen::VectorXd& b, const Eigen::VectorXd& x, Eigen::VectorXd& x_free,
                         Eigen::VectorXd& mu) const;
@@ -129,6 +132,12 @@ class DenseActiveSet {
   const Eigen::MatrixXd& A_;
   const Eigen::MatrixXd& C_;
   const Updates updates_;
+  const int C_rank_;  // the rank of C (rank_of_rows): what a working set's free columns must span
+  // free_a_basis's workspace: an orthonormal basis of the free columns' span and one column.
+  Eigen::MatrixXd basis_Q_;
+  Eigen::VectorXd basis_v_, basis_w_;
+  Eigen::MatrixXd basis_CF_, basis_gram_;  // the free columns of C, their Gram matrix
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> basis_eigen_;
   std::vector<Bound> working_;  // the working set of the current free set
   // The current free set: its variables, the independent rows of C over them, which of them
   // those rows pin (fixed by C: they cannot move), and their scales 1/√A_jj.
