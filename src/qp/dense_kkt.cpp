@@ -322,6 +322,12 @@ void DenseActiveSet::base_solve(Eigen::Ref<Eigen::MatrixXd> v) const {
   for (int j = 0; j < k; ++j)
     if (pivot_[j] != j) v.row(j).swap(v.row(pivot_[j]));
   const auto K = kkt_.topLeftCorner(k, k);
+  if (v.cols() == 1) {  // one column: the vector kernels (the matrix ones cost twice as much)
+    auto x = v.col(0);
+    K.triangularView<Eigen::UnitLower>().solveInPlace(x);
+    K.triangularView<Eigen::Upper>().solveInPlace(x);
+    return;
+  }
   K.triangularView<Eigen::UnitLower>().solveInPlace(v);
   K.triangularView<Eigen::Upper>().solveInPlace(v);
 }
@@ -335,12 +341,18 @@ void DenseActiveSet::kkt_solve(Eigen::Ref<Eigen::MatrixXd> v) const {
   base.array().colwise() *= kkt_scale_.head(k0).array();
   if (t > 0) {
     edge.array().colwise() *= border_scale_.array();
-    edge.noalias() -= border_Z_.transpose() * base;
+    if (v.cols() == 1)
+      edge.col(0).noalias() -= border_Z_.transpose() * base.col(0);
+    else
+      edge.noalias() -= border_Z_.transpose() * base;
   }
   base_solve(base);
   if (t > 0) {
     edge = schur_.solve(Eigen::MatrixXd(edge));
-    base.noalias() -= border_Z_ * edge;
+    if (v.cols() == 1)
+      base.col(0).noalias() -= border_Z_ * edge.col(0);
+    else
+      base.noalias() -= border_Z_ * edge;
     edge.array().colwise() *= border_scale_.array();
   }
   base.array().colwise() *= kkt_scale_.head(k0).array();
