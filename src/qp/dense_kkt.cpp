@@ -257,7 +257,19 @@ bool DenseActiveSet::border(const std::vector<int>& free) {
   std::vector<int> rows;
   std::vector<char> pinned;
   rows_of_free_set(free, rows, pinned);
-  if (rows != base_rows_) return false;
+  if (rows != base_rows_) {
+    // Where the rows of C are dependent (a 16-fibre RVE's), the QR may pick other independent
+    // rows for the same row space: the base's rows serve when they alone have its rank over the
+    // new free set (they then span every row there).
+    if (rows.size() != base_rows_.size()) return false;
+    Eigen::MatrixXd CFt(free.size(), base_rows_.size());
+    for (std::size_t j = 0; j < free.size(); ++j)
+      for (std::size_t q = 0; q < base_rows_.size(); ++q) CFt(j, q) = C(base_rows_[q], free[j]);
+    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(CFt);
+    qr.setThreshold(independent_row);
+    if (qr.rank() != static_cast<Eigen::Index>(base_rows_.size())) return false;
+    rows = base_rows_;
+  }
   // Its columns, those of the last border reused: the equilibrated B̂ (an added variable's column
   // of A over the base's free variables and of C over its rows; a held one's unit column) and
   // Ẑ = K̂⁻¹B̂.
