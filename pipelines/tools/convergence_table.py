@@ -9,7 +9,6 @@ tightest tolerance: E(h) = E* + C h^p with h = 1/degree; p from
 (E1 − E2)/(E2 − E3) = (h1^p − h2^p)/(h2^p − h3^p) by bisection, then E* from the finest two.
 Writes OUT.csv (comment lines with the reference and p, then one row per case).
 """
-import math
 import os
 import sys
 

@@ -79,6 +79,10 @@ def main(argv):
              "(linear over the depth), left end a roller; end displacement at the neutral line's end.\n\n"
              "| cells | form | ux | uy | error against the exact law (ux / uy) | seconds | / cone-wise |\n"
              "|---|---|---|---|---|---|---|\n" + "\n".join(rows) + "\n")
+    exact = [beam for beam in args.beams if os.path.exists(os.path.join(args.out_dir, f"beam-{beam}-cell.h5"))]
+    if exact:
+        table += (f"\nOne evaluation, {exact[0]} beam: " +
+                  evaluation_cost(args, os.path.join(args.out_dir, f"beam-{exact[0]}-cell.h5"), f"beam-{exact[0]}") + "\n")
     common.write_atomic(os.path.join(args.out_dir, "structure.md"), table)
     print(table, end="")
 
@@ -105,7 +109,7 @@ def fuse(args):
         rows.append(f"| {i} | " + " | ".join(cells) + " |")
     summary = " · ".join(f"{form}: {result[form][1]:.2f} s, {result[form][2]} triangles fused at the end"
                          for form in forms)
-    summary += "\n\nOne evaluation, " + evaluation_cost(args, os.path.join(args.out_dir, "fuse-cell.h5"))
+    summary += "\n\nOne evaluation, " + evaluation_cost(args, os.path.join(args.out_dir, "fuse-cell.h5"), "fuse")
     table = ("# The small cell with a fuse in a structure\n\n"
              f"Law: {args.law}. Scene: {args.fuse}; the watched point's uy per load step.\n\n"
              "| step | exact law | small cell (error) | cone-wise law (error) |\n|---|---|---|---|\n" + "\n".join(rows) +
@@ -114,13 +118,14 @@ def fuse(args):
     print(table, end="")
 
 
-def evaluation_cost(args, structure):
+def evaluation_cost(args, structure, prefix):
     """dualcell-law's milliseconds per row, small cell and exact law, over the paths of every
-    triangle's stress in `structure` (a dualcell-structure output) through its load steps."""
+    triangle's stress in `structure` (a dualcell-structure output) through its load steps; its
+    files are OUT_DIR/`prefix`-points*.csv."""
     with h5py.File(structure, "r") as h:
         steps = sorted(k for k in h["/steps"].keys() if k.isdigit())
         stress = [h[f"/steps/{k}/stress"][:] for k in steps]
-    points = os.path.join(args.out_dir, "fuse-points.csv")
+    points = os.path.join(args.out_dir, f"{prefix}-points.csv")
     common.write_atomic(points, "path,sxx,syy,sxy\n" + "".join(
         f"{t},{s[t][0]:.17g},{s[t][1]:.17g},{s[t][2]:.17g}\n" for t in range(len(stress[0])) for s in stress))
     cost, values = {}, {}
@@ -129,7 +134,7 @@ def evaluation_cost(args, structure):
     # what the bordering saves.
     for name, form, extra in (("small", "small", []), ("cell", "cell", []),
                               ("factorised", "cell", ["--factorise-each"])):
-        out = os.path.join(args.out_dir, f"fuse-points-{name}.csv")
+        out = os.path.join(args.out_dir, f"{prefix}-points-{name}.csv")
         done = common.run([os.path.join(args.bin, "dualcell-law"), "--law", args.law, "--stress", points, "--out",
                            out, "--form", form] + extra)
         per_row = re.search(r"([0-9.e+-]+) ms per row", done.stderr + done.stdout)
