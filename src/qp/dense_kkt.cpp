@@ -32,9 +32,14 @@ constexpr double well_spanned = 1e-6;
 constexpr int min_bordered = 64;
 constexpr int max_border = 32;
 // The Schur complement of the border is singular when its LU's pivots fall below this fraction of
-// the largest (it is equilibrated as the base is): the bordered system is then singular or too
+// the larger of 1 and its largest pivot: the system is equilibrated (the base's A block and a
+// freed variable's diagonal are 1), so a freed variable that A cannot hold on ker C leaves a pivot
+// of round-off, whatever the others are. The bordered system is then singular or too
 // ill-conditioned to trust, and a factorisation of the free set itself decides.
 constexpr double schur_singular = 1e-10;
+// Every set bordered on a base inherits its conditioning: a base whose smallest LU pivot is below
+// this fraction of its largest entry (it passed singular_pivot, 1e-13) is not bordered on.
+constexpr double well_conditioned_base = 1e-8;
 
 // The equilibration of a free variable: 1/√A_jj (A_jj > 0 on every variable a row can move).
 double variable_scale(double a_jj) { return a_jj > 0 && std::isfinite(a_jj) ? 1 / std::sqrt(a_jj) : 1.0; }
@@ -42,10 +47,18 @@ double variable_scale(double a_jj) { return a_jj > 0 && std::isfinite(a_jj) ? 1 
 }  // namespace
 
 int DenseActiveSet::rank_of_rows(const Eigen::MatrixXd& C) {
-  if (C.rows() == 0) return 0;
-  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(C.transpose());
-  qr.setThreshold(independent_row);
-  return static_cast<int>(qr.rank());
+  // free_a_basis's Gram–Schmidt over every column, with its threshold: the rank it can reach.
+  const Eigen::Index n_c = C.rows();
+  if (n_c == 0) return 0;
+  Eigen::MatrixXd Q(n_c, n_c);
+  int rank = 0;
+  const double scale = std::max(C.cwiseAbs().maxCoeff(), std::numeric_limits<double>::min());
+  for (Eigen::Index i = 0; i < C.cols() && rank < n_c; ++i) {
+    Eigen::VectorXd v = C.col(i);
+    for (int pass = 0; pass < 2; ++pass) v -= Q.leftCols(rank) * (Q.leftCols(rank).transpose() * v);
+    if (v.norm() > independent_row * scale) Q.col(rank++) = v.normalized();
+  }
+  return rank;
 }
 
 void DenseActiveSet::free_a_basis() {
@@ -57,9 +70,11 @@ void DenseActiveSet::free_a_basis() {
   // Both passes stop once the span has C's rank (rows of C may be dependent), and the workspace
   // is the object's: a cell's rows of C each see one fibre, so the span is full only at the last
   // fibre's columns, and a vector allocated per column made this 39 % of a structure's time.
+  const double scale = std::max(C.cwiseAbs().maxCoeff(), std::numeric_limits<double>::min());
   // The common case first: the free columns span C's rows with room to spare (the smallest
-  // eigenvalue of their Gram matrix C_F C_Fᵀ at least well_spanned times the largest: a condition
-  // of 10³, where the test below needs 10¹⁰), so nothing is to be freed.
+  // eigenvalue of their Gram matrix C_F C_Fᵀ at least well_spanned times the largest, a condition
+  // of 10³ where the test below needs 10¹⁰, and its square root 100 times the test's absolute
+  // threshold), so nothing is to be freed.
   if (C_rank_ == n_c) {
     Eigen::MatrixXd& CF = basis_CF_;
     CF.resize(n_c, n);
@@ -70,14 +85,16 @@ void DenseActiveSet::free_a_basis() {
     basis_gram_.noalias() = CF.leftCols(n_F) * CF.leftCols(n_F).transpose();
     basis_eigen_.compute(basis_gram_, Eigen::EigenvaluesOnly);
     const Eigen::VectorXd& lambda = basis_eigen_.eigenvalues();  // ascending
-    if (basis_eigen_.info() == Eigen::Success && lambda(0) >= well_spanned * lambda(n_c - 1) && lambda(0) > 0) return;
+    const double floor = 100 * independent_row * scale;
+    if (basis_eigen_.info() == Eigen::Success && lambda(0) >= well_spanned * lambda(n_c - 1) &&
+        lambda(0) > floor * floor)
+      return;
   }
   Eigen::MatrixXd& Q = basis_Q_;
   Eigen::VectorXd &v = basis_v_, &w = basis_w_;
   Q.resize(n_c, n_c);
   w.resize(n_c);
   int rank = 0;
-  const double scale = std::max(C.cwiseAbs().maxCoeff(), std::numeric_limits<double>::min());
   const auto add = [&](Eigen::Index i) {
     if (rank == C_rank_) return false;
     v = C.col(i);
@@ -151,6 +168,7 @@ void DenseActiveSet::factorise() {
   // base_solve applies them in order before the two triangular solves.
   constexpr int panel = 32;
   const double largest = k > 0 ? K.cwiseAbs().maxCoeff() : 0.0;
+  double smallest = std::numeric_limits<double>::infinity();
   for (int j0 = 0; j0 < k; j0 += panel) {
     const int jb = std::min(panel, k - j0), end = j0 + jb;
     for (int j = j0; j < end; ++j) {
@@ -161,6 +179,7 @@ void DenseActiveSet::factorise() {
         factorised_ = false;
         return;
       }
+      smallest = std::min(smallest, pivot);
       pivot_[j] = static_cast<int>(p);
       if (p != j) K.row(j).swap(K.row(p));
       K.col(j).tail(k - j - 1) /= K(j, j);
@@ -172,6 +191,7 @@ void DenseActiveSet::factorise() {
     K.bottomRightCorner(k - end, k - end).noalias() -= K.block(end, j0, k - end, jb) * K.block(j0, end, jb, k - end);
   }
   factorised_ = true;
+  base_pivot_ratio_ = k > 0 ? smallest / largest : 1.0;
   base_generation_ = ++generations_;
   current_is_base();
 }
@@ -199,6 +219,7 @@ void DenseActiveSet::swap_base(Kept& e) {
   kkt_.swap(e.kkt);
   kkt_scale_.swap(e.kkt_scale);
   std::swap(base_generation_, e.generation);
+  std::swap(base_pivot_ratio_, e.pivot_ratio);
   e.last_used = uses_;
 }
 
@@ -209,7 +230,7 @@ bool DenseActiveSet::take_kept(const std::vector<int>& free) {
       const bool was_factorised = factorised_;
       swap_base(e);
       factorised_ = true;
-      if (!was_factorised) e.free.clear(), e.free.push_back(-1);  // no free set matches: unused
+      if (!was_factorised) e.free.clear(), e.free.push_back(-1), e.last_used = 0;  // unused: the first to go
       current_is_base();
       return true;
     }
@@ -235,7 +256,7 @@ bool DenseActiveSet::border(const std::vector<int>& free) {
   const Eigen::MatrixXd &A = A_, &C = C_;
   const int n_F0 = static_cast<int>(base_free_.size()), r0 = static_cast<int>(base_rows_.size());
   const int k0 = n_F0 + r0;
-  if (k0 < min_bordered) return false;
+  if (k0 < min_bordered || base_pivot_ratio_ < well_conditioned_base) return false;
   // The border: the base's variables now held, and the variables now free that it does not have
   // (both lists sorted, so one merge).
   std::vector<int> vars;
@@ -300,9 +321,10 @@ bool DenseActiveSet::border(const std::vector<int>& free) {
     for (int q = 0; q < t; ++q)
       if (added[s] && added[q]) D(s, q) = scale(s) * A(vars[s], vars[q]) * scale(q);
   D.noalias() -= B.transpose() * Z;
-  schur_.compute(D);
-  schur_.setThreshold(schur_singular);
-  if (!schur_.isInvertible()) return false;
+  const Eigen::FullPivLU<Eigen::MatrixXd> schur(D);
+  const Eigen::VectorXd pivots = schur.matrixLU().diagonal().cwiseAbs();
+  if (!(pivots.minCoeff() > schur_singular * std::max(1.0, pivots.maxCoeff()))) return false;
+  schur_ = schur;
   border_ = std::move(vars);
   border_added_ = std::move(added);
   border_scale_ = scale;

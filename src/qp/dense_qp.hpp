@@ -152,6 +152,7 @@ class DenseActiveSet {
   Eigen::VectorXd kkt_scale_;    // S, the equilibration of the KKT system (factorise)
   std::vector<int> pivot_;
   long base_generation_ = 0;
+  double base_pivot_ratio_ = 0;  // the base LU's smallest pivot over its largest entry
   // The border of the current free set on the base: per variable freed (added) or held (its
   // base column then held by a unit row), its scale, and the columns B̂ and Ẑ = K̂⁻¹B̂ of the
   // equilibrated bordered system [K̂ B̂; B̂ᵀ D̂]; the LU of its Schur complement D̂ − B̂ᵀẐ.
@@ -175,6 +176,7 @@ class DenseActiveSet {
     Eigen::MatrixXd kkt;
     Eigen::VectorXd kkt_scale;
     long generation = 0, last_used = 0;
+    double pivot_ratio = 0;
   };
   static constexpr std::size_t kept_bytes = 1 << 20, max_kept = 16;
   std::vector<Kept> kept_;

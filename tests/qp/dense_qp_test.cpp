@@ -243,6 +243,29 @@ TEST(DenseActiveSet, BorderedSolvesAreTheFactorisedOnes) {
   EXPECT_LT(4 * factorisations, reference_factorisations) << updates << " " << factorisations;
 }
 
+// A freed variable that A cannot hold (its row and column those of a free variable w, so A_FF is
+// singular once both are free, and b leans along e_v − e_w: the problem is unbounded) leaves a
+// Schur complement of round-off: the border must read that as singular, as a factorisation does,
+// not take a step of 1e16.
+TEST(DenseActiveSet, ABorderThatMakesTheSystemSingularIsRefusedAsAFactorisationIs) {
+  Problem p = random_problem(100, 0, 21, false);
+  const int v = 40, w = 41;
+  p.A.row(v) = p.A.row(w);
+  p.A.col(v) = p.A.col(w);
+  p.l.setConstant(-inf);
+  p.u.setConstant(inf);
+  p.l(v) = 0;
+  p.b(v) = p.b(w) + 1;
+  for (const auto updates : {DenseActiveSet::Updates::bordered, DenseActiveSet::Updates::factorise_each}) {
+    DenseActiveSet qp(p.A, p.C, updates);
+    std::vector<Bound> active(100, Bound::free);
+    active[v] = Bound::lower;
+    const DenseQpResult r = qp.solve(p.b, p.l, p.u, active);
+    EXPECT_FALSE(r.converged) << r.x.lpNorm<Eigen::Infinity>();
+    EXPECT_EQ(r.message, "the KKT system of the free set is singular (A not positive definite on ker C)");
+  }
+}
+
 TEST(DenseActiveSet, RefusesWhatItCannotSolve) {
   Problem p = random_problem(6, 1, 3, false);
   DenseActiveSet qp(p.A, p.C);
