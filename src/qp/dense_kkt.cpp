@@ -44,6 +44,24 @@ constexpr double well_conditioned_base = 1e-8;
 // The equilibration of a free variable: 1/√A_jj (A_jj > 0 on every variable a row can move).
 double variable_scale(double a_jj) { return a_jj > 0 && std::isfinite(a_jj) ? 1 / std::sqrt(a_jj) : 1.0; }
 
+// One Gram–Schmidt step (two passes) of the column v against the orthonormal basis Q(:, 0..rank):
+// v joins it where what is left of it exceeds independent_row × `scale` (C's largest entry).
+// w is the workspace of the projections (size ≥ rank).
+bool extend_basis(Eigen::MatrixXd& Q, int& rank, Eigen::VectorXd& v, Eigen::VectorXd& w, double scale) {
+  for (int pass = 0; pass < 2; ++pass) {
+    w.head(rank).noalias() = Q.leftCols(rank).transpose() * v;
+    v.noalias() -= Q.leftCols(rank) * w.head(rank);
+  }
+  if (v.norm() <= independent_row * scale) return false;
+  Q.col(rank++) = v.normalized();
+  return true;
+}
+
+// C's largest entry, the unit of extend_basis's threshold.
+double basis_scale(const Eigen::MatrixXd& C) {
+  return std::max(C.cwiseAbs().maxCoeff(), std::numeric_limits<double>::min());
+}
+
 }  // namespace
 
 int DenseActiveSet::rank_of_rows(const Eigen::MatrixXd& C) {
@@ -51,12 +69,12 @@ int DenseActiveSet::rank_of_rows(const Eigen::MatrixXd& C) {
   const Eigen::Index n_c = C.rows();
   if (n_c == 0) return 0;
   Eigen::MatrixXd Q(n_c, n_c);
+  Eigen::VectorXd v, w(n_c);
   int rank = 0;
-  const double scale = std::max(C.cwiseAbs().maxCoeff(), std::numeric_limits<double>::min());
+  const double scale = basis_scale(C);
   for (Eigen::Index i = 0; i < C.cols() && rank < n_c; ++i) {
-    Eigen::VectorXd v = C.col(i);
-    for (int pass = 0; pass < 2; ++pass) v -= Q.leftCols(rank) * (Q.leftCols(rank).transpose() * v);
-    if (v.norm() > independent_row * scale) Q.col(rank++) = v.normalized();
+    v = C.col(i);
+    extend_basis(Q, rank, v, w, scale);
   }
   return rank;
 }
@@ -70,7 +88,7 @@ void DenseActiveSet::free_a_basis() {
   // Both passes stop once the span has C's rank (rows of C may be dependent), and the workspace
   // is the object's: a cell's rows of C each see one fibre, so the span is full only at the last
   // fibre's columns, and a vector allocated per column made this 39 % of a structure's time.
-  const double scale = std::max(C.cwiseAbs().maxCoeff(), std::numeric_limits<double>::min());
+  const double scale = basis_scale(C);
   // The common case first: the free columns span C's rows with room to spare (the smallest
   // eigenvalue of their Gram matrix C_F C_Fᵀ at least well_spanned times the largest, a condition
   // of 10³ where the test below needs 10¹⁰, and its square root 100 times the test's absolute
@@ -96,15 +114,8 @@ void DenseActiveSet::free_a_basis() {
   w.resize(n_c);
   int rank = 0;
   const auto add = [&](Eigen::Index i) {
-    if (rank == C_rank_) return false;
     v = C.col(i);
-    for (int pass = 0; pass < 2; ++pass) {
-      w.head(rank).noalias() = Q.leftCols(rank).transpose() * v;
-      v.noalias() -= Q.leftCols(rank) * w.head(rank);
-    }
-    if (v.norm() <= independent_row * scale) return false;
-    Q.col(rank++) = v.normalized();
-    return true;
+    return extend_basis(Q, rank, v, w, scale);
   };
   for (Eigen::Index i = 0; i < n && rank < C_rank_; ++i)
     if (working_[i] == Bound::free) add(i);
@@ -291,31 +302,10 @@ bool DenseActiveSet::border(const std::vector<int>& free) {
     if (qr.rank() != static_cast<Eigen::Index>(base_rows_.size())) return false;
     rows = base_rows_;
   }
-  // Its columns, those of the last border reused: the equilibrated B̂ (an added variable's column
-  // of A over the base's free variables and of C over its rows; a held one's unit column) and
-  // Ẑ = K̂⁻¹B̂.
   const int t = static_cast<int>(vars.size());
-  Eigen::MatrixXd B(k0, t), Z(k0, t);
-  Eigen::VectorXd scale(t);
-  for (int s = 0; s < t; ++s) {
-    const int v = vars[s];
-    scale(s) = added[s] ? variable_scale(A(v, v)) : 1 / kkt_scale_(base_index_[v]);
-    const auto old = std::find(border_.begin(), border_.end(), v);
-    if (old != border_.end() && border_added_[old - border_.begin()] == added[s]) {
-      B.col(s) = border_B_.col(old - border_.begin());
-      Z.col(s) = border_Z_.col(old - border_.begin());
-      continue;
-    }
-    B.col(s).setZero();
-    if (added[s]) {
-      for (int j = 0; j < n_F0; ++j) B(j, s) = kkt_scale_(j) * A(base_free_[j], v) * scale(s);
-      for (int q = 0; q < r0; ++q) B(n_F0 + q, s) = kkt_scale_(n_F0 + q) * C(base_rows_[q], v) * scale(s);
-    } else {
-      B(base_index_[v], s) = 1;
-    }
-    Z.col(s) = B.col(s);
-    base_solve(Z.col(s));
-  }
+  Eigen::MatrixXd B, Z;
+  Eigen::VectorXd scale;
+  border_columns(vars, added, B, Z, scale);
   Eigen::MatrixXd D = Eigen::MatrixXd::Zero(t, t);
   for (int s = 0; s < t; ++s)
     for (int q = 0; q < t; ++q)
@@ -349,6 +339,35 @@ bool DenseActiveSet::border(const std::vector<int>& free) {
   }
   generation_ = ++generations_;
   return true;
+}
+
+void DenseActiveSet::border_columns(const std::vector<int>& vars, const std::vector<char>& added, Eigen::MatrixXd& B,
+                                    Eigen::MatrixXd& Z, Eigen::VectorXd& scale) const {
+  const Eigen::MatrixXd &A = A_, &C = C_;
+  const int n_F0 = static_cast<int>(base_free_.size()), r0 = static_cast<int>(base_rows_.size());
+  const int k0 = n_F0 + r0, t = static_cast<int>(vars.size());
+  B.resize(k0, t);
+  Z.resize(k0, t);
+  scale.resize(t);
+  for (int s = 0; s < t; ++s) {
+    const int v = vars[s];
+    scale(s) = added[s] ? variable_scale(A(v, v)) : 1 / kkt_scale_(base_index_[v]);
+    const auto old = std::find(border_.begin(), border_.end(), v);
+    if (old != border_.end() && border_added_[old - border_.begin()] == added[s]) {
+      B.col(s) = border_B_.col(old - border_.begin());
+      Z.col(s) = border_Z_.col(old - border_.begin());
+      continue;
+    }
+    B.col(s).setZero();
+    if (added[s]) {
+      for (int j = 0; j < n_F0; ++j) B(j, s) = kkt_scale_(j) * A(base_free_[j], v) * scale(s);
+      for (int q = 0; q < r0; ++q) B(n_F0 + q, s) = kkt_scale_(n_F0 + q) * C(base_rows_[q], v) * scale(s);
+    } else {
+      B(base_index_[v], s) = 1;
+    }
+    Z.col(s) = B.col(s);
+    base_solve(Z.col(s));
+  }
 }
 
 void DenseActiveSet::base_solve(Eigen::Ref<Eigen::MatrixXd> v) const {

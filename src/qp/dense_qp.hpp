@@ -91,6 +91,11 @@ class DenseActiveSet {
   // the base by more than max_border variables, has other independent rows of C, or its Schur
   // complement is singular to round-off (a factorisation of its own then decides).
   bool border(const std::vector<int>& free);
+  // The border's columns for variables `vars` (added: freed, else held), those of the current
+  // border reused: the equilibrated B̂ (a freed variable's column of A over the base's free
+  // variables and of C over its rows; a held one's unit column), Ẑ = K̂⁻¹B̂, and their scales.
+  void border_columns(const std::vector<int>& vars, const std::vector<char>& added, Eigen::MatrixXd& B,
+                      Eigen::MatrixXd& Z, Eigen::VectorXd& scale) const;
   // The current free set's KKT system solved in place for the columns of v, in the bordered
   // unknowns (the base's free variables and rows, then one per border variable), unscaled.
   void kkt_solve(Eigen::Ref<Eigen::MatrixXd> v) const;
