@@ -87,9 +87,10 @@ class DenseActiveSet {
   void factorise();
   // The independent rows of C over the free set `free` and which free variables they pin.
   void rows_of_free_set(const std::vector<int>& free, std::vector<int>& rows, std::vector<char>& pinned) const;
-  // The free set `free` as the base bordered (see the file comment); false where it differs from
-  // the base by more than max_border variables, has other independent rows of C, or its Schur
-  // complement is singular to round-off (a factorisation of its own then decides).
+  // The free set `free` as the base bordered (see the file comment); false where the base is
+  // small or ill-conditioned, the set differs from it by more than max_border variables, the
+  // base's rows of C do not alone have C's rank over it, or its Schur complement is singular to
+  // round-off (a factorisation of its own then decides).
   bool border(const std::vector<int>& free);
   // The border's columns for variables `vars` (added: freed, else held), those of the current
   // border reused: the equilibrated B̂ (a freed variable's column of A over the base's free
