@@ -2,6 +2,7 @@
 
 #include <Eigen/SparseCore>
 #include <cmath>
+#include <map>
 #include <stdexcept>
 #include <string>
 
@@ -11,95 +12,187 @@
 
 namespace dualcell::primal {
 
+namespace {
+
+// Every quadrature point of every triangle: point(tri, w, ∇φ) with w its weight times |det J|
+// times the phase's μ, and ∇φ (2 × nodes) the shape functions' gradients (rows 0 and 1 of B at
+// each node's x and y columns).
+template <class Point>
+void for_each_point(const mesh::Mesh& mesh, double mu_fibre, double mu_matrix, Point&& point) {
+  const int nodes = mesh.triangles.width();
+  Eigen::Matrix2Xd grad_phi(2, nodes);
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const auto tri = mesh.triangles[t];
+    const double mu = mesh.subdomains[mesh.triangle_subdomain[t]].is_fibre ? mu_fibre : mu_matrix;
+    const std::vector<Eigen::Vector2d> x = mesh::triangle_points(mesh, static_cast<int>(t));
+    for (const fem::TrianglePoint& q : fem::triangle_rule()) {
+      double det_J;
+      const Eigen::MatrixXd B = fem::strain_displacement_at(x, q.L1, q.L2, det_J);
+      for (int i = 0; i < nodes; ++i) grad_phi.col(i) = Eigen::Vector2d(B(0, 2 * i), B(1, 2 * i + 1));
+      point(tri, q.weight * std::abs(det_J) * mu, grad_phi);
+    }
+  }
+}
+
+// The antiplane problem's body for a bond state: the mesh's points merged with their periodic
+// partners and, where bonded, their interface partners; one unknown per body point; one held
+// unknown per piece (w̃ = 0 there: w̃ is defined up to a constant on each piece, so holding one
+// value gives a generalised inverse K⁺, exact on every load that sums to 0 on each piece); K
+// factorised by CHOLMOD.
+class Body {
+ public:
+  Body(const mesh::Mesh& mesh, double mu_fibre, double mu_matrix, const std::vector<char>& bonded)
+      : mesh_(mesh), points_(mesh.n_points()) {
+    for (const mesh::PeriodicPair& pair : mesh.periodic_pairs) points_.join(pair.point, pair.partner);
+    for (std::size_t p = 0; p < mesh.interface_pairs.size(); ++p)
+      if (!bonded.empty() && bonded[p]) {
+        const auto [f, m] = mesh.interface_pairs[p];
+        points_.join(mesh.point_of[f], mesh.point_of[m]);
+      }
+    unknown_.assign(mesh.n_points(), -1);
+    int n = 0;
+    for (int q = 0; q < mesh.n_points(); ++q)
+      if (points_.find(q) == q) unknown_[q] = n++;
+    UnionFind pieces(n);
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+      for (int i = 1; i < mesh.triangles.width(); ++i)
+        pieces.join(dof(mesh.triangles[t][0]), dof(mesh.triangles[t][i]));
+    piece_.resize(n);
+    free_.assign(n, -1);
+    for (int d = 0; d < n; ++d) piece_[d] = pieces.find(d);
+    for (int d = 0; d < n; ++d)
+      if (piece_[d] != d) free_[d] = n_free_++;
+    std::vector<Eigen::Triplet<double>> entries;
+    f_ = Eigen::MatrixXd::Zero(n_free_, 2);  // −∫ μ ∇φ·Γ dA for Γ = e_x, e_y
+    const int nodes = mesh.triangles.width();
+    for_each_point(mesh, mu_fibre, mu_matrix, [&](const auto& tri, double w, const Eigen::Matrix2Xd& grad_phi) {
+      for (int i = 0; i < nodes; ++i) {
+        const int a = free_[dof(tri[i])];
+        if (a < 0) continue;
+        f_.row(a) -= w * grad_phi.col(i).transpose();
+        for (int j = 0; j < nodes; ++j)
+          if (const int b = free_[dof(tri[j])]; b >= 0)
+            entries.emplace_back(a, b, w * grad_phi.col(i).dot(grad_phi.col(j)));
+      }
+    });
+    Eigen::SparseMatrix<double> K(n_free_, n_free_);
+    K.setFromTriplets(entries.begin(), entries.end());
+    if (const linalg::CholeskyStatus status = cholesky_.compute(K); status != linalg::CholeskyStatus::ok)
+      throw std::runtime_error("longitudinal_shear: the factorisation failed: " +
+                               std::string(linalg::to_string(status)));
+  }
+
+  // The body's unknown of a mesh node (held ones included) and its piece.
+  int dof(int node) { return unknown_[points_.find(mesh_.point_of[node])]; }
+  int piece(int node) { return piece_[dof(node)]; }
+  // The unit shears' loads (n_free × 2).
+  const Eigen::MatrixXd& f() const { return f_; }
+  int n_free() const { return n_free_; }
+  // The free unknown of a mesh node, −1 where held.
+  int free(int node) { return free_[dof(node)]; }
+
+  // w̃ = K⁺ b per mesh node (0 at the held ones).
+  Eigen::VectorXd solve(const Eigen::VectorXd& b) {
+    cholesky_.solve(b, z_);
+    Eigen::VectorXd w(mesh_.n_nodes());
+    for (int v = 0; v < mesh_.n_nodes(); ++v) {
+      const int a = free(v);
+      w(v) = a < 0 ? 0.0 : z_(a);
+    }
+    return w;
+  }
+
+ private:
+  const mesh::Mesh& mesh_;
+  UnionFind points_;
+  std::vector<int> unknown_, piece_, free_;
+  int n_free_ = 0;
+  Eigen::MatrixXd f_;
+  linalg::SparseCholesky cholesky_;
+  Eigen::VectorXd z_;
+};
+
+// G_cd = (1/|Ω|) Σ ∫ μ (e_c + ∇w̃_c)·(e_d + ∇w̃_d) dA for w̃ (nodes × 2) of the unit shears: the
+// energy form, symmetric by construction; at the discrete solution it is ⟨τ⟩ of unit shear d
+// along c (∫ μ ∇φ·(e_d + ∇w̃_d) vanishes on every unknown: the Galerkin equations). Averaged
+// with its transpose: symmetric to the last bit, not only to round-off.
+Eigen::Matrix2d energy_modulus(const mesh::Mesh& mesh, double mu_fibre, double mu_matrix,
+                               const Eigen::MatrixXd& w_tilde) {
+  Eigen::Matrix2d G = Eigen::Matrix2d::Zero();
+  const int nodes = mesh.triangles.width();
+  for_each_point(mesh, mu_fibre, mu_matrix, [&](const auto& tri, double w, const Eigen::Matrix2Xd& grad_phi) {
+    Eigen::Matrix2d grad = Eigen::Matrix2d::Identity();  // column c: Γ + ∇w̃ of unit shear c
+    for (int i = 0; i < nodes; ++i) grad += grad_phi.col(i) * w_tilde.row(tri[i]);
+    G += w * grad.transpose() * grad;
+  });
+  return (G + G.transpose()).eval() / (2 * mesh.block_width() * mesh.block_height());
+}
+
+// w̃ of the unit shears Γ = e_x, e_y per node (columns).
+Eigen::MatrixXd unit_shears(Body& body, int n_nodes) {
+  Eigen::MatrixXd w(n_nodes, 2);
+  for (int c = 0; c < 2; ++c) w.col(c) = body.solve(body.f().col(c));
+  return w;
+}
+
+}  // namespace
+
 LongitudinalShear longitudinal_shear(const mesh::Mesh& mesh, const Material& fibre, const Material& matrix,
                                      const std::vector<char>& bonded) {
   if (!bonded.empty() && bonded.size() != mesh.interface_pairs.size())
     throw std::invalid_argument("longitudinal_shear: " + std::to_string(bonded.size()) + " bond states for " +
                                 std::to_string(mesh.interface_pairs.size()) + " interface pairs");
-  // The body's points: periodic partners one point (w̃ periodic), a bonded pair one point.
-  UnionFind points(mesh.n_points());
-  for (const mesh::PeriodicPair& pair : mesh.periodic_pairs) points.join(pair.point, pair.partner);
-  for (std::size_t p = 0; p < mesh.interface_pairs.size(); ++p)
-    if (bonded.empty() || bonded[p]) {
-      const auto [f, m] = mesh.interface_pairs[p];
-      points.join(mesh.point_of[f], mesh.point_of[m]);
-    }
-  // Unknowns: one per body point; pieces: the body points an element connects.
-  std::vector<int> unknown(mesh.n_points(), -1);
-  int n = 0;
-  for (int q = 0; q < mesh.n_points(); ++q)
-    if (points.find(q) == q) unknown[q] = n++;
-  const auto dof = [&](int node) { return unknown[points.find(mesh.point_of[node])]; };
-  UnionFind pieces(n);
   const double mu_fibre = fem::lame(fibre).mu, mu_matrix = fem::lame(matrix).mu;
-  const int nodes = mesh.triangles.width();
-  // Every quadrature point of every triangle: point(tri, w, ∇φ) with w its weight times |det J|
-  // times the phase's μ, and ∇φ (2 × nodes) the shape functions' gradients (rows 0 and 1 of B at
-  // each node's x and y columns).
-  const auto for_each_point = [&](auto&& point) {
-    Eigen::Matrix2Xd grad_phi(2, nodes);
-    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-      const auto tri = mesh.triangles[t];
-      const double mu = mesh.subdomains[mesh.triangle_subdomain[t]].is_fibre ? mu_fibre : mu_matrix;
-      const std::vector<Eigen::Vector2d> x = mesh::triangle_points(mesh, static_cast<int>(t));
-      for (const fem::TrianglePoint& q : fem::triangle_rule()) {
-        double det_J;
-        const Eigen::MatrixXd B = fem::strain_displacement_at(x, q.L1, q.L2, det_J);
-        for (int i = 0; i < nodes; ++i) grad_phi.col(i) = Eigen::Vector2d(B(0, 2 * i), B(1, 2 * i + 1));
-        point(tri, q.weight * std::abs(det_J) * mu, grad_phi);
-      }
-    }
-  };
-  std::vector<Eigen::Triplet<double>> entries;
-  Eigen::MatrixXd f = Eigen::MatrixXd::Zero(n, 2);  // −∫ μ ∇φ·Γ dA for Γ = e_x, e_y
-  for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
-    for (int i = 1; i < nodes; ++i) pieces.join(dof(mesh.triangles[t][0]), dof(mesh.triangles[t][i]));
-  for_each_point([&](const auto& tri, double w, const Eigen::Matrix2Xd& grad_phi) {
-    for (int i = 0; i < nodes; ++i) {
-      f.row(dof(tri[i])) -= w * grad_phi.col(i).transpose();
-      for (int j = 0; j < nodes; ++j)
-        entries.emplace_back(dof(tri[i]), dof(tri[j]), w * grad_phi.col(i).dot(grad_phi.col(j)));
-    }
-  });
-  // One held unknown per piece (w̃ = 0 there): the others are solved for.
-  std::vector<int> free_index(n, -1);
-  std::vector<char> held(n, 0);
-  int n_free = 0;
-  for (int d = 0; d < n; ++d)
-    if (pieces.find(d) == d) held[d] = 1;
-  for (int d = 0; d < n; ++d)
-    if (!held[d]) free_index[d] = n_free++;
-  std::vector<Eigen::Triplet<double>> kept;
-  kept.reserve(entries.size());
-  for (const auto& e : entries)
-    if (!held[e.row()] && !held[e.col()]) kept.emplace_back(free_index[e.row()], free_index[e.col()], e.value());
-  Eigen::SparseMatrix<double> K(n_free, n_free);
-  K.setFromTriplets(kept.begin(), kept.end());
-  linalg::SparseCholesky cholesky;
-  if (const linalg::CholeskyStatus status = cholesky.compute(K); status != linalg::CholeskyStatus::ok)
-    throw std::runtime_error("longitudinal_shear: the factorisation failed: " + std::string(linalg::to_string(status)));
+  Body body(mesh, mu_fibre, mu_matrix, bonded.empty() ? std::vector<char>(mesh.interface_pairs.size(), 1) : bonded);
   LongitudinalShear out;
-  out.w_tilde = Eigen::MatrixXd::Zero(mesh.n_nodes(), 2);
-  Eigen::VectorXd b(n_free), z(n_free);
-  for (int c = 0; c < 2; ++c) {
-    for (int d = 0; d < n; ++d)
-      if (!held[d]) b(free_index[d]) = f(d, c);
-    cholesky.solve(b, z);
-    for (int v = 0; v < mesh.n_nodes(); ++v) {
-      const int d = dof(v);
-      out.w_tilde(v, c) = held[d] ? 0.0 : z(free_index[d]);
-    }
+  out.w_tilde = unit_shears(body, mesh.n_nodes());
+  out.G = energy_modulus(mesh, mu_fibre, mu_matrix, out.w_tilde);
+  return out;
+}
+
+CondensedShear condense_longitudinal_shear(const mesh::Mesh& mesh, const Material& fibre, const Material& matrix,
+                                           bool rows) {
+  const double mu_fibre = fem::lame(fibre).mu, mu_matrix = fem::lame(matrix).mu;
+  Body body(mesh, mu_fibre, mu_matrix, {});  // every pair free: the open cell
+  CondensedShear out;
+  const Eigen::MatrixXd w_open = unit_shears(body, mesh.n_nodes());
+  out.D0 = energy_modulus(mesh, mu_fibre, mu_matrix, w_open);
+  if (!rows) return out;
+  const int P = static_cast<int>(mesh.interface_pairs.size());
+  // J w̃ per pair: w̃ at its fibre node minus at its matrix node.
+  const auto jump = [&](const Eigen::VectorXd& w, int q) {
+    const auto [f, m] = mesh.interface_pairs[q];
+    return w(f) - w(m);
+  };
+  out.Y.resize(P, 2);
+  for (int q = 0; q < P; ++q)
+    for (int c = 0; c < 2; ++c) out.Y(q, c) = jump(w_open.col(c), q);
+  out.H.resize(P, P);
+  Eigen::VectorXd b = Eigen::VectorXd::Zero(body.n_free());
+  for (int p = 0; p < P; ++p) {
+    const auto [f, m] = mesh.interface_pairs[p];
+    // Jᵀ e_p: +1 at the fibre's node, −1 at the matrix's (a held one takes nothing).
+    if (const int a = body.free(f); a >= 0) b(a) += 1;
+    if (const int a = body.free(m); a >= 0) b(a) -= 1;
+    const Eigen::VectorXd w = body.solve(b);
+    for (int q = 0; q < P; ++q) out.H(q, p) = jump(w, q);
+    b.setZero();
   }
-  // G_cd = (1/|Ω|) Σ ∫ μ (e_c + ∇w̃_c)·(e_d + ∇w̃_d) dA: the energy form, symmetric by
-  // construction; at the discrete solution it is ⟨τ⟩ of unit shear d along c (∫ μ ∇φ·(e_d + ∇w̃_d)
-  // vanishes on every unknown: the Galerkin equations).
-  for_each_point([&](const auto& tri, double w, const Eigen::Matrix2Xd& grad_phi) {
-    Eigen::Matrix2d grad = Eigen::Matrix2d::Identity();  // column c: Γ + ∇w̃ of unit shear c
-    for (int i = 0; i < nodes; ++i) grad += grad_phi.col(i) * out.w_tilde.row(tri[i]);
-    out.G += w * grad.transpose() * grad;
-  });
-  // Averaged with its transpose: symmetric to the last bit, not only to round-off.
-  out.G = (out.G + out.G.transpose()).eval() / (2 * mesh.block_width() * mesh.block_height());
+  out.H = (0.5 * (out.H + out.H.transpose())).eval();
+  // One row per piece the pairs touch (its forces sum to 0: the piece floats along z), the row
+  // of the first pair's matrix piece left out (the rows of all pieces sum to 0).
+  std::map<int, int> row_of;
+  const int left_out = P > 0 ? body.piece(mesh.interface_pairs[0][1]) : -1;
+  for (int q = 0; q < P; ++q)
+    for (const int node : mesh.interface_pairs[q])
+      if (const int k = body.piece(node); k != left_out && !row_of.count(k))
+        row_of.emplace(k, static_cast<int>(row_of.size()));
+  out.G = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(row_of.size()), P);
+  for (int q = 0; q < P; ++q) {
+    const auto [f, m] = mesh.interface_pairs[q];
+    if (const auto it = row_of.find(body.piece(f)); it != row_of.end()) out.G(it->second, q) += 1;
+    if (const auto it = row_of.find(body.piece(m)); it != row_of.end()) out.G(it->second, q) -= 1;
+  }
   return out;
 }
 

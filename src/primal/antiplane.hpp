@@ -30,4 +30,22 @@ struct LongitudinalShear {
 LongitudinalShear longitudinal_shear(const mesh::Mesh& mesh, const Material& fibre, const Material& matrix,
                                      const std::vector<char>& bonded = {});
 
+// The longitudinal shear condensed onto the interface pairs (docs/method.md §16b), the exact law
+// of every bond state at once. The open cell (every pair free to jump, each fibre floating along
+// z) has w̃ = K⁺(f Γ − Jᵀq) under pair forces q (J: the jump of w̃ across each pair, fibre minus
+// matrix); a bond state ties the jumps of its bonded pairs, and the forces that do it solve
+//   q = argmin ½ qᵀH q − qᵀY Γ  over  G q = 0 (and the bounds of each pair's bond),
+// with ⟨τ⟩ = D0 Γ + Yᵀq/|Ω|. Without bonds q = 0: the open cell, fibres as holes.
+struct CondensedShear {
+  Eigen::Matrix2d D0 = Eigen::Matrix2d::Zero();  // ⟨τ⟩ per unit Γ of the open cell (energy form)
+  Eigen::MatrixXd Y;                             // pairs × 2: J K⁺ f, the open cell's jump at each pair per unit Γ
+  Eigen::MatrixXd H;  // pairs × pairs: J K⁺ Jᵀ, the jump at each pair per unit pair force
+  Eigen::MatrixXd G;  // one row per floating piece (a fibre): the sum of its pairs' forces
+};
+
+// With rows = false only D0 (a cell without bonds needs nothing else). Throws
+// std::runtime_error when the factorisation fails.
+CondensedShear condense_longitudinal_shear(const mesh::Mesh& mesh, const Material& fibre, const Material& matrix,
+                                           bool rows = true);
+
 }  // namespace dualcell::primal
