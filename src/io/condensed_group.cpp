@@ -31,15 +31,12 @@ Eigen::MatrixXd from_row_major(const std::vector<double>& v, hsize_t rows, hsize
 void write_condensed(File& f, const std::string& group, const law::CondensedCell& cell) {
   f.create_group(group);
   const auto dim = [&](law::Extent e) { return static_cast<hsize_t>(law::extent(cell, e)); };
-  // Without the strain along the fibres its members are left out (a file without them reads as
-  // a cell without it; h5diff cannot compare the empty arrays they would be).
-  const bool without = cell.longitudinal == 0;
+  // Without an optional part (the strain along the fibres, the shear along them) its members are
+  // left out (law::left_out).
   law::for_each_member(cell, [&](const law::Member& m, const auto& value) {
     using T = std::remove_cvref_t<decltype(value)>;
     const std::string name = group + "/" + m.name;
-    if (without && (m.sizes == law::Extent::longitudinal || m.rows == law::Extent::longitudinal ||
-                    m.cols == law::Extent::longitudinal))
-      return;
+    if (law::left_out(cell, m)) return;
     if constexpr (law::CountMember<T>)
       f.write(name, std::vector<std::int64_t>{value}, {1});
     else if constexpr (law::RealMember<T>)
@@ -62,8 +59,10 @@ law::CondensedCell read_condensed(const File& f, const std::string& group) {
   law::CondensedCell cell;
   // Each extent as it becomes known (from a count, or from the first array that has it), and
   // the object it came from, for the message of an array that disagrees.
-  hsize_t size[6] = {1, any_extent, any_extent, any_extent, any_extent, any_extent};
-  std::string like[6];
+  hsize_t size[law::n_extents];
+  std::fill(std::begin(size), std::end(size), any_extent);
+  size[static_cast<std::size_t>(law::Extent::one)] = 1;
+  std::string like[law::n_extents];
   const auto known = [&](law::Extent e, hsize_t found, const std::string& from) {
     const auto i = static_cast<std::size_t>(e);
     if (size[i] == any_extent) size[i] = found, like[i] = " like " + from;
@@ -90,9 +89,10 @@ law::CondensedCell read_condensed(const File& f, const std::string& group) {
       return;
     }
     if constexpr (law::ArrayMember<T>)
-      if ((m.rows == law::Extent::longitudinal || m.cols == law::Extent::longitudinal) &&
-          (size[rows] == 0 || size[cols] == 0) && !f.exists(name)) {
-        value = Eigen::MatrixXd(static_cast<Eigen::Index>(size[rows]), static_cast<Eigen::Index>(size[cols]));
+      if ((law::optional_extent(m.rows) || law::optional_extent(m.cols)) && (size[rows] == 0 || size[cols] == 0) &&
+          !f.exists(name)) {
+        const auto empty_or = [&](hsize_t n) { return static_cast<Eigen::Index>(n == any_extent ? 0 : n); };
+        value = Eigen::MatrixXd(empty_or(size[rows]), empty_or(size[cols]));
         return;
       }
     if constexpr (law::CountMember<T>) {

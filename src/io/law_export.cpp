@@ -122,10 +122,8 @@ void add_exact_law(JsonObject& o, const Law& law) {
   JsonObject cell;
   law::for_each_member(*law.cell, [&](const law::Member& m, const auto& value) {
     using T = std::remove_cvref_t<decltype(value)>;
-    // Without the strain along the fibres its members are left out, as in law.h5.
-    if (law.cell->longitudinal == 0 && (m.sizes == law::Extent::longitudinal || m.rows == law::Extent::longitudinal ||
-                                        m.cols == law::Extent::longitudinal))
-      return;
+    // Without an optional part its members are left out, as in law.h5.
+    if (law::left_out(*law.cell, m)) return;
     if constexpr (law::CountMember<T>)
       cell.add(m.name, std::to_string(value));
     else if constexpr (law::RealMember<T>)

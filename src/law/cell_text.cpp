@@ -13,7 +13,10 @@ namespace dualcell::law {
 
 namespace {
 
-constexpr const char* header = "dualcell cell law 2";  // 2: the strain along the fibres (longitudinal, A33, C33, y33)
+// 2: the strain along the fibres (longitudinal, A33, C33, y33); 3: the shear along them (shear …
+// strength_z), written only by a cell that has it, so that a cell without it reads as before.
+constexpr const char* header = "dualcell cell law 2";
+constexpr const char* header_shear = "dualcell cell law 3";
 
 std::string number(double v) {
   if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
@@ -91,11 +94,12 @@ bool read_list(std::istream& in, const char* key, Eigen::Index n, std::vector<T>
 }  // namespace
 
 void write_cell_text(std::ostream& out, const CondensedCell& cell) {
-  out << header << '\n';
+  const bool shear = cell.shear != 0;
+  out << (shear ? header_shear : header) << '\n';
   for_each_member(cell, [&](const Member& m, const auto& value) {
     using T = std::remove_cvref_t<decltype(value)>;
     const char* key = m.text ? m.text : m.name;
-    if (m.measured) return;
+    if (m.measured || (!shear && of_shear(m))) return;
     if constexpr (CountMember<T>)
       out << key << ' ' << value << '\n';
     else if constexpr (std::is_same_v<T, TextSize>)
@@ -112,17 +116,18 @@ void write_cell_text(std::ostream& out, const CondensedCell& cell) {
 CondensedCell read_cell_text(std::istream& in, std::string& error) {
   CondensedCell cell;
   std::string line;
-  if (!std::getline(in, line) || line != header) {
-    error = "the first line is not '" + std::string(header) + "'";
+  if (!std::getline(in, line) || (line != header && line != header_shear)) {
+    error = "the first line is not '" + std::string(header) + "' or '" + header_shear + "'";
     return {};
   }
+  const bool shear = line == header_shear;
   // The extents as the text states them, before the arrays.
-  Eigen::Index size[6] = {1, 0, 0, 0, 0, 0};
+  Eigen::Index size[n_extents] = {1};
   bool ok = true;
   for_each_member(cell, [&](const Member& m, auto&& value) {
     using T = std::remove_cvref_t<decltype(value)>;
     const char* key = m.text ? m.text : m.name;
-    if (!ok || m.measured) return;
+    if (!ok || m.measured || (!shear && of_shear(m))) return;
     if constexpr (CountMember<T> || std::is_same_v<T, TextSize>) {
       double count = 0;
       ok = read_values(in, key, &count, 1, error);

@@ -51,11 +51,29 @@ long extent_limit(Extent e) {
     case Extent::rows:
     case Extent::pairs:
     case Extent::fibre_modes:
+    case Extent::shear_rows:
+    case Extent::shear_modes:
       return max_cell_rows;
     case Extent::longitudinal:
       return 1;
+    case Extent::shear:
+      return 2;
   }
   return 0;
+}
+
+bool optional_extent(Extent e) { return e == Extent::longitudinal || e == Extent::shear || e == Extent::shear_rows; }
+
+bool of_shear(const Member& m) {
+  for (const Extent e : {m.sizes, m.rows, m.cols})
+    if (e == Extent::shear || e == Extent::shear_rows || e == Extent::shear_modes) return true;
+  return false;
+}
+
+bool left_out(const CondensedCell& cell, const Member& m) {
+  for (const Extent e : {m.sizes, m.rows, m.cols})
+    if (optional_extent(e) && extent(cell, e) == 0) return true;
+  return false;
 }
 
 long extent(const CondensedCell& cell, Extent e) {
@@ -72,6 +90,12 @@ long extent(const CondensedCell& cell, Extent e) {
       return cell.G.rows();
     case Extent::longitudinal:
       return cell.longitudinal;
+    case Extent::shear:
+      return cell.shear;
+    case Extent::shear_rows:
+      return cell.shear_rows;
+    case Extent::shear_modes:
+      return cell.Gz.rows();
   }
   return 0;
 }
@@ -90,6 +114,12 @@ const char* extent_name(Extent e) {
       return "fibre_modes";
     case Extent::longitudinal:
       return "longitudinal";
+    case Extent::shear:
+      return "shear";
+    case Extent::shear_rows:
+      return "shear_rows";
+    case Extent::shear_modes:
+      return "shear_modes";
   }
   return "";
 }
@@ -118,11 +148,11 @@ std::optional<CellProblem> size_problem(const CondensedCell& cell) {
     } else if constexpr (ArrayMember<T> || ListMember<T>) {
       long rows = static_cast<long>(value.size()), cols = 1;
       if constexpr (ArrayMember<T>) rows = value.rows(), cols = value.cols();
-      // G's rows (fibre_modes) are its own, and without any its columns do not matter.
-      const bool free_rows = m.rows == Extent::fibre_modes;
-      // Without longitudinal data (extent 0) its arrays may be empty of any shape.
-      const bool none = (m.rows == Extent::longitudinal || m.cols == Extent::longitudinal) && cell.longitudinal == 0 &&
-                        rows * cols == 0;
+      // G's and Gz's rows (fibre_modes, shear_modes) are their own, and without any their
+      // columns do not matter.
+      const bool free_rows = m.rows == Extent::fibre_modes || m.rows == Extent::shear_modes;
+      // Without an optional part (its extent 0) its arrays may be empty of any shape.
+      const bool none = left_out(cell, m) && rows * cols == 0;
       const bool shaped = none || ((free_rows || rows == extent(cell, m.rows)) &&
                                    (cols == extent(cell, m.cols) || (free_rows && rows == 0)));
       if (!shaped)
@@ -144,11 +174,12 @@ std::optional<CellProblem> value_problem(const CondensedCell& cell) {
       if (!entry) entry = CellProblem{m.name, std::move(what)};
     };
     if constexpr (ArrayMember<T>) {
+      if (left_out(cell, m)) return;  // an optional part the cell does not have: empty
       if (m.values >= Values::finite && m.values <= Values::symmetric_positive_definite)
         finite = finite && value.allFinite();
-      if (m.values == Values::symmetric || m.values == Values::symmetric_positive_definite) {
-        symmetric_names += (symmetric_names.empty() ? "" : " or ") + std::string(m.name);
-        symmetric_all = symmetric_all && symmetric(value);
+      if ((m.values == Values::symmetric || m.values == Values::symmetric_positive_definite) && !symmetric(value)) {
+        symmetric_names += (symmetric_names.empty() ? "" : " and ") + std::string(m.name);
+        symmetric_all = false;
       }
       if (m.values == Values::symmetric_positive_definite && not_definite.empty() && value.allFinite() &&
           Eigen::LLT<Eigen::MatrixXd>(value).info() != Eigen::Success)
@@ -175,47 +206,68 @@ std::optional<CellProblem> value_problem(const CondensedCell& cell) {
     }
   });
   if (!finite) return CellProblem{"", "non-finite entries"};
-  if (!symmetric_all) return CellProblem{"", symmetric_names + " is not symmetric"};
+  if (!symmetric_all)
+    return CellProblem{
+        "", symmetric_names + (symmetric_names.find(" and ") == std::string::npos ? " is" : " are") + " not symmetric"};
   if (!not_definite.empty()) return CellProblem{"", not_definite + " is not positive definite"};
   return entry;
 }
 
-// 𝓗 positive definite on the kernel of the fibres' rows [0 G]: the strain-driven law is then
-// strictly convex on every admissible set, and each of its QPs has one solution. 𝓗 + CᵀC is
-// factorised, equilibrated (𝓗's diagonal scaled to 1, the rows C = [0 G] to unit length): that
-// is positive definite if and only if 𝓗 is on ker C, given 𝓗 positive semidefinite, which a
-// cell's energy is; an indefinite 𝓗 fails either way.
-std::optional<CellProblem> convexity_problem(const CondensedCell& cell) {
-  Eigen::MatrixXd M = energy_matrix(cell);
-  const Eigen::Index N = M.rows(), n = cell.n_rows();
+// Whether the symmetric positive semidefinite M is positive definite on the kernel of the rows
+// C (acting on M's last C.cols() unknowns): M + CᵀC is factorised, equilibrated (M's diagonal
+// scaled to 1, the rows of C to unit length), which is positive definite if and only if M is on
+// ker C; an indefinite M fails either way. `what` names M in the message, `kernel` ker C.
+std::optional<CellProblem> definite_problem(Eigen::MatrixXd M, const Eigen::MatrixXd& C, const std::string& what,
+                                            const std::string& kernel) {
+  const Eigen::Index N = M.rows(), n = C.cols();
   Eigen::VectorXd d(N);
   for (Eigen::Index i = 0; i < N; ++i) {
     if (!(M(i, i) > 0))
-      return CellProblem{"", "the energy [|Ω|S0 −Yᵀ; −Y H] has a diagonal entry ≤ 0 (row " + std::to_string(i) +
-                                 "): the law is not convex"};
+      return CellProblem{"", what + " has a diagonal entry ≤ 0 (row " + std::to_string(i) + "): the law is not convex"};
     d(i) = 1 / std::sqrt(M(i, i));
   }
   M = d.asDiagonal() * M * d.asDiagonal();
-  if (cell.G.rows() > 0) {
-    Eigen::MatrixXd C = cell.G * d.tail(n).asDiagonal();
-    for (Eigen::Index g = 0; g < C.rows(); ++g)
-      if (const double norm = C.row(g).norm(); norm > 0) C.row(g) /= norm;
-    M.bottomRightCorner(n, n).noalias() += C.transpose() * C;
+  if (C.rows() > 0) {
+    Eigen::MatrixXd Cs = C * d.tail(n).asDiagonal();
+    for (Eigen::Index g = 0; g < Cs.rows(); ++g)
+      if (const double norm = Cs.row(g).norm(); norm > 0) Cs.row(g) /= norm;
+    M.bottomRightCorner(n, n).noalias() += Cs.transpose() * Cs;
   }
   Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>> llt(M);
   const double smallest = llt.info() == Eigen::Success ? M.diagonal().cwiseAbs2().minCoeff() : 0.0;
   if (!(smallest >= pivot_floor(N)))
-    return CellProblem{"",
-                       "the energy [|Ω|S0 −Yᵀ; −Y H] is not positive definite on G p = 0 (smallest equilibrated "
-                       "pivot " +
-                           formatted("%.3g", smallest) + ", below " + formatted("%.3g", pivot_floor(N)) +
-                           "): the law is not convex"};
+    return CellProblem{"", what + " is not positive definite on " + kernel + " (smallest equilibrated pivot " +
+                               formatted("%.3g", smallest) + ", below " + formatted("%.3g", pivot_floor(N)) +
+                               "): the law is not convex"};
+  return std::nullopt;
+}
+
+// 𝓗 positive definite on the kernel of the fibres' rows [0 G]: the strain-driven law is then
+// strictly convex on every admissible set, and each of its QPs has one solution; so is Hz on
+// Gz q = 0, the longitudinal shear's.
+std::optional<CellProblem> convexity_problem(const CondensedCell& cell) {
+  if (auto problem = definite_problem(energy_matrix(cell), cell.G, "the energy [|Ω|S0 −Yᵀ; −Y H]", "G p = 0"))
+    return problem;
+  if (cell.shear_rows > 0) return definite_problem(cell.Hz, cell.Gz, "the shear rows' Hz", "Gz q = 0");
+  return std::nullopt;
+}
+
+// The longitudinal shear's counts: 0 or 2 macro shears, a row per pair or none, rows only with
+// the shears.
+std::optional<CellProblem> shear_problem(const CondensedCell& cell) {
+  if (cell.shear != 0 && cell.shear != 2)
+    return CellProblem{"shear", "is " + std::to_string(cell.shear) + ", not 0 or 2"};
+  if (cell.shear_rows != 0 && cell.shear_rows != cell.n_pairs)
+    return CellProblem{"shear_rows", "is " + std::to_string(cell.shear_rows) + ", not 0 or n_pairs (" +
+                                         std::to_string(cell.n_pairs) + ")"};
+  if (cell.shear_rows > 0 && cell.shear == 0) return CellProblem{"shear_rows", "without the shears (shear = 0)"};
   return std::nullopt;
 }
 
 }  // namespace
 
 std::optional<CellProblem> find_problem(const CondensedCell& cell) {
+  if (auto problem = shear_problem(cell)) return problem;
   if (auto problem = size_problem(cell)) return problem;
   if (auto problem = value_problem(cell)) return problem;
   // The open cell stretched along the fibres at σ̄ = 0 stores energy: C33 > 0.

@@ -17,8 +17,12 @@
 namespace dualcell::law {
 
 // The sizes of the cell's arrays: one (a scalar), m = n_macro, n = n_rows(), P = n_pairs,
-// k = G.rows(), which only G has (free), and L = longitudinal (0 or 1: the ε33 column).
-enum class Extent { one, macro, rows, pairs, fibre_modes, longitudinal };
+// k = G.rows(), which only G has (free), L = longitudinal (0 or 1: the ε33 column), and the
+// longitudinal shear's: its macro shears (shear: 0 or 2), its rows (shear_rows: 0 or n_pairs)
+// and Gz's rows (shear_modes, free as G's). An extent of the optional parts (longitudinal,
+// shear, shear_rows) may be 0: its members are then left out of the files (left_out).
+enum class Extent { one, macro, rows, pairs, fibre_modes, longitudinal, shear, shear_rows, shear_modes };
+inline constexpr int n_extents = 9;
 
 // What a member's values must satisfy besides their shape (consistency_problem). The matrix
 // rules include the ones before them: symmetric is finite too.
@@ -82,6 +86,14 @@ void for_each_member(Cell& cell, Visit&& visit) {
   visit(Member{.name = "A33", .rows = macro, .cols = longitudinal, .values = Values::finite}, cell.A33);
   visit(Member{.name = "C33", .rows = longitudinal, .cols = longitudinal, .values = Values::finite}, cell.C33);
   visit(Member{.name = "y33", .rows = rows, .cols = longitudinal, .values = Values::finite}, cell.y33);
+  visit(Member{.name = "shear", .hi = 2, .sizes = shear, .optional = true}, cell.shear);
+  visit(Member{.name = "shear_rows", .hi = max_cell_rows, .sizes = shear_rows, .optional = true}, cell.shear_rows);
+  visit(Member{.name = "shear_modes", .hi = max_cell_rows, .sizes = shear_modes}, TextSize{});
+  visit(Member{.name = "D0z", .rows = shear, .cols = shear, .values = Values::symmetric_positive_definite}, cell.D0z);
+  visit(Member{.name = "Yz", .rows = shear_rows, .cols = shear, .values = Values::finite}, cell.Yz);
+  visit(Member{.name = "Hz", .rows = shear_rows, .cols = shear_rows, .values = Values::symmetric}, cell.Hz);
+  visit(Member{.name = "Gz", .rows = shear_modes, .cols = shear_rows, .values = Values::finite}, cell.Gz);
+  visit(Member{.name = "strength_z", .rows = shear_rows, .values = Values::at_least_zero}, cell.strength_z);
   visit(Member{.name = "reciprocity_error", .measured = true}, cell.reciprocity_error);
   visit(Member{.name = "seconds", .measured = true}, cell.seconds);
   visit(Member{.name = "operator_applications", .measured = true}, cell.operator_applications);
@@ -107,8 +119,17 @@ struct CellProblem {
 };
 std::optional<CellProblem> find_problem(const CondensedCell& cell);
 
+// Whether the files leave member m of the cell out: it has an extent of an optional part
+// (longitudinal, shear, shear_rows) that is 0 for this cell, the count itself included. A file
+// without them reads as a cell without that part; h5diff cannot compare empty arrays.
+bool left_out(const CondensedCell& cell, const Member& m);
+// Whether an extent belongs to an optional part (may be 0, its arrays then empty of any shape).
+bool optional_extent(Extent e);
+// Whether a member is of the longitudinal shear (the cell's text has it from version 3 on).
+bool of_shear(const Member& m);
+
 // The largest value an extent may take (rows, pairs, fibre modes: max_cell_rows; n_macro: 3;
-// longitudinal: 1).
+// longitudinal: 1; shear: 2).
 long extent_limit(Extent e);
 // The value of an extent for the cell as it stands (fibre_modes: G's rows).
 long extent(const CondensedCell& cell, Extent e);

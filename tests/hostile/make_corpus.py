@@ -788,7 +788,7 @@ def write_h5(bin_dir):
     h5case("law", "law-onset-pair-short.h5", "input", "/law/onset/pair: expected shape",
            "one facet's pair missing", edited(l, lambda f: replace(f, "/law/onset/pair",
                                                                    np.asarray(f["/law/onset/pair"])[:-1])))
-    h5case("law", "law-cell-H-asymmetric.h5", "input", "/law/cell: S0 or H is not symmetric",
+    h5case("law", "law-cell-H-asymmetric.h5", "input", "/law/cell: H is not symmetric",
            "the exact law's interface flexibility made asymmetric",
            edited(l, lambda f: f["/law/cell/H"].__setitem__((0, 1), f["/law/cell/H"][0, 1] * 2 + 1)))
     h5case("law", "law-cell-pair-high.h5", "input", "/law/cell/pair: 100000 is not a pair index",

@@ -26,7 +26,7 @@ namespace {
 using law::CondensedCell;
 
 // A small consistent cell: 2 macro components (3 is the default), 2 pairs of a normal and a tangential row, one
-// fibre mode; every member set, none to its default.
+// fibre mode, the strain and the shear along the fibres; every member set, none to its default.
 CondensedCell distinct_cell() {
   CondensedCell c;
   c.n_macro = 2;
@@ -54,6 +54,13 @@ CondensedCell distinct_cell() {
   c.A33 = Eigen::Vector2d{-0.3, -0.2};
   c.C33 = Eigen::MatrixXd::Constant(1, 1, 4.5);
   c.y33 = Eigen::Vector4d{0.05, -0.01, 0.02, 0.0};
+  c.shear = 2;
+  c.shear_rows = 2;
+  c.D0z = Eigen::Matrix2d{{1.5, 0.05}, {0.05, 1.25}};
+  c.Yz = Eigen::Matrix2d{{0.2, -0.1}, {-0.2, 0.1}};
+  c.Hz = Eigen::Matrix2d{{0.8, 0.1}, {0.1, 0.6}};
+  c.Gz = Eigen::RowVector2d{1, 1};
+  c.strength_z = Eigen::Vector2d{0.75, 1.75};
   c.reciprocity_error = 3e-13;
   c.seconds = 0.125;
   c.operator_applications = 17;
@@ -151,6 +158,50 @@ TEST(CondensedMembers, ACellWithoutTheStrainAlongTheFibresLeavesItsMembersOut) {
   EXPECT_NE(law::consistency_problem(cell).find("A33"), std::string::npos) << law::consistency_problem(cell);
 }
 
+// The shear along the fibres is left out of every format where the cell has none (law.h5, JSON;
+// the text stays version 2, as such a cell's always was), and its rows where no bond carries
+// shear (no adhesion: ⟨τ⟩ = D0z Γ); its counts are checked.
+TEST(CondensedMembers, ACellWithoutTheShearAlongTheFibresLeavesItsMembersOut) {
+  testing::ScratchDir dir;
+  law::Law law = testing::synthetic_law();
+  CondensedCell cell = distinct_cell();
+  cell.shear_rows = 0;
+  cell.Yz.resize(0, 0), cell.Hz.resize(0, 0), cell.Gz.resize(0, 0), cell.strength_z.resize(0);
+  ASSERT_EQ(law::consistency_problem(cell), "");
+  law.cell = cell;
+  write_law(dir / "rows.h5", law);
+  EXPECT_TRUE(File::open_read(dir / "rows.h5").exists("/law/cell/D0z"));
+  EXPECT_FALSE(File::open_read(dir / "rows.h5").exists("/law/cell/Hz"));
+  const CondensedCell rows = *read_law(dir / "rows.h5").cell;
+  EXPECT_EQ(rows.shear, 2);
+  EXPECT_EQ(rows.shear_rows, 0);
+  EXPECT_EQ(rows.D0z, cell.D0z);
+  cell.shear = 0;
+  cell.D0z.resize(0, 0);
+  ASSERT_EQ(law::consistency_problem(cell), "");
+  law.cell = cell;
+  write_law(dir / "none.h5", law);
+  EXPECT_FALSE(File::open_read(dir / "none.h5").exists("/law/cell/shear"));
+  EXPECT_EQ(read_law(dir / "none.h5").cell->shear, 0);
+  EXPECT_EQ(law_json(law).find("\"D0z\""), std::string::npos);
+  std::ostringstream out;
+  law::write_cell_text(out, cell);
+  EXPECT_EQ(out.str().rfind("dualcell cell law 2\n", 0), 0u);
+  EXPECT_EQ(out.str().find("shear"), std::string::npos);
+  cell.shear = 1;
+  EXPECT_EQ(law::consistency_problem(cell), "shear: is 1, not 0 or 2");
+  cell = distinct_cell();
+  cell.shear_rows = 3;
+  EXPECT_EQ(law::consistency_problem(cell), "shear_rows: is 3, not 0 or n_pairs (2)");
+  // Hz singular on Gz q = 0 (its rows repeated): two pairs that would slip as one.
+  cell = distinct_cell();
+  cell.Hz = Eigen::Matrix2d::Constant(0.5);
+  cell.Gz = Eigen::RowVector2d{1, 1};
+  EXPECT_NE(law::consistency_problem(cell).find("the shear rows' Hz is not positive definite on Gz q = 0"),
+            std::string::npos)
+      << law::consistency_problem(cell);
+}
+
 // The exact law's replay check (law::cell_replay_fields) beside it: every member its own value,
 // through law.h5 and back and into the JSON.
 TEST(CellReplayFields, EveryMemberHasItsRow) {
@@ -192,7 +243,7 @@ TEST(CondensedMembers, ConsistencyNamesTheMemberAndTheRule) {
   EXPECT_EQ(law::consistency_problem(cell), "pair: 7 is not a pair index (row 3)");
   cell = distinct_cell();
   cell.H(0, 1) += 1;
-  EXPECT_EQ(law::consistency_problem(cell), "S0 or H is not symmetric");
+  EXPECT_EQ(law::consistency_problem(cell), "H is not symmetric");
   cell = distinct_cell();
   cell.Y(2, 1) = std::numeric_limits<double>::quiet_NaN();
   EXPECT_EQ(law::consistency_problem(cell), "non-finite entries");
