@@ -5,7 +5,9 @@
 // loading path from the unloaded cell, its history (the broken bonds) carried along it; rows
 // without it each start unloaded. The output has, per row, the other quantity, the consistent
 // tangent dσ/dε (9 entries, row by row) and the broken bonds; with --eps33 each row has the strain
-// ε33 along the fibres fourth, and σ33 and the tangent's ε33 column come out too. --form cell (the default) is the
+// ε33 along the fibres fourth, and σ33 and the tangent's ε33 column come out too; with --full each row
+// is the whole ply's strain (εxx, εyy, γxy, ε33, γxz, γyz) and the six stresses and the 6 × 6
+// tangent come out. --form cell (the default) is the
 // exact law, the cell condensed onto its interface rows; --form small its small cell (the same form
 // with few rows, fitted to it); --form cone the compact cone-wise law.
 //
@@ -39,6 +41,10 @@ int main(int argc, char** argv) {
   app.add_flag("--eps33", options.eps33,
                "each row has a fourth number, the strain e33 along the fibres (a law fitted with [load] macro = "
                "\"full\"); the output gains szz and the tangent's e33 column");
+  app.add_flag("--full", options.full,
+               "each row has six numbers, exx, eyy, gxy, e33, gxz, gyz (a law fitted with [load] macro = \"full\" "
+               "on the periodic boundary; strain-driven): the output is sxx, syy, sxy, szz, sxz, syz and the 6 x 6 "
+               "tangent");
   app.add_flag("--factorise-each", options.factorise_each,
                "the exact law's QP factorises every new free set instead of bordering the kept factorisation "
                "(the reference the bordered solves are measured against; slower)");

@@ -13,6 +13,7 @@
 #include "feti/macro.hpp"
 #include "law/bond.hpp"
 #include "law/reduced.hpp"
+#include "primal/antiplane.hpp"
 
 namespace dualcell::feti {
 
@@ -321,6 +322,27 @@ double set_longitudinal(const FetiSetup& setup, const Eigen::MatrixXd& Y, const 
                   (y - g).norm() / std::max({y.norm(), Y.leftCols(m).norm(), 1e-300}));
 }
 
+// The shear along the fibres (docs/method.md §16b): the antiplane problem condensed onto the
+// pairs (primal::condense_longitudinal_shear), with a row per pair where bonds carry shear (the
+// tangential strength s_t > 0); a pair's strength along z is its in-plane tangential row's, s_t L.
+void set_shear(const FetiSetup& setup, law::CondensedCell& cell) {
+  const Scene& scene = setup.scene();
+  const double sn = scene.interface.normal_strength, st = scene.interface.tangential_strength;
+  const primal::CondensedShear z = primal::condense_longitudinal_shear(setup.mesh(), scene.fibre, scene.matrix, st > 0);
+  cell.shear = 2;
+  cell.D0z = z.D0;
+  if (!(st > 0)) return;
+  cell.shear_rows = cell.n_pairs;
+  cell.Yz = z.Y;
+  cell.Hz = z.H;
+  cell.Gz = z.G;
+  const std::vector<double> length = interface_lengths(setup.mesh());
+  cell.strength_z.resize(cell.n_pairs);
+  for (int q = 0; q < cell.n_pairs; ++q)
+    cell.strength_z(q) =
+        law::bond::bounds(law::bond::Kind::tangential, law::bond::State::intact, sn, st, length[q]).upper;
+}
+
 }  // namespace
 
 law::CondensedCell condense(const FetiSetup& setup, int max_rows) {
@@ -364,6 +386,7 @@ law::CondensedCell condense(const FetiSetup& setup, int max_rows) {
   cell.n_pairs = static_cast<int>(setup.mesh().interface_pairs.size());
   cell.bonded = p.intact;
   set_rows(cell, con, I);
+  if (p.longitudinal && setup.scene().load.boundary == Boundary::periodic) set_shear(setup, cell);
   cell.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return cell;
 }

@@ -100,7 +100,7 @@ bool PointsReader::next(LawPoint& point) {
                        " like the first row");
     for (int k = 0; k < numbers_; ++k) {
       const std::string_view field = f[columns_ - numbers_ + k];
-      double& v = k < 3 ? point.value(k) : point.eps33;
+      double& v = k < 3 ? point.value(k) : k == 3 ? point.eps33 : point.gamma(k - 4);
       if (!number(field, v) || !std::isfinite(v))
         throw InputError(where + "column " + std::to_string(columns_ - numbers_ + 1 + k) + " = '" +
                          clipped(std::string(field)) + "' is not a finite number");

@@ -24,14 +24,16 @@ inline constexpr std::size_t max_points_line = 4096;
 struct LawPoint {
   std::string path;  // empty without the path column
   Eigen::Vector3d value;
-  double eps33 = 0;  // the fourth number of a row of four (the strain along the fibres)
-  long line = 0;     // the row's line in the file, for messages
+  double eps33 = 0;  // the fourth number of a row of four or six (the strain along the fibres)
+  Eigen::Vector2d gamma = Eigen::Vector2d::Zero();  // the fifth and sixth of a row of six (γxz, γyz)
+  long line = 0;                                    // the row's line in the file, for messages
 };
 
 class PointsReader {
  public:
   // An InputError naming the file when it is missing, not a regular file or beyond
-  // max_points_bytes. `numbers`: per row 3 (the in-plane state) or 4 (and ε33 after it).
+  // max_points_bytes. `numbers`: per row 3 (the in-plane state), 4 (and ε33 after it) or 6 (and
+  // γxz, γyz after that).
   explicit PointsReader(const std::filesystem::path& file, int numbers = 3);
   // The next row into `point`; false after the last one. An InputError naming the file, the line
   // and what is wrong for a row that is not `numbers` (or, with a path first, one more) finite

@@ -54,9 +54,10 @@ CellEvaluator::CellEvaluator(const CondensedCell& cell, qp::DenseActiveSet::Upda
       C_strain_(strain_rows(cell)),
       stress_qp_(cell.H, cell.G, updates),
       strain_qp_(energy_, C_strain_, updates),
-      onset_qp_(cell.H, cell.G, updates) {}
+      onset_qp_(cell.H, cell.G, updates),
+      shear_qp_(cell.Hz, cell.Gz, updates) {}
 
-CellHistory CellEvaluator::unloaded() const { return {cell_.bonded, {}}; }
+CellHistory CellEvaluator::unloaded() const { return {cell_.bonded, {}, {}}; }
 
 void CellEvaluator::set_bounds(const std::vector<std::uint8_t>& bonded, int offset, bool lifted) {
   const int n = cell_.n_rows();
@@ -76,19 +77,57 @@ void CellEvaluator::set_bounds(const std::vector<std::uint8_t>& bonded, int offs
   }
 }
 
-double CellEvaluator::strength_use(const Eigen::VectorXd& forces, const std::vector<std::uint8_t>& bonded) const {
+double CellEvaluator::strength_use(const Eigen::VectorXd& forces, const Eigen::VectorXd& forces_z,
+                                   const std::vector<std::uint8_t>& bonded) const {
   double use = 0;
   for (int r = 0; r < cell_.n_rows(); ++r)
     if (bonded[cell_.pair[r]]) use = std::max(use, bond::strength_use(forces(r), cell_.bonded_bounds(r)));
+  for (Eigen::Index r = 0; r < forces_z.size(); ++r)
+    if (bonded[r]) use = std::max(use, bond::strength_use(forces_z(r), {-cell_.strength_z(r), cell_.strength_z(r)}));
   return use;
 }
 
-void CellEvaluator::check_shear(const Eigen::Vector3d& v, double eps33, CellResponse& out) const {
-  if (!v.allFinite() || !std::isfinite(eps33)) out.message = "a non-finite input";
+void CellEvaluator::check_inputs(const Eigen::Vector3d& v, double eps33, const Eigen::Vector2d& gamma,
+                                 CellResponse& out) const {
+  if (!v.allFinite() || !std::isfinite(eps33) || !gamma.allFinite()) out.message = "a non-finite input";
   if (cell_.n_macro == 2 && v(2) != 0)
     out.message = "the cell has the symmetry boundary: it carries no shear (the third component must be 0)";
   if (eps33 != 0 && cell_.longitudinal == 0)
     out.message = "the cell has no strain along the fibres (its scene's [load] macro is not \"full\"): eps33 must be 0";
+  if (!gamma.isZero(0) && cell_.shear == 0)
+    out.message =
+        "the cell has no shear along the fibres (its scene's [load] macro is not \"full\"): gamma_xz and gamma_yz "
+        "must be 0";
+}
+
+bool CellEvaluator::solve_shear(const Eigen::Vector2d& gamma, CellHistory& h, bool lifted, CellResponse& r) {
+  if (cell_.shear == 0) return true;
+  const int n = cell_.shear_rows;
+  r.forces_z = Eigen::VectorXd::Zero(n);
+  if (n > 0) {
+    // A pair's force along z: within ±strength while bonded (no bound lifted), 0 once broken.
+    lower_z_.resize(n), upper_z_.resize(n);
+    for (int q = 0; q < n; ++q) {
+      const bond::Bounds intact{-cell_.strength_z(q), cell_.strength_z(q)};
+      const bond::Bounds b = !h.bonded[q] ? bond::Bounds{} : lifted ? bond::lifted(intact) : intact;
+      lower_z_(q) = b.lower, upper_z_(q) = b.upper;
+    }
+    b_z_ = cell_.Yz * gamma;
+    if (h.active_z.size() != static_cast<std::size_t>(n)) h.active_z.clear();
+    if (!solve_qp(shear_qp_, b_z_, lower_z_, upper_z_, h.active_z, r, r.forces_z)) return false;
+  }
+  r.shear_z = cell_.D0z * gamma;
+  if (n > 0) r.shear_z += cell_.Yz.transpose() * r.forces_z / cell_.volume;
+  // dτ/dΓ = D0z + Yzᵀ (dq/dΓ)/|Ω| on the final active set, dq/dΓ = the QP's sensitivity to Yz.
+  if (n == 0) {
+    shear_tangent_ = cell_.D0z;
+  } else if (shear_tangent_of_ != shear_qp_.generation()) {
+    const Eigen::Matrix2d T = cell_.D0z + cell_.Yz.transpose() * shear_qp_.sensitivity(cell_.Yz) / cell_.volume;
+    shear_tangent_ = 0.5 * (T + T.transpose());
+    shear_tangent_of_ = shear_qp_.generation();
+  }
+  r.tangent_z = shear_tangent_;
+  return true;
 }
 
 void CellEvaluator::set_stress_zz(double eps33, CellResponse& out) const {
@@ -99,21 +138,24 @@ void CellEvaluator::set_stress_zz(double eps33, CellResponse& out) const {
 }
 
 // Solve, break the bonded rows that end at their strength, solve again: the debond cascade
-// (with `breaks`; otherwise one solve). `solve` runs one QP with the bounds of h.bonded and
-// returns the forces p and the active set of the rows (offset: the position of p in the QP's
-// unknowns).
+// (with BondMode::cascade; otherwise one solve). `solve` runs one QP with the bounds of h.bonded
+// and returns the forces p; the shear rows are solved beside it at gamma, with the same bonds,
+// and a pair that ends at its strength in either breaks.
 template <class Solve>
-CellResponse CellEvaluator::cascade(CellHistory& h, bool breaks, Solve&& solve) {
+CellResponse CellEvaluator::cascade(CellHistory& h, BondMode bonds, const Eigen::Vector2d& gamma, Solve&& solve) {
   CellResponse out;
   if (static_cast<int>(h.bonded.size()) != cell_.n_pairs) h = unloaded();
   for (int round = 0; round <= cell_.n_pairs; ++round) {
-    if (!solve(out)) return out;
-    if (!breaks) break;
+    if (!solve(out) || !solve_shear(gamma, h, bonds == BondMode::lifted, out)) return out;
+    if (bonds != BondMode::cascade) break;
     std::vector<int> breaking;
     const int n = cell_.n_rows();
     for (int r = 0; r < n; ++r)
       if (h.bonded[cell_.pair[r]] && bond::at_strength(out.forces(r), cell_.bonded_bounds(r)))
         breaking.push_back(cell_.pair[r]);
+    for (Eigen::Index q = 0; q < out.forces_z.size(); ++q)
+      if (h.bonded[q] && bond::at_strength(out.forces_z(q), {-cell_.strength_z(q), cell_.strength_z(q)}))
+        breaking.push_back(static_cast<int>(q));
     if (breaking.empty()) break;
     for (int p : breaking) {
       out.newly_broken += h.bonded[p] ? 1 : 0;
@@ -121,14 +163,15 @@ CellResponse CellEvaluator::cascade(CellHistory& h, bool breaks, Solve&& solve) 
     }
   }
   for (int p = 0; p < cell_.n_pairs; ++p) out.broken += cell_.bonded[p] && !h.bonded[p];
-  out.strength_use = strength_use(out.forces, h.bonded);
+  out.strength_use = strength_use(out.forces, out.forces_z, h.bonded);
   out.ok = true;
   return out;
 }
 
-bool CellEvaluator::solve_qp(qp::DenseActiveSet& qp, std::vector<qp::Bound>& active, CellResponse& r,
+bool CellEvaluator::solve_qp(qp::DenseActiveSet& qp, const Eigen::VectorXd& b, const Eigen::VectorXd& lower,
+                             const Eigen::VectorXd& upper, std::vector<qp::Bound>& active, CellResponse& r,
                              Eigen::VectorXd& x) {
-  const qp::DenseQpResult result = qp.solve(b_, lower_, upper_, active);
+  const qp::DenseQpResult result = qp.solve(b, lower, upper, active);
   r.iterations += result.iterations;
   r.factorisations += result.factorisations;
   r.updates += result.updates;
@@ -140,18 +183,19 @@ bool CellEvaluator::solve_qp(qp::DenseActiveSet& qp, std::vector<qp::Bound>& act
   return true;
 }
 
-CellResponse CellEvaluator::at_stress(const Eigen::Vector3d& sigma, CellHistory& h, double eps33) {
+CellResponse CellEvaluator::at_stress(const Eigen::Vector3d& sigma, CellHistory& h, double eps33,
+                                      const Eigen::Vector2d& gamma) {
   CellResponse out;
-  check_shear(sigma, eps33, out);
+  check_inputs(sigma, eps33, gamma, out);
   if (!out.message.empty()) return out;
   const int m = cell_.n_macro, n = cell_.n_rows();
   if (h.active.size() != static_cast<std::size_t>(n)) h.active.clear();
   Eigen::Matrix3d compliance = Eigen::Matrix3d::Zero();
-  out = cascade(h, true, [&](CellResponse& r) {
+  out = cascade(h, BondMode::cascade, gamma, [&](CellResponse& r) {
     set_bounds(h.bonded, 0);
     b_ = cell_.Y * sigma.head(m);
     if (eps33 != 0) b_ += cell_.y33.col(0) * eps33;
-    return solve_qp(stress_qp_, h.active, r, r.forces);
+    return solve_qp(stress_qp_, b_, lower_, upper_, h.active, r, r.forces);
   });
   if (!out.ok) return out;
   out.stress.head(m) = sigma.head(m);
@@ -173,14 +217,15 @@ CellResponse CellEvaluator::at_stress(const Eigen::Vector3d& sigma, CellHistory&
   return out;
 }
 
-CellResponse CellEvaluator::at_strain(const Eigen::Vector3d& strain, CellHistory& h, BondMode bonds, double eps33) {
+CellResponse CellEvaluator::at_strain(const Eigen::Vector3d& strain, CellHistory& h, BondMode bonds, double eps33,
+                                      const Eigen::Vector2d& gamma) {
   CellResponse out;
-  check_shear(strain, eps33, out);
+  check_inputs(strain, eps33, gamma, out);
   if (!out.message.empty()) return out;
   const int m = cell_.n_macro, n = cell_.n_rows();
   if (h.active.size() != static_cast<std::size_t>(m + n)) h.active.clear();
   Eigen::VectorXd z;
-  out = cascade(h, bonds == BondMode::cascade, [&](CellResponse& r) {
+  out = cascade(h, bonds, gamma, [&](CellResponse& r) {
     set_bounds(h.bonded, m, bonds == BondMode::lifted);
     // With ε33 the mixed energy gains ε33 (|Ω| A33·σ̄ − y33·p) − ½ |Ω| C33 ε33² (docs/method.md
     // §16a): the linear term moves, 𝓗 stays.
@@ -190,7 +235,7 @@ CellResponse CellEvaluator::at_strain(const Eigen::Vector3d& strain, CellHistory
       b_.head(m) -= cell_.volume * cell_.A33.col(0) * eps33;
       b_.tail(n) = cell_.y33.col(0) * eps33;
     }
-    if (!solve_qp(strain_qp_, h.active, r, z)) return false;
+    if (!solve_qp(strain_qp_, b_, lower_, upper_, h.active, r, z)) return false;
     r.forces = z.tail(n);
     return true;
   });
@@ -201,6 +246,13 @@ CellResponse CellEvaluator::at_strain(const Eigen::Vector3d& strain, CellHistory
   if (eps33 != 0)
     out.energy -= eps33 * (cell_.A33.col(0).dot(z.head(m)) - cell_.y33.col(0).dot(z.tail(n)) / cell_.volume) -
                   0.5 * cell_.C33(0, 0) * eps33 * eps33;
+  // The shear along the fibres adds ½ ΓᵀD0zΓ + (qᵀYzΓ − ½ qᵀHz q)/|Ω| (docs/method.md §16b).
+  if (cell_.shear == 2) {
+    out.energy += 0.5 * gamma.dot(cell_.D0z * gamma);
+    if (cell_.shear_rows > 0)
+      out.energy +=
+          (out.forces_z.dot(cell_.Yz * gamma) - 0.5 * out.forces_z.dot(cell_.Hz * out.forces_z)) / cell_.volume;
+  }
   set_stress_zz(eps33, out);
   // dσ̄/dε̄: the σ̄ rows of dz/db for db = (|Ω| I, 0), symmetric as the KKT system is.
   if (strain_tangent_of_ != strain_qp_.generation()) {
@@ -240,7 +292,7 @@ double CellEvaluator::onset(const Eigen::Vector3d& sigma) {
   const qp::DenseQpResult qp = onset_qp_.solve(b_, lower_, upper_, onset_active_);
   if (!qp.converged) return nan;
   // The first row to reach its strength: s* = 1/(largest strength use), the bond rule's reach.
-  const double use = strength_use(qp.x, cell_.bonded);
+  const double use = strength_use(qp.x, Eigen::VectorXd(), cell_.bonded);
   return use > 0 ? 1 / use : inf;
 }
 

@@ -103,6 +103,7 @@ std::string consistency_problem(const CondensedCell& cell);
 struct CellHistory {
   std::vector<std::uint8_t> bonded;  // per pair
   std::vector<qp::Bound> active;     // per unknown of the last QP (empty: none yet)
+  std::vector<qp::Bound> active_z;   // the same for the shear rows' QP
 };
 
 // What an evaluation does with the bonds: `cascade` breaks every bonded row that reaches its
@@ -129,6 +130,12 @@ struct CellResponse {
   double stress_zz = std::numeric_limits<double>::quiet_NaN();
   Eigen::Vector3d tangent_zz = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
   double tangent_zz_zz = std::numeric_limits<double>::quiet_NaN();
+  // With the shear along the fibres (the cell's shear = 2): ⟨τ⟩ = (τxz, τyz) at Γ = (γxz, γyz),
+  // its tangent dτ/dΓ (symmetric; in-plane and antiplane share no stiffness, so the 6 × 6
+  // tangent has no other coupling to them), and the shear rows' forces q. NaN without the data.
+  Eigen::Vector2d shear_z = Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN());
+  Eigen::Matrix2d tangent_z = Eigen::Matrix2d::Constant(std::numeric_limits<double>::quiet_NaN());
+  Eigen::VectorXd forces_z;
   int broken = 0;        // pairs broken after this evaluation
   int newly_broken = 0;  // of which broke in it
   int iterations = 0;    // active-set subproblems, over all rounds
@@ -151,10 +158,13 @@ class CellEvaluator {
   CellHistory unloaded() const;
   // The response to a macro stress σ̄ (stress-driven) or a macro strain ε̄ (strain-driven,
   // engineering shear), from the history h, which is updated (breaks are irreversible); with a
-  // strain eps33 along the fibres (the cell must carry its longitudinal data when eps33 ≠ 0).
-  CellResponse at_stress(const Eigen::Vector3d& sigma, CellHistory& h, double eps33 = 0);
+  // strain eps33 along the fibres (the cell must carry its longitudinal data when eps33 ≠ 0)
+  // and the shears gamma = (γxz, γyz) along them (the cell's shear data when gamma ≠ 0; with it
+  // the shear rows join the cascade: a pair at its strength along z breaks as a whole too).
+  CellResponse at_stress(const Eigen::Vector3d& sigma, CellHistory& h, double eps33 = 0,
+                         const Eigen::Vector2d& gamma = Eigen::Vector2d::Zero());
   CellResponse at_strain(const Eigen::Vector3d& strain, CellHistory& h, BondMode bonds = BondMode::cascade,
-                         double eps33 = 0);
+                         double eps33 = 0, const Eigen::Vector2d& gamma = Eigen::Vector2d::Zero());
   // The load factor s* at which the first bond of the unloaded cell breaks under s·σ̄ (+inf
   // without adhesion or when no bond ever reaches its strength along σ̄): the bonded cell with
   // its strengths lifted is homogeneous of degree one in σ̄, so s* = min over bonded rows of
@@ -163,15 +173,21 @@ class CellEvaluator {
 
  private:
   template <class Solve>
-  CellResponse cascade(CellHistory& h, bool breaks, Solve&& solve);
+  CellResponse cascade(CellHistory& h, BondMode bonds, const Eigen::Vector2d& gamma, Solve&& solve);
   void set_bounds(const std::vector<std::uint8_t>& bonded, int offset, bool lifted = false);
-  double strength_use(const Eigen::VectorXd& forces, const std::vector<std::uint8_t>& bonded) const;
-  void check_shear(const Eigen::Vector3d& v, double eps33, CellResponse& out) const;
+  // The largest strength use of the bonded rows' forces p and shear rows' forces q (empty: none).
+  double strength_use(const Eigen::VectorXd& forces, const Eigen::VectorXd& forces_z,
+                      const std::vector<std::uint8_t>& bonded) const;
+  void check_inputs(const Eigen::Vector3d& v, double eps33, const Eigen::Vector2d& gamma, CellResponse& out) const;
+  // The shear along the fibres at gamma for the bonds of h: the shear rows' QP (where the cell
+  // has them), ⟨τ⟩ and its tangent into r; false, with r.message, when the QP did not converge.
+  bool solve_shear(const Eigen::Vector2d& gamma, CellHistory& h, bool lifted, CellResponse& r);
   // σ33 of a solution (σ̄, p) at eps33, when the cell has the data.
   void set_stress_zz(double eps33, CellResponse& out) const;
-  // One QP of the cascade with the bounds and linear term set (lower_, upper_, b_): its counts
-  // into r, its solution into x; false, with r.message, when it did not converge.
-  bool solve_qp(qp::DenseActiveSet& qp, std::vector<qp::Bound>& active, CellResponse& r, Eigen::VectorXd& x);
+  // One QP of the cascade with its linear term b and bounds: its counts into r, its solution into
+  // x; false, with r.message, when it did not converge.
+  bool solve_qp(qp::DenseActiveSet& qp, const Eigen::VectorXd& b, const Eigen::VectorXd& lower,
+                const Eigen::VectorXd& upper, std::vector<qp::Bound>& active, CellResponse& r, Eigen::VectorXd& x);
 
   const CondensedCell& cell_;
   const Eigen::MatrixXd energy_;       // 𝓗
@@ -180,13 +196,17 @@ class CellEvaluator {
   // One QP per problem (qp::DenseActiveSet binds its matrices): stress-driven (H, G), strain-driven
   // (𝓗, [0 G]) and the onset's (H, G with the strengths lifted).
   qp::DenseActiveSet stress_qp_, strain_qp_, onset_qp_;
-  std::vector<qp::Bound> onset_active_;  // the warm start of the next onset
+  qp::DenseActiveSet shear_qp_;              // the shear rows' (Hz, Gz); empty without them
+  Eigen::VectorXd lower_z_, upper_z_, b_z_;  // its bounds and linear term
+  std::vector<qp::Bound> onset_active_;      // the warm start of the next onset
   // The last tangents and the factorisation they came from: the same factorisation (the same
   // free set) gives the same tangent, so a warm evaluation does not solve for it again.
   Eigen::Matrix3d stress_tangent_, strain_tangent_;
   Eigen::Vector3d strain_tangent_zz_;
   double strain_tangent_zz_zz_ = 0;
   long stress_tangent_of_ = -1, strain_tangent_of_ = -1;
+  Eigen::Matrix2d shear_tangent_;
+  long shear_tangent_of_ = -1;
 };
 
 }  // namespace dualcell::law

@@ -45,40 +45,66 @@ ConeResponse cone_at(const law::Law& law, const Eigen::Vector3d& value, bool str
   return r;
 }
 
-// values.csv's header: the path (with that column), the other quantity and the tangent by row.
-std::string header_line(bool has_path, bool strain_driven, bool cell_form, bool eps33) {
+// values.csv's header: the path (with that column), the other quantity and the tangent by row;
+// `n`: the components (3 in-plane, 4 with ε33, 6 the whole ply).
+std::string header_line(bool has_path, bool strain_driven, bool cell_form, int n) {
   std::string out = has_path ? "path," : "";
   out += strain_driven ? "sxx,syy,sxy" : "exx,eyy,gxy";
-  if (eps33) out += ",szz";
-  for (int i = 1; i <= 3; ++i)
-    for (int j = 1; j <= 3; ++j) {
+  if (n >= 4) out += ",szz";
+  if (n == 6) out += ",sxz,syz";
+  const int square = n == 6 ? 6 : 3;
+  for (int i = 1; i <= square; ++i)
+    for (int j = 1; j <= square; ++j) {
       out.append(",C");
       out.push_back(static_cast<char>('0' + i));
       out.push_back(static_cast<char>('0' + j));
     }
-  if (eps33) out += ",C14,C24,C34,C44";
+  if (n == 4) out += ",C14,C24,C34,C44";
   out += cell_form ? ",broken_pairs\n" : ",fused\n";
   return out;
 }
 
-// With ε33: σ33 and the tangent's ε33 column (dσ̄/dε33, dσ33/dε33).
-struct AlongFibres {
-  double stress_zz = 0;
-  Eigen::Vector4d tangent = Eigen::Vector4d::Zero();
+// One row's answer: the other quantity (3 in-plane, then σ33, τxz, τyz where asked) and the
+// tangent's entries in the header's order.
+struct RowValues {
+  Eigen::Matrix<double, 6, 1> other = Eigen::Matrix<double, 6, 1>::Zero();
+  std::vector<double> tangent;
+  long broken = 0;
 };
+
+// The tangent entries of a cell's response for n components: the 3 × 3 by row, then (n = 4) the
+// ε33 column with dσ33/dε33; or (n = 6) the 6 × 6 by row, in-plane and ε33 coupled, the shears
+// along the fibres on their own (no stiffness couples them to the rest).
+std::vector<double> tangent_entries(const law::CellResponse& r, int n) {
+  std::vector<double> out;
+  if (n == 6) {
+    Eigen::Matrix<double, 6, 6> D = Eigen::Matrix<double, 6, 6>::Zero();
+    D.topLeftCorner<3, 3>() = r.tangent;
+    D.block<3, 1>(0, 3) = r.tangent_zz;
+    D.block<1, 3>(3, 0) = r.tangent_zz.transpose();
+    D(3, 3) = r.tangent_zz_zz;
+    D.bottomRightCorner<2, 2>() = r.tangent_z;
+    for (int a = 0; a < 6; ++a)
+      for (int b = 0; b < 6; ++b) out.push_back(D(a, b));
+    return out;
+  }
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b) out.push_back(r.tangent(a, b));
+  if (n == 4) {
+    for (int k = 0; k < 3; ++k) out.push_back(r.tangent_zz(k));
+    out.push_back(r.tangent_zz_zz);
+  }
+  return out;
+}
 
 // One row of values.csv, appended piece by piece (GCC 12 warns falsely on chains of string
 // concatenation).
-void append_row(std::string& out, const std::string* path, const Eigen::Vector3d& other, const Eigen::Matrix3d& tangent,
-                long broken, const AlongFibres* fibres) {
+void append_row(std::string& out, const std::string* path, const RowValues& v, int n) {
   if (path) out.append(*path).push_back(',');
-  for (int k = 0; k < 3; ++k) out.append(csv_number(other(k))).push_back(',');
-  if (fibres) out.append(csv_number(fibres->stress_zz)).push_back(',');
-  for (int a = 0; a < 3; ++a)
-    for (int b = 0; b < 3; ++b) out.append(csv_number(tangent(a, b))).push_back(',');
-  if (fibres)
-    for (int k = 0; k < 4; ++k) out.append(csv_number(fibres->tangent(k))).push_back(',');
-  out.append(std::to_string(broken)).push_back('\n');
+  const int others = n == 6 ? 6 : n == 4 ? 4 : 3;
+  for (int k = 0; k < others; ++k) out.append(csv_number(v.other(k))).push_back(',');
+  for (const double t : v.tangent) out.append(csv_number(t)).push_back(',');
+  out.append(std::to_string(v.broken)).push_back('\n');
 }
 
 // The histories of the paths held at once (one per path value seen): at most this many bytes.
@@ -100,6 +126,16 @@ const law::CondensedCell* chosen_cell(const law::Law& law, const LawPointsOption
                                    : options.form == LawForm::small ? &*law.small
                                                                     : nullptr;
   const bool cell_form = cell != nullptr;
+  if (options.full && !options.strain_driven)
+    throw InputError(
+        options.points_file.string() +
+        ": --full is strain-driven (a 3D element gives the strain): use --strain, or --stress with --eps33");
+  if (options.full && (!cell_form || cell->shear == 0))
+    throw InputError(options.law_file.string() + ": --full: " +
+                     (cell_form
+                          ? std::string("its cell has no shear along the fibres (fit a scene with [load] macro "
+                                        "= \"full\" and boundary = \"periodic\"; the small cell has none yet)")
+                          : std::string("the cone-wise law has no components along the fibres (use --form cell)")));
   if (options.eps33 && (!cell_form || cell->longitudinal == 0))
     throw InputError(options.law_file.string() + ": --eps33: " +
                      (cell_form
@@ -118,8 +154,10 @@ const law::CondensedCell* chosen_cell(const law::Law& law, const LawPointsOption
 LawPointsSummary evaluate_law(const LawPointsOptions& options) {
   io::check_outputs({options.out}, {options.law_file, options.points_file});
   const law::Law law = io::read_law(options.law_file);
-  io::PointsReader points(options.points_file, options.eps33 ? 4 : 3);
+  if (options.full && options.eps33) throw InputError("--full has ε33 already: leave out --eps33");
+  const int n = options.full ? 6 : options.eps33 ? 4 : 3;
   const law::CondensedCell* cell = chosen_cell(law, options);
+  io::PointsReader points(options.points_file, n);
   const bool cell_form = cell != nullptr;
 
   io::AtomicOutputs outputs;
@@ -144,7 +182,7 @@ LawPointsSummary evaluate_law(const LawPointsOptions& options) {
   io::LawPoint point;
   while (points.next(point)) {
     // After the first row: whether the file has the path column is known then.
-    if (summary.rows == 0) out = header_line(points.has_path(), options.strain_driven, cell_form, options.eps33);
+    if (summary.rows == 0) out = header_line(points.has_path(), options.strain_driven, cell_form, n);
     const auto where = [&] { return options.points_file.string() + ":" + std::to_string(point.line) + ": "; };
     const Eigen::Vector3d& v = point.value;
     if (points.has_path() && !(cell_form ? histories.count(point.path) : fused_paths.count(point.path))) {
@@ -155,24 +193,21 @@ LawPointsSummary evaluate_law(const LawPointsOptions& options) {
                          "th path held at once; their histories would pass the 1 GiB dualcell-law keeps (split the "
                          "file by path)");
     }
-    Eigen::Vector3d other;
-    Eigen::Matrix3d tangent;
-    AlongFibres fibres;
-    long broken = 0;
+    RowValues row;
     const auto t0 = std::chrono::steady_clock::now();
     if (cell_form) {
       law::CellHistory fresh;
       law::CellHistory& h = points.has_path() ? histories.try_emplace(point.path, evaluator->unloaded()).first->second
                                               : (fresh = evaluator->unloaded());
       const law::CellResponse r = options.strain_driven
-                                      ? evaluator->at_strain(v, h, law::BondMode::cascade, point.eps33)
+                                      ? evaluator->at_strain(v, h, law::BondMode::cascade, point.eps33, point.gamma)
                                       : evaluator->at_stress(v, h, point.eps33);
       if (!r.ok) throw InputError(where() + r.message);
-      other = options.strain_driven ? r.stress : r.strain;
-      tangent = r.tangent;
-      fibres.stress_zz = r.stress_zz;
-      fibres.tangent << r.tangent_zz, r.tangent_zz_zz;
-      broken = r.broken;
+      row.other.head<3>() = options.strain_driven ? r.stress : r.strain;
+      row.other(3) = r.stress_zz;
+      row.other.tail<2>() = r.shear_z;
+      row.tangent = tangent_entries(r, n);
+      row.broken = r.broken;
       summary.qp_iterations += r.iterations;
       summary.qp_factorisations += r.factorisations;
       summary.qp_updates += r.updates;
@@ -180,20 +215,25 @@ LawPointsSummary evaluate_law(const LawPointsOptions& options) {
       bool fresh = false;
       bool& fused = points.has_path() ? fused_paths[point.path] : fresh;
       const ConeResponse r = cone_at(law, v, options.strain_driven, fused);
-      other = options.strain_driven ? r.stress : r.strain;
-      tangent = r.tangent;
-      broken = fused ? 1 : 0;
+      row.other.head<3>() = options.strain_driven ? r.stress : r.strain;
+      row.tangent.assign(r.tangent.data(), r.tangent.data() + 9);  // symmetric: by row as by column
+      row.broken = fused ? 1 : 0;
     }
     seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    // No NaN or Inf leaves with exit 0: an input this large overflows the law's answer.
-    if (!other.head(n_finite).allFinite() || !tangent.topLeftCorner(n_finite, n_finite).allFinite())
+    // No NaN or Inf leaves with exit 0: an input this large overflows the law's answer. A cell
+    // without shear (n_macro = 2) leaves its shear entries NaN.
+    // With ε33 stress-driven the tangent's ε33 entries are NaN by definition (not checked).
+    bool finite = row.other.head(n_finite).allFinite() && (n == 3 || row.other.segment(3, n - 3).allFinite());
+    const int square = n == 6 ? 6 : 3;
+    for (int a = 0; a < square; ++a)
+      for (int b = 0; b < square; ++b)
+        if ((a < n_finite || a >= 3) && (b < n_finite || b >= 3))
+          finite = finite && std::isfinite(row.tangent[static_cast<std::size_t>(square * a + b)]);
+    if (!finite)
       throw InputError(where() + "the law's answer at (" + shortest(v(0)) + ", " + shortest(v(1)) + ", " +
                        shortest(v(2)) + ") is not finite (the input is beyond what the law carries in doubles)");
     ++summary.rows;
-    if (options.eps33 && !std::isfinite(fibres.stress_zz))
-      throw InputError(where() + "the law's σ33 is not finite (the input is beyond what the law carries in doubles)");
-    append_row(out, points.has_path() ? &point.path : nullptr, other, tangent, broken,
-               options.eps33 ? &fibres : nullptr);
+    append_row(out, points.has_path() ? &point.path : nullptr, row, n);
     if (out.size() >= output_piece) {
       outputs.append(options.out, out);
       out.clear();

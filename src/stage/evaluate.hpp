@@ -16,6 +16,10 @@ struct LawPointsOptions {
   // Rows of four numbers, the fourth the strain ε33 along the fibres (a cell that carries it:
   // [load] macro = "full"); the output gains σ33 and the tangent's ε33 column.
   bool eps33 = false;
+  // Rows of six numbers (εxx, εyy, γxy, ε33, γxz, γyz), strain-driven only: the whole ply's law
+  // (a cell with the strain and the shear along the fibres, [load] macro = "full" and periodic);
+  // the output is (σxx, σyy, σxy, σ33, τxz, τyz) and the 6 × 6 tangent in that order.
+  bool full = false;
   // Every new free set of the exact law's QP factorised, none bordered (qp/dense_qp.hpp): the
   // reference the bordered solves are measured against.
   bool factorise_each = false;
@@ -30,7 +34,8 @@ struct LawPointsSummary {
 // Writes `out` atomically: per input row the other quantity, dσ/dε (9 entries, row by row,
 // engineering shear) and the broken bonds (cell: pairs broken; cone: 1 once fused); with eps33
 // also σ33 after the other quantity and, after the 9 entries, dσ/dε33 and dσ33/dε33 (C14, C24,
-// C34, C44; strain-driven only, NaN stress-driven).
+// C34, C44; strain-driven only, NaN stress-driven); with full the six stresses, the 36 entries
+// C11 … C66 by row (1 … 6: xx, yy, xy, zz, xz, yz) and the broken bonds.
 LawPointsSummary evaluate_law(const LawPointsOptions& options);
 
 }  // namespace dualcell::stage

@@ -14,6 +14,7 @@
 #include "core/strain.hpp"
 #include "fit/fit.hpp"
 #include "fit/small_cell.hpp"
+#include "io/hdf5.hpp"
 #include "io/law_export.hpp"
 #include "io/law_file.hpp"
 #include "io/points_csv.hpp"
@@ -168,6 +169,83 @@ TEST(LawStage, DualcellLawEvaluatesTheStrainAlongTheFibres) {
   const auto cone = law("--stress " + q(stresses) + " --eps33 --form cone --out " + q(run.dir / "c.csv"));
   EXPECT_EQ(cone.exit_code, exit_input_error);
   EXPECT_NE(cone.output.find("the cone-wise law has no strain along the fibres"), std::string::npos) << cone.output;
+}
+
+// The whole ply (dualcell-law --full): rows of six strains, the six stresses and the 6 × 6
+// tangent. Bonded and sheared along the fibres a little, C55, C56, C66 are the cell's longitudinal
+// shear moduli as dualcell-solve --longitudinal-shear computes them in one body (an independent
+// solve; both exact for the mesh: 1e-9, the condensation's round-off with margin), and ⟨τ⟩ = C Γ;
+// the in-plane and ε33 block is --eps33's, and nothing couples it to the shears. Sheared along
+// the fibres past the bonds' strength, pairs break, and the modulus falls, irreversibly, towards
+// the matrix with holes (the open cell's, a debonded frictionless fibre carries no shear).
+TEST(LawStage, DualcellLawEvaluatesTheWholePly) {
+  const std::string scene = testing::scene_text(
+      1, 1, 2, 0.3,
+      "[interface]\nnormal_strength = 0.05\ntangential_strength = 0.05\n[load]\nboundary = \"periodic\"\nmacro = "
+      "\"full\"\n[sweep]\ndirections_deg = [0, 90]\nmagnitudes = [-0.01, 0.01]\n[solver]\ntolerance = 1e-10\n");
+  StagesRun run(scene);
+  const auto solved =
+      run_command(bin("dualcell-solve") + " --quiet --config " + q(run.dir / "s.toml") + " --mesh " +
+                  q(run.dir / "mesh.h5") + " --stress 0,0,0 --longitudinal-shear --out " + q(run.dir / "solution.h5"));
+  ASSERT_EQ(solved.exit_code, exit_ok) << solved.output;
+  const std::vector<double> G =
+      io::File::open_read(run.dir / "solution.h5").read_doubles("/macro/longitudinal_shear_moduli", {2, 2});
+  const double g = 1e-4;
+  const auto points = run.dir.write("p.csv",
+                                    "path,exx,eyy,gxy,e33,gxz,gyz\n"
+                                    "1,1e-4,-5e-5,2e-5,1e-4,1e-4,0\n"
+                                    "1,1e-4,-5e-5,2e-5,1e-4,0,1e-4\n"
+                                    "2,0,0,0,0,1,0\n"
+                                    "2,0,0,0,0,1e-4,0\n");
+  const auto a = run_command(bin("dualcell-law") + " --quiet --law " + q(run.law) + " --strain " + q(points) +
+                             " --full --out " + q(run.dir / "full.csv"));
+  ASSERT_EQ(a.exit_code, exit_ok) << a.output;
+  std::string header;
+  const auto rows = read_csv(run.dir / "full.csv", &header);
+  EXPECT_EQ(header.rfind("path,sxx,syy,sxy,szz,sxz,syz,C11,C12,", 0), 0u) << header;
+  EXPECT_NE(header.find(",C65,C66,broken_pairs"), std::string::npos) << header;
+  ASSERT_EQ(rows.size(), 4u);
+  const auto C = [&](std::size_t row, int i, int j) { return rows[row][7 + 6 * (i - 1) + (j - 1)]; };
+  for (std::size_t r = 0; r < 2; ++r) {
+    EXPECT_NEAR(C(r, 5, 5), G[0], 1e-9 * G[0]);
+    EXPECT_NEAR(C(r, 5, 6), G[1], 1e-9 * G[0]);
+    EXPECT_NEAR(C(r, 6, 6), G[3], 1e-9 * G[0]);
+    for (int i = 1; i <= 4; ++i)
+      for (int j = 5; j <= 6; ++j) {
+        EXPECT_EQ(C(r, i, j), 0) << i << j;
+        EXPECT_EQ(C(r, j, i), 0) << j << i;
+      }
+    EXPECT_EQ(rows[r].back(), 0) << "bonded";
+  }
+  EXPECT_NEAR(rows[0][5], G[0] * g, 1e-9 * G[0] * g);
+  EXPECT_NEAR(rows[1][6], G[3] * g, 1e-9 * G[0] * g);
+  // The in-plane and ε33 block against --eps33 at the same strains.
+  const auto four = run.dir.write("four.csv", "exx,eyy,gxy,e33\n1e-4,-5e-5,2e-5,1e-4\n");
+  ASSERT_EQ(run_command(bin("dualcell-law") + " --quiet --law " + q(run.law) + " --strain " + q(four) +
+                        " --eps33 --out " + q(run.dir / "four_out.csv"))
+                .exit_code,
+            exit_ok);
+  const auto in_plane = read_csv(run.dir / "four_out.csv");
+  for (int k = 0; k < 4; ++k) EXPECT_EQ(rows[0][1 + k], in_plane[0][k]) << k;
+  for (int i = 1; i <= 3; ++i)
+    for (int j = 1; j <= 3; ++j) EXPECT_EQ(C(0, i, j), in_plane[0][4 + 3 * (i - 1) + (j - 1)]) << i << j;
+  EXPECT_EQ(C(0, 4, 4), in_plane[0][16]);
+  // Path 2: sheared far past the strength, then back to a small shear: broken, softer, above the
+  // matrix with holes' modulus (which a cell without bonds has: D0z of the same cell).
+  EXPECT_GT(rows[2].back(), 0);
+  EXPECT_EQ(rows[3].back(), rows[2].back());
+  EXPECT_LT(C(3, 5, 5), G[0]);
+  const law::CondensedCell cell = *io::read_law(run.law).cell;
+  EXPECT_GE(C(3, 5, 5), cell.D0z(0, 0) * (1 - 1e-12));
+  // The flags that do not go with --full: stress-driven, --eps33 beside it, the cone-wise law.
+  for (const std::string& flags :
+       {std::string(" --stress ") + q(points) + " --full", std::string(" --strain ") + q(points) + " --full --eps33",
+        std::string(" --strain ") + q(points) + " --full --form cone"}) {
+    const auto bad =
+        run_command(bin("dualcell-law") + " --law " + q(run.law) + flags + " --out " + q(run.dir / "bad.csv"));
+    EXPECT_EQ(bad.exit_code, exit_input_error) << flags << bad.output;
+    EXPECT_FALSE(std::filesystem::exists(run.dir / "bad.csv"));
+  }
 }
 
 TEST(LawStage, DualcellLawRefusesBadPointsWithTheLine) {

@@ -13,6 +13,7 @@
 #include "feti/condense.hpp"
 #include "feti/solver.hpp"
 #include "hill_relations.hpp"
+#include "primal/antiplane.hpp"
 #include "test_util.hpp"
 
 namespace dualcell::feti {
@@ -162,6 +163,81 @@ TEST(CondensedLongitudinal, TheTransverseLawIsTheFullLawsInPlanePart) {
   EXPECT_FALSE(r.ok);
   EXPECT_NE(r.message.find("no strain along the fibres"), std::string::npos) << r.message;
   EXPECT_TRUE(std::isnan(law.at_strain(Eigen::Vector3d(0.01, 0, 0), h).stress_zz));
+}
+
+// The shear along the fibres (docs/method.md §16b): the exact law's shear rows against the
+// one-body antiplane solve (primal::longitudinal_shear, which knows nothing of the condensation)
+// in the bond states the law reaches: bonded, a pattern of broken pairs, and the state a debond
+// cascade under Γ alone ends in. The same linear algebra rearranged: 1e-10 of G (measured a few
+// 1e-15 in the primal test; here the condensation's dense solves of 64 pairs add their round-off).
+// Without adhesion the cell has no shear rows and ⟨τ⟩ = D0z Γ, the fibres as holes.
+TEST(CondensedLongitudinal, TheShearAlongTheFibresIsTheAntiplaneSolveOfItsBondState) {
+  const Scene scene = cell_scene(Boundary::periodic, 1.0);
+  const mesh::Mesh mesh = mesh::build_mesh(scene.geometry);
+  ContactSolver solver(mesh, scene);
+  const law::CondensedCell cell = condense(solver.setup());
+  ASSERT_EQ(cell.shear, 2);
+  ASSERT_EQ(cell.shear_rows, cell.n_pairs);
+  ASSERT_EQ(law::consistency_problem(cell), "");
+  law::CellEvaluator law(cell);
+  const auto primal_G = [&](const std::vector<std::uint8_t>& bonded) {
+    return primal::longitudinal_shear(mesh, scene.fibre, scene.matrix, std::vector<char>(bonded.begin(), bonded.end()))
+        .G;
+  };
+  const Eigen::Vector2d gamma(0.002, -0.001);  // far below any pair's strength along z
+  // Bonded, then every third pair broken: held bonds, no pair at its strength.
+  std::vector<std::uint8_t> pattern = cell.bonded;
+  for (std::size_t q = 0; q < pattern.size(); q += 3) pattern[q] = 0;
+  for (const auto& bonded : {cell.bonded, pattern}) {
+    law::CellHistory h = law.unloaded();
+    h.bonded = bonded;
+    const law::CellResponse r = law.at_strain(Eigen::Vector3d::Zero(), h, law::BondMode::held, 0, gamma);
+    ASSERT_TRUE(r.ok) << r.message;
+    const Eigen::Matrix2d G = primal_G(bonded);
+    EXPECT_LE((r.shear_z - G * gamma).norm(), 1e-10 * (G * gamma).norm());
+    EXPECT_LE((r.tangent_z - G).norm(), 1e-10 * G.norm());
+    EXPECT_LT(r.strength_use, 1);
+    EXPECT_LE(r.stress.norm(), 1e-12) << "no in-plane stress from Γ alone";
+  }
+  // Sheared along z until pairs break: the cascade ends in a state whose bonded pairs all hold,
+  // so ⟨τ⟩ is that state's antiplane solve; the breaks are irreversible (a smaller Γ afterwards
+  // sees the weakened cell).
+  law::CellHistory h = law.unloaded();
+  law::CellHistory h0 = law.unloaded();
+  const double use = law.at_strain(Eigen::Vector3d::Zero(), h0, law::BondMode::held, 0, gamma).strength_use;
+  const Eigen::Vector2d large = 1.5 / use * gamma;  // half as much again as the first pair's strength
+  const law::CellResponse r = law.at_strain(Eigen::Vector3d::Zero(), h, law::BondMode::cascade, 0, large);
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_GT(r.broken, 0);
+  EXPECT_LT(r.strength_use, 1);
+  const Eigen::Matrix2d G = primal_G(h.bonded);
+  EXPECT_LE((r.shear_z - G * large).norm(), 1e-10 * (G * large).norm());
+  const law::CellResponse after = law.at_strain(Eigen::Vector3d::Zero(), h, law::BondMode::held, 0, gamma);
+  EXPECT_LE((after.tangent_z - G).norm(), 1e-10 * G.norm());
+  EXPECT_LT(after.tangent_z(0, 0), primal_G(cell.bonded)(0, 0));
+  // ⟨τ⟩ is the energy's derivative in Γ (held bonds: smooth within the state).
+  for (int k = 0; k < 2; ++k) {
+    const double step = 1e-6;
+    law::CellHistory a = h, b = h;
+    const double plus =
+        law.at_strain(Eigen::Vector3d::Zero(), a, law::BondMode::held, 0, gamma + step * Eigen::Vector2d::Unit(k))
+            .energy;
+    const double minus =
+        law.at_strain(Eigen::Vector3d::Zero(), b, law::BondMode::held, 0, gamma - step * Eigen::Vector2d::Unit(k))
+            .energy;
+    EXPECT_NEAR((plus - minus) / (2 * step), after.shear_z(k), 1e-7 * after.shear_z.norm()) << k;
+  }
+
+  const Scene contact = cell_scene(Boundary::periodic, 0.0);
+  ContactSolver contact_solver(mesh, contact);
+  const law::CondensedCell open = condense(contact_solver.setup());
+  EXPECT_EQ(open.shear, 2);
+  EXPECT_EQ(open.shear_rows, 0);
+  law::CellEvaluator open_law(open);
+  law::CellHistory ho = open_law.unloaded();
+  const law::CellResponse ro = open_law.at_strain(Eigen::Vector3d::Zero(), ho, law::BondMode::cascade, 0, gamma);
+  const Eigen::Matrix2d holes = primal_G(std::vector<std::uint8_t>(open.n_pairs, 0));
+  EXPECT_LE((ro.shear_z - holes * gamma).norm(), 1e-12 * (holes * gamma).norm());
 }
 
 }  // namespace
