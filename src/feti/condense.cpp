@@ -322,7 +322,7 @@ double set_longitudinal(const FetiSetup& setup, const Eigen::MatrixXd& Y, const 
                   (y - g).norm() / std::max({y.norm(), Y.leftCols(m).norm(), 1e-300}));
 }
 
-// The shear along the fibres (docs/method.md §16b): the antiplane problem condensed onto the
+// The shear along the fibres (docs/method.md §16a): the antiplane problem condensed onto the
 // pairs (primal::condense_longitudinal_shear), with a row per pair where bonds carry shear (the
 // tangential strength s_t > 0); a pair's strength along z is its in-plane tangential row's, s_t L.
 void set_shear(const FetiSetup& setup, law::CondensedCell& cell) {

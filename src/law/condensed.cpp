@@ -246,7 +246,7 @@ CellResponse CellEvaluator::at_strain(const Eigen::Vector3d& strain, CellHistory
   if (eps33 != 0)
     out.energy -= eps33 * (cell_.A33.col(0).dot(z.head(m)) - cell_.y33.col(0).dot(z.tail(n)) / cell_.volume) -
                   0.5 * cell_.C33(0, 0) * eps33 * eps33;
-  // The shear along the fibres adds ½ ΓᵀD0zΓ + (qᵀYzΓ − ½ qᵀHz q)/|Ω| (docs/method.md §16b).
+  // The shear along the fibres adds ½ ΓᵀD0zΓ + (qᵀYzΓ − ½ qᵀHz q)/|Ω| (docs/method.md §16a).
   if (cell_.shear == 2) {
     out.energy += 0.5 * gamma.dot(cell_.D0z * gamma);
     if (cell_.shear_rows > 0)

@@ -58,7 +58,7 @@ struct CondensedCell {
   // are empty: plane strain only (a scene's [load] macro = "transverse", a cell on a basis).
   int longitudinal = 0;
   Eigen::MatrixXd A33, C33, y33;
-  // Longitudinal shear (docs/method.md §16b, "The shear along the fibres"): with shear = 2 the
+  // Longitudinal shear (docs/method.md §16a, "The shear along the fibres"): with shear = 2 the
   // cell also takes the macro shears Γ = (γxz, γyz) along the fibres, the antiplane problem
   // condensed onto the pairs. D0z (2 × 2) is ⟨τ⟩ = (τxz, τyz) per unit Γ of the open cell (every
   // pair free to slip along z, the fibres as holes). Where bonds carry shear (shear_rows =

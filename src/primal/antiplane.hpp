@@ -30,10 +30,10 @@ struct LongitudinalShear {
 LongitudinalShear longitudinal_shear(const mesh::Mesh& mesh, const Material& fibre, const Material& matrix,
                                      const std::vector<char>& bonded = {});
 
-// The longitudinal shear condensed onto the interface pairs (docs/method.md §16b), the exact law
-// of every bond state at once. The open cell (every pair free to jump, each fibre floating along
-// z) has w̃ = K⁺(f Γ − Jᵀq) under pair forces q (J: the jump of w̃ across each pair, fibre minus
-// matrix); a bond state ties the jumps of its bonded pairs, and the forces that do it solve
+// The longitudinal shear condensed onto the interface pairs (docs/method.md §16a, "The shear along the fibres"), the
+// exact law of every bond state at once. The open cell (every pair free to jump, each fibre floating along z) has w̃ =
+// K⁺(f Γ − Jᵀq) under pair forces q (J: the jump of w̃ across each pair, fibre minus matrix); a bond state ties the
+// jumps of its bonded pairs, and the forces that do it solve
 //   q = argmin ½ qᵀH q − qᵀY Γ  over  G q = 0 (and the bounds of each pair's bond),
 // with ⟨τ⟩ = D0 Γ + Yᵀq/|Ω|. Without bonds q = 0: the open cell, fibres as holes.
 struct CondensedShear {

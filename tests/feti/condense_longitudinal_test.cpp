@@ -165,7 +165,7 @@ TEST(CondensedLongitudinal, TheTransverseLawIsTheFullLawsInPlanePart) {
   EXPECT_TRUE(std::isnan(law.at_strain(Eigen::Vector3d(0.01, 0, 0), h).stress_zz));
 }
 
-// The shear along the fibres (docs/method.md §16b): the exact law's shear rows against the
+// The shear along the fibres (docs/method.md §16a): the exact law's shear rows against the
 // one-body antiplane solve (primal::longitudinal_shear, which knows nothing of the condensation)
 // in the bond states the law reaches: bonded, a pattern of broken pairs, and the state a debond
 // cascade under Γ alone ends in. The same linear algebra rearranged: 1e-10 of G (measured a few
