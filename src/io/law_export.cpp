@@ -410,11 +410,40 @@ const law::CondensedCell& umat_cell(const Law& law, CellForm form, const std::st
   return *kept;
 }
 
+namespace {
+
+// Layout 3: the whole ply's exact law, every component from the cell.
+std::string law_umat_ply(const Law& law, const law::CondensedCell& cell, const std::string& name, int id,
+                         std::uint64_t cell_hash, const std::string& source) {
+  const int depvar = 1 + cell.n_pairs + cell.n_macro + cell.n_rows() + cell.shear_rows;
+  std::string out = card_header(law, source, "exact law of the whole ply as a user material");
+  out +=
+      "** For a code built with dualcell's umat (src/umat/dualcell_umat.c; CalculiX: make -C pipelines ccx-umat).\n"
+      "** Every element (C3D*, CPE*, ...): material axes 1 = x, 2 = y in the plane of the cells, 3 = z along\n"
+      "** the fibres; all six components from the cell condensed onto its " +
+      std::to_string(cell.n_rows()) + " interface rows and " + std::to_string(cell.shear_rows) +
+      " shear rows,\n** read from " + umat_cell_file(id) +
+      " (in $DUALCELL_CELL_DIR or the working directory). Each material point carries\n"
+      "** its bonds (state variables 2 to " +
+      std::to_string(1 + cell.n_pairs) +
+      ", 1 where a pair broke) and the warm starts of its QPs (src/umat/cell_umat.h).\n"
+      "** Constants: layout 3, law id, the cell file's hash (FNV-1a, high and low 32 bits: a file replaced\n"
+      "** after this card was written is refused, not mixed with it).\n";
+  out += "*MATERIAL, NAME=ABAQUS_" + name + "\n";
+  out += "*USER MATERIAL, CONSTANTS=4\n";
+  out += card_number(3) + ", " + card_number(id) + ", " + umat_cell_hash_constants(cell_hash) + "\n";
+  out += "*DEPVAR\n" + std::to_string(depvar) + "\n";
+  return out;
+}
+
+}  // namespace
+
 std::string law_umat_cell(const Law& law, CellForm form, const std::string& name, int id, std::uint64_t cell_hash,
                           const std::string& source) {
   check_name(name);
   const bool small = form == CellForm::small;
   const law::CondensedCell& cell = umat_cell(law, form, source);
+  if (cell.longitudinal == 1 && cell.shear == 2) return law_umat_ply(law, cell, name, id, cell_hash, source);
   check_constituents(law, source);
   const OutOfPlane z = rule_of_mixtures(law);
   const int depvar = 1 + cell.n_pairs + cell.n_macro + cell.n_rows();

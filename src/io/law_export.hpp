@@ -38,7 +38,10 @@ std::string law_umat(const law::Law& law, const std::string& name, const std::st
 // E33, G13, G23, the cell file's hash (text_hash_value of its text, high and low 32 bits)
 // and *DEPVAR 1 + pairs + 3 + rows (src/umat/cell_umat.h); the cell itself goes to the file
 // umat_cell_file(id) beside the card (law/cell_text.hpp). The same for the small cell (a cell of
-// the same form, /law/small). Refuses a law without the one asked for.
+// the same form, /law/small). A cell of the whole ply (the strain and the shears along the
+// fibres: macro = "full", periodic) gets layout 3 instead: constants 3, `id`, the hash, all six
+// components from the cell (no rule of mixtures), *DEPVAR 1 + pairs + 3 + rows + shear rows.
+// Refuses a law without the one asked for.
 enum class CellForm { exact, small };  // /law/cell or /law/small
 // The cell the umat carries for `form`; refuses (InputError naming `source` and the object) a law
 // without it, or one without shear (the symmetry boundary).
@@ -46,7 +49,8 @@ const law::CondensedCell& umat_cell(const law::Law& law, CellForm form, const st
 std::string law_umat_cell(const law::Law& law, CellForm form, const std::string& name, int id, std::uint64_t cell_hash,
                           const std::string& source);
 std::string umat_cell_file(int id);
-// The card's constants 6 and 7 as written: the cell file's hash, high and low 32 bits.
+// The card's hash constants as written (6 and 7 of layout 2, 3 and 4 of layout 3): the cell
+// file's hash, high and low 32 bits.
 std::string umat_cell_hash_constants(std::uint64_t hash);
 
 }  // namespace dualcell::io

@@ -12,6 +12,7 @@
 #include <sstream>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "core/hash.hpp"
 #include "law/cell_text.hpp"
@@ -87,9 +88,23 @@ bool card_hash(const double constants[2], std::uint64_t& hash) {
   return true;
 }
 
-int statev_needed(const CondensedCell& cell) { return 1 + cell.n_pairs + cell.n_macro + cell.n_rows(); }
+// The whole ply's law: the strain and the shears along the fibres.
+bool is_ply(const CondensedCell& cell) { return cell.longitudinal == 1 && cell.shear == 2; }
+
+int statev_needed(const CondensedCell& cell) {
+  return 1 + cell.n_pairs + cell.n_macro + cell.n_rows() + (is_ply(cell) ? cell.shear_rows : 0);
+}
 
 }  // namespace
+
+extern "C" int dualcell_cell_is_ply(int id) {
+  try {
+    const Loaded& law = load(id);
+    return law.cell ? (is_ply(*law.cell) ? 1 : 0) : -1;
+  } catch (...) {
+    return -1;
+  }
+}
 
 extern "C" int dualcell_cell_statev(int id) {
   try {
@@ -102,15 +117,32 @@ extern "C" int dualcell_cell_statev(int id) {
 
 namespace {
 
-int cell_law(int id, const double hash_constants[2], const double e[3], double* statev, int nstatv, double s[3],
-             double D[9], double* W) {
+// Active-set entries of the state (−1, 0, 1) into a warm start (empty when all free).
+void read_active(const double* state, int n, std::vector<dualcell::qp::Bound>& active) {
+  bool any = false;
+  active.assign(n, dualcell::qp::Bound::free);
+  for (int j = 0; j < n; ++j) {
+    if (state[j] <= -0.5) active[j] = dualcell::qp::Bound::lower, any = true;
+    if (state[j] >= 0.5) active[j] = dualcell::qp::Bound::upper, any = true;
+  }
+  if (!any) active.clear();
+}
+
+void write_active(const std::vector<dualcell::qp::Bound>& active, int n, double* state) {
+  for (int j = 0; j < n; ++j) state[j] = j < static_cast<int>(active.size()) ? static_cast<double>(active[j]) : 0;
+}
+
+// The law at the in-plane strain (n = 3: ε11, ε22, γ12) or the whole ply's (n = 6, Abaqus's
+// order), σ and D (n × n, row by row) in the same order.
+int cell_law(int id, const double hash_constants[2], int n, const double* e, double* statev, int nstatv, double* s,
+             double* D, double* W) {
   const Loaded& law = load(id);
   if (!law.cell) return 1;
   std::uint64_t expected = 0;
   if (!card_hash(hash_constants, expected)) {
     tell_once(id, "hash",
               "law " + std::to_string(id) +
-                  ": the card's constants 6 and 7 are not a cell file's hash (a card written before "
+                  ": the card's constants are not a cell file's hash (a card written before "
                   "the hash: export the law again)");
     return 1;
   }
@@ -122,6 +154,13 @@ int cell_law(int id, const double hash_constants[2], const double e[3], double* 
     return 1;
   }
   const CondensedCell& cell = *law.cell;
+  if ((n == 6) != is_ply(cell)) {
+    tell_once(id, "layout",
+              "law " + std::to_string(id) +
+                  (n == 6 ? ": the cell is in-plane only (its card is layout 2)"
+                          : ": the cell is the whole ply's (its card is layout 3)"));
+    return 1;
+  }
   if (nstatv < statev_needed(cell)) {
     tell_once(id, "depvar",
               "law " + std::to_string(id) + " needs " + std::to_string(statev_needed(cell)) +
@@ -132,50 +171,59 @@ int cell_law(int id, const double hash_constants[2], const double e[3], double* 
   auto& evaluator = evaluators[id];
   if (!evaluator) evaluator = std::make_unique<dualcell::law::CellEvaluator>(cell);
 
-  // The state: the unloaded cell's bonds less the broken pairs, and the warm start.
+  // The state: the unloaded cell's bonds less the broken pairs, and the warm starts.
   dualcell::law::CellHistory h = evaluator->unloaded();
   for (int p = 0; p < cell.n_pairs; ++p)
     if (statev[1 + p] >= 0.5) h.bonded[p] = 0;
-  const int unknowns = cell.n_macro + cell.n_rows();
-  const double* active = statev + 1 + cell.n_pairs;
-  bool any = false;
-  h.active.assign(unknowns, dualcell::qp::Bound::free);
-  for (int j = 0; j < unknowns; ++j) {
-    if (active[j] <= -0.5) h.active[j] = dualcell::qp::Bound::lower, any = true;
-    if (active[j] >= 0.5) h.active[j] = dualcell::qp::Bound::upper, any = true;
-  }
-  if (!any) h.active.clear();
+  const int unknowns = cell.n_macro + cell.n_rows(), shear_rows = n == 6 ? cell.shear_rows : 0;
+  double* active = statev + 1 + cell.n_pairs;
+  read_active(active, unknowns, h.active);
+  read_active(active + unknowns, shear_rows, h.active_z);
 
-  const dualcell::law::CellResponse r = evaluator->at_strain(Eigen::Vector3d(e[0], e[1], e[2]), h);
+  // The law's order (xx, yy, xy, zz, xz, yz) from Abaqus's (11, 22, 33, 12, 13, 23) and back.
+  static constexpr int law_of[6] = {0, 1, 3, 2, 4, 5};
+  const Eigen::Vector3d in_plane(e[0], e[1], n == 6 ? e[3] : e[2]);
+  const dualcell::law::CellResponse r =
+      n == 6 ? evaluator->at_strain(in_plane, h, dualcell::law::BondMode::cascade, e[2], Eigen::Vector2d(e[4], e[5]))
+             : evaluator->at_strain(in_plane, h);
   if (!r.ok) {
     tell_once(id, "qp", "law " + std::to_string(id) + ": " + r.message);
     return 1;
   }
-  if (!r.stress.allFinite() || !r.tangent.allFinite() || !std::isfinite(r.energy)) {
+  Eigen::Matrix<double, 6, 1> sigma;  // the law's order
+  Eigen::Matrix<double, 6, 6> tangent = Eigen::Matrix<double, 6, 6>::Zero();
+  sigma << r.stress, r.stress_zz, r.shear_z;
+  tangent.topLeftCorner<3, 3>() = r.tangent;
+  if (n == 6) {
+    tangent.block<3, 1>(0, 3) = r.tangent_zz;
+    tangent.block<1, 3>(3, 0) = r.tangent_zz.transpose();
+    tangent(3, 3) = r.tangent_zz_zz;
+    tangent.bottomRightCorner<2, 2>() = r.tangent_z;
+  }
+  if (!sigma.head(n).allFinite() || !tangent.topLeftCorner(n, n).allFinite() || !std::isfinite(r.energy)) {
     tell_once(id, "finite", "law " + std::to_string(id) + ": a non-finite stress or tangent (a strain beyond the law)");
     return 1;
   }
-  for (int i = 0; i < 3; ++i) {
-    s[i] = r.stress(i);
-    for (int j = 0; j < 3; ++j) D[3 * i + j] = r.tangent(i, j);
+  for (int i = 0; i < n; ++i) {
+    const int a = n == 6 ? law_of[i] : i;
+    s[i] = sigma(a);
+    for (int j = 0; j < n; ++j) D[n * i + j] = tangent(a, n == 6 ? law_of[j] : j);
   }
   *W = r.energy;
   statev[0] = r.broken;
   for (int p = 0; p < cell.n_pairs; ++p) statev[1 + p] = cell.bonded[p] && !h.bonded[p] ? 1 : 0;
-  for (int j = 0; j < unknowns; ++j)
-    statev[1 + cell.n_pairs + j] = j < static_cast<int>(h.active.size()) ? static_cast<double>(h.active[j]) : 0;
+  write_active(h.active, unknowns, active);
+  write_active(h.active_z, shear_rows, active + unknowns);
   return 0;
 }
-
-}  // namespace
 
 // Nothing escapes into the calling code (C or Fortran, which cannot catch it: an exception there
 // would abort the whole analysis): every failure is a line and a return of 1, and the umat asks
 // for a smaller increment.
-extern "C" int dualcell_cell_law(int id, const double hash[2], const double e[3], double* statev, int nstatv,
-                                 double s[3], double D[9], double* W) {
+int guarded(int id, const double hash[2], int n, const double* e, double* statev, int nstatv, double* s, double* D,
+            double* W) {
   try {
-    return cell_law(id, hash, e, statev, nstatv, s, D, W);
+    return cell_law(id, hash, n, e, statev, nstatv, s, D, W);
   } catch (const std::bad_alloc&) {
     tell_once(id, "memory", "law " + std::to_string(id) + ": out of memory");
   } catch (const std::exception& error) {
@@ -184,4 +232,16 @@ extern "C" int dualcell_cell_law(int id, const double hash[2], const double e[3]
     tell_once(id, "exception", "law " + std::to_string(id) + ": an unknown failure");
   }
   return 1;
+}
+
+}  // namespace
+
+extern "C" int dualcell_cell_law(int id, const double hash[2], const double e[3], double* statev, int nstatv,
+                                 double s[3], double D[9], double* W) {
+  return guarded(id, hash, 3, e, statev, nstatv, s, D, W);
+}
+
+extern "C" int dualcell_cell_law6(int id, const double hash[2], const double e[6], double* statev, int nstatv,
+                                  double s[6], double D[36], double* W) {
+  return guarded(id, hash, 6, e, statev, nstatv, s, D, W);
 }

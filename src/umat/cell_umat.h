@@ -6,7 +6,8 @@
  * State variables of a material point (all 0 for the unloaded cell, as the codes start them):
  *   1: the number of broken pairs;  2 … 1 + P: 1 where pair k is broken (P pairs);
  *   then m + n entries: the active set of the last evaluation (−1 lower, 0 free, 1 upper), the
- *   warm start of the next (m = 3 macro stresses, n interface rows).
+ *   warm start of the next (m = 3 macro stresses, n interface rows); a cell with the shears
+ *   along the fibres then the active set of its shear rows (r entries, docs/method.md §16a).
  */
 #ifndef DUALCELL_CELL_UMAT_H
 #define DUALCELL_CELL_UMAT_H
@@ -30,6 +31,18 @@ int dualcell_cell_statev(int id);
  * stderr, once per law and kind. */
 int dualcell_cell_law(int id, const double hash[2], const double e[3], double* statev, int nstatv, double s[3],
                       double D[9], double* W);
+
+/* Whether law `id` is the whole ply's (its cell carries the strain and the shears along the
+ * fibres: dualcell_cell_law6); 0 when it is in-plane only, −1 when its file cannot be read. */
+int dualcell_cell_is_ply(int id);
+
+/* The whole ply's law `id` (a cell with the strain and the shears along the fibres) at the 3D
+ * strain e = (ε11, ε22, ε33, γ12, γ13, γ23), Abaqus's order with engineering shears, the
+ * material axes 1 = x, 2 = y in the plane of the cells and 3 = z along the fibres; as
+ * dualcell_cell_law otherwise. Writes σ = (σ11, σ22, σ33, σ12, σ13, σ23), the 6 × 6 tangent
+ * D = dσ/dε row by row (symmetric) and W. */
+int dualcell_cell_law6(int id, const double hash[2], const double e[6], double* statev, int nstatv, double s[6],
+                       double D[36], double* W);
 
 #ifdef __cplusplus
 }

@@ -1,7 +1,8 @@
 /* The cell law as an Abaqus-style user material (umat), for CalculiX (materials named
  * ABAQUS...) and other codes with the same interface (docs/method.md §14, §15, §16a; README,
- * "The law in CalculiX"): the cone-wise law with the fuse (layout 1), or the exact law of the
- * cell (layout 2, cell_umat.h).
+ * "The law in CalculiX"): the cone-wise law with the fuse (layout 1), the exact law of the
+ * cell (layout 2, cell_umat.h), or the exact law of the whole ply (layout 3: all six components
+ * from the cell, nothing filled in).
  *
  * In the plane of the cells (strain ε = (ε11, ε22, γ12), engineering shear) the stress is
  *   σ(ε) = C_c ε + Σ_k β_k ⟨q_k·ε⟩₊ q_k,   tangent C_c + Σ_k β_k H(q_k·ε) q_k q_kᵀ,
@@ -12,6 +13,10 @@
  * elements keep ε33 = γ13 = γ23 = 0, where the in-plane law holds exactly.
  *
  * Constants (*USER MATERIAL, CONSTANTS = n, written by dualcell-export --format umat):
+ * layout 3, the whole ply's exact law (a cell with the strain and the shears along the fibres,
+ *   docs/method.md §16a): 1: 3   2: id, the law's file   3–4: its hash; σ and the 6 × 6 tangent
+ *   from the cell in the material axes 1 = x, 2 = y (the plane of the cells), 3 = z (the
+ *   fibres); the state variables as cell_umat.h says.
  * layout 2, the exact law: 1: 2   2: id, the law's file dualcell-cell-<id>.txt (cell_umat.h)
  *   3–5: E33, G13, G23   6–7: that file's hash (high and low 32 bits; a replaced file is refused);
  *   the state variables as cell_umat.h says (the debond cascade of the material point, kept by
@@ -79,6 +84,16 @@ void umat_(double* stress, double* statev, double* ddsdde, double* sse, double* 
   for (int i = 0; i < 6; ++i) e6[i] = stran[i] + dstran[i];
   const double e[3] = {e6[0], e6[1], e6[3]}; /* ε11, ε22, γ12 */
   double s[3], D[3][3], W, E33, G13, G23;
+  if (n == 6 && props[0] == 3) {
+    double D36[36];
+    if (*nprops < 4 || dualcell_cell_law6((int)props[1], props + 2, e6, statev, *nstatv, stress, D36, sse) != 0) {
+      *pnewdt = 0.25; /* no law, a card without the hash or a failed QP: a smaller increment, failing visibly */
+      return;
+    }
+    for (int i = 0; i < 36; ++i) ddsdde[i] = D36[i]; /* symmetric: row by row is column by column */
+    *spd = 0;
+    return;
+  }
   if (n == 6 && props[0] == 2) {
     if (*nprops < 7) {
       *pnewdt = 0.25; /* a card without the cell file's hash (written before it): refused */

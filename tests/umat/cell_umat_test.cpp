@@ -159,6 +159,103 @@ TEST(CellUmat, EqualsTheLibraryAlongAPathThroughTheCascade) {
   EXPECT_EQ(call(other, direction * 1e-3, state).pnewdt, 0.25);
 }
 
+// One umat call at the 3D strain e = (ε11, ε22, ε33, γ12, γ13, γ23): σ (6) and the tangent.
+struct Call6 {
+  Eigen::Matrix<double, 6, 1> stress;
+  Eigen::Matrix<double, 6, 6> tangent;
+  double energy, pnewdt;
+};
+Call6 call6(const std::vector<double>& props, const Eigen::Matrix<double, 6, 1>& e, std::vector<double>& statev) {
+  double stress[6] = {}, ddsdde[36], sse = 0, spd = 0, scd = 0, rpl = 0, ddsddt[6], drplde[6];
+  double drpldt = 0, time[2] = {}, dtime = 1, temp = 0, dtemp = 0, predef = 0, dpred = 0, coords[3] = {}, drot[9] = {};
+  double pnewdt = 1, celent = 1, dfgrd0[9] = {}, dfgrd1[9] = {};
+  double stran[6], dstran[6];
+  for (int i = 0; i < 6; ++i) stran[i] = dstran[i] = 0.5 * e(i);
+  const int ndi = 3, nshr = 3, ntens = 6, nstatv = static_cast<int>(statev.size());
+  const int nprops = static_cast<int>(props.size()), noel = 1, npt = 1, layer = 1, kspt = 1, kstep = 1, kinc = 1;
+  umat_(stress, statev.data(), ddsdde, &sse, &spd, &scd, &rpl, ddsddt, drplde, &drpldt, stran, dstran, time, &dtime,
+        &temp, &dtemp, &predef, &dpred, "ABAQUS_PLY", &ndi, &nshr, &ntens, &nstatv, props.data(), &nprops, coords, drot,
+        &pnewdt, &celent, dfgrd0, dfgrd1, &noel, &npt, &layer, &kspt, &kstep, &kinc, 10);
+  Call6 c;
+  for (int i = 0; i < 6; ++i) {
+    c.stress(i) = stress[i];
+    for (int j = 0; j < 6; ++j) c.tangent(i, j) = ddsdde[i + 6 * j];
+  }
+  c.energy = sse, c.pnewdt = pnewdt;
+  return c;
+}
+
+// The whole ply (layout 3): a cell with the strain and the shears along the fibres gives all six
+// components from the library's evaluation, in Abaqus's order (11, 22, 33, 12, 13, 23: x, y, z),
+// along a path whose shear along the fibres breaks pairs; nothing is filled in by a rule of
+// mixtures. A layout that does not match its cell is refused.
+TEST(CellUmat, TheWholePlyGivesAllSixComponentsFromTheCell) {
+  testing::ScratchDir dir;
+  setenv("DUALCELL_CELL_DIR", dir.path().c_str(), 1);
+  Scene s = parse_scene(testing::scene_text(1, 1, 2, 0.3), "test.toml");
+  s.geometry.element = Element::p1;
+  s.fibre = {30.0, 0.22};
+  s.matrix = {1.0, 0.35};
+  s.load.boundary = Boundary::periodic;
+  s.load.macro = Macro::full;
+  s.interface.normal_strength = s.interface.tangential_strength = 0.01;
+  const mesh::Mesh mesh = mesh::build_mesh(s.geometry);
+  feti::ContactSolver solver(mesh, s);
+  const CondensedCell cell = feti::condense(solver.setup());
+  ASSERT_EQ(cell.shear_rows, cell.n_pairs);
+  std::ostringstream text;
+  write_cell_text(text, cell);
+  std::ofstream(dir / io::umat_cell_file(7011)) << text.str();
+  Law law;
+  law.constituents = {30.0, 0.22, 1.0, 0.35, 0.28, 1.0};
+  law.cell = cell;
+  const std::uint64_t hash = text_hash_value(text.str());
+  const std::string card = io::law_umat_cell(law, io::CellForm::exact, "PLY", 7011, hash, "law.h5");
+  const int depvar = 1 + cell.n_pairs + 3 + cell.n_rows() + cell.shear_rows;
+  ASSERT_NE(card.find("*DEPVAR\n" + std::to_string(depvar)), std::string::npos) << card;
+  ASSERT_NE(card.find("CONSTANTS=4"), std::string::npos) << card;
+  const double high = static_cast<double>(hash >> 32), low = static_cast<double>(hash & 0xffffffffULL);
+  const std::vector<double> props = {3, 7011, high, low};
+  std::vector<double> statev(depvar, 0.0);
+
+  CellEvaluator library(cell);
+  CellHistory h = library.unloaded();
+  Eigen::Matrix<double, 6, 1> direction;  // (ε11, ε22, ε33, γ12, γ13, γ23)
+  direction << 0.2, -0.1, 0.3, 0.1, 1.0, 0.4;
+  const int law_of[6] = {0, 1, 3, 2, 4, 5};  // the law's (xx, yy, xy, zz, xz, yz) index of each
+  int broken_seen = 0;
+  for (const double scale : {1e-4, 1e-3, 5e-3, 2e-2, 5e-3, 0.0}) {
+    const Eigen::Matrix<double, 6, 1> e = scale * direction;
+    const Call6 c = call6(props, e, statev);
+    const CellResponse r =
+        library.at_strain(Eigen::Vector3d(e(0), e(1), e(3)), h, BondMode::cascade, e(2), Eigen::Vector2d(e(4), e(5)));
+    ASSERT_TRUE(r.ok) << r.message;
+    ASSERT_EQ(c.pnewdt, 1) << scale;
+    Eigen::Matrix<double, 6, 1> sigma;
+    sigma << r.stress, r.stress_zz, r.shear_z;
+    Eigen::Matrix<double, 6, 6> D = Eigen::Matrix<double, 6, 6>::Zero();
+    D.topLeftCorner<3, 3>() = r.tangent;
+    D.block<3, 1>(0, 3) = r.tangent_zz;
+    D.block<1, 3>(3, 0) = r.tangent_zz.transpose();
+    D(3, 3) = r.tangent_zz_zz;
+    D.bottomRightCorner<2, 2>() = r.tangent_z;
+    // The same QPs from the same warm starts: round-off apart.
+    for (int i = 0; i < 6; ++i) {
+      EXPECT_NEAR(c.stress(i), sigma(law_of[i]), 1e-12 * std::max(sigma.norm(), 1e-300)) << scale << " " << i;
+      for (int j = 0; j < 6; ++j)
+        EXPECT_NEAR(c.tangent(i, j), D(law_of[i], law_of[j]), 1e-12 * D.norm()) << scale << " " << i << j;
+    }
+    EXPECT_NEAR(c.energy, r.energy, 1e-12 * std::max(r.energy, 1e-300)) << scale;
+    EXPECT_EQ(statev[0], r.broken) << scale;
+    broken_seen = std::max(broken_seen, r.broken);
+  }
+  EXPECT_GT(broken_seen, 0) << "the path must reach past the first break";
+  EXPECT_EQ(statev[0], broken_seen) << "bonds never heal";
+  // A ply cell under a layout-2 card, and an in-plane cell under a layout-3 card: refused.
+  std::vector<double> state(depvar, 0.0);
+  EXPECT_EQ(call({2, 7011, 1, 1, 1, high, low}, Eigen::Vector3d(1e-4, 0, 0), state).pnewdt, 0.25);
+}
+
 // A cell file replaced after its card was written (another law exported under the same id,
 // --force) is refused by the card that named the first one, not mixed with it; and a file that
 // declares a million rows is refused by its count, where it once aborted the whole analysis with
