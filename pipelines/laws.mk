@@ -19,12 +19,24 @@ laws: $(LAWS_OUT)/table.md
 PLY_SCENES ?= default structure-cell-adhesion rve4-adhesion
 PLY_OUT := $(OUT_ROOT)/ply
 
-ply: $(PLY_OUT)/constants.md $(PLY_OUT)/states.md $(PLY_OUT)/laminate/laminate.md
+ply: $(PLY_OUT)/constants.md $(PLY_OUT)/states.md $(PLY_OUT)/laminate/laminate.md $(PLY_OUT)/umat/cube.md
 
 $(PLY_OUT)/constants.md: $(foreach s,$(PLY_SCENES),$(LAWS_OUT)/$(s)/law.h5) $(TOOLS)/ply_constants.py $(TOOLS)/ccx_ply.py
 	@mkdir -p $(dir $@)
 	$(PY) $(TOOLS)/ply_constants.py $(BIN) $@ $(foreach s,$(PLY_SCENES),$(SCENES)/$(s).toml:$(LAWS_OUT)/$(s)/mesh.h5) \
 	  --ccx ccx
+
+# The whole ply's exact law in CalculiX (the umat's layout 3, docs/method.md §16a): the ply
+# scene (the default cell with [load] macro = "full") swept and fitted like the laws above, its
+# card and cell file, and one C3D8 under the six unit load cases, random states and states past
+# the bonds' strength against dualcell-law --full (tools/ccx_umat_check.py cube). Needs ccx-umat.
+$(PLY_OUT)/umat/ply.inp: $(LAWS_OUT)/ply/law.h5 $(BUILT)
+	@mkdir -p $(dir $@)
+	$(BIN)/dualcell-export --quiet --law $< --format umat --form cell --name PLY --out $@
+
+$(PLY_OUT)/umat/cube.md: $(CCX_UMAT) $(PLY_OUT)/umat/ply.inp $(TOOLS)/ccx_umat_check.py
+	$(PY) $(TOOLS)/ccx_umat_check.py cube $(CCX_UMAT) $(PLY_OUT)/umat/ply.inp $@ --law $(LAWS_OUT)/ply/law.h5 \
+	  --bin $(BIN)
 
 # How a 3D model uses them: a [0/90]s beam of C3D20R bricks in CalculiX, the plies the default
 # cell's bonded card, against laminate theory (tools/ccx_laminate.py), with its picture

@@ -10,6 +10,12 @@ usage:
       of both signs, and random states; the stresses ccx prints against the law: the cone-wise
       law of the card's constants (σ = C_c ε + Σ β_k ⟨q_k·ε⟩₊ q_k, bonded: the strains stay
       below the onset), or for the exact law what `BIN_DIR/dualcell-law --law LAW.h5` gives.
+  ccx_umat_check.py cube CCX CARD.inp OUT.md --law LAW.h5 --bin BIN_DIR
+      The whole ply's exact law (layout 3): one C3D8 brick, the unit cube, every node displaced
+      by u = ε·x (a uniform 3D strain, material axes x, y in the plane of the cells, z along the
+      fibres) per state: the six unit load cases (each strain component alone, both signs),
+      random states, and states past the bonds' strength (the shear along the fibres and the
+      transverse tension that break them); ccx's six stresses against `dualcell-law --full`.
   ccx_umat_check.py beam CCX CARD.inp STRUCTURE.h5 SCENE.toml OUT.md
       The structure of STRUCTURE.h5 (dualcell-structure's mesh, p2 → CPE6, same node order) with
       the edges of SCENE.toml — a roller left edge, one point held in y, a traction linear
@@ -18,7 +24,7 @@ usage:
 
 ccx runs in a temporary folder beside OUT.md with one thread (DUALCELL_CELL_DIR: the card's
 folder). Writes OUT.md (a table) and fails (exit 1) when a check misses its bound: 1e-6 relative
-for the element (ccx prints 7 significant digits), 1e-5 for the beam's end rotation.
+for the element and the cube (ccx prints 7 significant digits), 1e-5 for the beam's end rotation.
 """
 import csv
 import math
@@ -155,6 +161,78 @@ def element(ccx, card, out, law=None, bin=None):
         sys.exit(f"ccx_umat_check.py: element: largest difference {worst:.1e} > 1e-6")
 
 
+def ply_law_stresses(law_h5, bin_dir, strains, work):
+    """The six stresses (σ11, σ22, σ33, σ12, σ13, σ23) of the whole ply's exact law at each 3D
+    strain (ε11, ε22, ε33, γ12, γ13, γ23), each from the unloaded cell, by dualcell-law --full
+    (whose order is xx, yy, xy, zz, xz, yz), and the broken pairs."""
+    points, values = os.path.join(work, "points.csv"), os.path.join(work, "values.csv")
+    order = [0, 1, 3, 2, 4, 5]  # the law's component of each of Abaqus's
+    with open(points, "w") as f:
+        f.write("exx,eyy,gxy,e33,gxz,gyz\n")
+        for e in strains:
+            f.write(",".join(f"{e[order.index(k)]:.17g}" for k in range(6)) + "\n")
+    common.run([os.path.join(bin_dir, "dualcell-law"), "--quiet", "--law", law_h5, "--strain", points, "--out", values,
+                "--form", "cell", "--full"])
+    with open(values) as f:
+        rows = list(csv.DictReader(f))
+    names = ["sxx", "syy", "szz", "sxy", "sxz", "syz"]
+    return [np.array([float(r[n]) for n in names]) for r in rows], [int(r["broken_pairs"]) for r in rows]
+
+
+def cube(ccx, card, out, law=None, bin=None):
+    name, k, text = card_constants(card)
+    if k[0] != 3 or not (law and bin):
+        sys.exit("ccx_umat_check.py: cube: the card must be the whole ply's exact law (layout 3), with --law and --bin")
+    labels = ["ε11", "ε22", "ε33", "γ12", "γ13", "γ23"]
+    scale = 1e-4  # far below the bonds' strength: the unit load cases see the bonded cell
+    states = {}
+    for i, label in enumerate(labels):
+        for sign in (1, -1):
+            states[f"{label} {'+' if sign > 0 else '−'}"] = scale * sign * np.eye(6)[i]
+    rng = random.Random(13)
+    for i in range(4):
+        states[f"random {i + 1}"] = scale * np.array([rng.uniform(-1, 1) for _ in range(6)])
+    # Past the strength: sheared along the fibres (bonds break along z) and stretched across them.
+    states["γ13 past the bonds"] = np.array([0, 0, 0, 0, 2e-2, 0])
+    states["ε11 past the bonds"] = np.array([2e-2, 0, 0, 0, 0, 0])
+    work = tempfile.mkdtemp(prefix="ccx-cube-", dir=os.path.dirname(os.path.abspath(out)))
+    rows, worst = [], 0.0
+    try:
+        wanted, broken = ply_law_stresses(law, bin, list(states.values()), work)
+        nodes = {1: (0, 0, 0), 2: (1, 0, 0), 3: (1, 1, 0), 4: (0, 1, 0),
+                 5: (0, 0, 1), 6: (1, 0, 1), 7: (1, 1, 1), 8: (0, 1, 1)}
+        for (label, e), want, b in zip(states.items(), wanted, broken):
+            H = np.array([[e[0], e[3] / 2, e[4] / 2], [e[3] / 2, e[1], e[5] / 2], [e[4] / 2, e[5] / 2, e[2]]])
+            deck = "*NODE\n" + "".join(f"{n}, {x}, {y}, {z}\n" for n, (x, y, z) in nodes.items())
+            deck += "*ELEMENT, TYPE=C3D8, ELSET=E\n1, 1, 2, 3, 4, 5, 6, 7, 8\n"
+            deck += material_cards(text[text.index("*MATERIAL"):])
+            deck += f"*SOLID SECTION, ELSET=E, MATERIAL={name}\n*BOUNDARY\n"
+            for n, x in nodes.items():
+                u = H @ np.array(x, dtype=float)
+                deck += "".join(f"{n}, {d + 1}, {d + 1}, {u[d]:.13e}\n" for d in range(3))
+            deck += "*STEP\n*STATIC\n1., 1.\n*EL PRINT, ELSET=E\nS\n*END STEP\n"
+            stresses = dat_blocks(run_ccx(ccx, work, deck, card)[0], "stresses")
+            # Rows: element, integration point, sxx, syy, szz, sxy, sxz, syz (the same at each point).
+            got = np.array([r[2:8] for r in stresses]).mean(axis=0)
+            error = np.linalg.norm(got - want) / np.linalg.norm(want)
+            worst = max(worst, error)
+            rows.append(f"| {label} | {b} | " + ", ".join(f"{v:.4e}" for v in got) + " | " +
+                        ", ".join(f"{v:.4e}" for v in want) + f" | {error:.1e} |")
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+    md = ["# One 3D element in CalculiX with the whole ply's exact law", "",
+          f"Material {name} from {os.path.basename(card)} (layout 3: all six components from the cell); one C3D8,",
+          "the unit cube, under the uniform strain ε (engineering shears; x, y the plane of the cells, z the fibres),",
+          "each state from the unloaded cell; ccx's stresses (7 significant digits) against dualcell-law --full.", "",
+          "| state | broken pairs | ccx σ (11, 22, 33, 12, 13, 23) | law σ | relative difference |",
+          "|---|---|---|---|---|"]
+    md += rows + ["", f"Largest relative difference: {worst:.1e} (bound 1e-6: the printed digits)."]
+    common.write_atomic(out, "\n".join(md) + "\n")
+    print("\n".join(md))
+    if worst > 1e-6:
+        sys.exit(f"ccx_umat_check.py: cube: largest difference {worst:.1e} > 1e-6")
+
+
 def edge_forces(nodes, edge_nodes, t_start, t_end):
     """Consistent nodal forces of a traction linear from t_start to t_end along a straight p2
     edge list (corner, mid, corner, mid, ..., corner, ordered along the edge)."""
@@ -262,6 +340,12 @@ def main(argv):
     p.add_argument("out", metavar="OUT.md")
     p.add_argument("--law", metavar="LAW.h5", help="the law.h5 of an exact-law card")
     p.add_argument("--bin", metavar="BIN_DIR", help="the folder of dualcell-law")
+    p = checks.add_parser("cube")
+    p.add_argument("ccx", metavar="CCX")
+    p.add_argument("card", metavar="CARD.inp")
+    p.add_argument("out", metavar="OUT.md")
+    p.add_argument("--law", metavar="LAW.h5", help="the law.h5 of the card", required=True)
+    p.add_argument("--bin", metavar="BIN_DIR", help="the folder of dualcell-law", required=True)
     p = checks.add_parser("beam")
     p.add_argument("ccx", metavar="CCX")
     p.add_argument("card", metavar="CARD.inp")
@@ -269,7 +353,7 @@ def main(argv):
     p.add_argument("scene_file", metavar="SCENE.toml")
     p.add_argument("out", metavar="OUT.md")
     args = vars(parser.parse_args(argv[1:]))
-    {"element": element, "beam": beam}[args.pop("check")](**args)
+    {"element": element, "cube": cube, "beam": beam}[args.pop("check")](**args)
 
 
 if __name__ == "__main__":
