@@ -46,13 +46,16 @@ $(PLY_OUT)/laminate/laminate.md: $(PLY_OUT)/constants.md $(TOOLS)/ccx_laminate.p
 
 # The constants per bond state (bonded, after the fuse, a contact cell's), in tension and in
 # compression (tools/ply_states.py, docs/method.md §3c), each state's cards checked by CalculiX;
-# states.png shows each row's moduli.
+# states.png shows each row's moduli. The default cell's rows are also the exact law's (the ply
+# scene's /law/ply, the same cell with macro = "full"), measured against these solves, and its
+# fuse load is the law's.
 PLY_STATE_SCENES ?= default rve4-adhesion bimodular
 
-$(PLY_OUT)/states.md: $(foreach s,$(PLY_STATE_SCENES),$(LAWS_OUT)/$(s)/law.h5) $(TOOLS)/ply_states.py $(TOOLS)/ply_constants.py
+$(PLY_OUT)/states.md: $(foreach s,$(PLY_STATE_SCENES),$(LAWS_OUT)/$(s)/law.h5) $(LAWS_OUT)/ply/law.h5 \
+    $(TOOLS)/ply_states.py $(TOOLS)/ply_constants.py
 	@mkdir -p $(dir $@)
 	$(PY) $(TOOLS)/ply_states.py $(BIN) $@ $(foreach s,$(PLY_STATE_SCENES),$(SCENES)/$(s).toml:$(LAWS_OUT)/$(s)/mesh.h5) \
-	  --ccx ccx
+	  --law default=$(LAWS_OUT)/ply/law.h5 --ccx ccx
 
 # ---- the small cell (src/study/bench_small_cell.cpp, docs/method.md §16c) -------------------
 # The compact laws of cells without adhesion against their exact laws, error against the cost of

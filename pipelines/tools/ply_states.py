@@ -4,7 +4,7 @@
 constants of tools/ply_constants.py.
 
 usage:
-  ply_states.py BIN OUT.md SCENE_MESH... [--fuse SXX,SYY,SXY] [--ccx PATH]
+  ply_states.py BIN OUT.md SCENE_MESH... [--fuse SXX,SYY,SXY] [--law CELL=LAW.h5]... [--ccx PATH]
                                        SCENE_MESH: scene.toml:mesh.h5 (a periodic cell)
 
 The fibres run along z, the ply's axis 1; x and y are its axes 2 and 3. The states of a cell:
@@ -39,6 +39,13 @@ that close different contacts need not be one elastic material: a state whose co
 orthotropic 6 × 6 of its constants, symmetric by construction) is not positive definite gets no
 card, and the table says so.
 
+With --law CELL=LAW.h5 (a law fitted from the same cell with [load] macro = "full", whose fit
+tabulates the ply's constants from the exact law, /law/ply, docs/method.md §3c) the cell's fuse
+load is the law's (σxx = /law/ply/fuse_stress, four times its onset along x) and column `law`
+gives the largest relative difference of the law's nine constants from these solves' at the
+same state and sign (and says so where the law's state broke other pairs): the exact law's
+constants measured against the cell.
+
 Writes OUT.md (one row per cell, state and sign) and OUT.csv beside it, atomically, and the
 picture OUT.png/.svg: the moduli of each row as bars, on a log scale (E1 is ten times the others).
 """
@@ -54,7 +61,7 @@ import plot
 import ply_constants
 
 COLUMNS = ["cell", "state", "sign", "broken", "E1", "E2", "E3", "nu12", "nu13", "nu23", "G12", "G13", "G23",
-           "sigma33_left", "check", "ccx"]
+           "sigma33_left", "check", "law", "ccx"]
 CONSTANTS = COLUMNS[4:13]
 LOAD = 1e-8
 SIGMA33_TOLERANCE = 1e-7  # of the load; the solves' own relative error is about 1e-9 (ply_constants)
@@ -196,14 +203,45 @@ def cell_rows(bin_dir, scene, mesh, folder, fuse):
     return rows
 
 
+def law_table(law_h5):
+    """The exact law's ply constants (/law/ply): {(state, sign): (constants, broken)} and its fuse
+    stress."""
+    states = {0: "bonded", 1: "after fuse", 2: "contact"}
+    with h5py.File(law_h5, "r") as f:
+        if "/law/ply" not in f:
+            raise ValueError(f"{law_h5}: no /law/ply (fit a scene with [load] macro = \"full\" and a periodic boundary)")
+        g = f["/law/ply"]
+        table = {}
+        for i, state in enumerate(g["state"][:]):
+            sign = "tension" if g["sign"][i] > 0 else "compression"
+            table[(states[int(state)], sign)] = (dict(zip(CONSTANTS, g["constants"][i])), int(g["broken"][i]))
+        return table, float(g["fuse_stress"][0])
+
+
+def compare_with_law(rows, table):
+    """Column `law`: the law's largest relative difference from the solves, per row."""
+    for r in rows:
+        entry = table.get((r["state"], r["sign"]))
+        if entry is None:
+            r["law"] = "no such state in the law"
+            continue
+        constants, broken = entry
+        solved_broken = 0 if r["broken"] in ("no bonds",) else int(r["broken"].split("/")[0])
+        difference = max(abs(constants[k] / r[k] - 1) for k in CONSTANTS)
+        r["law"] = difference if broken == solved_broken else f"{difference:.1e} ({broken} broken in the law)"
+
+
 def markdown(rows):
     ccx = any("ccx" in r for r in rows)
+    law = any("law" in r for r in rows)
     head = ["cell", "state", "load", "broken", "E1", "E2", "E3", "ν12", "ν13", "ν23", "G12", "G13", "G23",
-            "σ33 left", "check"] + (["CalculiX from the card"] if ccx else [])
+            "σ33 left", "check"] + (["exact law"] if law else []) + (["CalculiX from the card"] if ccx else [])
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     for r in rows:
         cells = [r["cell"], r["state"], r["sign"], r["broken"]] + [f"{r[k]:.5g}" for k in CONSTANTS]
         cells += [f"{r['sigma33_left']:.1e}", f"{r['check']:.1e}" if "check" in r else ""]
+        if law:
+            cells.append(r["law"] if isinstance(r.get("law"), str) else f"{r['law']:.1e}" if "law" in r else "")
         if ccx:
             cells.append(r["ccx"] if isinstance(r.get("ccx"), str) else f"{r['ccx']:.1e}" if "ccx" in r else "")
         lines.append("| " + " | ".join(cells) + " |")
@@ -230,7 +268,15 @@ def main(argv):
     parser.add_argument("cells", nargs="+", help="scene.toml:mesh.h5")
     parser.add_argument("--fuse", default="0.04,0,0", help="the fuse load sxx,syy,sxy (tensor shear)")
     parser.add_argument("--ccx", help="CalculiX: write each state's cards and check them on a cube")
+    parser.add_argument("--law", action="append", default=[], metavar="CELL=LAW.h5",
+                        help="the cell's full law: its fuse load, and its constants against these solves")
     args = parser.parse_args(argv[1:])
+    laws = {}
+    for item in args.law:
+        cell, _, law_h5 = item.partition("=")
+        if not law_h5:
+            raise ValueError(f"--law {item}: expected CELL=LAW.h5")
+        laws[cell] = law_table(law_h5)
     fuse = [float(v) for v in args.fuse.split(",")]
     if len(fuse) != 3:
         raise ValueError(f"--fuse {args.fuse}: expected three stresses sxx,syy,sxy")
@@ -239,7 +285,12 @@ def main(argv):
     for scene, mesh in ply_constants.scene_meshes(args.cells):
         folder = os.path.join(out_folder, "states", os.path.basename(os.path.dirname(os.path.abspath(mesh))))
         os.makedirs(folder, exist_ok=True)
-        for r in cell_rows(args.bin, scene, mesh, folder, fuse):
+        cell = os.path.basename(os.path.dirname(os.path.abspath(mesh)))
+        cell_fuse = [laws[cell][1], 0.0, 0.0] if cell in laws else fuse
+        cell_results = cell_rows(args.bin, scene, mesh, folder, cell_fuse)
+        if cell in laws:
+            compare_with_law(cell_results, laws[cell][0])
+        for r in cell_results:
             name = f"{r['cell']}-{r['state']}-{r['sign']}".upper().replace("-", "_").replace(" ", "_")
             path = os.path.join(out_folder, name.lower() + ".inp")
             if not args.ccx:

@@ -546,6 +546,7 @@ law::Law fit_law(const std::vector<sweep::PathResult>& paths, const sweep::Sweep
           replay_cell(*law.cell, paths, header.qp_tolerance, replay_stride(paths, law.cell->n_rows(), checked_rows));
       if (law.cell->longitudinal == 1)
         law.cell_longitudinal_replay = replay_longitudinal(*law.cell, header.longitudinal_points, header.qp_tolerance);
+      law.ply = law::ply_constants(*law.cell);
     } catch (const ExactLawFailed& e) {
       // The condensation may be right and its QP still beyond the dense method (an RVE of many
       // hundred interface rows): the law is not kept, and the file says why.

@@ -146,6 +146,19 @@ void add_exact_law(JsonObject& o, const Law& law) {
     }
     o.add(name, replay.str(4));
   }
+  // The ply's nine constants per bond state and sign (/law/ply), where the cell carries them.
+  if (!law.ply.rows.empty()) {
+    std::vector<std::string> rows;
+    for (const law::PlyConstants& c : law.ply.rows) {
+      JsonObject row;
+      row.add_text("state", law::to_string(c.state)).add("sign", std::to_string(c.sign));
+      row.add("broken", std::to_string(c.broken));
+      for (const law::PlyConstantField& field : law::ply_constant_fields)
+        row.add(field.name, json_number(c.*field.value));
+      rows.push_back(row.add("sigma33_left", json_number(c.sigma33_left)).str(6));
+    }
+    o.add("ply", JsonObject().add("fuse_stress", json_number(law.ply.fuse_stress)).add("rows", json_list(rows)).str(4));
+  }
 }
 
 // The compact laws' checks (/law/cone_check, /law/cone_after_fuse_check), against the exact law

@@ -20,6 +20,11 @@ using law::compliance_members;
 using law::ComplianceFit;
 using law::direction_columns;
 using law::Law;
+using law::ply_constant_fields;
+using law::PlyConstantField;
+using law::PlyConstants;
+using law::PlyState;
+using law::PlyTable;
 
 const std::string group = "/law";
 
@@ -38,6 +43,26 @@ void write_scalar(File& f, const std::string& name, double value) {
 
 void write_count(File& f, const std::string& name, std::int64_t value) {
   f.write(object(name), std::vector<std::int64_t>{value}, {1});
+}
+
+void write_ply(File& f, const PlyTable& t) {
+  f.create_group(object("ply"));
+  std::vector<std::int64_t> state, sign, broken;
+  std::vector<double> constants, left;
+  for (const PlyConstants& c : t.rows) {
+    state.push_back(static_cast<std::int64_t>(c.state));
+    sign.push_back(c.sign);
+    broken.push_back(c.broken);
+    for (const PlyConstantField& field : ply_constant_fields) constants.push_back(c.*field.value);
+    left.push_back(c.sigma33_left);
+  }
+  const hsize_t n = t.rows.size();
+  f.write(object("ply/state"), state, {n});
+  f.write(object("ply/sign"), sign, {n});
+  f.write(object("ply/broken"), broken, {n});
+  f.write(object("ply/constants"), constants, {n, std::size(ply_constant_fields)});
+  f.write(object("ply/sigma33_left"), left, {n});
+  write_scalar(f, "ply/fuse_stress", t.fuse_stress);
 }
 
 void write_compliance(File& f, const std::string& prefix, const ComplianceFit& fit) {
@@ -117,6 +142,33 @@ class Reader {
  private:
   const File& f_;
 };
+
+// /law/ply: the ply's nine constants per bond state and sign (law/ply.hpp).
+PlyTable read_ply(const Reader& r) {
+  PlyTable t;
+  const std::vector<std::int64_t> state = r.ints("ply/state", {any_extent});
+  const hsize_t n = state.size();
+  const std::vector<std::int64_t> sign = r.ints("ply/sign", {n}, " like /law/ply/state");
+  const std::vector<std::int64_t> broken = r.ints("ply/broken", {n}, " like /law/ply/state");
+  const std::vector<double> constants =
+      r.doubles("ply/constants", {n, std::size(ply_constant_fields)}, " like /law/ply/state");
+  const std::vector<double> left = r.doubles("ply/sigma33_left", {n}, " like /law/ply/state");
+  t.fuse_stress = r.scalar("ply/fuse_stress");
+  for (hsize_t i = 0; i < n; ++i) {
+    if (state[i] < 0 || state[i] > 2)
+      r.fail(object("ply/state"), "value " + std::to_string(state[i]) + " not 0, 1 or 2");
+    if (sign[i] != 1 && sign[i] != -1) r.fail(object("ply/sign"), "value " + std::to_string(sign[i]) + " not 1 or -1");
+    PlyConstants c;
+    c.state = static_cast<PlyState>(state[i]);
+    c.sign = static_cast<int>(sign[i]);
+    c.broken = static_cast<int>(broken[i]);
+    for (std::size_t k = 0; k < std::size(ply_constant_fields); ++k)
+      c.*ply_constant_fields[k].value = constants[i * std::size(ply_constant_fields) + k];
+    c.sigma33_left = left[i];
+    t.rows.push_back(c);
+  }
+  return t;
+}
 
 ComplianceFit read_compliance(const Reader& r, const std::string& prefix, hsize_t n_directions) {
   ComplianceFit fit;
@@ -261,6 +313,7 @@ void write_law(const std::filesystem::path& file, const Law& law) {
         }
       }
     }
+    if (!law.ply.rows.empty()) write_ply(f, law.ply);
     if (!law.cone_check.directions.empty()) write_cone_check(f, "cone_check", law.cone_check);
     if (!law.cone_after_fuse_check.directions.empty())
       write_cone_check(f, "cone_after_fuse_check", law.cone_after_fuse_check);
@@ -332,6 +385,7 @@ Law read_law(const std::filesystem::path& file) {
       }
     }
   }
+  if (f.exists(object("ply"))) law.ply = read_ply(r);
   if (f.exists(object("cone_check"))) law.cone_check = read_cone_check(f, r, "cone_check");
   if (f.exists(object("cone_after_fuse_check")))
     law.cone_after_fuse_check = read_cone_check(f, r, "cone_after_fuse_check");

@@ -19,6 +19,7 @@
 #include "law/cone.hpp"
 #include "law/cone_check.hpp"
 #include "law/onset.hpp"
+#include "law/ply.hpp"
 
 namespace dualcell::law {
 
@@ -136,6 +137,10 @@ struct Law {
   // full solves of generalised plane strain (sweep::LongitudinalPoint; worst_path is the point's
   // index, worst_step −1). Empty (0 points) otherwise.
   CellReplay cell_longitudinal_replay;
+  // Where the cell carries the whole ply (the strain and the shears along the fibres): its nine
+  // engineering constants per bond state and sign, from the exact law (law/ply.hpp); empty
+  // otherwise (ply.note says why).
+  PlyTable ply;
   // The compact law (cone) against the exact one over a dense set of directions, or without an
   // exact law against the sweep's points, each direction held out of the fit in turn
   // (ConeCheck::against); empty without a cone-wise law, or without an exact law and with one

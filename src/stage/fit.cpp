@@ -75,6 +75,21 @@ void print_exact_law_summary(const law::Law& law) {
           "%.2e (limit %.1e)\n",
           l.points, l.max_error, l.rms_error, l.limit);
     }
+    if (!law.ply.rows.empty()) {
+      std::printf(
+          "  the ply's constants from the exact law (axis 1 the fibres; /law/ply)%s:\n",
+          law.ply.fuse_stress > 0
+              ? (", after the fuse: the bonds sxx = " + formatted("%.4g", law.ply.fuse_stress) + " left").c_str()
+              : "");
+      std::printf("    %-10s %-11s %6s %9s %9s %9s %8s %8s %8s %9s %9s %9s\n", "state", "load", "broken", "E1", "E2",
+                  "E3", "nu12", "nu13", "nu23", "G12", "G13", "G23");
+      for (const law::PlyConstants& r : law.ply.rows)
+        std::printf("    %-10s %-11s %6d %9.5g %9.5g %9.5g %8.5g %8.5g %8.5g %9.5g %9.5g %9.5g\n", to_string(r.state),
+                    r.sign > 0 ? "tension" : "compression", r.broken, r.E1, r.E2, r.E3, r.nu12, r.nu13, r.nu23, r.G12,
+                    r.G13, r.G23);
+    }
+    if (!law.ply.note.empty() && law.cell->longitudinal == 1 && law.cell->shear == 2)
+      std::printf("  the ply's constants: %s\n", law.ply.note.c_str());
   } else {
     std::printf("  exact law: none (%s)\n", law.cell_note.c_str());
   }

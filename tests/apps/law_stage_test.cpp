@@ -235,8 +235,19 @@ TEST(LawStage, DualcellLawEvaluatesTheWholePly) {
   EXPECT_GT(rows[2].back(), 0);
   EXPECT_EQ(rows[3].back(), rows[2].back());
   EXPECT_LT(C(3, 5, 5), G[0]);
-  const law::CondensedCell cell = *io::read_law(run.law).cell;
+  const law::Law fitted = io::read_law(run.law);
+  const law::CondensedCell& cell = *fitted.cell;
   EXPECT_GE(C(3, 5, 5), cell.D0z(0, 0) * (1 - 1e-12));
+  // The fit's table of the ply's constants (/law/ply): bonded and after the fuse, both signs;
+  // the bonded G12, G13 the solve's, through law.h5; printed in the summary and in the JSON.
+  ASSERT_EQ(fitted.ply.rows.size(), 4u) << fitted.ply.note;
+  const double det = G[0] * G[3] - G[1] * G[2];
+  EXPECT_NEAR(fitted.ply.rows[0].G12, det / G[3], 1e-9 * G[0]);
+  EXPECT_NEAR(fitted.ply.rows[1].G13, det / G[0], 1e-9 * G[0]);
+  EXPECT_EQ(fitted.ply.rows[2].state, law::PlyState::after_fuse);
+  EXPECT_GT(fitted.ply.rows[2].broken, 0);
+  EXPECT_NE(run.fit_output.find("the ply's constants from the exact law"), std::string::npos) << run.fit_output;
+  EXPECT_NE(io::law_json(fitted).find("\"ply\": {"), std::string::npos);
   // The flags that do not go with --full: stress-driven, --eps33 beside it, the cone-wise law.
   for (const std::string& flags :
        {std::string(" --stress ") + q(points) + " --full", std::string(" --strain ") + q(points) + " --full --eps33",
