@@ -150,6 +150,32 @@ LongitudinalShear longitudinal_shear(const mesh::Mesh& mesh, const Material& fib
   return out;
 }
 
+ShearResponse longitudinal_shear_at(const mesh::Mesh& mesh, const Material& fibre, const Material& matrix,
+                                    const std::vector<char>& bonded, const Eigen::Vector2d& gamma) {
+  if (bonded.size() != mesh.interface_pairs.size())
+    throw std::invalid_argument("longitudinal_shear_at: " + std::to_string(bonded.size()) + " bond states for " +
+                                std::to_string(mesh.interface_pairs.size()) + " interface pairs");
+  const double mu_fibre = fem::lame(fibre).mu, mu_matrix = fem::lame(matrix).mu;
+  Body body(mesh, mu_fibre, mu_matrix, bonded);
+  const Eigen::VectorXd w = body.solve(body.f() * gamma);
+  // Per node, the internal force of the elements that hold it, ∫ μ ∇φ·(Γ + ∇w̃) dA, and ⟨τ⟩.
+  Eigen::VectorXd internal = Eigen::VectorXd::Zero(mesh.n_nodes());
+  ShearResponse out;
+  const int nodes = mesh.triangles.width();
+  for_each_point(mesh, mu_fibre, mu_matrix, [&](const auto& tri, double weight, const Eigen::Matrix2Xd& grad_phi) {
+    Eigen::Vector2d grad = gamma;
+    for (int i = 0; i < nodes; ++i) grad += grad_phi.col(i) * w(tri[i]);
+    out.tau += weight * grad;
+    for (int i = 0; i < nodes; ++i) internal(tri[i]) += weight * grad_phi.col(i).dot(grad);
+  });
+  out.tau /= mesh.block_width() * mesh.block_height();
+  // A bonded pair's tie carries what the fibre's elements at its node do not balance themselves.
+  out.pair_forces = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(bonded.size()));
+  for (std::size_t p = 0; p < bonded.size(); ++p)
+    if (bonded[p]) out.pair_forces(static_cast<Eigen::Index>(p)) = -internal(mesh.interface_pairs[p][0]);
+  return out;
+}
+
 CondensedShear condense_longitudinal_shear(const mesh::Mesh& mesh, const Material& fibre, const Material& matrix,
                                            bool rows) {
   const double mu_fibre = fem::lame(fibre).mu, mu_matrix = fem::lame(matrix).mu;

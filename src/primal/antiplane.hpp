@@ -30,6 +30,19 @@ struct LongitudinalShear {
 LongitudinalShear longitudinal_shear(const mesh::Mesh& mesh, const Material& fibre, const Material& matrix,
                                      const std::vector<char>& bonded = {});
 
+// The response at Γ of the bond state `bonded` (one entry per pair): ⟨τ⟩ and each bonded pair's
+// force along z, the tie's (the internal force ∫ μ ∇φ·(Γ + ∇w̃) dA of the fibre's elements at
+// the pair's fibre node, with the sign of the condensed law's force q; 0 for a broken pair). A
+// fibre node that is also a periodic partner shares its point with another pair: its force is
+// then that of its own elements only. For the debond cascade along z (the caller breaks what
+// reaches its strength and asks again).
+struct ShearResponse {
+  Eigen::Vector2d tau = Eigen::Vector2d::Zero();
+  Eigen::VectorXd pair_forces;
+};
+ShearResponse longitudinal_shear_at(const mesh::Mesh& mesh, const Material& fibre, const Material& matrix,
+                                    const std::vector<char>& bonded, const Eigen::Vector2d& gamma);
+
 // The longitudinal shear condensed onto the interface pairs (docs/method.md §16a, "The shear along the fibres"), the
 // exact law of every bond state at once. The open cell (every pair free to jump, each fibre floating along z) has w̃ =
 // K⁺(f Γ − Jᵀq) under pair forces q (J: the jump of w̃ across each pair, fibre minus matrix); a bond state ties the
