@@ -240,6 +240,31 @@ law::CellReplay replay_longitudinal(const law::CondensedCell& cell, const std::v
   return replay;
 }
 
+law::CellReplay replay_shear(const law::CondensedCell& cell, const std::vector<sweep::ShearPoint>& points,
+                             double qp_tolerance) {
+  law::CellReplay replay;
+  replay.limit = 1e3 * qp_tolerance;
+  replay.max_error = 0;
+  law::CellEvaluator evaluator(cell);
+  std::map<int, law::CellHistory> histories;
+  double sum = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const sweep::ShearPoint& p = points[i];
+    law::CellHistory& history = histories.try_emplace(p.path, evaluator.unloaded()).first->second;
+    const law::CellResponse r =
+        evaluator.at_strain(Eigen::Vector3d::Zero(), history, law::BondMode::cascade, 0, p.gamma);
+    if (!r.ok) throw ExactLawFailed("not kept: its QP failed at the check of the shear along the fibres: " + r.message);
+    const double error = (r.shear_z - p.tau).norm() / p.tau.norm();
+    ++replay.points;
+    sum += error * error;
+    if (error > replay.max_error || std::isnan(error))
+      replay.max_error = error, replay.worst_path = p.path, replay.worst_step = static_cast<int>(i);
+    replay.break_mismatches += r.broken != p.broken;
+  }
+  replay.rms_error = replay.points > 0 ? std::sqrt(sum / replay.points) : nan;
+  return replay;
+}
+
 law::CellReplay replay_cell(const law::CondensedCell& cell, const std::vector<sweep::PathResult>& paths,
                             double qp_tolerance, int path_stride) {
   law::CellReplay replay;
@@ -546,6 +571,8 @@ law::Law fit_law(const std::vector<sweep::PathResult>& paths, const sweep::Sweep
           replay_cell(*law.cell, paths, header.qp_tolerance, replay_stride(paths, law.cell->n_rows(), checked_rows));
       if (law.cell->longitudinal == 1)
         law.cell_longitudinal_replay = replay_longitudinal(*law.cell, header.longitudinal_points, header.qp_tolerance);
+      if (law.cell->shear == 2)
+        law.cell_shear_replay = replay_shear(*law.cell, header.shear_points, header.qp_tolerance);
       law.ply = law::ply_constants(*law.cell);
     } catch (const ExactLawFailed& e) {
       // The condensation may be right and its QP still beyond the dense method (an RVE of many

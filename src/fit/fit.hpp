@@ -57,6 +57,11 @@ law::CellReplay replay_cell(const law::CondensedCell& cell, const std::vector<sw
 // from the intact cell; limit 1e3 × the QP tolerance, as the replay of the paths.
 law::CellReplay replay_longitudinal(const law::CondensedCell& cell, const std::vector<sweep::LongitudinalPoint>& points,
                                     double qp_tolerance);
+// The exact law's shear along the fibres against the sweep's one-body checks (sweep::ShearPoint),
+// each path replayed from the intact cell with its history: the relative error of ⟨τ⟩ per point
+// (worst_path the check's path, worst_step its index) and the points whose broken pairs differ.
+law::CellReplay replay_shear(const law::CondensedCell& cell, const std::vector<sweep::ShearPoint>& points,
+                             double qp_tolerance);
 
 // Above checked_rows every point of the replay is a dense QP of the cell's size (0.1–1 s at
 // 1 500 rows): the replay then takes every k-th path, k the least that leaves at most

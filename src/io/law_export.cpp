@@ -136,15 +136,14 @@ void add_exact_law(JsonObject& o, const Law& law) {
       cell.add(m.name, json_ints(value));
   });
   o.add("cell", cell.add("bytes", std::to_string(law.cell->bytes())).str(4));
-  for (const auto& [name, r] :
-       {std::pair{"cell_replay", &law.cell_replay}, {"cell_longitudinal_replay", &law.cell_longitudinal_replay}}) {
-    if (r == &law.cell_longitudinal_replay && law.cell->longitudinal == 0) continue;
+  for (const law::CellReplayMember& m : law::cell_replay_members) {
+    if (!law::carries(*law.cell, m)) continue;
     JsonObject replay;
     for (const law::CellReplayField& field : law::cell_replay_fields) {
-      if (field.count) replay.add(field.name, std::to_string(r->*field.count));
-      if (field.value) replay.add(field.name, json_number(r->*field.value));
+      if (field.count) replay.add(field.name, std::to_string(law.*m.replay.*field.count));
+      if (field.value) replay.add(field.name, json_number(law.*m.replay.*field.value));
     }
-    o.add(name, replay.str(4));
+    o.add(m.name, replay.str(4));
   }
   // The ply's nine constants per bond state and sign (/law/ply), where the cell carries them.
   if (!law.ply.rows.empty()) {

@@ -302,14 +302,13 @@ void write_law(const std::filesystem::path& file, const Law& law) {
     write_onset(f, object("onset"), law.onset);
     if (law.cell) {
       write_condensed(f, object("cell"), *law.cell);
-      for (const auto& [group, replay] :
-           {std::pair{"cell_replay", &law.cell_replay}, {"cell_longitudinal_replay", &law.cell_longitudinal_replay}}) {
-        if (replay == &law.cell_longitudinal_replay && law.cell->longitudinal == 0) continue;
-        f.create_group(object(group));
+      for (const law::CellReplayMember& m : law::cell_replay_members) {
+        if (!law::carries(*law.cell, m)) continue;
+        f.create_group(object(m.name));
         for (const law::CellReplayField& field : law::cell_replay_fields) {
-          const std::string name = std::string(group) + "/" + field.name;
-          if (field.count) write_count(f, name, replay->*field.count);
-          if (field.value) write_scalar(f, name, replay->*field.value);
+          const std::string name = std::string(m.name) + "/" + field.name;
+          if (field.count) write_count(f, name, law.*m.replay.*field.count);
+          if (field.value) write_scalar(f, name, law.*m.replay.*field.value);
         }
       }
     }
@@ -374,14 +373,14 @@ Law read_law(const std::filesystem::path& file) {
   law.onset = read_onset(f, object("onset"));
   if (f.exists(object("cell"))) {
     law.cell = read_condensed(f, object("cell"));
-    for (const auto& [group, replay] :
-         {std::pair{"cell_replay", &law.cell_replay}, {"cell_longitudinal_replay", &law.cell_longitudinal_replay}}) {
-      if (replay == &law.cell_longitudinal_replay && law.cell->longitudinal == 0) continue;
+    for (const law::CellReplayMember& m : law::cell_replay_members) {
+      if (!law::carries(*law.cell, m)) continue;
+      law::CellReplay& replay = law.*m.replay;
       for (const law::CellReplayField& field : law::cell_replay_fields) {
-        const std::string name = std::string(group) + "/" + field.name;
+        const std::string name = std::string(m.name) + "/" + field.name;
         if (field.count)
-          replay->*field.count = static_cast<int>(r.count(name, field.min_count, std::numeric_limits<int>::max()));
-        if (field.value) replay->*field.value = r.scalar(name);
+          replay.*field.count = static_cast<int>(r.count(name, field.min_count, std::numeric_limits<int>::max()));
+        if (field.value) replay.*field.value = r.scalar(name);
       }
     }
   }

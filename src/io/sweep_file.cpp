@@ -156,6 +156,45 @@ std::vector<sweep::LongitudinalPoint> read_longitudinal_points(const File& f) {
   return points;
 }
 
+// /shear_check: path (N), gamma (N×2), tau (N×2), broken (N).
+void write_shear_points(File& f, const std::vector<sweep::ShearPoint>& points) {
+  const auto n = static_cast<hsize_t>(points.size());
+  std::vector<std::int64_t> path, broken;
+  std::vector<double> gamma, tau;
+  for (const sweep::ShearPoint& p : points) {
+    path.push_back(p.path);
+    broken.push_back(p.broken);
+    gamma.insert(gamma.end(), p.gamma.data(), p.gamma.data() + 2);
+    tau.insert(tau.end(), p.tau.data(), p.tau.data() + 2);
+  }
+  f.create_group("/shear_check");
+  f.write("/shear_check/path", path, {n});
+  f.write("/shear_check/gamma", gamma, {n, 2});
+  f.write("/shear_check/tau", tau, {n, 2});
+  f.write("/shear_check/broken", broken, {n});
+}
+
+std::vector<sweep::ShearPoint> read_shear_points(const File& f) {
+  const std::string g = "/shear_check";
+  const std::vector<std::int64_t> path = f.read_ints(g + "/path", {any_extent});
+  const hsize_t n = path.size();
+  const std::string like = " like " + g + "/path";
+  const std::vector<double> gamma = f.read_doubles(g + "/gamma", {n, 2}, like);
+  const std::vector<double> tau = f.read_doubles(g + "/tau", {n, 2}, like);
+  const std::vector<std::int64_t> broken = f.read_ints(g + "/broken", {n}, like);
+  std::vector<sweep::ShearPoint> points(n);
+  for (hsize_t i = 0; i < n; ++i) {
+    if (path[i] < 0 || path[i] > std::numeric_limits<int>::max() || broken[i] < 0 ||
+        broken[i] > std::numeric_limits<int>::max())
+      throw InputError(f.path().string() + ": " + g + ": row " + std::to_string(i) + ": a path or count out of range");
+    points[i].path = static_cast<int>(path[i]);
+    points[i].broken = static_cast<int>(broken[i]);
+    points[i].gamma = Eigen::Vector2d(gamma[2 * i], gamma[2 * i + 1]);
+    points[i].tau = Eigen::Vector2d(tau[2 * i], tau[2 * i + 1]);
+  }
+  return points;
+}
+
 void write_header(File& f, const SweepHeader& header, std::size_t n_paths) {
   write_provenance(f, sweep_format, header.provenance);
   f.write_attribute("/", "inputs_key", inputs_key(header));
@@ -167,6 +206,7 @@ void write_header(File& f, const SweepHeader& header, std::size_t n_paths) {
   if (header.cell_basis) write_condensed(f, "/cell_basis", *header.cell_basis);
   if (!header.cell_basis_note.empty()) f.write_attribute("/", "cell_basis_note", header.cell_basis_note);
   if (!header.longitudinal_points.empty()) write_longitudinal_points(f, header.longitudinal_points);
+  if (!header.shear_points.empty()) write_shear_points(f, header.shear_points);
   f.write_attribute("/", "qp_tolerance", header.qp_tolerance);
 }
 
@@ -236,6 +276,7 @@ SweepHeader read_sweep_header(const std::filesystem::path& file) {
   if (f.exists("/cell_basis")) header.cell_basis = read_condensed(f, "/cell_basis");
   if (f.has_attribute("/", "cell_basis_note")) header.cell_basis_note = f.read_string_attribute("/", "cell_basis_note");
   if (f.exists("/longitudinal_check")) header.longitudinal_points = read_longitudinal_points(f);
+  if (f.exists("/shear_check")) header.shear_points = read_shear_points(f);
   if (f.has_attribute("/", "qp_tolerance")) header.qp_tolerance = f.read_double_attribute_value("/", "qp_tolerance");
   return header;
 }

@@ -137,6 +137,9 @@ struct Law {
   // full solves of generalised plane strain (sweep::LongitudinalPoint; worst_path is the point's
   // index, worst_step −1). Empty (0 points) otherwise.
   CellReplay cell_longitudinal_replay;
+  // Where the cell carries the shears along the fibres: its replay of the sweep's one-body checks
+  // of them (sweep::ShearPoint). Empty (0 points) otherwise.
+  CellReplay cell_shear_replay;
   // Where the cell carries the whole ply (the strain and the shears along the fibres): its nine
   // engineering constants per bond state and sign, from the exact law (law/ply.hpp); empty
   // otherwise (ply.note says why).
@@ -166,5 +169,24 @@ struct Law {
   // The sweep's provenance, with the sweep file and its hash, and the fit's code version.
   Provenance provenance;
 };
+
+// The exact law's replays, as law.h5 (/law/<name>/…) and the JSON name them: of the sweep's
+// paths, of its checks of the strain along the fibres, of its checks of the shears along them.
+struct CellReplayMember {
+  const char* name;
+  CellReplay Law::*replay;
+};
+inline constexpr CellReplayMember cell_replay_members[] = {
+    {"cell_replay", &Law::cell_replay},
+    {"cell_longitudinal_replay", &Law::cell_longitudinal_replay},
+    {"cell_shear_replay", &Law::cell_shear_replay},
+};
+// Whether the cell carries what replay m checks (the in-plane replay always; the others with
+// their part of the cell: longitudinal, shear).
+inline bool carries(const CondensedCell& cell, const CellReplayMember& m) {
+  if (m.replay == &Law::cell_longitudinal_replay) return cell.longitudinal == 1;
+  if (m.replay == &Law::cell_shear_replay) return cell.shear == 2;
+  return true;
+}
 
 }  // namespace dualcell::law

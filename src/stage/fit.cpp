@@ -44,6 +44,20 @@ law::Law run_fit(const std::filesystem::path& sweep_file, const std::filesystem:
     refuse(law.cell_longitudinal_replay,
            "check " + std::to_string(law.cell_longitudinal_replay.worst_path) + " of the strain along the fibres",
            ("; " + std::to_string(law.cell_longitudinal_replay.points) + " checks)").c_str());
+  if (law.cell && law.cell->shear == 2 && law.cell_shear_replay.points == 0)
+    throw InputError(sweep_file.string() +
+                     ": the exact law carries the shears along the fibres, but the sweep has no check of them "
+                     "(/shear_check): not kept unchecked");
+  if (law.cell && law.cell->shear == 2 && law.cell_shear_replay.break_mismatches > 0)
+    throw InputError(sweep_file.string() +
+                     ": the exact law's shear along the fibres breaks other pairs than the "
+                     "sweep's one-body solve at " +
+                     std::to_string(law.cell_shear_replay.break_mismatches) + " of its " +
+                     std::to_string(law.cell_shear_replay.points) + " checks (/shear_check): not kept");
+  if (law.cell && law.cell->shear == 2 && !law.cell_shear_replay.ok())
+    refuse(law.cell_shear_replay,
+           "check " + std::to_string(law.cell_shear_replay.worst_step) + " of the shear along the fibres",
+           ("; " + std::to_string(law.cell_shear_replay.points) + " checks)").c_str());
   law.provenance.sweep_file = sweep_file.string();
   law.provenance.sweep_hash = file_hash(sweep_file);
   io::write_law(out, law);
@@ -74,6 +88,15 @@ void print_exact_law_summary(const law::Law& law) {
           "  exact law along the fibres (e33): meets %d full solves of generalised plane strain to max %.2e, rms "
           "%.2e (limit %.1e)\n",
           l.points, l.max_error, l.rms_error, l.limit);
+    }
+    if (law.cell->shear == 2) {
+      const law::CellReplay& z = law.cell_shear_replay;
+      std::printf(
+          "  exact law along the fibres (shear): meets %d one-body antiplane solves to max %.2e, rms %.2e (limit "
+          "%.1e), broken pairs %s\n",
+          z.points, z.max_error, z.rms_error, z.limit,
+          z.break_mismatches == 0 ? "the same at every check"
+                                  : (std::to_string(z.break_mismatches) + " checks differ").c_str());
     }
     if (!law.ply.rows.empty()) {
       std::printf(

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <limits>
 #include <map>
+#include <numbers>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -14,11 +15,14 @@
 #include "core/error.hpp"
 #include "core/progress.hpp"
 #include "feti/condense.hpp"
+#include "feti/constraints.hpp"
 #include "feti/solver.hpp"
 #include "io/atomic_output.hpp"
 #include "io/sweep_file.hpp"
+#include "law/bond.hpp"
 #include "law/onset.hpp"
 #include "par/parallel.hpp"
+#include "primal/antiplane.hpp"
 #include "stage/stage.hpp"
 #include "sweep/sweep.hpp"
 
@@ -200,6 +204,54 @@ std::vector<sweep::LongitudinalPoint> longitudinal_points(feti::ContactSolver& s
   return points;
 }
 
+// The checks of the shear along the fibres (/shear_check): four paths of Γ, along 0°, 45°, 90° and
+// 135° in the (γxz, γyz) plane, from the intact cell; with adhesion at 0.5, 1.2, 2 and 4 times the
+// first break along the path (the intact cell is linear: the strength over the largest tie force
+// at unit Γ), the one-body solve's debond cascade run at each (the ties' forces against each
+// pair's strength along z, s_t L, by the bond rule; broken, solved again, until none reaches it),
+// so that the law meets it before, at and past its breaks; without adhesion one point per path
+// (the fibres are holes along z whatever the load).
+std::vector<sweep::ShearPoint> shear_points(const mesh::Mesh& mesh, const Scene& scene) {
+  namespace bond = law::bond;
+  const double sn = scene.interface.normal_strength, st = scene.interface.tangential_strength;
+  const std::vector<double> length = feti::interface_lengths(mesh);
+  const std::size_t P = mesh.interface_pairs.size();
+  std::vector<sweep::ShearPoint> points;
+  for (int path = 0; path < 4; ++path) {
+    const double angle = path * std::numbers::pi / 4;
+    const Eigen::Vector2d unit(std::cos(angle), std::sin(angle));
+    std::vector<char> bonded(P, st > 0 ? 1 : 0);
+    std::vector<double> factors{1e-3};
+    if (st > 0) {
+      const primal::ShearResponse r = primal::longitudinal_shear_at(mesh, scene.fibre, scene.matrix, bonded, unit);
+      double use = 0;
+      for (std::size_t q = 0; q < P; ++q)
+        use = std::max(
+            use, bond::strength_use(r.pair_forces(static_cast<Eigen::Index>(q)),
+                                    bond::bounds(bond::Kind::tangential, bond::State::intact, sn, st, length[q])));
+      if (!(use > 0)) continue;
+      factors = {0.5 / use, 1.2 / use, 2 / use, 4 / use};
+    }
+    for (const double factor : factors) {
+      const Eigen::Vector2d gamma = factor * unit;
+      primal::ShearResponse r;
+      for (bool any = true; any;) {
+        r = primal::longitudinal_shear_at(mesh, scene.fibre, scene.matrix, bonded, gamma);
+        any = false;
+        for (std::size_t q = 0; q < P; ++q)
+          if (bonded[q] &&
+              bond::at_strength(r.pair_forces(static_cast<Eigen::Index>(q)),
+                                bond::bounds(bond::Kind::tangential, bond::State::intact, sn, st, length[q])))
+            bonded[q] = 0, any = true;
+      }
+      int broken = 0;
+      for (std::size_t q = 0; q < P; ++q) broken += st > 0 && !bonded[q];
+      points.push_back({path, gamma, r.tau, broken});
+    }
+  }
+  return points;
+}
+
 }  // namespace
 
 SweepSummary run_sweep(const SweepOptions& options) {
@@ -232,6 +284,7 @@ SweepSummary run_sweep(const SweepOptions& options) {
     }
     if (header.cell && header.cell->longitudinal == 1)
       header.longitudinal_points = longitudinal_points(solver, scene, specs, header.onset);
+    if (header.cell && header.cell->shear == 2) header.shear_points = shear_points(in.mesh, scene);
     if (needs_basis(scene, header, options)) build_basis(solver, scene, header, options.progress && par::rank() == 0);
   }
 

@@ -57,6 +57,17 @@ struct LongitudinalPoint {
   double stress_zz = 0;
 };
 
+// One check of the shear along the fibres (a full periodic cell): the one-body antiplane solve at
+// Γ = (γxz, γyz) along a path of growing Γ from the intact cell, its ties' debond cascade run to
+// the end at each point (primal::longitudinal_shear_at and the bond rule), and what it gave: ⟨τ⟩
+// and the pairs broken. The fit replays each path through the exact law (docs/method.md §16a).
+struct ShearPoint {
+  int path = 0;
+  Eigen::Vector2d gamma = Eigen::Vector2d::Zero();
+  Eigen::Vector2d tau = Eigen::Vector2d::Zero();
+  int broken = 0;
+};
+
 // The largest jump along a path: the bracket whose strain along the load (N:ε) grows most.
 struct Fuse {
   double onset_load = 0;   // predicted s* (signed): the first bond reaches its strength
@@ -86,6 +97,8 @@ struct SweepHeader {
   std::string cell_basis_note;
   // Where the exact law carries the strain along the fibres: its checks against the full solve.
   std::vector<LongitudinalPoint> longitudinal_points;
+  // Where it carries the shears along the fibres: its checks against the one-body solve.
+  std::vector<ShearPoint> shear_points;
   double qp_tolerance = std::numeric_limits<double>::quiet_NaN();  // [solver] tolerance of the paths' QPs
 };
 

@@ -248,6 +248,28 @@ TEST(LawStage, DualcellLawEvaluatesTheWholePly) {
   EXPECT_GT(fitted.ply.rows[2].broken, 0);
   EXPECT_NE(run.fit_output.find("the ply's constants from the exact law"), std::string::npos) << run.fit_output;
   EXPECT_NE(io::law_json(fitted).find("\"ply\": {"), std::string::npos);
+  // The fit replayed the sweep's one-body checks of the shear along the fibres (/shear_check:
+  // four paths through the cascade along z) to round-off, the same pairs broken; a sweep whose
+  // checks say otherwise (a τ moved by 1e-4) is refused, the law not written.
+  EXPECT_EQ(fitted.cell_shear_replay.points, 16);
+  EXPECT_EQ(fitted.cell_shear_replay.break_mismatches, 0);
+  EXPECT_LT(fitted.cell_shear_replay.max_error, 1e-9);
+  EXPECT_NE(run.fit_output.find("exact law along the fibres (shear): meets 16 one-body antiplane solves"),
+            std::string::npos)
+      << run.fit_output;
+  std::filesystem::copy_file(run.sweep, run.dir / "tampered.h5");
+  {
+    io::File f = io::File::open_write(run.dir / "tampered.h5");
+    std::vector<double> tau = f.read_doubles("/shear_check/tau", {16, 2});
+    tau[10] *= 1 + 1e-4;
+    f.remove("/shear_check/tau");
+    f.write("/shear_check/tau", tau, {16, 2});
+  }
+  const auto refused = run_command(bin("dualcell-fit") + " --sweep " + q(run.dir / "tampered.h5") + " --out " +
+                                   q(run.dir / "tampered-law.h5"));
+  EXPECT_EQ(refused.exit_code, exit_input_error) << refused.output;
+  EXPECT_NE(refused.output.find("of the shear along the fibres"), std::string::npos) << refused.output;
+  EXPECT_FALSE(std::filesystem::exists(run.dir / "tampered-law.h5"));
   // The flags that do not go with --full: stress-driven, --eps33 beside it, the cone-wise law.
   for (const std::string& flags :
        {std::string(" --stress ") + q(points) + " --full", std::string(" --strain ") + q(points) + " --full --eps33",
