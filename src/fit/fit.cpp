@@ -204,6 +204,31 @@ law::ComplianceFit fit_compliance(const std::vector<sweep::PathResult>& paths, i
 
 namespace {
 bool replayed(const sweep::Step& step) { return step.converged && step.load != 0; }
+
+// A replay's tally: its limit (1e3 × the sweep's QP tolerance), and per point its error, where it
+// is and whether its breaks differ from the reference's.
+class ReplayTally {
+ public:
+  explicit ReplayTally(double qp_tolerance) {
+    replay_.limit = 1e3 * qp_tolerance;
+    replay_.max_error = 0;
+  }
+  void add(double error, int path, int step, bool breaks_differ) {
+    ++replay_.points;
+    sum_ += error * error;
+    if (error > replay_.max_error || std::isnan(error))
+      replay_.max_error = error, replay_.worst_path = path, replay_.worst_step = step;
+    replay_.break_mismatches += breaks_differ ? 1 : 0;
+  }
+  law::CellReplay result() {
+    replay_.rms_error = replay_.points > 0 ? std::sqrt(sum_ / replay_.points) : nan;
+    return replay_;
+  }
+
+ private:
+  law::CellReplay replay_;
+  double sum_ = 0;
+};
 }  // namespace
 
 int replay_stride(const std::vector<sweep::PathResult>& paths, int rows, int checked_rows) {
@@ -215,11 +240,8 @@ int replay_stride(const std::vector<sweep::PathResult>& paths, int rows, int che
 
 law::CellReplay replay_longitudinal(const law::CondensedCell& cell, const std::vector<sweep::LongitudinalPoint>& points,
                                     double qp_tolerance) {
-  law::CellReplay replay;
-  replay.limit = 1e3 * qp_tolerance;
-  replay.max_error = 0;
+  ReplayTally tally(qp_tolerance);
   law::CellEvaluator evaluator(cell);
-  double sum = 0;
   for (std::size_t i = 0; i < points.size(); ++i) {
     const sweep::LongitudinalPoint& p = points[i];
     law::CellHistory history = evaluator.unloaded();
@@ -230,24 +252,16 @@ law::CellReplay replay_longitudinal(const law::CondensedCell& cell, const std::v
     if (cell.n_macro == 2) expected(2) = strain(2) = 0;
     const double error = std::max((strain - expected).norm() / (expected.norm() + std::abs(p.eps33)),
                                   std::abs(r.stress_zz - p.stress_zz) / (std::abs(p.stress_zz) + p.stress.norm()));
-    ++replay.points;
-    sum += error * error;
-    if (error > replay.max_error || std::isnan(error))
-      replay.max_error = error, replay.worst_path = static_cast<int>(i);
-    replay.break_mismatches += r.broken != 0;
+    tally.add(error, static_cast<int>(i), -1, r.broken != 0);
   }
-  replay.rms_error = replay.points > 0 ? std::sqrt(sum / replay.points) : nan;
-  return replay;
+  return tally.result();
 }
 
 law::CellReplay replay_shear(const law::CondensedCell& cell, const std::vector<sweep::ShearPoint>& points,
                              double qp_tolerance) {
-  law::CellReplay replay;
-  replay.limit = 1e3 * qp_tolerance;
-  replay.max_error = 0;
+  ReplayTally tally(qp_tolerance);
   law::CellEvaluator evaluator(cell);
   std::map<int, law::CellHistory> histories;
-  double sum = 0;
   for (std::size_t i = 0; i < points.size(); ++i) {
     const sweep::ShearPoint& p = points[i];
     law::CellHistory& history = histories.try_emplace(p.path, evaluator.unloaded()).first->second;
@@ -255,23 +269,15 @@ law::CellReplay replay_shear(const law::CondensedCell& cell, const std::vector<s
         evaluator.at_strain(Eigen::Vector3d::Zero(), history, law::BondMode::cascade, 0, p.gamma);
     if (!r.ok) throw ExactLawFailed("not kept: its QP failed at the check of the shear along the fibres: " + r.message);
     const double error = (r.shear_z - p.tau).norm() / p.tau.norm();
-    ++replay.points;
-    sum += error * error;
-    if (error > replay.max_error || std::isnan(error))
-      replay.max_error = error, replay.worst_path = p.path, replay.worst_step = static_cast<int>(i);
-    replay.break_mismatches += r.broken != p.broken;
+    tally.add(error, p.path, static_cast<int>(i), r.broken != p.broken);
   }
-  replay.rms_error = replay.points > 0 ? std::sqrt(sum / replay.points) : nan;
-  return replay;
+  return tally.result();
 }
 
 law::CellReplay replay_cell(const law::CondensedCell& cell, const std::vector<sweep::PathResult>& paths,
                             double qp_tolerance, int path_stride) {
-  law::CellReplay replay;
-  replay.limit = 1e3 * qp_tolerance;
+  ReplayTally tally(qp_tolerance);
   law::CellEvaluator evaluator(cell);
-  double sum = 0;
-  replay.max_error = 0;
   law::CellHistory history = evaluator.unloaded();
   for (std::size_t i = 0; i < paths.size(); i += static_cast<std::size_t>(std::max(1, path_stride))) {
     // Each path from the intact cell; the last active set stays as the warm start (the sweep's
@@ -287,15 +293,10 @@ law::CellReplay replay_cell(const law::CondensedCell& cell, const std::vector<sw
       Eigen::Vector3d expected = engineering_from_tensor(step.strain), strain = r.strain;
       if (cell.n_macro == 2) expected(2) = strain(2) = 0;  // no shear with the symmetry boundary
       const double error = (strain - expected).norm() / expected.norm();
-      ++replay.points;
-      sum += error * error;
-      if (error > replay.max_error || std::isnan(error))
-        replay.max_error = error, replay.worst_path = static_cast<int>(i), replay.worst_step = static_cast<int>(k);
-      replay.break_mismatches += r.broken != step.broken_bonds;
+      tally.add(error, static_cast<int>(i), static_cast<int>(k), r.broken != step.broken_bonds);
     }
   }
-  replay.rms_error = replay.points > 0 ? std::sqrt(sum / replay.points) : nan;
-  return replay;
+  return tally.result();
 }
 
 namespace {
