@@ -252,7 +252,7 @@ law::CellReplay replay_longitudinal(const law::CondensedCell& cell, const std::v
     if (cell.n_macro == 2) expected(2) = strain(2) = 0;
     const double error = std::max((strain - expected).norm() / (expected.norm() + std::abs(p.eps33)),
                                   std::abs(r.stress_zz - p.stress_zz) / (std::abs(p.stress_zz) + p.stress.norm()));
-    tally.add(error, static_cast<int>(i), -1, r.broken != 0);
+    tally.add(error, static_cast<int>(i), -1, r.broken != p.broken);
   }
   return tally.result();
 }

@@ -121,11 +121,14 @@ sweep::PathResult read_path(const File& f, int index) {
   return p;
 }
 
-// /longitudinal_check: stress (N×3), eps33 (N), strain (N×3), stress_zz (N).
+// /longitudinal_check: stress (N×3), eps33 (N), strain (N×3), stress_zz (N), broken (N; absent in
+// a file written before the points past the fuse: 0).
 void write_longitudinal_points(File& f, const std::vector<sweep::LongitudinalPoint>& points) {
   const auto n = static_cast<hsize_t>(points.size());
   std::vector<double> stress, eps33, strain, zz;
+  std::vector<std::int64_t> broken;
   for (const sweep::LongitudinalPoint& p : points) {
+    broken.push_back(p.broken);
     stress.insert(stress.end(), p.stress.data(), p.stress.data() + 3);
     strain.insert(strain.end(), p.strain.data(), p.strain.data() + 3);
     eps33.push_back(p.eps33);
@@ -136,6 +139,7 @@ void write_longitudinal_points(File& f, const std::vector<sweep::LongitudinalPoi
   f.write("/longitudinal_check/eps33", eps33, {n});
   f.write("/longitudinal_check/strain", strain, {n, 3});
   f.write("/longitudinal_check/stress_zz", zz, {n});
+  f.write("/longitudinal_check/broken", broken, {n});
 }
 
 std::vector<sweep::LongitudinalPoint> read_longitudinal_points(const File& f) {
@@ -146,8 +150,12 @@ std::vector<sweep::LongitudinalPoint> read_longitudinal_points(const File& f) {
   const std::vector<double> stress = f.read_doubles(g + "/stress", {n, 3}, like);
   const std::vector<double> strain = f.read_doubles(g + "/strain", {n, 3}, like);
   const std::vector<double> zz = f.read_doubles(g + "/stress_zz", {n}, like);
+  const std::vector<std::int64_t> broken =
+      f.exists(g + "/broken") ? f.read_ints(g + "/broken", {n}, like) : std::vector<std::int64_t>(n, 0);
   std::vector<sweep::LongitudinalPoint> points(n);
   for (hsize_t i = 0; i < n; ++i) {
+    if (broken[i] < 0) throw InputError(f.path().string() + ": " + g + "/broken: row " + std::to_string(i) + " < 0");
+    points[i].broken = broken[i];
     points[i].stress = Eigen::Vector3d(stress[3 * i], stress[3 * i + 1], stress[3 * i + 2]);
     points[i].strain = Eigen::Vector3d(strain[3 * i], strain[3 * i + 1], strain[3 * i + 2]);
     points[i].eps33 = eps33[i];

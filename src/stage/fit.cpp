@@ -86,8 +86,10 @@ void print_exact_law_summary(const law::Law& law) {
       const law::CellReplay& l = law.cell_longitudinal_replay;
       std::printf(
           "  exact law along the fibres (e33): meets %d full solves of generalised plane strain to max %.2e, rms "
-          "%.2e (limit %.1e)\n",
-          l.points, l.max_error, l.rms_error, l.limit);
+          "%.2e (limit %.1e), broken pairs %s\n",
+          l.points, l.max_error, l.rms_error, l.limit,
+          l.break_mismatches == 0 ? "the same at every check"
+                                  : (std::to_string(l.break_mismatches) + " checks differ").c_str());
     }
     if (law.cell->shear == 2) {
       const law::CellReplay& z = law.cell_shear_replay;

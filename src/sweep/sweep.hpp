@@ -55,6 +55,9 @@ struct LongitudinalPoint {
   double eps33 = 0;
   Eigen::Vector3d strain = Eigen::Vector3d::Zero();
   double stress_zz = 0;
+  // The pairs the solve broke (its debond loop from the intact cell: the points past the fuse);
+  // 0 for the points far below any strength, solved with the bonds held.
+  long broken = 0;
 };
 
 // One check of the shear along the fibres (a full periodic cell): the one-body antiplane solve at

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <fstream>
 #include <iomanip>
 #include <sstream>
@@ -251,6 +252,14 @@ TEST(LawStage, DualcellLawEvaluatesTheWholePly) {
   // The fit replayed the sweep's one-body checks of the shear along the fibres (/shear_check:
   // four paths through the cascade along z) to round-off, the same pairs broken; a sweep whose
   // checks say otherwise (a τ moved by 1e-4) is refused, the law not written.
+  // The checks of the strain along the fibres reach past the fuse too (twice the onset along each
+  // uniaxial path, ε33 of both signs, through the solver's debond loop): the law's cascade breaks
+  // the same pairs.
+  const std::vector<std::int64_t> broken_checks =
+      io::File::open_read(run.sweep).read_ints("/longitudinal_check/broken", {io::any_extent});
+  EXPECT_GT(*std::max_element(broken_checks.begin(), broken_checks.end()), 0);
+  EXPECT_EQ(fitted.cell_longitudinal_replay.points, static_cast<int>(broken_checks.size()));
+  EXPECT_EQ(fitted.cell_longitudinal_replay.break_mismatches, 0);
   EXPECT_EQ(fitted.cell_shear_replay.points, 16);
   EXPECT_EQ(fitted.cell_shear_replay.break_mismatches, 0);
   EXPECT_LT(fitted.cell_shear_replay.max_error, 1e-9);
