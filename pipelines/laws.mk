@@ -19,7 +19,8 @@ laws: $(LAWS_OUT)/table.md
 PLY_SCENES ?= default structure-cell-adhesion rve4-adhesion
 PLY_OUT := $(OUT_ROOT)/ply
 
-ply: $(PLY_OUT)/constants.md $(PLY_OUT)/states.md $(PLY_OUT)/laminate/laminate.md $(PLY_OUT)/umat/cube.md
+ply: $(PLY_OUT)/constants.md $(PLY_OUT)/states.md $(PLY_OUT)/laminate/laminate.md $(PLY_OUT)/umat/cube.md \
+  $(PLY_OUT)/shear.md
 
 $(PLY_OUT)/constants.md: $(foreach s,$(PLY_SCENES),$(LAWS_OUT)/$(s)/law.h5) $(TOOLS)/ply_constants.py $(TOOLS)/ccx_ply.py
 	@mkdir -p $(dir $@)
@@ -37,6 +38,13 @@ $(PLY_OUT)/umat/ply.inp: $(LAWS_OUT)/ply/law.h5 $(BUILT)
 $(PLY_OUT)/umat/cube.md: $(CCX_UMAT) $(PLY_OUT)/umat/ply.inp $(TOOLS)/ccx_umat_check.py
 	$(PY) $(TOOLS)/ccx_umat_check.py cube $(CCX_UMAT) $(PLY_OUT)/umat/ply.inp $@ --law $(LAWS_OUT)/ply/law.h5 \
 	  --bin $(BIN)
+
+# The shear along the fibres through its debond cascade (docs/method.md §16a): the ply scene's
+# exact law against its sweep's one-body checks (/shear_check), path by path, and its picture
+# (shear.png: τ along Γ, loaded past the breaks and unloaded). Seconds.
+$(PLY_OUT)/shear.md: $(LAWS_OUT)/ply/law.h5 $(TOOLS)/ply_shear.py
+	@mkdir -p $(dir $@)
+	$(PY) $(TOOLS)/ply_shear.py $(BIN) $< $(LAWS_OUT)/ply/sweep.h5 $@
 
 # How a 3D model uses them: a [0/90]s beam of C3D20R bricks in CalculiX, the plies the default
 # cell's bonded card, against laminate theory (tools/ccx_laminate.py), with its picture
