@@ -1,9 +1,11 @@
 #include "io/law_export.hpp"
 
+#include <Eigen/Eigenvalues>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <string_view>
 #include <type_traits>
 
 #include "core/error.hpp"
@@ -314,8 +316,60 @@ std::string card_header(const Law& law, const std::string& source, const std::st
 
 }  // namespace
 
+namespace {
+
+// The longest suffix of a ply card's name.
+constexpr std::size_t ply_suffix = std::string_view("_PLY_AFTER_FUSE_COMPRESSION").size();
+
+// Whether the orthotropic compliance of a ply's constants is positive definite (CalculiX does not
+// check, and a set of secants from loads that close different contacts need not be).
+bool positive_definite(const law::PlyConstants& c) {
+  Eigen::Matrix<double, 6, 6> S = Eigen::Matrix<double, 6, 6>::Zero();
+  const double E[3] = {c.E1, c.E2, c.E3};
+  for (int i = 0; i < 3; ++i) S(i, i) = 1 / E[i];
+  S(0, 1) = S(1, 0) = -c.nu12 / c.E1;
+  S(0, 2) = S(2, 0) = -c.nu13 / c.E1;
+  S(1, 2) = S(2, 1) = -c.nu23 / c.E2;
+  S(3, 3) = 1 / c.G12, S(4, 4) = 1 / c.G13, S(5, 5) = 1 / c.G23;
+  return S.allFinite() && Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>>(S).eigenvalues().minCoeff() > 0;
+}
+
+// The ply's cards from the exact law (/law/ply): one material per bond state and sign, the fibres
+// along the material's axis 1 (as a laminate's *ORIENTATION takes a ply).
+std::string ply_cards(const Law& law, const std::string& name) {
+  std::string out =
+      "**\n** The whole ply from the exact law (/law/ply, docs/method.md §3c): its nine engineering constants per\n"
+      "** bond state and load sign, secants of the law at the state. These cards' axes are the ply's: 1 = z, the\n"
+      "** fibres; 2 = x, 3 = y (give the plies an *ORIENTATION whose first axis is the fibre direction).\n";
+  if (law.ply.fuse_stress > 0)
+    out += "** after fuse: the bonds that sxx = " + formatted("%.6g", law.ply.fuse_stress) +
+           " (4 x the onset along x) left.\n";
+  for (const law::PlyConstants& c : law.ply.rows) {
+    std::string state = law::to_string(c.state);
+    for (char& ch : state) ch = ch == ' ' ? '_' : static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
+    const std::string material = name + "_PLY_" + state + (c.sign > 0 ? "_TENSION" : "_COMPRESSION");
+    out += "**\n** " + material + ": " + std::to_string(c.broken) + " pairs broken\n";
+    if (!positive_definite(c)) {
+      out +=
+          "** no card: its orthotropic compliance is not positive definite (secants of loads that close\n"
+          "** different contacts); a ply loaded both ways takes the law itself (the umat, layout 3)\n";
+      continue;
+    }
+    out += "*MATERIAL, NAME=" + material + "\n*ELASTIC, TYPE=ENGINEERING CONSTANTS\n";
+    for (std::size_t k = 0; k < std::size(law::ply_constant_fields); ++k)
+      out += card_number(c.*law::ply_constant_fields[k].value) + (k == 7 ? ",\n" : k == 8 ? "\n" : ", ");
+  }
+  return out;
+}
+
+}  // namespace
+
 std::string law_calculix(const Law& law, const std::string& name, const std::string& source) {
   check_name(name);
+  if (!law.ply.rows.empty() && name.size() > 80 - ply_suffix)
+    throw InputError(
+        "--name " + name + ": at most " + std::to_string(80 - ply_suffix) +
+        " characters for a law with the ply's cards (the longest name is <name>_PLY_AFTER_FUSE_COMPRESSION)");
   const SolidMaterial tension = solid_material(law.tension.S, law, source, "S_tension");
   const SolidMaterial compression = solid_material(law.compression.S, law, source, "S_compression");
   const OutOfPlane z = rule_of_mixtures(law);
@@ -339,6 +393,7 @@ std::string law_calculix(const Law& law, const std::string& name, const std::str
          ", nu31 = " + formatted("%.6g", z.nu31) + ", G13 = G23 = " + formatted("%.6g", z.G_longitudinal) + "\n";
   out += material_cards(name + "_TENSION", "S_tension", tension, law.tension.S);
   out += material_cards(name + "_COMPRESSION", "S_compression", compression, law.compression.S);
+  if (!law.ply.rows.empty()) out += ply_cards(law, name);
   return out;
 }
 

@@ -183,7 +183,7 @@ TEST(LawStage, DualcellLawEvaluatesTheWholePly) {
   const std::string scene = testing::scene_text(
       1, 1, 2, 0.3,
       "[interface]\nnormal_strength = 0.05\ntangential_strength = 0.05\n[load]\nboundary = \"periodic\"\nmacro = "
-      "\"full\"\n[sweep]\ndirections_deg = [0, 90]\nmagnitudes = [-0.01, 0.01]\n[solver]\ntolerance = 1e-10\n");
+      "\"full\"\n[sweep]\ndirections_deg = [0, 45, 90]\nmagnitudes = [-0.01, 0.01]\n[solver]\ntolerance = 1e-10\n");
   StagesRun run(scene);
   const auto solved =
       run_command(bin("dualcell-solve") + " --quiet --config " + q(run.dir / "s.toml") + " --mesh " +
@@ -252,6 +252,21 @@ TEST(LawStage, DualcellLawEvaluatesTheWholePly) {
   // The fit replayed the sweep's one-body checks of the shear along the fibres (/shear_check:
   // four paths through the cascade along z) to round-off, the same pairs broken; a sweep whose
   // checks say otherwise (a τ moved by 1e-4) is refused, the law not written.
+  // The CalculiX export carries the ply's cards from /law/ply (fibres along axis 1), one per state
+  // and sign, with the law's constants.
+  const auto cards = run_command(bin("dualcell-export") + " --quiet --law " + q(run.law) +
+                                 " --format calculix --name PLY --out " + q(run.dir / "cards.inp"));
+  ASSERT_EQ(cards.exit_code, exit_ok) << cards.output;
+  std::ifstream card_file(run.dir / "cards.inp");
+  const std::string card_text((std::istreambuf_iterator<char>(card_file)), std::istreambuf_iterator<char>());
+  for (const char* material : {"PLY_PLY_BONDED_TENSION", "PLY_PLY_BONDED_COMPRESSION", "PLY_PLY_AFTER_FUSE_TENSION"}) {
+    const std::size_t at = card_text.find(std::string("*MATERIAL, NAME=") + material + "\n");
+    ASSERT_NE(at, std::string::npos) << material;
+    if (std::string(material) == "PLY_PLY_BONDED_TENSION") {
+      const std::size_t numbers = card_text.find("CONSTANTS\n", at) + 10;
+      EXPECT_NEAR(std::stod(card_text.substr(numbers)), fitted.ply.rows[0].E1, 1e-10 * fitted.ply.rows[0].E1);
+    }
+  }
   // The checks of the strain along the fibres reach past the fuse too (twice the onset along each
   // uniaxial path, ε33 of both signs, through the solver's debond loop): the law's cascade breaks
   // the same pairs.
