@@ -1,8 +1,10 @@
 #!/usr/bin/python3
-"""Tests of ply_constants.py and ply_states.py on the real stages (run by ctest; the stages' folder
-is the argument): a cell whose fibre is its matrix is one isotropic material, whose nine constants
-are E, ν and E/(2(1+ν)) exactly; a cell without adhesion is refused by the bonded constants (its
-constants are not one set) and has one set per sign of load instead, whose physics is checked.
+"""Tests of ply_constants.py, ply_states.py and ply_shear.py on the real stages (run by ctest; the
+stages' folder is the argument): a cell whose fibre is its matrix is one isotropic material, whose
+nine constants are E, ν and E/(2(1+ν)) exactly; a cell without adhesion is refused by the bonded
+constants (its constants are not one set) and has one set per sign of load instead, whose physics
+is checked; a full cell's exact law gives the same constants per state as the solves, and its
+shear along the fibres meets the sweep's one-body cascade.
 """
 import os
 import subprocess
@@ -12,7 +14,9 @@ import unittest
 
 import ccx_laminate
 import ccx_ply
+import common
 import ply_constants
+import ply_shear
 import ply_states
 
 BIN = None
@@ -201,6 +205,34 @@ class States(unittest.TestCase):
             state.solve([1e-8, 0.0, 0.0])
             with self.assertRaisesRegex(RuntimeError, "changed the bond state"):
                 state.solve([0.04, 0.0, 0.0])
+
+
+class FullLaw(unittest.TestCase):
+    def test_the_laws_constants_and_shear_meet_the_solves(self):
+        with tempfile.TemporaryDirectory() as folder:
+            scene, mesh = cell(folder, BONDED, GLASS)
+            with open(scene, "a") as f:
+                f.write('macro = "full"\n[sweep]\ndirections_deg = [0, 45, 90]\nmagnitudes = [-0.05, 0.05]\n')
+            law_folder = os.path.join(folder, "law")
+            os.makedirs(law_folder)
+            common.law_chain(BIN, scene, law_folder)
+            law = os.path.join(law_folder, "law.h5")
+            table, fuse = ply_states.law_table(law)
+            self.assertGreater(fuse, 0)
+            self.assertEqual({k[0] for k in table}, {"bonded", "after fuse"})
+            # The solves at the law's states: the law's nine constants within 1e-6 (both exact; the
+            # solves' tolerance), the same pairs broken after the fuse.
+            rows = ply_states.cell_rows(BIN, scene, mesh, os.path.join(folder, "states"), [fuse, 0.0, 0.0])
+            ply_states.compare_with_law(rows, table)
+            for r in rows:
+                self.assertIsInstance(r["law"], float, msg=r["law"])
+                self.assertLess(r["law"], 1e-6, msg=(r["state"], r["sign"]))
+            # ply_shear.py: the law through the sweep's shear checks, its table and picture.
+            out = os.path.join(folder, "shear.md")
+            ply_shear.main(["ply_shear.py", BIN, law, os.path.join(law_folder, "sweep.h5"), out])
+            text = open(out).read()
+            self.assertIn("broken pairs differ at 0 checks", text)
+            self.assertTrue(os.path.exists(os.path.join(folder, "shear.png")))
 
 
 if __name__ == "__main__":
