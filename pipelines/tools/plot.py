@@ -65,6 +65,8 @@ def stress_strain(sweep, outbase):
             direction = g.attrs["direction_deg"]
             label = ("{:g} deg".format(direction) if not math.isnan(direction) else "N = ({:.2g}, {:.2g}, {:.2g})".format(*n))
             label += " tension" if g.attrs["sign"] > 0 else " compression"
+            if "eps33" in g.attrs:
+                label += " e33 = {:g}".format(float(g.attrs["eps33"]))
             rows = ["0 0"] + ["{:.10g} {:.10g}".format(along(n, e), s) for s, e in zip(g["load"][:], g["strain"][:])]
             data[f"path{i}.dat"] = "\n".join(rows) + "\n"
             plots.append(f"'path{i}.dat' using 1:2 with linespoints pt 7 ps 0.6 title '{label}'")

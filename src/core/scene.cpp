@@ -263,6 +263,12 @@ void validate_sweep_and_solver(const Checker& c, const Scene& scene) {
     c.fail("sweep", "sphere", std::to_string(sw.sphere),
            "the symmetry boundary carries no shear stress; a sphere of stress directions needs boundary = "
            "\"traction\" or \"periodic\"");
+  c.reals(
+      "sweep", "eps33", sw.eps33, [](double v) { return v != 0 && v >= -0.1 && v <= 0.1; },
+      "an array of strains along the fibres, each non-zero and in [-0.1, 0.1]");
+  if (!sw.eps33.empty() && scene.load.macro != Macro::full)
+    c.fail("sweep", "eps33", shortest(sw.eps33),
+           "paths with a strain along the fibres need [load] macro = \"full\" (the transverse law has no ε33)");
   c.real(
       "sweep", "fuse_tolerance", sw.fuse_tolerance, [](double v) { return v > 0 && v < 1; }, "0 < fuse_tolerance < 1");
 

@@ -119,6 +119,9 @@ struct SweepSettings {
   // signs). Without adhesion one magnitude per direction (the largest |magnitude|): the response
   // is positively homogeneous, ε(sσ̄) = s ε(σ̄); with adhesion every |magnitude|.
   int sphere = 0;
+  // Strains ε33 along the fibres, each held along one more copy of every uniaxial path
+  // (directions_deg, both signs); only with [load] macro = "full" (docs/method.md §16a).
+  std::vector<double> eps33;
   double fuse_tolerance = 1e-3;  // relative load bracket of the debond jump
 };
 

@@ -244,6 +244,7 @@ void read_sweep_and_solver(SceneReading& r) {
   scene.sweep.magnitudes = st.reals("magnitudes", scene.sweep.magnitudes, 1, 100000);
   scene.sweep.stress_directions = st.triples("stress_directions");
   scene.sweep.sphere = st.integer<int>("sphere", 0);
+  scene.sweep.eps33 = st.reals("eps33", {}, 0, 100);
   scene.sweep.fuse_tolerance = st.real("fuse_tolerance", scene.sweep.fuse_tolerance);
   st.finish();
 

@@ -5,6 +5,7 @@
 
 #include "core/error.hpp"
 #include "core/hash.hpp"
+#include "core/text.hpp"
 #include "io/atomic_output.hpp"
 #include "io/condensed_group.hpp"
 #include "io/file_root.hpp"
@@ -47,6 +48,14 @@ void write_path(File& f, const sweep::PathResult& p) {
       for (const auto& s : p.steps) v.push_back(c.count ? s.*c.count : std::int64_t{s.*c.flag});
       f.write(name, v, {n});
     }
+  }
+  // A path with a strain along the fibres: that strain and σ33 per step (left out of every other
+  // path, whose files stay as they were).
+  if (p.spec.eps33 != 0) {
+    f.write_attribute(g, "eps33", p.spec.eps33);
+    std::vector<double> zz;
+    for (const auto& s : p.steps) zz.push_back(s.stress_zz);
+    f.write(g + "/stress_zz", zz, {n});
   }
   if (p.fuse) {
     for (const FuseField& z : fuse_fields) {
@@ -97,6 +106,13 @@ sweep::PathResult read_path(const File& f, int index) {
           p.steps[i].*c.flag = v[i] != 0;
       }
     }
+  }
+  if (f.has_attribute(g, "eps33")) {
+    p.spec.eps33 = f.read_double_attribute_value(g, "eps33");
+    if (!std::isfinite(p.spec.eps33) || p.spec.eps33 == 0)
+      throw InputError(where + ": attribute eps33 = " + shortest(p.spec.eps33) + ", not a finite non-zero strain");
+    const auto zz = f.read_doubles(g + "/stress_zz", {n}, " like " + g + "/load");
+    for (hsize_t i = 0; i < n; ++i) p.steps[i].stress_zz = zz[i];
   }
   // Loads and applied stresses are always finite; strains of a converged step too.
   for (hsize_t i = 0; i < n; ++i) {

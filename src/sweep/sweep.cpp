@@ -26,6 +26,7 @@ Step make_step(double load, const feti::Solution& s, int broken, double seconds)
       std::max({s.kkt.relative_projected_gradient, s.kkt.relative_equality_residual, s.kkt.relative_equilibrium});
   step.seconds = seconds;
   step.converged = s.converged();
+  if (s.eps33 != 0) step.stress_zz = s.average_stress_zz;
   return step;
 }
 
@@ -124,6 +125,16 @@ std::vector<PathSpec> plan_paths(const Scene& scene) {
     spec.sphere = true;
     paths.push_back(spec);
   }
+  // The uniaxial paths again with each held strain along the fibres, after all the others.
+  const std::size_t in_plane = paths.size();
+  for (const double eps33 : scene.sweep.eps33)
+    for (std::size_t i = 0; i < in_plane; ++i)
+      if (!std::isnan(paths[i].direction_deg)) {
+        PathSpec spec = paths[i];
+        spec.index = static_cast<int>(paths.size());
+        spec.eps33 = eps33;
+        paths.push_back(spec);
+      }
   return paths;
 }
 
@@ -145,12 +156,18 @@ PathResult run_path(feti::ContactSolver& solver, const PathSpec& spec, double fu
   result.spec = spec;
   const feti::BondState intact = solver.intact();
   const bool adhesion = solver.setup().scene().interface.has_adhesion();
+  // The path's strain along the fibres, held while it runs and cleared after, however it ends.
+  struct HeldStrain {
+    feti::ContactSolver& solver;
+    ~HeldStrain() { solver.set_longitudinal_strain(0); }
+  } held{solver};
+  solver.set_longitudinal_strain(spec.eps33);
 
-  // The schedule, with the exact onset inserted where it falls inside it.
+  // The schedule, with the exact onset inserted where it falls inside it (plane strain only).
   std::vector<double> loads = spec.loads;
   double onset = std::numeric_limits<double>::infinity();
   std::vector<int> critical;  // the bonds at their strength at the onset
-  if (adhesion) {
+  if (adhesion && spec.eps33 == 0) {
     onset = spec.sign * solver.debond_onset(spec.sign * spec.unit_stress, &critical);
     if (std::isfinite(onset) && std::abs(onset) <= std::abs(loads.back()) &&
         std::find(loads.begin(), loads.end(), onset) == loads.end()) {

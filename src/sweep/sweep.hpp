@@ -3,7 +3,10 @@
 // stress N (uniaxial n⊗n with n = (cos θ, sin θ), or a general tensor) and a sign; its steps
 // follow the scene's magnitudes of that sign in increasing size, carry the bond state (breaks
 // are irreversible) and warm-start from the previous multipliers scaled to the new load.
-// Tension and compression each start from the unloaded, intact state.
+// Tension and compression each start from the unloaded, intact state. A path of [sweep] eps33
+// holds that strain along the fibres from its start (generalised plane strain, §3a): its loads
+// are the in-plane stress's, its steps record σ33, and it has no exact onset (the load is not
+// linear in its factor then), so its jumps are bracketed by bisection alone.
 //
 // The fuse: with adhesion, the exact debond onset s* (docs/method.md §11) is inserted as a step, and
 // wherever new breaks appear between two steps the load is bisected until the jump is
@@ -29,6 +32,7 @@ struct PathSpec {
   Eigen::Vector3d unit_stress;  // N: (σxx, σyy, σxy), unit Frobenius norm
   std::vector<double> loads;    // signed loads s, |s| increasing; σ̄ = s·N
   bool sphere = false;          // one of [sweep] sphere's directions (sign +1, direction_deg NaN)
+  double eps33 = 0;             // the strain along the fibres held along the path ([sweep] eps33)
 };
 
 // The N directions of [sweep] sphere: a Fibonacci point set on the unit sphere of
@@ -43,6 +47,8 @@ struct Step {
   long outer_iterations = 0;
   long operator_applications = 0;
   double kkt_residual = 0;  // max of the relative projected gradient, ‖Gλ−e‖ and equilibrium residuals
+  // σ33 (the average σzz) of a path with a strain along the fibres; NaN on a plane-strain path.
+  double stress_zz = std::numeric_limits<double>::quiet_NaN();
   double seconds = 0;
   bool converged = true;
 };

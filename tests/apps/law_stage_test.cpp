@@ -305,6 +305,56 @@ TEST(LawStage, DualcellLawEvaluatesTheWholePly) {
   }
 }
 
+// Sweep paths with a strain along the fibres held ([sweep] eps33): each uniaxial path again at
+// each ε33, after the others, their steps recording σ33; the in-plane paths and the fitted laws
+// are those of the same sweep without them (the same numbers: the fits see in-plane paths only),
+// and the exact law replays the ε33 paths too, σ33 included, through the fuse, to the replay's
+// limit with the same broken pairs. A transverse scene that asks for them is refused.
+TEST(LawStage, SweepPathsHoldAStrainAlongTheFibres) {
+  const std::string base = testing::scene_text(
+      1, 1, 2, 0.3,
+      "[interface]\nnormal_strength = 0.02\ntangential_strength = 0.02\n[load]\nboundary = \"periodic\"\nmacro = "
+      "\"full\"\n[solver]\ntolerance = 1e-10\n[sweep]\ndirections_deg = [0, 45, 90]\nmagnitudes = [-0.05, "
+      "-0.02, 0.02, 0.05]\n");
+  // One scratch folder per test: the plain run's results are read before the other run reuses it.
+  std::vector<sweep::PathResult> a;
+  law::Law la;
+  {
+    StagesRun plain(base);
+    a = io::read_sweep(plain.sweep);
+    la = io::read_law(plain.law);
+  }
+  StagesRun held(base + "eps33 = [-0.002, 0.003]\n");
+  const std::vector<sweep::PathResult> b = io::read_sweep(held.sweep);
+  ASSERT_EQ(b.size(), 3 * a.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(b[i].spec.eps33, 0);
+    ASSERT_EQ(b[i].steps.size(), a[i].steps.size()) << i;
+    for (std::size_t k = 0; k < a[i].steps.size(); ++k) EXPECT_EQ(b[i].steps[k].strain, a[i].steps[k].strain);
+  }
+  long broken = 0;
+  for (std::size_t i = a.size(); i < b.size(); ++i) {
+    EXPECT_EQ(b[i].spec.eps33, i < 2 * a.size() ? -0.002 : 0.003);
+    EXPECT_EQ(b[i].spec.direction_deg, b[i - (i < 2 * a.size() ? 1 : 2) * a.size()].spec.direction_deg);
+    for (const sweep::Step& step : b[i].steps) {
+      EXPECT_TRUE(std::isfinite(step.stress_zz));
+      broken = std::max(broken, step.broken_bonds);
+    }
+  }
+  EXPECT_GT(broken, 0) << "the ε33 paths reach past the fuse";
+  const law::Law lb = io::read_law(held.law);
+  EXPECT_EQ(lb.tension.S, la.tension.S);
+  EXPECT_EQ(lb.cone.law.C_c, la.cone.law.C_c);
+  EXPECT_GT(lb.cell_replay.points, 2 * la.cell_replay.points);
+  EXPECT_LE(lb.cell_replay.max_error, lb.cell_replay.limit);
+  EXPECT_EQ(lb.cell_replay.break_mismatches, 0);
+  testing::ScratchDir dir;
+  const auto scene = dir.write("t.toml", testing::scene_text(1, 1, 2, 0.3, "[sweep]\neps33 = [0.001]\n"));
+  const auto r = run_command(bin("dualcell-mesh") + " --config " + q(scene) + " --out " + q(dir / "m.h5"));
+  EXPECT_EQ(r.exit_code, exit_input_error);
+  EXPECT_NE(r.output.find("eps33"), std::string::npos) << r.output;
+}
+
 TEST(LawStage, DualcellLawRefusesBadPointsWithTheLine) {
   StagesRun run(contact_scene);
   const auto try_points = [&](const std::string& text, const std::string& flag = " --stress ") {
