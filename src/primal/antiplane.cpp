@@ -150,30 +150,97 @@ LongitudinalShear longitudinal_shear(const mesh::Mesh& mesh, const Material& fib
   return out;
 }
 
-ShearResponse longitudinal_shear_at(const mesh::Mesh& mesh, const Material& fibre, const Material& matrix,
-                                    const std::vector<char>& bonded, const Eigen::Vector2d& gamma) {
-  if (bonded.size() != mesh.interface_pairs.size())
-    throw std::invalid_argument("longitudinal_shear_at: " + std::to_string(bonded.size()) + " bond states for " +
-                                std::to_string(mesh.interface_pairs.size()) + " interface pairs");
-  const double mu_fibre = fem::lame(fibre).mu, mu_matrix = fem::lame(matrix).mu;
-  Body body(mesh, mu_fibre, mu_matrix, bonded);
-  const Eigen::VectorXd w = body.solve(body.f() * gamma);
+namespace {
+
+// One solve of the antiplane body at Γ: the pairs `tied` tied, the pairs `slipping` (±1) free to
+// jump with the force ±strength across them; ⟨τ⟩, every pair's force along z (a tied pair's the
+// tie's, a slipping pair's its strength, 0 otherwise) and every pair's jump.
+struct TiedSolve {
+  ShearResponse response;
+  Eigen::VectorXd jump;
+};
+TiedSolve tied_solve(const mesh::Mesh& mesh, double mu_fibre, double mu_matrix, const std::vector<char>& tied,
+                     const std::vector<signed char>& slipping, const std::vector<double>& strength,
+                     const Eigen::Vector2d& gamma) {
+  const std::size_t P = tied.size();
+  Body body(mesh, mu_fibre, mu_matrix, tied);
+  // K w̃ = f Γ − Jᵀq: the slipping pairs' forces q on their nodes, + on the fibre's, − on the matrix's.
+  Eigen::VectorXd b = body.f() * gamma;
+  for (std::size_t p = 0; p < P; ++p)
+    if (slipping[p]) {
+      const double q = slipping[p] * strength[p];
+      if (const int a = body.free(mesh.interface_pairs[p][0]); a >= 0) b(a) -= q;
+      if (const int a = body.free(mesh.interface_pairs[p][1]); a >= 0) b(a) += q;
+    }
+  const Eigen::VectorXd w = body.solve(b);
   // Per node, the internal force of the elements that hold it, ∫ μ ∇φ·(Γ + ∇w̃) dA, and ⟨τ⟩.
   Eigen::VectorXd internal = Eigen::VectorXd::Zero(mesh.n_nodes());
-  ShearResponse out;
+  TiedSolve out;
   const int nodes = mesh.triangles.width();
   for_each_point(mesh, mu_fibre, mu_matrix, [&](const auto& tri, double weight, const Eigen::Matrix2Xd& grad_phi) {
     Eigen::Vector2d grad = gamma;
     for (int i = 0; i < nodes; ++i) grad += grad_phi.col(i) * w(tri[i]);
-    out.tau += weight * grad;
+    out.response.tau += weight * grad;
     for (int i = 0; i < nodes; ++i) internal(tri[i]) += weight * grad_phi.col(i).dot(grad);
   });
-  out.tau /= mesh.block_width() * mesh.block_height();
-  // A bonded pair's tie carries what the fibre's elements at its node do not balance themselves.
-  out.pair_forces = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(bonded.size()));
-  for (std::size_t p = 0; p < bonded.size(); ++p)
-    if (bonded[p]) out.pair_forces(static_cast<Eigen::Index>(p)) = -internal(mesh.interface_pairs[p][0]);
+  out.response.tau /= mesh.block_width() * mesh.block_height();
+  // A tied pair's tie carries what the fibre's elements at its place do not balance themselves:
+  // the internal forces of the fibre's nodes there, summed over the place's periodic images (a
+  // fibre cut by the block's edges meets its matrix at both).
+  UnionFind place(mesh.n_points());
+  for (const mesh::PeriodicPair& pair : mesh.periodic_pairs) place.join(pair.point, pair.partner);
+  const std::vector<char> on_fibre = mesh::fibre_nodes(mesh);
+  Eigen::VectorXd fibre_force = Eigen::VectorXd::Zero(mesh.n_points());
+  for (int v = 0; v < mesh.n_nodes(); ++v)
+    if (on_fibre[v]) fibre_force(place.find(mesh.point_of[v])) += internal(v);
+  out.response.pair_forces = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(P));
+  out.jump = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(P));
+  for (std::size_t p = 0; p < P; ++p) {
+    const auto [f, m] = mesh.interface_pairs[p];
+    const auto i = static_cast<Eigen::Index>(p);
+    if (tied[p]) out.response.pair_forces(i) = -fibre_force(place.find(mesh.point_of[f]));
+    if (slipping[p]) out.response.pair_forces(i) = slipping[p] * strength[p];
+    out.jump(i) = w(f) - w(m);
+  }
   return out;
+}
+
+}  // namespace
+
+ShearResponse longitudinal_shear_at(const mesh::Mesh& mesh, const Material& fibre, const Material& matrix,
+                                    const std::vector<char>& bonded, const Eigen::Vector2d& gamma,
+                                    const std::vector<double>& strength) {
+  const std::size_t P = mesh.interface_pairs.size();
+  if (bonded.size() != P || (!strength.empty() && strength.size() != P))
+    throw std::invalid_argument("longitudinal_shear_at: " + std::to_string(bonded.size()) + " bond states and " +
+                                std::to_string(strength.size()) + " strengths for " + std::to_string(P) +
+                                " interface pairs");
+  const double mu_fibre = fem::lame(fibre).mu, mu_matrix = fem::lame(matrix).mu;
+  // The active set of the ties' bounds |q| ≤ strength, one change at a time: a slipping pair
+  // whose jump opposes its force is tied again (the worst first), else the tie furthest past its
+  // strength slips. Each step is one linear solve; with no strengths, the first is the answer.
+  std::vector<signed char> slipping(P, 0);
+  for (std::size_t step = 0; step <= 4 * P + 8; ++step) {
+    std::vector<char> tied(P);
+    for (std::size_t p = 0; p < P; ++p) tied[p] = bonded[p] && !slipping[p];
+    const TiedSolve s = tied_solve(mesh, mu_fibre, mu_matrix, tied, slipping, strength, gamma);
+    if (strength.empty()) return s.response;
+    std::size_t worst = P;
+    double worst_amount = 0;
+    for (std::size_t p = 0; p < P; ++p)
+      if (slipping[p] && slipping[p] * s.jump(static_cast<Eigen::Index>(p)) < -worst_amount)
+        worst = p, worst_amount = -slipping[p] * s.jump(static_cast<Eigen::Index>(p));
+    if (worst < P) {
+      slipping[worst] = 0;
+      continue;
+    }
+    for (std::size_t p = 0; p < P; ++p)
+      if (tied[p] && std::abs(s.response.pair_forces(static_cast<Eigen::Index>(p))) - strength[p] > worst_amount)
+        worst = p, worst_amount = std::abs(s.response.pair_forces(static_cast<Eigen::Index>(p))) - strength[p];
+    if (worst == P) return s.response;
+    slipping[worst] = s.response.pair_forces(static_cast<Eigen::Index>(worst)) > 0 ? 1 : -1;
+  }
+  throw std::runtime_error("longitudinal_shear_at: the ties' active set did not settle");
 }
 
 CondensedShear condense_longitudinal_shear(const mesh::Mesh& mesh, const Material& fibre, const Material& matrix,

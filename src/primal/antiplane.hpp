@@ -32,16 +32,18 @@ LongitudinalShear longitudinal_shear(const mesh::Mesh& mesh, const Material& fib
 
 // The response at Γ of the bond state `bonded` (one entry per pair): ⟨τ⟩ and each bonded pair's
 // force along z, the tie's (the internal force ∫ μ ∇φ·(Γ + ∇w̃) dA of the fibre's elements at
-// the pair's fibre node, with the sign of the condensed law's force q; 0 for a broken pair). A
-// fibre node that is also a periodic partner shares its point with another pair: its force is
-// then that of its own elements only. For the debond cascade along z (the caller breaks what
-// reaches its strength and asks again).
+// the pair's place, its periodic images included, with the sign of the condensed law's force q;
+// 0 for a broken pair). With `strength` (per pair) a tie holds up to its strength and slips past
+// it, carrying ±strength with a jump of that sign (the bounds the exact law's shear rows have,
+// found by an active set of one linear solve per change); empty: ties without a bound. For the
+// debond cascade along z (the caller breaks what is at its strength and asks again).
 struct ShearResponse {
   Eigen::Vector2d tau = Eigen::Vector2d::Zero();
   Eigen::VectorXd pair_forces;
 };
 ShearResponse longitudinal_shear_at(const mesh::Mesh& mesh, const Material& fibre, const Material& matrix,
-                                    const std::vector<char>& bonded, const Eigen::Vector2d& gamma);
+                                    const std::vector<char>& bonded, const Eigen::Vector2d& gamma,
+                                    const std::vector<double>& strength = {});
 
 // The longitudinal shear condensed onto the interface pairs (docs/method.md §16a, "The shear along the fibres"), the
 // exact law of every bond state at once. The open cell (every pair free to jump, each fibre floating along z) has w̃ =

@@ -222,8 +222,9 @@ std::vector<sweep::LongitudinalPoint> longitudinal_points(feti::ContactSolver& s
 // The checks of the shear along the fibres (/shear_check): four paths of Γ, along 0°, 45°, 90° and
 // 135° in the (γxz, γyz) plane, from the intact cell; with adhesion at 0.5, 1.2, 2 and 4 times the
 // first break along the path (the intact cell is linear: the strength over the largest tie force
-// at unit Γ), the one-body solve's debond cascade run at each (the ties' forces against each
-// pair's strength along z, s_t L, by the bond rule; broken, solved again, until none reaches it),
+// at unit Γ), the one-body solve's debond cascade run at each (each tie holds to its strength
+// along z, s_t L, and slips past it, as the law's shear rows are bounded; the ties at their
+// strength break by the bond rule, and it is solved again until none is),
 // so that the law meets it before, at and past its breaks; without adhesion one point per path
 // (the fibres are holes along z whatever the load).
 std::vector<sweep::ShearPoint> shear_points(const mesh::Mesh& mesh, const Scene& scene) {
@@ -231,6 +232,9 @@ std::vector<sweep::ShearPoint> shear_points(const mesh::Mesh& mesh, const Scene&
   const double sn = scene.interface.normal_strength, st = scene.interface.tangential_strength;
   const std::vector<double> length = feti::interface_lengths(mesh);
   const std::size_t P = mesh.interface_pairs.size();
+  std::vector<double> strength(P);
+  for (std::size_t q = 0; q < P; ++q)
+    strength[q] = bond::bounds(bond::Kind::tangential, bond::State::intact, sn, st, length[q]).upper;
   std::vector<sweep::ShearPoint> points;
   for (int path = 0; path < 4; ++path) {
     const double angle = path * std::numbers::pi / 4;
@@ -241,9 +245,8 @@ std::vector<sweep::ShearPoint> shear_points(const mesh::Mesh& mesh, const Scene&
       const primal::ShearResponse r = primal::longitudinal_shear_at(mesh, scene.fibre, scene.matrix, bonded, unit);
       double use = 0;
       for (std::size_t q = 0; q < P; ++q)
-        use = std::max(
-            use, bond::strength_use(r.pair_forces(static_cast<Eigen::Index>(q)),
-                                    bond::bounds(bond::Kind::tangential, bond::State::intact, sn, st, length[q])));
+        use =
+            std::max(use, bond::strength_use(r.pair_forces(static_cast<Eigen::Index>(q)), {-strength[q], strength[q]}));
       if (!(use > 0)) continue;
       factors = {0.5 / use, 1.2 / use, 2 / use, 4 / use};
     }
@@ -251,12 +254,10 @@ std::vector<sweep::ShearPoint> shear_points(const mesh::Mesh& mesh, const Scene&
       const Eigen::Vector2d gamma = factor * unit;
       primal::ShearResponse r;
       for (bool any = true; any;) {
-        r = primal::longitudinal_shear_at(mesh, scene.fibre, scene.matrix, bonded, gamma);
+        r = primal::longitudinal_shear_at(mesh, scene.fibre, scene.matrix, bonded, gamma, strength);
         any = false;
         for (std::size_t q = 0; q < P; ++q)
-          if (bonded[q] &&
-              bond::at_strength(r.pair_forces(static_cast<Eigen::Index>(q)),
-                                bond::bounds(bond::Kind::tangential, bond::State::intact, sn, st, length[q])))
+          if (bonded[q] && bond::at_strength(r.pair_forces(static_cast<Eigen::Index>(q)), {-strength[q], strength[q]}))
             bonded[q] = 0, any = true;
       }
       int broken = 0;

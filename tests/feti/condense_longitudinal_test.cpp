@@ -13,8 +13,8 @@
 #include "feti/condense.hpp"
 #include "feti/solver.hpp"
 #include "hill_relations.hpp"
-#include "law/bond.hpp"
 #include "primal/antiplane.hpp"
+#include "shear_cascade.hpp"
 #include "test_util.hpp"
 
 namespace dualcell::feti {
@@ -241,51 +241,16 @@ TEST(CondensedLongitudinal, TheShearAlongTheFibresIsTheAntiplaneSolveOfItsBondSt
   EXPECT_LE((ro.shear_z - holes * gamma).norm(), 1e-12 * (holes * gamma).norm());
 }
 
-// The debond cascade along z against an independent one: the one-body antiplane solve with the
-// bonded pairs tied (primal::longitudinal_shear_at), its ties' forces checked against each pair's
-// strength by the same bond rule, broken and solved again until none reaches it. Along a path of
-// growing Γ (half, 1.2, 2 and 4 times the first break's) the law's forces equal the ties' while
-// bonded (1e-9 of the largest: two exact routes, the condensation's round-off), the same pairs
-// break at every step, and ⟨τ⟩ agrees to 1e-9.
+// The debond cascade along z against the one-body solve's (feti/shear_cascade.hpp): the same
+// pairs break at every step of a growing Γ, with the same forces and ⟨τ⟩ to 1e-9.
 TEST(CondensedLongitudinal, TheCascadeAlongTheFibresIsTheOneBodySolvesCascade) {
   const Scene scene = cell_scene(Boundary::periodic, 0.5);
   const mesh::Mesh mesh = mesh::build_mesh(scene.geometry);
   ContactSolver solver(mesh, scene);
   const law::CondensedCell cell = condense(solver.setup());
-  law::CellEvaluator law(cell);
-  const Eigen::Vector2d direction(1.0, 0.3);
-  // The forces while bonded: the law's shear rows against the ties.
-  law::CellHistory h0 = law.unloaded();
-  const law::CellResponse small = law.at_strain(Eigen::Vector3d::Zero(), h0, law::BondMode::held, 0, 1e-3 * direction);
-  std::vector<char> bonded(cell.bonded.begin(), cell.bonded.end());
-  const primal::ShearResponse tied =
-      primal::longitudinal_shear_at(mesh, scene.fibre, scene.matrix, bonded, 1e-3 * direction);
-  EXPECT_LE((small.forces_z - tied.pair_forces).norm(), 1e-9 * tied.pair_forces.cwiseAbs().maxCoeff());
-  EXPECT_LE((small.shear_z - tied.tau).norm(), 1e-9 * tied.tau.norm());
-  const double first = 1e-3 / small.strength_use;  // the load factor of the first break along the direction
-  law::CellHistory h = law.unloaded();
-  int broken_at_end = 0;
-  for (const double factor : {0.5, 1.2, 2.0, 4.0}) {
-    const Eigen::Vector2d gamma = factor * first * direction;
-    const law::CellResponse r = law.at_strain(Eigen::Vector3d::Zero(), h, law::BondMode::cascade, 0, gamma);
-    ASSERT_TRUE(r.ok) << r.message;
-    primal::ShearResponse one_body;
-    for (;;) {
-      one_body = primal::longitudinal_shear_at(mesh, scene.fibre, scene.matrix, bonded, gamma);
-      bool any = false;
-      for (std::size_t q = 0; q < bonded.size(); ++q)
-        if (bonded[q] && law::bond::at_strength(one_body.pair_forces(static_cast<Eigen::Index>(q)),
-                                                {-cell.strength_z(static_cast<Eigen::Index>(q)),
-                                                 cell.strength_z(static_cast<Eigen::Index>(q))}))
-          bonded[q] = 0, any = true;
-      if (!any) break;
-    }
-    for (std::size_t q = 0; q < bonded.size(); ++q) EXPECT_EQ(h.bonded[q] != 0, bonded[q] != 0) << factor << " " << q;
-    EXPECT_LE((r.shear_z - one_body.tau).norm(), 1e-9 * one_body.tau.norm()) << factor;
-    broken_at_end = r.broken;
-  }
-  EXPECT_GT(broken_at_end, 0);
-  EXPECT_LT(broken_at_end, cell.n_pairs) << "a partial cascade: some pairs hold";
+  const int broken = testing::expect_the_one_body_cascade(mesh, scene, cell, Eigen::Vector2d(1.0, 0.3), 1e-9);
+  EXPECT_GT(broken, 0);
+  EXPECT_LT(broken, cell.n_pairs) << "a partial cascade: some pairs hold";
 }
 
 }  // namespace

@@ -18,6 +18,7 @@
 #include "feti/condense.hpp"
 #include "feti/constraints.hpp"
 #include "feti/hill_relations.hpp"
+#include "feti/shear_cascade.hpp"
 #include "feti/solver.hpp"
 #include "law/condensed.hpp"
 #include "mesh/mesh.hpp"
@@ -292,6 +293,21 @@ TEST(RveMesher, TheExactLawOfAnRveWithCutFibresIsItsCell) {
       EXPECT_NEAR(r.stress_zz, full.average_stress_zz, 1e-7 * (std::abs(full.average_stress_zz) + sigma.norm()))
           << sigma.transpose() << " eps33 " << eps33;
     }
+}
+
+// The shear along the fibres of an RVE whose fibres are cut by its edges (a pair's fibre meets
+// the matrix at both periodic images of its place): the law's cascade along z against the
+// one-body solve's (feti/shear_cascade.hpp), along two directions of Γ, to 1e-9.
+TEST(RveMesher, TheShearAlongTheFibresOfAnRveWithCutFibresIsItsCell) {
+  Scene s = rve_scene(true, {1, 1}, {{0.0, 0.5, 0.15}, {0.5, 0.0, 0.15}, {0.75, 0.25, 0.15}, {0.75, 0.75, 0.15}}, 2);
+  s.load.macro = Macro::full;
+  s.interface.normal_strength = s.interface.tangential_strength = 0.05;
+  const mesh::Mesh mesh = rve_mesh(s);
+  feti::ContactSolver solver(mesh, s);
+  const law::CondensedCell cell = feti::condense(solver.setup());
+  ASSERT_EQ(cell.shear_rows, cell.n_pairs);
+  for (const Eigen::Vector2d& direction : {Eigen::Vector2d(1, 0.2), Eigen::Vector2d(-0.4, 1)})
+    EXPECT_GT(testing::expect_the_one_body_cascade(mesh, s, cell, direction, 1e-9), 0);
 }
 
 // The RVE study's 16-fibre RVE of seed 2 (glass/epoxy, v_f 0.5, 704 interface rows): its exact
