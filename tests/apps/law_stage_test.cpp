@@ -346,6 +346,7 @@ TEST(LawStage, SweepPathsHoldAStrainAlongTheFibres) {
   EXPECT_EQ(lb.tension.S, la.tension.S);
   EXPECT_EQ(lb.cone.law.C_c, la.cone.law.C_c);
   EXPECT_GT(lb.cell_replay.points, 2 * la.cell_replay.points);
+  EXPECT_EQ(lb.cell_longitudinal_replay.points, la.cell_longitudinal_replay.points) << "the checks: in-plane paths";
   EXPECT_LE(lb.cell_replay.max_error, lb.cell_replay.limit);
   EXPECT_EQ(lb.cell_replay.break_mismatches, 0);
   testing::ScratchDir dir;
