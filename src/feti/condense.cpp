@@ -324,10 +324,11 @@ double set_longitudinal(const FetiSetup& setup, const Eigen::MatrixXd& Y, const 
 
 // The shear along the fibres (docs/method.md §16a): the antiplane problem condensed onto the
 // pairs (primal::condense_longitudinal_shear), with a row per pair where bonds carry shear (the
-// tangential strength s_t > 0); a pair's strength along z is its in-plane tangential row's, s_t L.
+// tangential strength s_t > 0); a pair's strength along z is its in-plane tangential row's, s_t L
+// (shear_strengths).
 void set_shear(const FetiSetup& setup, law::CondensedCell& cell) {
   const Scene& scene = setup.scene();
-  const double sn = scene.interface.normal_strength, st = scene.interface.tangential_strength;
+  const double st = scene.interface.tangential_strength;
   const primal::CondensedShear z = primal::condense_longitudinal_shear(setup.mesh(), scene.fibre, scene.matrix, st > 0);
   cell.shear = 2;
   cell.D0z = z.D0;
@@ -336,11 +337,8 @@ void set_shear(const FetiSetup& setup, law::CondensedCell& cell) {
   cell.Yz = z.Y;
   cell.Hz = z.H;
   cell.Gz = z.G;
-  const std::vector<double> length = interface_lengths(setup.mesh());
-  cell.strength_z.resize(cell.n_pairs);
-  for (int q = 0; q < cell.n_pairs; ++q)
-    cell.strength_z(q) =
-        law::bond::bounds(law::bond::Kind::tangential, law::bond::State::intact, sn, st, length[q]).upper;
+  const std::vector<double> strength = shear_strengths(setup.mesh(), scene);
+  cell.strength_z = Eigen::Map<const Eigen::VectorXd>(strength.data(), static_cast<Eigen::Index>(strength.size()));
 }
 
 }  // namespace

@@ -147,6 +147,20 @@ void add_periodic_rows(RowBuilder& rows, const mesh::Mesh& mesh, const std::vect
   rows.add(RowKind::dirichlet, -1, {{2 * a + 1, 1.0}}, -inf, inf, w_single);
 }
 
+}  // namespace
+
+std::vector<double> shear_strengths(const mesh::Mesh& mesh, const Scene& scene) {
+  namespace bond = law::bond;
+  const std::vector<double> length = interface_lengths(mesh);
+  const double sn = scene.interface.normal_strength, st = scene.interface.tangential_strength;
+  std::vector<double> strength(length.size());
+  for (std::size_t p = 0; p < length.size(); ++p)
+    strength[p] = bond::bounds(bond::Kind::tangential, bond::State::intact, sn, st, length[p]).upper;
+  return strength;
+}
+
+namespace {
+
 // Interface rows, pair by pair: normal, then tangential where the bond rule gives it a force to
 // carry (bonded with shear strength): law::bond::bounds of the pair's state, with the strengths
 // per unit length times the pair's length.

@@ -61,6 +61,9 @@ Eigen::Vector2d interface_normal(const mesh::Mesh& mesh, int p);
 // Interface length of each pair: L_p = ∫ φ_p ds over the rim (φ_p the shape function of the
 // pair's node along the rim edges); for p1 half of its two neighbouring chords.
 std::vector<double> interface_lengths(const mesh::Mesh& mesh);
+// Each pair's strength along the fibres (the shear along z, docs/method.md §16a): its in-plane
+// tangential row's intact bound, s_t L (law::bond::bounds); 0 without a tangential strength.
+std::vector<double> shear_strengths(const mesh::Mesh& mesh, const Scene& scene);
 
 // The mesh sides of the edges left, right, bottom, top (the order of edge_names).
 extern const std::array<int, 4> edge_sides;

@@ -48,6 +48,22 @@ Eigen::MatrixXd strain_rows(const CondensedCell& cell) {
 
 }  // namespace
 
+Eigen::Matrix<double, 6, 1> ply_stress(const CellResponse& r) {
+  Eigen::Matrix<double, 6, 1> sigma;
+  sigma << r.stress, r.stress_zz, r.shear_z;
+  return sigma;
+}
+
+Eigen::Matrix<double, 6, 6> ply_tangent(const CellResponse& r) {
+  Eigen::Matrix<double, 6, 6> D = Eigen::Matrix<double, 6, 6>::Zero();
+  D.topLeftCorner<3, 3>() = r.tangent;
+  D.block<3, 1>(0, 3) = r.tangent_zz;
+  D.block<1, 3>(3, 0) = r.tangent_zz.transpose();
+  D(3, 3) = r.tangent_zz_zz;
+  D.bottomRightCorner<2, 2>() = r.tangent_z;
+  return D;
+}
+
 CellEvaluator::CellEvaluator(const CondensedCell& cell, qp::DenseActiveSet::Updates updates)
     : cell_(cell),
       energy_(energy_matrix(cell)),

@@ -145,6 +145,12 @@ struct CellResponse {
   std::string message;  // why not, when not ok
 };
 
+// The whole ply's response (a cell with the strain and the shears along the fibres) in the law's
+// order (xx, yy, xy, zz, xz, yz): σ̄, σ33 and ⟨τ⟩; and the 6 × 6 tangent, in-plane and ε33
+// coupled, the shears along the fibres on their own (no stiffness couples them to the rest).
+Eigen::Matrix<double, 6, 1> ply_stress(const CellResponse& r);
+Eigen::Matrix<double, 6, 6> ply_tangent(const CellResponse& r);
+
 // Evaluates one CondensedCell; holds the energy matrix 𝓗 and the QP workspaces (not thread-safe:
 // one evaluator per thread).
 class CellEvaluator {

@@ -159,9 +159,21 @@ struct TiedSolve {
   ShearResponse response;
   Eigen::VectorXd jump;
 };
-TiedSolve tied_solve(const mesh::Mesh& mesh, double mu_fibre, double mu_matrix, const std::vector<char>& tied,
-                     const std::vector<signed char>& slipping, const std::vector<double>& strength,
-                     const Eigen::Vector2d& gamma) {
+// Per node, the place its fibre force adds to: the periodic class of its point for a fibre node
+// (a fibre cut by the block's edges meets its matrix at both images of a place), −1 otherwise.
+std::vector<int> fibre_places(const mesh::Mesh& mesh) {
+  UnionFind place(mesh.n_points());
+  for (const mesh::PeriodicPair& pair : mesh.periodic_pairs) place.join(pair.point, pair.partner);
+  const std::vector<char> on_fibre = mesh::fibre_nodes(mesh);
+  std::vector<int> out(mesh.n_nodes(), -1);
+  for (int v = 0; v < mesh.n_nodes(); ++v)
+    if (on_fibre[v]) out[v] = place.find(mesh.point_of[v]);
+  return out;
+}
+
+TiedSolve tied_solve(const mesh::Mesh& mesh, double mu_fibre, double mu_matrix, const std::vector<int>& places,
+                     const std::vector<char>& tied, const std::vector<signed char>& slipping,
+                     const std::vector<double>& strength, const Eigen::Vector2d& gamma) {
   const std::size_t P = tied.size();
   Body body(mesh, mu_fibre, mu_matrix, tied);
   // K w̃ = f Γ − Jᵀq: the slipping pairs' forces q on their nodes, + on the fibre's, − on the matrix's.
@@ -185,20 +197,16 @@ TiedSolve tied_solve(const mesh::Mesh& mesh, double mu_fibre, double mu_matrix, 
   });
   out.response.tau /= mesh.block_width() * mesh.block_height();
   // A tied pair's tie carries what the fibre's elements at its place do not balance themselves:
-  // the internal forces of the fibre's nodes there, summed over the place's periodic images (a
-  // fibre cut by the block's edges meets its matrix at both).
-  UnionFind place(mesh.n_points());
-  for (const mesh::PeriodicPair& pair : mesh.periodic_pairs) place.join(pair.point, pair.partner);
-  const std::vector<char> on_fibre = mesh::fibre_nodes(mesh);
+  // the internal forces of the fibre's nodes there, summed over the place's periodic images.
   Eigen::VectorXd fibre_force = Eigen::VectorXd::Zero(mesh.n_points());
   for (int v = 0; v < mesh.n_nodes(); ++v)
-    if (on_fibre[v]) fibre_force(place.find(mesh.point_of[v])) += internal(v);
+    if (places[v] >= 0) fibre_force(places[v]) += internal(v);
   out.response.pair_forces = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(P));
   out.jump = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(P));
   for (std::size_t p = 0; p < P; ++p) {
     const auto [f, m] = mesh.interface_pairs[p];
     const auto i = static_cast<Eigen::Index>(p);
-    if (tied[p]) out.response.pair_forces(i) = -fibre_force(place.find(mesh.point_of[f]));
+    if (tied[p]) out.response.pair_forces(i) = -fibre_force(places[f]);
     if (slipping[p]) out.response.pair_forces(i) = slipping[p] * strength[p];
     out.jump(i) = w(f) - w(m);
   }
@@ -219,11 +227,12 @@ ShearResponse longitudinal_shear_at(const mesh::Mesh& mesh, const Material& fibr
   // The active set of the ties' bounds |q| ≤ strength, one change at a time: a slipping pair
   // whose jump opposes its force is tied again (the worst first), else the tie furthest past its
   // strength slips. Each step is one linear solve; with no strengths, the first is the answer.
+  const std::vector<int> places = fibre_places(mesh);
   std::vector<signed char> slipping(P, 0);
+  std::vector<char> tied(P);
   for (std::size_t step = 0; step <= 4 * P + 8; ++step) {
-    std::vector<char> tied(P);
     for (std::size_t p = 0; p < P; ++p) tied[p] = bonded[p] && !slipping[p];
-    const TiedSolve s = tied_solve(mesh, mu_fibre, mu_matrix, tied, slipping, strength, gamma);
+    const TiedSolve s = tied_solve(mesh, mu_fibre, mu_matrix, places, tied, slipping, strength, gamma);
     if (strength.empty()) return s.response;
     std::size_t worst = P;
     double worst_amount = 0;

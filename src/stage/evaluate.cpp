@@ -78,12 +78,7 @@ struct RowValues {
 std::vector<double> tangent_entries(const law::CellResponse& r, int n) {
   std::vector<double> out;
   if (n == 6) {
-    Eigen::Matrix<double, 6, 6> D = Eigen::Matrix<double, 6, 6>::Zero();
-    D.topLeftCorner<3, 3>() = r.tangent;
-    D.block<3, 1>(0, 3) = r.tangent_zz;
-    D.block<1, 3>(3, 0) = r.tangent_zz.transpose();
-    D(3, 3) = r.tangent_zz_zz;
-    D.bottomRightCorner<2, 2>() = r.tangent_z;
+    const Eigen::Matrix<double, 6, 6> D = law::ply_tangent(r);
     for (int a = 0; a < 6; ++a)
       for (int b = 0; b < 6; ++b) out.push_back(D(a, b));
     return out;
@@ -203,9 +198,8 @@ LawPointsSummary evaluate_law(const LawPointsOptions& options) {
                                       ? evaluator->at_strain(v, h, law::BondMode::cascade, point.eps33, point.gamma)
                                       : evaluator->at_stress(v, h, point.eps33);
       if (!r.ok) throw InputError(where() + r.message);
-      row.other.head<3>() = options.strain_driven ? r.stress : r.strain;
-      row.other(3) = r.stress_zz;
-      row.other.tail<2>() = r.shear_z;
+      row.other = law::ply_stress(r);
+      if (!options.strain_driven) row.other.head<3>() = r.strain;
       row.tangent = tangent_entries(r, n);
       row.broken = r.broken;
       summary.qp_iterations += r.iterations;

@@ -229,12 +229,9 @@ std::vector<sweep::LongitudinalPoint> longitudinal_points(feti::ContactSolver& s
 // (the fibres are holes along z whatever the load).
 std::vector<sweep::ShearPoint> shear_points(const mesh::Mesh& mesh, const Scene& scene) {
   namespace bond = law::bond;
-  const double sn = scene.interface.normal_strength, st = scene.interface.tangential_strength;
-  const std::vector<double> length = feti::interface_lengths(mesh);
+  const double st = scene.interface.tangential_strength;
   const std::size_t P = mesh.interface_pairs.size();
-  std::vector<double> strength(P);
-  for (std::size_t q = 0; q < P; ++q)
-    strength[q] = bond::bounds(bond::Kind::tangential, bond::State::intact, sn, st, length[q]).upper;
+  const std::vector<double> strength = feti::shear_strengths(mesh, scene);
   std::vector<sweep::ShearPoint> points;
   for (int path = 0; path < 4; ++path) {
     const double angle = path * std::numbers::pi / 4;

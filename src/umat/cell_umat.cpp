@@ -190,16 +190,9 @@ int cell_law(int id, const double hash_constants[2], int n, const double* e, dou
     tell_once(id, "qp", "law " + std::to_string(id) + ": " + r.message);
     return 1;
   }
-  Eigen::Matrix<double, 6, 1> sigma;  // the law's order
-  Eigen::Matrix<double, 6, 6> tangent = Eigen::Matrix<double, 6, 6>::Zero();
-  sigma << r.stress, r.stress_zz, r.shear_z;
-  tangent.topLeftCorner<3, 3>() = r.tangent;
-  if (n == 6) {
-    tangent.block<3, 1>(0, 3) = r.tangent_zz;
-    tangent.block<1, 3>(3, 0) = r.tangent_zz.transpose();
-    tangent(3, 3) = r.tangent_zz_zz;
-    tangent.bottomRightCorner<2, 2>() = r.tangent_z;
-  }
+  // The law's order; in-plane only the first three of σ and the top 3 × 3 of the tangent count.
+  const Eigen::Matrix<double, 6, 1> sigma = dualcell::law::ply_stress(r);
+  const Eigen::Matrix<double, 6, 6> tangent = dualcell::law::ply_tangent(r);
   if (!sigma.head(n).allFinite() || !tangent.topLeftCorner(n, n).allFinite() || !std::isfinite(r.energy)) {
     tell_once(id, "finite", "law " + std::to_string(id) + ": a non-finite stress or tangent (a strain beyond the law)");
     return 1;

@@ -24,55 +24,23 @@
 #include "law/cone.hpp"
 #include "law/reduced.hpp"
 #include "stage/sweep.hpp"
+#include "stages_run.hpp"
 #include "test_util.hpp"
 
 namespace dualcell {
 namespace {
 
 using testing::bin;
+using testing::q;
+using testing::read_csv;
 using testing::run_command;
-
-std::string q(const std::filesystem::path& p) { return testing::quoted(p); }
+using testing::StagesRun;
 
 // A periodic cell without adhesion swept along three directions and a sphere of 6.
 const std::string contact_scene = testing::scene_text(
     1, 1, 2, 0.35,
     "[load]\nboundary = \"periodic\"\n[sweep]\ndirections_deg = [0, 45, 90]\nmagnitudes = [-0.2, 0.2]\nsphere = 6\n"
     "[solver]\ntolerance = 1e-10\n");
-
-struct StagesRun {
-  testing::ScratchDir dir;
-  std::filesystem::path sweep, law;
-  explicit StagesRun(const std::string& scene_text) {
-    const auto scene = dir.write("s.toml", scene_text);
-    const std::string cfg = " --quiet --config " + q(scene);
-    EXPECT_EQ(run_command(bin("dualcell-mesh") + cfg + " --out " + q(dir / "mesh.h5")).exit_code, exit_ok);
-    sweep = dir / "sweep.h5";
-    const auto s = run_command(bin("dualcell-sweep") + cfg + " --mesh " + q(dir / "mesh.h5") + " --out " + q(sweep));
-    EXPECT_EQ(s.exit_code, exit_ok) << s.output;
-    law = dir / "law.h5";
-    const auto f = run_command(bin("dualcell-fit") + " --sweep " + q(sweep) + " --out " + q(law));
-    EXPECT_EQ(f.exit_code, exit_ok) << f.output;
-    fit_output = f.output;
-  }
-  std::string fit_output;
-};
-
-std::vector<std::vector<double>> read_csv(const std::filesystem::path& file, std::string* header = nullptr) {
-  std::ifstream in(file);
-  std::string line;
-  std::getline(in, line);
-  if (header) *header = line;
-  std::vector<std::vector<double>> rows;
-  while (std::getline(in, line)) {
-    std::vector<double> row;
-    std::stringstream fields(line);
-    std::string field;
-    while (std::getline(fields, field, ',')) row.push_back(std::stod(field));
-    rows.push_back(row);
-  }
-  return rows;
-}
 
 // The sweep's own points through dualcell-law, stress-driven and back strain-driven, each path
 // with its own path id: the sweep's strains and stresses to the replay's limit.
@@ -170,190 +138,6 @@ TEST(LawStage, DualcellLawEvaluatesTheStrainAlongTheFibres) {
   const auto cone = law("--stress " + q(stresses) + " --eps33 --form cone --out " + q(run.dir / "c.csv"));
   EXPECT_EQ(cone.exit_code, exit_input_error);
   EXPECT_NE(cone.output.find("the cone-wise law has no strain along the fibres"), std::string::npos) << cone.output;
-}
-
-// The whole ply (dualcell-law --full): rows of six strains, the six stresses and the 6 × 6
-// tangent. Bonded and sheared along the fibres a little, C55, C56, C66 are the cell's longitudinal
-// shear moduli as dualcell-solve --longitudinal-shear computes them in one body (an independent
-// solve; both exact for the mesh: 1e-9, the condensation's round-off with margin), and ⟨τ⟩ = C Γ;
-// the in-plane and ε33 block is --eps33's, and nothing couples it to the shears. Sheared along
-// the fibres past the bonds' strength, pairs break, and the modulus falls, irreversibly, towards
-// the matrix with holes (the open cell's, a debonded frictionless fibre carries no shear).
-TEST(LawStage, DualcellLawEvaluatesTheWholePly) {
-  const std::string scene = testing::scene_text(
-      1, 1, 2, 0.3,
-      "[interface]\nnormal_strength = 0.05\ntangential_strength = 0.05\n[load]\nboundary = \"periodic\"\nmacro = "
-      "\"full\"\n[sweep]\ndirections_deg = [0, 45, 90]\nmagnitudes = [-0.01, 0.01]\n[solver]\ntolerance = 1e-10\n");
-  StagesRun run(scene);
-  const auto solved =
-      run_command(bin("dualcell-solve") + " --quiet --config " + q(run.dir / "s.toml") + " --mesh " +
-                  q(run.dir / "mesh.h5") + " --stress 0,0,0 --longitudinal-shear --out " + q(run.dir / "solution.h5"));
-  ASSERT_EQ(solved.exit_code, exit_ok) << solved.output;
-  const std::vector<double> G =
-      io::File::open_read(run.dir / "solution.h5").read_doubles("/macro/longitudinal_shear_moduli", {2, 2});
-  const double g = 1e-4;
-  const auto points = run.dir.write("p.csv",
-                                    "path,exx,eyy,gxy,e33,gxz,gyz\n"
-                                    "1,1e-4,-5e-5,2e-5,1e-4,1e-4,0\n"
-                                    "1,1e-4,-5e-5,2e-5,1e-4,0,1e-4\n"
-                                    "2,0,0,0,0,1,0\n"
-                                    "2,0,0,0,0,1e-4,0\n");
-  const auto a = run_command(bin("dualcell-law") + " --quiet --law " + q(run.law) + " --strain " + q(points) +
-                             " --full --out " + q(run.dir / "full.csv"));
-  ASSERT_EQ(a.exit_code, exit_ok) << a.output;
-  std::string header;
-  const auto rows = read_csv(run.dir / "full.csv", &header);
-  EXPECT_EQ(header.rfind("path,sxx,syy,sxy,szz,sxz,syz,C11,C12,", 0), 0u) << header;
-  EXPECT_NE(header.find(",C65,C66,broken_pairs"), std::string::npos) << header;
-  ASSERT_EQ(rows.size(), 4u);
-  const auto C = [&](std::size_t row, int i, int j) { return rows[row][7 + 6 * (i - 1) + (j - 1)]; };
-  for (std::size_t r = 0; r < 2; ++r) {
-    EXPECT_NEAR(C(r, 5, 5), G[0], 1e-9 * G[0]);
-    EXPECT_NEAR(C(r, 5, 6), G[1], 1e-9 * G[0]);
-    EXPECT_NEAR(C(r, 6, 6), G[3], 1e-9 * G[0]);
-    for (int i = 1; i <= 4; ++i)
-      for (int j = 5; j <= 6; ++j) {
-        EXPECT_EQ(C(r, i, j), 0) << i << j;
-        EXPECT_EQ(C(r, j, i), 0) << j << i;
-      }
-    EXPECT_EQ(rows[r].back(), 0) << "bonded";
-  }
-  EXPECT_NEAR(rows[0][5], G[0] * g, 1e-9 * G[0] * g);
-  EXPECT_NEAR(rows[1][6], G[3] * g, 1e-9 * G[0] * g);
-  // The in-plane and ε33 block against --eps33 at the same strains.
-  const auto four = run.dir.write("four.csv", "exx,eyy,gxy,e33\n1e-4,-5e-5,2e-5,1e-4\n");
-  ASSERT_EQ(run_command(bin("dualcell-law") + " --quiet --law " + q(run.law) + " --strain " + q(four) +
-                        " --eps33 --out " + q(run.dir / "four_out.csv"))
-                .exit_code,
-            exit_ok);
-  const auto in_plane = read_csv(run.dir / "four_out.csv");
-  for (int k = 0; k < 4; ++k) EXPECT_EQ(rows[0][1 + k], in_plane[0][k]) << k;
-  for (int i = 1; i <= 3; ++i)
-    for (int j = 1; j <= 3; ++j) EXPECT_EQ(C(0, i, j), in_plane[0][4 + 3 * (i - 1) + (j - 1)]) << i << j;
-  EXPECT_EQ(C(0, 4, 4), in_plane[0][16]);
-  // Path 2: sheared far past the strength, then back to a small shear: broken, softer, above the
-  // matrix with holes' modulus (which a cell without bonds has: D0z of the same cell).
-  EXPECT_GT(rows[2].back(), 0);
-  EXPECT_EQ(rows[3].back(), rows[2].back());
-  EXPECT_LT(C(3, 5, 5), G[0]);
-  const law::Law fitted = io::read_law(run.law);
-  const law::CondensedCell& cell = *fitted.cell;
-  EXPECT_GE(C(3, 5, 5), cell.D0z(0, 0) * (1 - 1e-12));
-  // The fit's table of the ply's constants (/law/ply): bonded and after the fuse, both signs;
-  // the bonded G12, G13 the solve's, through law.h5; printed in the summary and in the JSON.
-  ASSERT_EQ(fitted.ply.rows.size(), 4u) << fitted.ply.note;
-  const double det = G[0] * G[3] - G[1] * G[2];
-  EXPECT_NEAR(fitted.ply.rows[0].G12, det / G[3], 1e-9 * G[0]);
-  EXPECT_NEAR(fitted.ply.rows[1].G13, det / G[0], 1e-9 * G[0]);
-  EXPECT_EQ(fitted.ply.rows[2].state, law::PlyState::after_fuse);
-  EXPECT_GT(fitted.ply.rows[2].broken, 0);
-  EXPECT_NE(run.fit_output.find("the ply's constants from the exact law"), std::string::npos) << run.fit_output;
-  EXPECT_NE(io::law_json(fitted).find("\"ply\": {"), std::string::npos);
-  // The fit replayed the sweep's one-body checks of the shear along the fibres (/shear_check:
-  // four paths through the cascade along z) to round-off, the same pairs broken; a sweep whose
-  // checks say otherwise (a τ moved by 1e-4) is refused, the law not written.
-  // The CalculiX export carries the ply's cards from /law/ply (fibres along axis 1), one per state
-  // and sign, with the law's constants.
-  const auto cards = run_command(bin("dualcell-export") + " --quiet --law " + q(run.law) +
-                                 " --format calculix --name PLY --out " + q(run.dir / "cards.inp"));
-  ASSERT_EQ(cards.exit_code, exit_ok) << cards.output;
-  std::ifstream card_file(run.dir / "cards.inp");
-  const std::string card_text((std::istreambuf_iterator<char>(card_file)), std::istreambuf_iterator<char>());
-  for (const char* material : {"PLY_PLY_BONDED_TENSION", "PLY_PLY_BONDED_COMPRESSION", "PLY_PLY_AFTER_FUSE_TENSION"}) {
-    const std::size_t at = card_text.find(std::string("*MATERIAL, NAME=") + material + "\n");
-    ASSERT_NE(at, std::string::npos) << material;
-    if (std::string(material) == "PLY_PLY_BONDED_TENSION") {
-      const std::size_t numbers = card_text.find("CONSTANTS\n", at) + 10;
-      EXPECT_NEAR(std::stod(card_text.substr(numbers)), fitted.ply.rows[0].E1, 1e-10 * fitted.ply.rows[0].E1);
-    }
-  }
-  // The checks of the strain along the fibres reach past the fuse too (twice the onset along each
-  // uniaxial path, ε33 of both signs, through the solver's debond loop): the law's cascade breaks
-  // the same pairs.
-  const std::vector<std::int64_t> broken_checks =
-      io::File::open_read(run.sweep).read_ints("/longitudinal_check/broken", {io::any_extent});
-  EXPECT_GT(*std::max_element(broken_checks.begin(), broken_checks.end()), 0);
-  EXPECT_EQ(fitted.cell_longitudinal_replay.points, static_cast<int>(broken_checks.size()));
-  EXPECT_EQ(fitted.cell_longitudinal_replay.break_mismatches, 0);
-  EXPECT_EQ(fitted.cell_shear_replay.points, 16);
-  EXPECT_EQ(fitted.cell_shear_replay.break_mismatches, 0);
-  EXPECT_LT(fitted.cell_shear_replay.max_error, 1e-9);
-  EXPECT_NE(run.fit_output.find("exact law along the fibres (shear): meets 16 one-body antiplane solves"),
-            std::string::npos)
-      << run.fit_output;
-  std::filesystem::copy_file(run.sweep, run.dir / "tampered.h5");
-  {
-    io::File f = io::File::open_write(run.dir / "tampered.h5");
-    std::vector<double> tau = f.read_doubles("/shear_check/tau", {16, 2});
-    tau[10] *= 1 + 1e-4;
-    f.remove("/shear_check/tau");
-    f.write("/shear_check/tau", tau, {16, 2});
-  }
-  const auto refused = run_command(bin("dualcell-fit") + " --sweep " + q(run.dir / "tampered.h5") + " --out " +
-                                   q(run.dir / "tampered-law.h5"));
-  EXPECT_EQ(refused.exit_code, exit_input_error) << refused.output;
-  EXPECT_NE(refused.output.find("of the shear along the fibres"), std::string::npos) << refused.output;
-  EXPECT_FALSE(std::filesystem::exists(run.dir / "tampered-law.h5"));
-  // The flags that do not go with --full: stress-driven, --eps33 beside it, the cone-wise law.
-  for (const std::string& flags :
-       {std::string(" --stress ") + q(points) + " --full", std::string(" --strain ") + q(points) + " --full --eps33",
-        std::string(" --strain ") + q(points) + " --full --form cone"}) {
-    const auto bad =
-        run_command(bin("dualcell-law") + " --law " + q(run.law) + flags + " --out " + q(run.dir / "bad.csv"));
-    EXPECT_EQ(bad.exit_code, exit_input_error) << flags << bad.output;
-    EXPECT_FALSE(std::filesystem::exists(run.dir / "bad.csv"));
-  }
-}
-
-// Sweep paths with a strain along the fibres held ([sweep] eps33): each uniaxial path again at
-// each ε33, after the others, their steps recording σ33; the in-plane paths and the fitted laws
-// are those of the same sweep without them (the same numbers: the fits see in-plane paths only),
-// and the exact law replays the ε33 paths too, σ33 included, through the fuse, to the replay's
-// limit with the same broken pairs. A transverse scene that asks for them is refused.
-TEST(LawStage, SweepPathsHoldAStrainAlongTheFibres) {
-  const std::string base = testing::scene_text(
-      1, 1, 2, 0.3,
-      "[interface]\nnormal_strength = 0.02\ntangential_strength = 0.02\n[load]\nboundary = \"periodic\"\nmacro = "
-      "\"full\"\n[solver]\ntolerance = 1e-10\n[sweep]\ndirections_deg = [0, 45, 90]\nmagnitudes = [-0.05, "
-      "-0.02, 0.02, 0.05]\n");
-  // One scratch folder per test: the plain run's results are read before the other run reuses it.
-  std::vector<sweep::PathResult> a;
-  law::Law la;
-  {
-    StagesRun plain(base);
-    a = io::read_sweep(plain.sweep);
-    la = io::read_law(plain.law);
-  }
-  StagesRun held(base + "eps33 = [-0.002, 0.003]\n");
-  const std::vector<sweep::PathResult> b = io::read_sweep(held.sweep);
-  ASSERT_EQ(b.size(), 3 * a.size());
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    EXPECT_EQ(b[i].spec.eps33, 0);
-    ASSERT_EQ(b[i].steps.size(), a[i].steps.size()) << i;
-    for (std::size_t k = 0; k < a[i].steps.size(); ++k) EXPECT_EQ(b[i].steps[k].strain, a[i].steps[k].strain);
-  }
-  long broken = 0;
-  for (std::size_t i = a.size(); i < b.size(); ++i) {
-    EXPECT_EQ(b[i].spec.eps33, i < 2 * a.size() ? -0.002 : 0.003);
-    EXPECT_EQ(b[i].spec.direction_deg, b[i - (i < 2 * a.size() ? 1 : 2) * a.size()].spec.direction_deg);
-    for (const sweep::Step& step : b[i].steps) {
-      EXPECT_TRUE(std::isfinite(step.stress_zz));
-      broken = std::max(broken, step.broken_bonds);
-    }
-  }
-  EXPECT_GT(broken, 0) << "the ε33 paths reach past the fuse";
-  const law::Law lb = io::read_law(held.law);
-  EXPECT_EQ(lb.tension.S, la.tension.S);
-  EXPECT_EQ(lb.cone.law.C_c, la.cone.law.C_c);
-  EXPECT_GT(lb.cell_replay.points, 2 * la.cell_replay.points);
-  EXPECT_EQ(lb.cell_longitudinal_replay.points, la.cell_longitudinal_replay.points) << "the checks: in-plane paths";
-  EXPECT_LE(lb.cell_replay.max_error, lb.cell_replay.limit);
-  EXPECT_EQ(lb.cell_replay.break_mismatches, 0);
-  testing::ScratchDir dir;
-  const auto scene = dir.write("t.toml", testing::scene_text(1, 1, 2, 0.3, "[sweep]\neps33 = [0.001]\n"));
-  const auto r = run_command(bin("dualcell-mesh") + " --config " + q(scene) + " --out " + q(dir / "m.h5"));
-  EXPECT_EQ(r.exit_code, exit_input_error);
-  EXPECT_NE(r.output.find("eps33"), std::string::npos) << r.output;
 }
 
 TEST(LawStage, DualcellLawRefusesBadPointsWithTheLine) {
