@@ -20,7 +20,7 @@ PLY_SCENES ?= default structure-cell-adhesion rve4-adhesion
 PLY_OUT := $(OUT_ROOT)/ply
 
 ply: $(PLY_OUT)/constants.md $(PLY_OUT)/states.md $(PLY_OUT)/laminate/laminate.md $(PLY_OUT)/umat/cube.md \
-  $(PLY_OUT)/shear.md
+  $(PLY_OUT)/umat/cube_small.md $(PLY_OUT)/shear.md $(PLY_OUT)/small.md
 
 $(PLY_OUT)/constants.md: $(foreach s,$(PLY_SCENES),$(LAWS_OUT)/$(s)/law.h5) $(TOOLS)/ply_constants.py $(TOOLS)/ccx_ply.py
 	@mkdir -p $(dir $@)
@@ -38,6 +38,24 @@ $(PLY_OUT)/umat/ply.inp: $(LAWS_OUT)/ply/law.h5 $(BUILT)
 $(PLY_OUT)/umat/cube.md: $(CCX_UMAT) $(PLY_OUT)/umat/ply.inp $(TOOLS)/ccx_umat_check.py
 	$(PY) $(TOOLS)/ccx_umat_check.py cube $(CCX_UMAT) $(PLY_OUT)/umat/ply.inp $@ --law $(LAWS_OUT)/ply/law.h5 \
 	  --bin $(BIN)
+
+# The small cell of the whole ply (docs/method.md §16e) against its exact law along six-component
+# strain paths, with adhesion (the ply scene) and without (bimodular-ply): /law/small_ply_check.
+$(PLY_OUT)/small.md: $(LAWS_OUT)/ply/law.h5 $(LAWS_OUT)/bimodular-ply/law.h5 $(TOOLS)/ply_small.py
+	@mkdir -p $(dir $@)
+	$(PY) $(TOOLS)/ply_small.py $@ $(LAWS_OUT)/ply/law.h5 $(LAWS_OUT)/bimodular-ply/law.h5
+
+# The same with the compact law, the small cell of the whole ply (docs/method.md §16e; its card
+# under cell id 2). Its check against the exact law is over --max-law-error (the one fuse stands
+# for every partial cascade), so it is written with --force: what is checked here is that the umat
+# evaluates the small cell as dualcell-law does, not the small cell's error.
+$(PLY_OUT)/umat/ply_small.inp: $(LAWS_OUT)/ply/law.h5 $(BUILT)
+	@mkdir -p $(dir $@)
+	$(BIN)/dualcell-export --quiet --law $< --format umat --form small --cell-id 2 --force --name PLY_SMALL --out $@
+
+$(PLY_OUT)/umat/cube_small.md: $(CCX_UMAT) $(PLY_OUT)/umat/ply_small.inp $(TOOLS)/ccx_umat_check.py
+	$(PY) $(TOOLS)/ccx_umat_check.py cube $(CCX_UMAT) $(PLY_OUT)/umat/ply_small.inp $@ --law $(LAWS_OUT)/ply/law.h5 \
+	  --bin $(BIN) --form small
 
 # The shear along the fibres through its debond cascade (docs/method.md §16a): the ply scene's
 # exact law against its sweep's one-body checks (/shear_check), path by path, and its picture

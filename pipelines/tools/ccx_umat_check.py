@@ -10,7 +10,7 @@ usage:
       of both signs, and random states; the stresses ccx prints against the law: the cone-wise
       law of the card's constants (σ = C_c ε + Σ β_k ⟨q_k·ε⟩₊ q_k, bonded: the strains stay
       below the onset), or for the exact law what `BIN_DIR/dualcell-law --law LAW.h5` gives.
-  ccx_umat_check.py cube CCX CARD.inp OUT.md --law LAW.h5 --bin BIN_DIR
+  ccx_umat_check.py cube CCX CARD.inp OUT.md --law LAW.h5 --bin BIN_DIR [--form cell|small]
       The whole ply's exact law (layout 3): one C3D8 brick, the unit cube, every node displaced
       by u = ε·x (a uniform 3D strain, material axes x, y in the plane of the cells, z along the
       fibres) per state: the six unit load cases (each strain component alone, both signs),
@@ -161,10 +161,11 @@ def element(ccx, card, out, law=None, bin=None):
         sys.exit(f"ccx_umat_check.py: element: largest difference {worst:.1e} > 1e-6")
 
 
-def ply_law_stresses(law_h5, bin_dir, strains, work):
-    """The six stresses (σ11, σ22, σ33, σ12, σ13, σ23) of the whole ply's exact law at each 3D
-    strain (ε11, ε22, ε33, γ12, γ13, γ23), each from the unloaded cell, by dualcell-law --full
-    (whose order is xx, yy, xy, zz, xz, yz), and the broken pairs."""
+def ply_law_stresses(law_h5, bin_dir, strains, work, form="cell"):
+    """The six stresses (σ11, σ22, σ33, σ12, σ13, σ23) of the whole ply's law (the exact law, or
+    with form "small" its small cell) at each 3D strain (ε11, ε22, ε33, γ12, γ13, γ23), each from
+    the unloaded cell, by dualcell-law --full (whose order is xx, yy, xy, zz, xz, yz), and the
+    broken pairs."""
     points, values = os.path.join(work, "points.csv"), os.path.join(work, "values.csv")
     order = [0, 1, 3, 2, 4, 5]  # the law's component of each of Abaqus's
     with open(points, "w") as f:
@@ -172,17 +173,17 @@ def ply_law_stresses(law_h5, bin_dir, strains, work):
         for e in strains:
             f.write(",".join(f"{e[order.index(k)]:.17g}" for k in range(6)) + "\n")
     common.run([os.path.join(bin_dir, "dualcell-law"), "--quiet", "--law", law_h5, "--strain", points, "--out", values,
-                "--form", "cell", "--full"])
+                "--form", form, "--full"])
     with open(values) as f:
         rows = list(csv.DictReader(f))
     names = ["sxx", "syy", "szz", "sxy", "sxz", "syz"]
     return [np.array([float(r[n]) for n in names]) for r in rows], [int(r["broken_pairs"]) for r in rows]
 
 
-def cube(ccx, card, out, law=None, bin=None):
+def cube(ccx, card, out, law=None, bin=None, form="cell"):
     name, k, text = card_constants(card)
     if k[0] != 3 or not (law and bin):
-        sys.exit("ccx_umat_check.py: cube: the card must be the whole ply's exact law (layout 3), with --law and --bin")
+        sys.exit("ccx_umat_check.py: cube: the card must be the whole ply's law (layout 3), with --law and --bin")
     labels = ["ε11", "ε22", "ε33", "γ12", "γ13", "γ23"]
     scale = 1e-4  # far below the bonds' strength: the unit load cases see the bonded cell
     states = {}
@@ -198,7 +199,7 @@ def cube(ccx, card, out, law=None, bin=None):
     work = tempfile.mkdtemp(prefix="ccx-cube-", dir=os.path.dirname(os.path.abspath(out)))
     rows, worst = [], 0.0
     try:
-        wanted, broken = ply_law_stresses(law, bin, list(states.values()), work)
+        wanted, broken = ply_law_stresses(law, bin, list(states.values()), work, form)
         nodes = {1: (0, 0, 0), 2: (1, 0, 0), 3: (1, 1, 0), 4: (0, 1, 0),
                  5: (0, 0, 1), 6: (1, 0, 1), 7: (1, 1, 1), 8: (0, 1, 1)}
         for (label, e), want, b in zip(states.items(), wanted, broken):
@@ -220,10 +221,12 @@ def cube(ccx, card, out, law=None, bin=None):
                         ", ".join(f"{v:.4e}" for v in want) + f" | {error:.1e} |")
     finally:
         shutil.rmtree(work, ignore_errors=True)
-    md = ["# One 3D element in CalculiX with the whole ply's exact law", "",
+    what = "exact law" if form == "cell" else "small cell"
+    md = [f"# One 3D element in CalculiX with the whole ply's {what}", "",
           f"Material {name} from {os.path.basename(card)} (layout 3: all six components from the cell); one C3D8,",
           "the unit cube, under the uniform strain ε (engineering shears; x, y the plane of the cells, z the fibres),",
-          "each state from the unloaded cell; ccx's stresses (7 significant digits) against dualcell-law --full.", "",
+          f"each state from the unloaded cell; ccx's stresses (7 significant digits) against dualcell-law --full --form {form}.",
+          "",
           "| state | broken pairs | ccx σ (11, 22, 33, 12, 13, 23) | law σ | relative difference |",
           "|---|---|---|---|---|"]
     md += rows + ["", f"Largest relative difference: {worst:.1e} (bound 1e-6: the printed digits)."]
@@ -346,6 +349,8 @@ def main(argv):
     p.add_argument("out", metavar="OUT.md")
     p.add_argument("--law", metavar="LAW.h5", help="the law.h5 of the card", required=True)
     p.add_argument("--bin", metavar="BIN_DIR", help="the folder of dualcell-law", required=True)
+    p.add_argument("--form", choices=["cell", "small"], default="cell",
+                   help="the card's form: the exact law (default) or its small cell (dualcell-export --form)")
     p = checks.add_parser("beam")
     p.add_argument("ccx", metavar="CCX")
     p.add_argument("card", metavar="CARD.inp")

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <numeric>
 
 #include "core/error.hpp"
 #include "feti/constraints.hpp"
@@ -334,6 +335,8 @@ void set_shear(const FetiSetup& setup, law::CondensedCell& cell) {
   cell.D0z = z.D0;
   if (!(st > 0)) return;
   cell.shear_rows = cell.n_pairs;
+  cell.pair_z.resize(static_cast<std::size_t>(cell.n_pairs));
+  std::iota(cell.pair_z.begin(), cell.pair_z.end(), 0);
   cell.Yz = z.Y;
   cell.Hz = z.H;
   cell.Gz = z.G;

@@ -3,7 +3,9 @@
 #include <stdexcept>
 #include <string>
 
+#include "fit/small_ply.hpp"
 #include "law/fused_cell.hpp"
+#include "law/ply_sample.hpp"
 #include "law/reduced.hpp"
 
 namespace dualcell::fit {
@@ -71,6 +73,45 @@ void fit_small_ladder(law::Law& law, const law::CondensedCell& cell, const law::
 
 namespace {
 
+// The whole ply's paths of the exact law (law/ply_sample.hpp): the small cell's strain along the
+// fibres is fitted along those of one seed and checked along those of another.
+constexpr int ply_directions = 200;
+constexpr unsigned ply_training_seed = 1, ply_check_seed = 2;
+
+// Whether the small cell of law.cell carries the whole ply.
+bool ply(const law::Law& law) { return law.cell->longitudinal == 1 && law.cell->shear == 2; }
+
+// Fits the strain along the fibres of `small` (a small cell of contact rows, law.cell's in the
+// plane) to the exact law's ply paths past their onsets (all of them without adhesion), and adds
+// its open shear along them; false, with law.small_note, where it cannot.
+bool fit_ply_part(law::Law& law, law::CondensedCell& small) {
+  const law::PlySample training = law::sample_ply(*law.cell, ply_directions, ply_training_seed);
+  std::vector<law::Vector6d> strain, stress;
+  for (std::size_t i = 0; i < training.direction.size(); ++i)
+    for (std::size_t k = static_cast<std::size_t>(training.bonded_points[i]); k < training.strain[i].size(); ++k) {
+      strain.push_back(training.strain[i][k]);
+      stress.push_back(training.stress[i][k]);
+    }
+  const SmallPlyFit fitted = fit_small_ply(small, *law.cell, strain, stress);
+  if (!fitted.ok) {
+    law.small_note = "no small cell of the whole ply: " + fitted.message;
+    return false;
+  }
+  law.small_ply_check.training_points = fitted.points;
+  law.small_ply_check.training_max_error = fitted.training_max_error;
+  law.small_ply_check.training_rms_error = fitted.training_rms_error;
+  return true;
+}
+
+// The small cell of the whole ply along the check's paths (another seed's directions).
+void check_ply_part(law::Law& law) {
+  law::PlyCheck check = law::check_ply(*law.small, law::sample_ply(*law.cell, ply_directions, ply_check_seed));
+  check.training_points = law.small_ply_check.training_points;
+  check.training_max_error = law.small_ply_check.training_max_error;
+  check.training_rms_error = law.small_ply_check.training_rms_error;
+  law.small_ply_check = check;
+}
+
 // The small cell of a cell with adhesion (law/fused_cell.hpp, docs/method.md §16d): the bonded
 // cell and its onset exactly, and past the fuse a small cell of the debonded cell fitted with the
 // ladder to the exact law's cascade paths `paths`, three points each (just past the onset, halfway
@@ -110,12 +151,17 @@ void fit_small_with_fuse(law::Law& law, const law::CellSample& past_fuse, const 
   fit_small_ladder(law, debonded, training, &start, past_fuse, law::CheckedAgainst::exact_law_past_fuse, tolerance,
                    fuse_ladder);
   if (!law.small) return;
+  if (ply(law) && !fit_ply_part(law, *law.small)) {
+    law.small.reset();
+    return;
+  }
   try {
     const law::FusedCell fused = law::cell_with_fuse(cell, *law.small);
     law.small = fused.cell;
     law.small_fit.training_directions = directions;
     law.small_check = law::check_along_fuse_paths(fused.cell, past_fuse);
     law.small_check.against = law::CheckedAgainst::exact_law_past_fuse;
+    if (ply(law)) check_ply_part(law);
   } catch (const std::invalid_argument& e) {
     law.small.reset();
     law.small_note = std::string("no small cell with a fuse: ") + e.what();
@@ -142,6 +188,12 @@ void fit_small(law::Law& law, const law::CellSample& check, const law::CellSampl
   }
   fit_small_ladder(law, cell, law::sample_cell(cell, small_cell_directions), nullptr, check,
                    law::CheckedAgainst::exact_law, tolerance);
+  if (!law.small || !ply(law)) return;
+  if (!fit_ply_part(law, *law.small)) {
+    law.small.reset();
+    return;
+  }
+  check_ply_part(law);
 }
 
 }  // namespace dualcell::fit

@@ -88,13 +88,19 @@ law::CondensedCell read_condensed(const File& f, const std::string& group) {
       known(m.sizes, 0, name);
       return;
     }
-    if constexpr (law::ArrayMember<T>)
+    if constexpr (law::ArrayMember<T>) {
       if ((law::optional_extent(m.rows) || law::optional_extent(m.cols)) && (size[rows] == 0 || size[cols] == 0) &&
           !f.exists(name)) {
         const auto empty_or = [&](hsize_t n) { return static_cast<Eigen::Index>(n == any_extent ? 0 : n); };
         value = Eigen::MatrixXd(empty_or(size[rows]), empty_or(size[cols]));
         return;
       }
+    } else if constexpr (law::ListMember<T>) {
+      if (law::optional_extent(m.rows) && size[rows] == 0 && !f.exists(name)) {
+        value.clear();
+        return;
+      }
+    }
     if constexpr (law::CountMember<T>) {
       const std::int64_t v = f.read_ints(name, {1})[0];
       const std::int64_t lo = std::max<std::int64_t>(m.lo, std::numeric_limits<T>::min());

@@ -479,17 +479,24 @@ const law::CondensedCell& umat_cell(const Law& law, CellForm form, const std::st
 
 namespace {
 
-// Layout 3: the whole ply's exact law, every component from the cell.
-std::string law_umat_ply(const Law& law, const law::CondensedCell& cell, const std::string& name, int id,
+// Layout 3: the whole ply's exact law or its small cell, every component from the cell.
+std::string law_umat_ply(const Law& law, const law::CondensedCell& cell, bool small, const std::string& name, int id,
                          std::uint64_t cell_hash, const std::string& source) {
   const int depvar = 1 + cell.n_pairs + cell.n_macro + cell.n_rows() + cell.shear_rows;
-  std::string out = card_header(law, source, "exact law of the whole ply as a user material");
+  std::string out = card_header(
+      law, source,
+      small ? "small cell of the whole ply as a user material" : "exact law of the whole ply as a user material");
   out +=
       "** For a code built with dualcell's umat (src/umat/dualcell_umat.c; CalculiX: make -C pipelines ccx-umat).\n"
       "** Every element (C3D*, CPE*, ...): material axes 1 = x, 2 = y in the plane of the cells, 3 = z along\n"
-      "** the fibres; all six components from the cell condensed onto its " +
-      std::to_string(cell.n_rows()) + " interface rows and " + std::to_string(cell.shear_rows) +
-      " shear rows,\n** read from " + umat_cell_file(id) +
+      "** the fibres; all six components from " +
+      (small ? "the small cell fitted to the exact law (" + std::to_string(cell.n_rows()) + " rows and " +
+                   std::to_string(cell.shear_rows) + " shear rows, " +
+                   formatted("%.2g", 100 * law.small_ply_check.max_error) +
+                   " % largest stress error against it\n** along six-component strain paths),"
+             : "the cell condensed onto its " + std::to_string(cell.n_rows()) + " interface rows and " +
+                   std::to_string(cell.shear_rows) + " shear rows,") +
+      "\n** read from " + umat_cell_file(id) +
       " (in $DUALCELL_CELL_DIR or the working directory). Each material point carries\n"
       "** its bonds (state variables 2 to " +
       std::to_string(1 + cell.n_pairs) +
@@ -510,7 +517,7 @@ std::string law_umat_cell(const Law& law, CellForm form, const std::string& name
   check_name(name);
   const bool small = form == CellForm::small;
   const law::CondensedCell& cell = umat_cell(law, form, source);
-  if (cell.longitudinal == 1 && cell.shear == 2) return law_umat_ply(law, cell, name, id, cell_hash, source);
+  if (cell.longitudinal == 1 && cell.shear == 2) return law_umat_ply(law, cell, small, name, id, cell_hash, source);
   check_constituents(law, source);
   const OutOfPlane z = rule_of_mixtures(law);
   const int depvar = 1 + cell.n_pairs + cell.n_macro + cell.n_rows();

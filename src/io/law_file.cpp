@@ -325,6 +325,16 @@ void write_law(const std::filesystem::path& file, const Law& law) {
         if (field.value) write_scalar(f, name, law.small_fit.*field.value);
       }
       write_cone_check(f, "small_check", law.small_check);
+      if (law.small_ply_check.directions > 0) {
+        f.create_group(object("small_ply_check"));
+        for (const law::PlyCheckField& field : law::ply_check_fields) {
+          const std::string name = std::string("small_ply_check/") + field.name;
+          if (field.count) write_count(f, name, law.small_ply_check.*field.count);
+          if (field.value) write_scalar(f, name, law.small_ply_check.*field.value);
+        }
+        const law::Vector6d& w = law.small_ply_check.worst;
+        f.write(object("small_ply_check/worst"), std::vector<double>(w.data(), w.data() + 6), {6});
+      }
     }
     f.write_attribute(group, "small_note", law.small_note);
     f.write_attribute(group, "cell_note", law.cell_note);
@@ -396,6 +406,16 @@ Law read_law(const std::filesystem::path& file) {
       if (field.value) law.small_fit.*field.value = r.scalar(name);
     }
     law.small_check = read_cone_check(f, r, "small_check");
+    if (f.exists(object("small_ply_check"))) {
+      for (const law::PlyCheckField& field : law::ply_check_fields) {
+        const std::string name = std::string("small_ply_check/") + field.name;
+        if (field.count)
+          law.small_ply_check.*field.count = static_cast<int>(r.count(name, 0, std::numeric_limits<int>::max()));
+        if (field.value) law.small_ply_check.*field.value = r.scalar(name);
+      }
+      const auto worst = r.doubles("small_ply_check/worst", {6});
+      law.small_ply_check.worst = Eigen::Map<const law::Vector6d>(worst.data());
+    }
   }
   // Files of the fit before the small cell have no note.
   if (f.has_attribute(group, "small_note")) law.small_note = f.read_string_attribute(group, "small_note");

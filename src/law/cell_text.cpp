@@ -13,10 +13,12 @@ namespace dualcell::law {
 
 namespace {
 
-// 2: the strain along the fibres (longitudinal, A33, C33, y33); 3: the shear along them (shear …
-// strength_z), written only by a cell that has it, so that a cell without it reads as before.
+// 2: the strain along the fibres (longitudinal, A33, C33, y33); 4: the shear along them (shear …
+// pair_z), written only by a cell that has it, so that a cell without it reads as before. 3 was
+// the shear with a row per pair (no pair_z): refused, the card is exported again.
 constexpr const char* header = "dualcell cell law 2";
-constexpr const char* header_shear = "dualcell cell law 3";
+constexpr const char* header_shear = "dualcell cell law 4";
+constexpr const char* header_shear_3 = "dualcell cell law 3";
 
 std::string number(double v) {
   if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
@@ -116,7 +118,12 @@ void write_cell_text(std::ostream& out, const CondensedCell& cell) {
 CondensedCell read_cell_text(std::istream& in, std::string& error) {
   CondensedCell cell;
   std::string line;
-  if (!std::getline(in, line) || (line != header && line != header_shear)) {
+  if (std::getline(in, line) && line == header_shear_3) {
+    error = "'" + line +
+            "': the shear along the fibres with a row per pair and no pair_z, an older layout: export the law again";
+    return {};
+  }
+  if (!in || (line != header && line != header_shear)) {
     error = "the first line is not '" + std::string(header) + "' or '" + header_shear + "'";
     return {};
   }

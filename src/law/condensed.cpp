@@ -99,7 +99,8 @@ double CellEvaluator::strength_use(const Eigen::VectorXd& forces, const Eigen::V
   for (int r = 0; r < cell_.n_rows(); ++r)
     if (bonded[cell_.pair[r]]) use = std::max(use, bond::strength_use(forces(r), cell_.bonded_bounds(r)));
   for (Eigen::Index r = 0; r < forces_z.size(); ++r)
-    if (bonded[r]) use = std::max(use, bond::strength_use(forces_z(r), {-cell_.strength_z(r), cell_.strength_z(r)}));
+    if (bonded[cell_.pair_z[r]])
+      use = std::max(use, bond::strength_use(forces_z(r), {-cell_.strength_z(r), cell_.strength_z(r)}));
   return use;
 }
 
@@ -121,11 +122,12 @@ bool CellEvaluator::solve_shear(const Eigen::Vector2d& gamma, CellHistory& h, bo
   const int n = cell_.shear_rows;
   r.forces_z = Eigen::VectorXd::Zero(n);
   if (n > 0) {
-    // A pair's force along z: within ±strength while bonded (no bound lifted), 0 once broken.
+    // A row's force along z: within ±strength while its pair is bonded (no bound lifted), 0 once
+    // the pair broke.
     lower_z_.resize(n), upper_z_.resize(n);
     for (int q = 0; q < n; ++q) {
       const bond::Bounds intact{-cell_.strength_z(q), cell_.strength_z(q)};
-      const bond::Bounds b = !h.bonded[q] ? bond::Bounds{} : lifted ? bond::lifted(intact) : intact;
+      const bond::Bounds b = !h.bonded[cell_.pair_z[q]] ? bond::Bounds{} : lifted ? bond::lifted(intact) : intact;
       lower_z_(q) = b.lower, upper_z_(q) = b.upper;
     }
     b_z_ = cell_.Yz * gamma;
@@ -170,8 +172,8 @@ CellResponse CellEvaluator::cascade(CellHistory& h, BondMode bonds, const Eigen:
       if (h.bonded[cell_.pair[r]] && bond::at_strength(out.forces(r), cell_.bonded_bounds(r)))
         breaking.push_back(cell_.pair[r]);
     for (Eigen::Index q = 0; q < out.forces_z.size(); ++q)
-      if (h.bonded[q] && bond::at_strength(out.forces_z(q), {-cell_.strength_z(q), cell_.strength_z(q)}))
-        breaking.push_back(static_cast<int>(q));
+      if (h.bonded[cell_.pair_z[q]] && bond::at_strength(out.forces_z(q), {-cell_.strength_z(q), cell_.strength_z(q)}))
+        breaking.push_back(cell_.pair_z[q]);
     if (breaking.empty()) break;
     for (int p : breaking) {
       out.newly_broken += h.bonded[p] ? 1 : 0;

@@ -61,16 +61,19 @@ struct CondensedCell {
   // Longitudinal shear (docs/method.md §16a, "The shear along the fibres"): with shear = 2 the
   // cell also takes the macro shears Γ = (γxz, γyz) along the fibres, the antiplane problem
   // condensed onto the pairs. D0z (2 × 2) is ⟨τ⟩ = (τxz, τyz) per unit Γ of the open cell (every
-  // pair free to slip along z, the fibres as holes). Where bonds carry shear (shear_rows =
-  // n_pairs; 0 without adhesion, when ⟨τ⟩ = D0z Γ whatever the state), row r is pair r's force
-  // q_r along z: Yz (rows × 2) the open cell's jump of w per unit Γ, Hz (rows × rows) the jump
-  // per unit force, Gz (one row per floating fibre) its forces' sum, strength_z (rows) the
-  // bound |q_r| ≤ strength_z of a bonded pair (a broken one's q_r = 0). Then
+  // pair free to slip along z, the fibres as holes). Where bonds carry shear (shear_rows > 0; 0
+  // without adhesion, when ⟨τ⟩ = D0z Γ whatever the state), row r is a force q_r along z of the
+  // pair pair_z[r] (the exact law: one row per pair, pair_z[r] = r; a small cell with a fuse:
+  // its one pair's facet rows, law/fused_cell.hpp): Yz (rows × 2) the open cell's jump of w per
+  // unit Γ, Hz (rows × rows) the jump per unit force, Gz (one row per floating fibre) its
+  // forces' sum, strength_z (rows) the bound |q_r| ≤ strength_z while the pair is bonded (0
+  // once it broke). Then
   //   q = argmin ½ qᵀHz q − qᵀYz Γ over Gz q = 0 and the bounds,  ⟨τ⟩ = D0z Γ + Yzᵀq/|Ω|.
   // In-plane and antiplane do not share a stiffness (isotropic phases): only the bond state.
   int shear = 0, shear_rows = 0;
   Eigen::MatrixXd D0z, Yz, Hz, Gz;
   Eigen::VectorXd strength_z;
+  std::vector<int> pair_z;
 
   // What the condensation measured: the asymmetry of 𝓗 before it was symmetrised (reciprocity,
   // relative), its seconds, and the applications of B K⁺ it took (F itself is summed from the

@@ -252,14 +252,10 @@ std::optional<CellProblem> convexity_problem(const CondensedCell& cell) {
   return std::nullopt;
 }
 
-// The longitudinal shear's counts: 0 or 2 macro shears, a row per pair or none, rows only with
-// the shears.
+// The longitudinal shear's counts: 0 or 2 macro shears, rows only with the shears.
 std::optional<CellProblem> shear_problem(const CondensedCell& cell) {
   if (cell.shear != 0 && cell.shear != 2)
     return CellProblem{"shear", "is " + std::to_string(cell.shear) + ", not 0 or 2"};
-  if (cell.shear_rows != 0 && cell.shear_rows != cell.n_pairs)
-    return CellProblem{"shear_rows", "is " + std::to_string(cell.shear_rows) + ", not 0 or n_pairs (" +
-                                         std::to_string(cell.n_pairs) + ")"};
   if (cell.shear_rows > 0 && cell.shear == 0) return CellProblem{"shear_rows", "without the shears (shear = 0)"};
   return std::nullopt;
 }

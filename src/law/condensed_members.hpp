@@ -18,7 +18,7 @@ namespace dualcell::law {
 
 // The sizes of the cell's arrays: one (a scalar), m = n_macro, n = n_rows(), P = n_pairs,
 // k = G.rows(), which only G has (free), L = longitudinal (0 or 1: the ε33 column), and the
-// longitudinal shear's: its macro shears (shear: 0 or 2), its rows (shear_rows: 0 or n_pairs)
+// longitudinal shear's: its macro shears (shear: 0 or 2), its rows (shear_rows)
 // and Gz's rows (shear_modes, free as G's). An extent of the optional parts (longitudinal,
 // shear, shear_rows) may be 0: its members are then left out of the files (left_out).
 enum class Extent { one, macro, rows, pairs, fibre_modes, longitudinal, shear, shear_rows, shear_modes };
@@ -94,6 +94,7 @@ void for_each_member(Cell& cell, Visit&& visit) {
   visit(Member{.name = "Hz", .rows = shear_rows, .cols = shear_rows, .values = Values::symmetric}, cell.Hz);
   visit(Member{.name = "Gz", .rows = shear_modes, .cols = shear_rows, .values = Values::finite}, cell.Gz);
   visit(Member{.name = "strength_z", .rows = shear_rows, .values = Values::at_least_zero}, cell.strength_z);
+  visit(Member{.name = "pair_z", .rows = shear_rows, .values = Values::pair_index}, cell.pair_z);
   visit(Member{.name = "reciprocity_error", .measured = true}, cell.reciprocity_error);
   visit(Member{.name = "seconds", .measured = true}, cell.seconds);
   visit(Member{.name = "operator_applications", .measured = true}, cell.operator_applications);

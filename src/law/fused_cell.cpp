@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <random>
 #include <stdexcept>
 #include <string>
 
@@ -21,7 +22,7 @@ double onset_measure_of(const Eigen::MatrixXd& facets, const Eigen::VectorXd& N)
 // Whether x is a convex combination of the columns of P and the origin (x = Pλ, λ ≥ 0, Σλ ≤ 1),
 // to `tolerance` in the units of x: phase one of the simplex method on the n + 1 equality rows
 // (the last one Σλ + s = 1 with its slack s), an artificial variable per row, Bland's rule (no
-// cycling). A few pivots: n + 1 ≤ 4 rows.
+// cycling). A few pivots: n + 1 ≤ 5 rows.
 bool in_hull_with_origin(const Eigen::MatrixXd& P, const Eigen::VectorXd& x, double tolerance) {
   const int n = static_cast<int>(P.rows()), k = static_cast<int>(P.cols()), rows = n + 1;
   const int cols = k + 1 + rows;  // λ, s, artificials; then the right-hand side
@@ -80,11 +81,11 @@ CondensedCell debonded_cell(const CondensedCell& cell) {
 }
 
 BondedCell bonded_cell(const CondensedCell& cell) {
-  const int n = cell.n_macro;
+  const int n = cell.n_macro, L = cell.longitudinal;
   CellEvaluator evaluator(cell);
   BondedCell out;
   out.S.resize(n, n);
-  Eigen::MatrixXd A(cell.n_rows(), n);  // bond forces per unit macro stress
+  Eigen::MatrixXd A(cell.n_rows(), n + L);  // bond forces per unit macro stress (and per unit ε33)
   for (int j = 0; j < n; ++j) {
     Eigen::Vector3d N = Eigen::Vector3d::Zero();
     N(j) = 1;
@@ -99,35 +100,71 @@ BondedCell bonded_cell(const CondensedCell& cell) {
     A.col(j) = r.forces / s;
   }
   out.S = 0.5 * (out.S + out.S.transpose());
-  // Each finite strength bound of a bonded row is a facet: a_r·σ̄ = bound.
+  if (L == 1) {
+    // σ̄ = 0 and a strain along the fibres small enough that no bond breaks (linear below the
+    // onset, so its size does not matter): 1e-6 and smaller until none does.
+    double e = 1e-6;
+    CellResponse r;
+    for (int tries = 0; tries < 10; ++tries, e /= 16) {
+      CellHistory history = evaluator.unloaded();
+      r = evaluator.at_stress(Eigen::Vector3d::Zero(), history, e);
+      if (!r.ok || r.broken == 0) break;
+    }
+    if (!r.ok || r.broken > 0)
+      throw std::invalid_argument(std::string("the bonded cell's response to a strain along the fibres ") +
+                                  (r.ok ? "breaks a bond at 1e-15" : "failed: " + r.message));
+    out.A33 = r.strain.head(n) / e;
+    out.C33 = r.stress_zz / e;
+    A.col(n) = r.forces / e;
+  }
+  // Each finite strength bound of a bonded row is a facet: a_r·s = bound.
   std::vector<Eigen::VectorXd> facets;
   for (int r = 0; r < cell.n_rows(); ++r) {
     if (!cell.bonded[static_cast<std::size_t>(cell.pair[static_cast<std::size_t>(r)])]) continue;
     for (const double bound : {cell.lower_bonded(r), cell.upper_bonded(r)})
       if (std::isfinite(bound) && bound != 0) facets.push_back(A.row(r).transpose() / bound);
   }
-  out.facets.resize(static_cast<Eigen::Index>(facets.size()), n);
+  out.facets.resize(static_cast<Eigen::Index>(facets.size()), n + L);
   for (std::size_t k = 0; k < facets.size(); ++k) out.facets.row(static_cast<Eigen::Index>(k)) = facets[k].transpose();
+  if (cell.shear == 2 && cell.shear_rows > 0) {
+    // The shear along the fibres with every tie held: τ = Dz Γ and the rows' forces q = Q Γ.
+    Eigen::MatrixXd Q(cell.shear_rows, 2);
+    for (int j = 0; j < 2; ++j) {
+      CellHistory lifted = evaluator.unloaded();
+      const CellResponse r =
+          evaluator.at_strain(Eigen::Vector3d::Zero(), lifted, BondMode::lifted, 0, Eigen::Vector2d::Unit(j));
+      if (!r.ok) throw std::invalid_argument("the bonded cell's shear along the fibres failed: " + r.message);
+      out.Dz.col(j) = r.shear_z;
+      Q.col(j) = r.forces_z;
+    }
+    out.Dz = 0.5 * (out.Dz + out.Dz.transpose());
+    std::vector<Eigen::Vector2d> along;
+    for (int q = 0; q < cell.shear_rows; ++q) {
+      const double bound = cell.strength_z(q);
+      if (!cell.bonded[static_cast<std::size_t>(cell.pair_z[static_cast<std::size_t>(q)])] || !std::isfinite(bound) ||
+          bound == 0)
+        continue;
+      along.push_back(Q.row(q).transpose() / bound);
+      along.push_back(-Q.row(q).transpose() / bound);
+    }
+    out.facets_z.resize(static_cast<Eigen::Index>(along.size()), 2);
+    for (std::size_t k = 0; k < along.size(); ++k)
+      out.facets_z.row(static_cast<Eigen::Index>(k)) = along[k].transpose();
+  }
   return out;
 }
 
-FusedCell cell_with_fuse(const CondensedCell& cell, const CondensedCell& after) {
-  const int n = cell.n_macro;
-  if (!cell.adhesion()) throw std::invalid_argument("the cell has no adhesion: it has no fuse");
-  if (after.adhesion() || after.n_macro != n || after.volume != cell.volume || !(after.S0 - cell.S0).isZero(0))
-    throw std::invalid_argument("the cell past the fuse is not a cell of contact rows with the cell's macro part");
-  const BondedCell bonded = bonded_cell(cell);
-  FusedCell out;
-  out.candidate_facets = static_cast<int>(bonded.facets.rows());
+namespace {
 
-  // The facets on the onset polytope: g_k is one of its facets unless it lies in the convex hull
-  // of the origin and the other facets (then g_k·σ̄ ≤ max(0, max_j g_j·σ̄) for every σ̄: another
-  // bond always reaches its strength first). Repeats are dropped first (one of two equal facets
-  // stays).
-  const Eigen::MatrixXd& all = bonded.facets;
-  const double scale = all.rows() > 0 ? all.rowwise().norm().maxCoeff() : 1.0;
+// The facets on the onset polytope: g_k is one of its facets unless it lies in the convex hull
+// of the origin and the other facets (then g_k·s ≤ max(0, max_j g_j·s) for every s: another
+// bond always reaches its strength first). Repeats are dropped first (one of two equal facets
+// stays). The rows of `all` kept, in order.
+std::vector<int> polytope_facets(const Eigen::MatrixXd& all) {
+  const int count = static_cast<int>(all.rows()), n = static_cast<int>(all.cols());
+  const double scale = count > 0 ? all.rowwise().norm().maxCoeff() : 1.0;
   std::vector<int> distinct;
-  for (int k = 0; k < out.candidate_facets; ++k) {
+  for (int k = 0; k < count; ++k) {
     bool repeat = all.row(k).norm() <= facet_tolerance * scale;
     for (int j : distinct)
       if (!repeat && (all.row(k) - all.row(j)).norm() <= facet_tolerance * scale) repeat = true;
@@ -141,33 +178,95 @@ FusedCell cell_with_fuse(const CondensedCell& cell, const CondensedCell& after) 
     if (!in_hull_with_origin(others, all.row(distinct[a]).transpose() / scale, facet_tolerance))
       rows.push_back(distinct[a]);
   }
-  const int F = static_cast<int>(rows.size());
-  out.facets = F;
-  Eigen::MatrixXd G(F, n);
-  for (int k = 0; k < F; ++k) G.row(k) = all.row(rows[static_cast<std::size_t>(k)]);
-  for (const Eigen::Vector3d& d : sample_directions(n, onset_check_directions)) {
-    const Eigen::VectorXd N = d.head(n);
-    const double every = onset_measure_of(all, N), kept = onset_measure_of(G, N);
-    if (every > 0) out.onset_error = std::max(out.onset_error, std::abs(kept / every - 1));
-  }
+  return rows;
+}
 
-  // H_bb = Q R⁻ᵀ Δ R⁻¹ Qᵀ + c (I − QQᵀ), Y_b = H_bb G (fused_cell.hpp).
+// The kept facets' onset against every bound's, the largest relative difference over directions
+// of the load: the sphere of (σxx, σyy, √2σxy) or the circle (sample_directions) for the plane's
+// facets and for the shear's two components; for (σ̄, ε33) directions drawn from a fixed seed in
+// the facets' own scale (each column divided by its largest entry), so that ε33 (per unit strain)
+// and σ̄ (per unit stress) both matter.
+double onset_error(const Eigen::MatrixXd& all, const Eigen::MatrixXd& kept) {
+  const int n = static_cast<int>(all.cols());
+  std::vector<Eigen::VectorXd> directions;
+  if (n <= 3) {
+    for (const Eigen::Vector3d& d : sample_directions(n == 3 ? 3 : 2, onset_check_directions))
+      directions.emplace_back(d.head(n));
+  } else {
+    const Eigen::VectorXd scale = all.cwiseAbs().colwise().maxCoeff().transpose();
+    std::mt19937_64 generator(4);
+    const auto uniform = [&] { return (static_cast<double>(generator() >> 11) + 0.5) * 0x1.0p-53; };
+    for (int i = 0; i < onset_check_directions; ++i) {
+      Eigen::VectorXd d(n);
+      for (int k = 0; k < n; ++k) d(k) = 2 * uniform() - 1;
+      directions.push_back(d.cwiseQuotient(scale));
+    }
+  }
+  double error = 0;
+  for (const Eigen::VectorXd& N : directions) {
+    const double every = onset_measure_of(all, N), at_kept = onset_measure_of(kept, N);
+    if (every > 0) error = std::max(error, std::abs(at_kept / every - 1));
+  }
+  return error;
+}
+
+// H_bb = Q R⁻ᵀ Δ R⁻¹ Qᵀ + c (I − QQᵀ) with G = QR (fused_cell.hpp): GᵀH_bb G = Δ, so that the
+// rows with right-hand side H_bb G s carry p = G s and give back Δ s; throws where G does not
+// span its load.
+Eigen::MatrixXd facet_flexibility(const Eigen::MatrixXd& G, const Eigen::MatrixXd& Delta) {
+  const int F = static_cast<int>(G.rows()), n = static_cast<int>(G.cols());
   const Eigen::HouseholderQR<Eigen::MatrixXd> qr(G);
   const Eigen::VectorXd R_diagonal =
       F >= n ? Eigen::VectorXd(qr.matrixQR().diagonal().cwiseAbs()) : Eigen::VectorXd::Zero(1);
   if (F < n || R_diagonal.minCoeff() <= 1e-12 * R_diagonal.maxCoeff())
     throw std::invalid_argument(
-        "the onset facets do not span the macro stresses: the onset is unbounded along some "
+        "the onset facets do not span the macro load: the onset is unbounded along some "
         "direction and the bonded cell cannot carry a fuse there");
   const Eigen::MatrixXd Q = qr.householderQ() * Eigen::MatrixXd::Identity(F, n);
   const Eigen::MatrixXd R = Eigen::MatrixXd(qr.matrixQR()).topRows(n).triangularView<Eigen::Upper>();
-  const Eigen::MatrixXd Delta = cell.volume * (cell.S0 - bonded.S);
   const Eigen::MatrixXd Rinv = R.inverse();
   const Eigen::MatrixXd core = Rinv.transpose() * Delta * Rinv;
-  Eigen::MatrixXd Hbb = Q * core * Q.transpose();
-  Hbb += core.diagonal().maxCoeff() * (Eigen::MatrixXd::Identity(F, F) - Q * Q.transpose());
-  Hbb = 0.5 * (Hbb + Hbb.transpose());
-  const Eigen::MatrixXd Yb = Hbb * G;
+  Eigen::MatrixXd H = Q * core * Q.transpose();
+  H += core.diagonal().maxCoeff() * (Eigen::MatrixXd::Identity(F, F) - Q * Q.transpose());
+  return 0.5 * (H + H.transpose());
+}
+
+Eigen::MatrixXd rows_of(const Eigen::MatrixXd& all, const std::vector<int>& rows) {
+  Eigen::MatrixXd out(static_cast<Eigen::Index>(rows.size()), all.cols());
+  for (std::size_t k = 0; k < rows.size(); ++k) out.row(static_cast<Eigen::Index>(k)) = all.row(rows[k]);
+  return out;
+}
+
+}  // namespace
+
+FusedCell cell_with_fuse(const CondensedCell& cell, const CondensedCell& after) {
+  const int n = cell.n_macro, L = cell.longitudinal;
+  if (!cell.adhesion()) throw std::invalid_argument("the cell has no adhesion: it has no fuse");
+  if (after.adhesion() || after.n_macro != n || after.volume != cell.volume || !(after.S0 - cell.S0).isZero(0))
+    throw std::invalid_argument("the cell past the fuse is not a cell of contact rows with the cell's macro part");
+  if (L == 1 && (after.longitudinal != 1 || after.A33 != cell.A33 || after.C33 != cell.C33))
+    throw std::invalid_argument("the cell past the fuse does not carry the cell's open response along the fibres");
+  const BondedCell bonded = bonded_cell(cell);
+  FusedCell out;
+  out.candidate_facets = static_cast<int>(bonded.facets.rows());
+  const std::vector<int> rows = polytope_facets(bonded.facets);
+  const int F = static_cast<int>(rows.size());
+  out.facets = F;
+  const Eigen::MatrixXd G = rows_of(bonded.facets, rows);
+  out.onset_error = onset_error(bonded.facets, G);
+
+  // Δ = |Ω| (S₀ − S_b), with ε33 the 4 × 4 [S₀ − S_b, A33 − A33_b; ·, C33_b − C33] (the bonded rows
+  // carry p = G s with s = (σ̄, ε33): ε̄ gains −Y_bᵀp/|Ω| and σ33 y33_b·p/|Ω|, docs/method.md §16d).
+  Eigen::MatrixXd Delta(n + L, n + L);
+  Delta.topLeftCorner(n, n) = cell.S0 - bonded.S;
+  if (L == 1) {
+    Delta.topRightCorner(n, 1) = cell.A33 - bonded.A33;
+    Delta.bottomLeftCorner(1, n) = (cell.A33 - bonded.A33).transpose();
+    Delta(n, n) = bonded.C33 - cell.C33(0, 0);
+  }
+  Delta *= cell.volume;
+  const Eigen::MatrixXd Hbb = facet_flexibility(G, Delta);
+  const Eigen::MatrixXd Yb = Hbb * G.leftCols(n);
   const Eigen::MatrixXd Yc = after.Y;
   const int m = after.n_rows();
   const Eigen::MatrixXd Hbc = Yb * (cell.volume * cell.S0).llt().solve(Yc.transpose());
@@ -195,6 +294,34 @@ FusedCell cell_with_fuse(const CondensedCell& cell, const CondensedCell& after) 
   c.upper_bonded << Eigen::VectorXd::Ones(F), Eigen::VectorXd::Zero(m);
   c.lower_broken << Eigen::VectorXd::Zero(F), after.lower_broken;
   c.upper_broken << Eigen::VectorXd::Zero(F), after.upper_broken;
+  if (L == 1) {
+    c.longitudinal = 1;
+    c.A33 = cell.A33;
+    c.C33 = cell.C33;
+    c.y33.resize(F + m, 1);
+    c.y33 << Hbb * G.col(n), after.y33;
+  }
+  if (cell.shear == 2) {
+    // Past the fuse the pair is broken: τ = D0z Γ, the open cell's. Bonded, facet rows of the
+    // same pair carry q = G_z Γ (|q_k| ≤ 1: row k at its strength exactly on facet k).
+    c.shear = 2;
+    c.D0z = cell.D0z;
+    if (bonded.facets_z.rows() > 0) {
+      out.candidate_facets_z = static_cast<int>(bonded.facets_z.rows());
+      const std::vector<int> rows_z = polytope_facets(bonded.facets_z);
+      const int Fz = static_cast<int>(rows_z.size());
+      out.facets_z = Fz;
+      const Eigen::MatrixXd Gf = rows_of(bonded.facets_z, rows_z);
+      out.onset_error = std::max(out.onset_error, onset_error(bonded.facets_z, Gf));
+      const Eigen::MatrixXd Hz = facet_flexibility(Gf, cell.volume * (bonded.Dz - cell.D0z));
+      c.shear_rows = Fz;
+      c.Yz = Hz * Gf;
+      c.Hz = Hz;
+      c.Gz.resize(0, Fz);
+      c.strength_z = Eigen::VectorXd::Ones(Fz);
+      c.pair_z.assign(static_cast<std::size_t>(Fz), 0);
+    }
+  }
   return out;
 }
 

@@ -40,18 +40,28 @@ CondensedCell debonded_cell(const CondensedCell& cell);
 // row, the facet g with g·σ̄ = 1 where the row reaches it (candidates × n_macro), from n_macro
 // solves of the exact law at unit stresses (each at half its onset: every bond holds, so the
 // response is linear). Throws std::invalid_argument where a solve fails or breaks a bond.
+// With the strain along the fibres (cell.longitudinal = 1) the load is s = (σ̄, ε33): each facet
+// has a fourth entry (g_k·s = 1) and the bonded cell's ε33 parts are A33_b (ε̄ per unit ε33 at
+// σ̄ = 0) and C33_b (σ33 per unit ε33), from one more solve at σ̄ = 0. With shear rows, the bonded
+// cell's shear along the fibres τ = Dz Γ and per strength bound of a bonded shear row the facet
+// h with h·Γ = 1 where it reaches it (two solves at unit Γ, strengths lifted).
 struct BondedCell {
   Eigen::MatrixXd S;       // S_b
-  Eigen::MatrixXd facets;  // every candidate facet g_k
+  Eigen::MatrixXd facets;  // every candidate facet g_k (candidates × (n_macro + longitudinal))
+  Eigen::VectorXd A33;     // A33_b (n_macro; empty without ε33)
+  double C33 = 0;          // C33_b
+  Eigen::Matrix2d Dz = Eigen::Matrix2d::Zero();
+  Eigen::MatrixXd facets_z;  // candidates × 2 (empty without shear rows)
 };
 BondedCell bonded_cell(const CondensedCell& cell);
 
 struct FusedCell {
-  CondensedCell cell;        // the compact law, F + m rows, one pair
-  int facets = 0;            // F: the onset polytope's facets
-  int candidate_facets = 0;  // of the bonds' strength bounds (the others are never reached first)
-  double onset_error = 0;    // the kept facets' onset against all bounds', the largest relative
-                             // difference over onset_check_directions directions (round-off)
+  CondensedCell cell;                        // the compact law, F + m rows, one pair
+  int facets = 0;                            // F: the onset polytope's facets
+  int candidate_facets = 0;                  // of the bonds' strength bounds (the others are never reached first)
+  double onset_error = 0;                    // the kept facets' onset against all bounds', the largest relative
+                                             // difference over onset_check_directions directions (round-off)
+  int facets_z = 0, candidate_facets_z = 0;  // the same along z: the shear rows kept (F_z)
 };
 // A facet within this (relative to the largest) of the hull of the others and the origin is one
 // of them: its onset differs by at most as much.
@@ -60,7 +70,11 @@ inline constexpr int onset_check_directions = 30001;
 
 // The compact law of `cell` (with adhesion, linear below its onset) with `after`, a cell without
 // adhesion and with the cell's n_macro, volume and S₀ (a small cell; or debonded_cell(cell), whose
-// equality rows G then act on the c rows), past the fuse.
+// equality rows G then act on the c rows), past the fuse. A cell with the strain along the fibres
+// gives it the 4-dimensional onset and bonded law in s = (σ̄, ε33) (`after` then carries the same
+// A33 and C33, and its own y33); a cell with the shears along the fibres gives it its open D0z,
+// and where its bonds carry shear the bonded Dz and the shear onset as F_z facet rows of the one
+// pair (docs/method.md §16d): past the fuse the shear is the open cell's, D0z.
 // Throws std::invalid_argument where the cell has no adhesion, `after` does not fit it, or the
 // kept facets do not span the macro stresses (the onset is unbounded in some direction).
 FusedCell cell_with_fuse(const CondensedCell& cell, const CondensedCell& after);

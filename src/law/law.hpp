@@ -20,6 +20,7 @@
 #include "law/cone_check.hpp"
 #include "law/onset.hpp"
 #include "law/ply.hpp"
+#include "law/ply_sample.hpp"
 
 namespace dualcell::law {
 
@@ -162,6 +163,10 @@ struct Law {
   std::string small_note;
   SmallCellFit small_fit;
   ConeCheck small_check;
+  // Where the small cell carries the whole ply (the exact law does: the strain and the shears
+  // along the fibres, docs/method.md §16e): its fit along the fibres and its check along strain
+  // paths of all six components (law/ply_sample.hpp); 0 directions otherwise.
+  PlyCheck small_ply_check;
   // Constituents, for the out-of-plane constants of the exports (rule of mixtures).
   Constituents constituents;
   std::string units = "stress and moduli in the units of the input scene; strains dimensionless";

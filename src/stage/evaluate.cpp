@@ -129,13 +129,13 @@ const law::CondensedCell* chosen_cell(const law::Law& law, const LawPointsOption
     throw InputError(options.law_file.string() + ": --full: " +
                      (cell_form
                           ? std::string("its cell has no shear along the fibres (fit a scene with [load] macro "
-                                        "= \"full\" and boundary = \"periodic\"; the small cell has none yet)")
+                                        "= \"full\" and boundary = \"periodic\")")
                           : std::string("the cone-wise law has no components along the fibres (use --form cell)")));
   if (options.eps33 && (!cell_form || cell->longitudinal == 0))
     throw InputError(options.law_file.string() + ": --eps33: " +
                      (cell_form
                           ? std::string("its cell has no strain along the fibres (fit a scene with [load] macro = "
-                                        "\"full\"; the small cell has none yet)")
+                                        "\"full\" and boundary = \"periodic\" for a small cell)")
                           : std::string("the cone-wise law has no strain along the fibres (use --form cell)")));
   if (!cell_form && !law.cone.ok)
     throw InputError(options.law_file.string() + ": has no cone-wise law" +

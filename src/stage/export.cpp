@@ -68,6 +68,14 @@ std::string export_law(const ExportOptions& options) {
   // The small cell is vouched for by its check against the exact law, as the cone-wise law is.
   if (options.format == io::ExportFormat::umat && form == "small" && law.small)
     refuse_over_error(options, "the small cell", law.small_check);
+  // And the small cell of the whole ply by its check along six-component strain paths.
+  const law::PlyCheck& ply = law.small_ply_check;
+  if (options.format == io::ExportFormat::umat && form == "small" && law.small && ply.directions > 0 &&
+      !options.force && !(ply.max_error <= options.max_law_error))
+    throw InputError(options.law_file.string() + ": the small cell of the whole ply misses the exact law along " +
+                     std::to_string(ply.directions) + " six-component strain paths by " +
+                     formatted("%.1f", 100 * ply.max_error) + " % of stress, more than --max-law-error " +
+                     formatted("%.3g", 100 * options.max_law_error) + " %: not exported (--force writes it anyway)");
   if (options.format == io::ExportFormat::umat && (form == "cell" || form == "small")) {
     const io::CellForm cell_form = form == "small" ? io::CellForm::small : io::CellForm::exact;
     const law::CondensedCell& cell = io::umat_cell(law, cell_form, options.law_file.string());

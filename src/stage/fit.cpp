@@ -150,6 +150,15 @@ void print_small_cell_summary(const law::Law& law) {
   } else {
     std::printf("  small cell: none (%s)\n", law.small_note.c_str());
   }
+  const law::PlyCheck& p = law.small_ply_check;
+  if (law.small && p.directions > 0)
+    std::printf(
+        "  small cell of the whole ply: along the fibres fitted to %d points of the exact law (max %.1f %%, rms "
+        "%.1f %%); against the exact law along %d other six-component strain paths (%d points): max %.1f %%, "
+        "rms %.1f %%, below the onset %.1e, %s the tolerance %.1f %%\n",
+        p.training_points, 100 * p.training_max_error, 100 * p.training_rms_error, p.directions, p.points,
+        100 * p.max_error, 100 * p.rms_error, p.bonded_max_error,
+        p.max_error <= law.small_fit.tolerance ? "within" : "OVER", 100 * law.small_fit.tolerance);
 }
 
 }  // namespace

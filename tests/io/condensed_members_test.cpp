@@ -61,6 +61,7 @@ CondensedCell distinct_cell() {
   c.Hz = Eigen::Matrix2d{{0.8, 0.1}, {0.1, 0.6}};
   c.Gz = Eigen::RowVector2d{1, 1};
   c.strength_z = Eigen::Vector2d{0.75, 1.75};
+  c.pair_z = {1, 0};
   c.reciprocity_error = 3e-13;
   c.seconds = 0.125;
   c.operator_applications = 17;
@@ -167,6 +168,7 @@ TEST(CondensedMembers, ACellWithoutTheShearAlongTheFibresLeavesItsMembersOut) {
   CondensedCell cell = distinct_cell();
   cell.shear_rows = 0;
   cell.Yz.resize(0, 0), cell.Hz.resize(0, 0), cell.Gz.resize(0, 0), cell.strength_z.resize(0);
+  cell.pair_z.clear();
   ASSERT_EQ(law::consistency_problem(cell), "");
   law.cell = cell;
   write_law(dir / "rows.h5", law);
@@ -191,8 +193,16 @@ TEST(CondensedMembers, ACellWithoutTheShearAlongTheFibresLeavesItsMembersOut) {
   cell.shear = 1;
   EXPECT_EQ(law::consistency_problem(cell), "shear: is 1, not 0 or 2");
   cell = distinct_cell();
-  cell.shear_rows = 3;
-  EXPECT_EQ(law::consistency_problem(cell), "shear_rows: is 3, not 0 or n_pairs (2)");
+  cell.pair_z = {0, 2};
+  EXPECT_EQ(law::consistency_problem(cell), "pair_z: 2 is not a pair index (row 1)");
+  // The text of the shear with a row per pair and no pair_z (version 3) is refused, not misread.
+  std::ostringstream text;
+  law::write_cell_text(text, distinct_cell());
+  ASSERT_EQ(text.str().rfind("dualcell cell law 4\n", 0), 0u);
+  std::istringstream older("dualcell cell law 3\n" + text.str().substr(text.str().find('\n') + 1));
+  std::string error;
+  law::read_cell_text(older, error);
+  EXPECT_NE(error.find("no pair_z, an older layout: export the law again"), std::string::npos) << error;
   // Hz singular on Gz q = 0 (its rows repeated): two pairs that would slip as one.
   cell = distinct_cell();
   cell.Hz = Eigen::Matrix2d::Constant(0.5);
