@@ -67,6 +67,8 @@ def stress_strain(sweep, outbase):
             label += " tension" if g.attrs["sign"] > 0 else " compression"
             if "eps33" in g.attrs:
                 label += " e33 = {:g}".format(float(g.attrs["eps33"]))
+            if "gamma" in g.attrs:
+                label += " gamma = ({:g}, {:g})".format(*[float(v) for v in g.attrs["gamma"]])
             rows = ["0 0"] + ["{:.10g} {:.10g}".format(along(n, e), s) for s, e in zip(g["load"][:], g["strain"][:])]
             data[f"path{i}.dat"] = "\n".join(rows) + "\n"
             plots.append(f"'path{i}.dat' using 1:2 with linespoints pt 7 ps 0.6 title '{label}'")

@@ -269,6 +269,14 @@ void validate_sweep_and_solver(const Checker& c, const Scene& scene) {
   if (!sw.eps33.empty() && scene.load.macro != Macro::full)
     c.fail("sweep", "eps33", shortest(sw.eps33),
            "paths with a strain along the fibres need [load] macro = \"full\" (the transverse law has no ε33)");
+  for (const auto& g : sw.gamma)
+    if (!(std::isfinite(g[0]) && std::isfinite(g[1])) || (g[0] == 0 && g[1] == 0) || std::abs(g[0]) > 0.1 ||
+        std::abs(g[1]) > 0.1)
+      c.fail("sweep", "gamma", shortest(std::vector<double>(g.begin(), g.end())),
+             "must be an array of [gamma_xz, gamma_yz] shears along the fibres, each in [-0.1, 0.1] and not both 0");
+  if (!sw.gamma.empty() && (scene.load.macro != Macro::full || scene.load.boundary != Boundary::periodic))
+    c.fail("sweep", "gamma", std::to_string(sw.gamma.size()) + " shears",
+           "paths with a shear along the fibres need [load] macro = \"full\" and boundary = \"periodic\"");
   c.real(
       "sweep", "fuse_tolerance", sw.fuse_tolerance, [](double v) { return v > 0 && v < 1; }, "0 < fuse_tolerance < 1");
 

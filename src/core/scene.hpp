@@ -122,6 +122,9 @@ struct SweepSettings {
   // Strains ε33 along the fibres, each held along one more copy of every uniaxial path
   // (directions_deg, both signs); only with [load] macro = "full" (docs/method.md §16a).
   std::vector<double> eps33;
+  // Shears Γ = (γxz, γyz) along the fibres, each held along one more copy of every uniaxial path;
+  // only with [load] macro = "full" on the periodic boundary (docs/method.md §16a).
+  std::vector<std::array<double, 2>> gamma;
   double fuse_tolerance = 1e-3;  // relative load bracket of the debond jump
 };
 

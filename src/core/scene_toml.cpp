@@ -245,6 +245,7 @@ void read_sweep_and_solver(SceneReading& r) {
   scene.sweep.stress_directions = st.triples("stress_directions");
   scene.sweep.sphere = st.integer<int>("sphere", 0);
   scene.sweep.eps33 = st.reals("eps33", {}, 0, 100);
+  scene.sweep.gamma = st.tuples<2>("gamma", "an array of [gamma_xz, gamma_yz] shears along the fibres");
   scene.sweep.fuse_tolerance = st.real("fuse_tolerance", scene.sweep.fuse_tolerance);
   st.finish();
 

@@ -131,20 +131,20 @@ class TableReader {
     return v;
   }
 
-  // An array of 3-arrays of numbers.
-  std::vector<std::array<double, 3>> triples(std::string_view key) {
+  // An array of N-arrays of numbers; `what` names them in the message.
+  template <std::size_t N>
+  std::vector<std::array<double, N>> tuples(std::string_view key, const std::string& what) {
     const toml::node* n = node(key);
-    std::vector<std::array<double, 3>> out;
+    std::vector<std::array<double, N>> out;
     if (!n) return out;
     remember(key, *n);
-    const std::string what = "an array of [sxx, syy, sxy] stress tensors, each finite and not all zero";
     auto a = n->as_array();
     if (!a) fail(n, key, show(*n, lines_), "must be " + what);
     for (const toml::node& e : *a) {
       auto t = e.as_array();
-      if (!t || t->size() != 3) fail(n, key, show(*n, lines_), "must be " + what);
-      std::array<double, 3> v{};
-      for (std::size_t i = 0; i < 3; ++i) {
+      if (!t || t->size() != N) fail(n, key, show(*n, lines_), "must be " + what);
+      std::array<double, N> v{};
+      for (std::size_t i = 0; i < N; ++i) {
         const toml::node& x = *t->get(i);
         if (auto iv = x.as_integer())
           v[i] = static_cast<double>(iv->get());
@@ -156,6 +156,11 @@ class TableReader {
       out.push_back(v);
     }
     return out;
+  }
+
+  // An array of 3-arrays of numbers (stress tensors).
+  std::vector<std::array<double, 3>> triples(std::string_view key) {
+    return tuples<3>(key, "an array of [sxx, syy, sxy] stress tensors, each finite and not all zero");
   }
 
   std::string string(std::string_view key, std::string fallback, const std::vector<std::string>& allowed = {}) {

@@ -11,6 +11,7 @@
 #include "core/error.hpp"
 #include "feti/projected.hpp"
 #include "law/bond.hpp"
+#include "primal/antiplane.hpp"
 #include "qp/operator.hpp"
 #include "qp/smalbe.hpp"
 
@@ -254,6 +255,15 @@ Solution ContactSolver::solve_problem(const DualProblem& dual, double norm_PFP, 
   return out;
 }
 
+void ContactSolver::set_longitudinal_shear(const Eigen::Vector2d& gamma) {
+  const Scene& scene = setup_.scene();
+  if (!gamma.isZero(0) && (scene.load.macro != Macro::full || scene.load.boundary != Boundary::periodic))
+    throw std::invalid_argument(
+        "a shear along the fibres needs a periodic cell with [load] macro = \"full\" (the antiplane problem)");
+  gamma_ = gamma;
+  if (!gamma.isZero(0) && shear_strength_.empty()) shear_strength_ = shear_strengths(setup_.mesh(), scene);
+}
+
 Solution ContactSolver::solve(const Eigen::Vector3d& sigma, const BondState& bonds, const Eigen::VectorXd* warm_lambda,
                               const Eigen::VectorXd* warm_multiplier) {
   BondState current = bonds;
@@ -277,6 +287,22 @@ Solution ContactSolver::solve(const Eigen::Vector3d& sigma, const BondState& bon
         if (law::bond::at_strength(s.lambda(r) / con.weight(r), {con.lower(r), con.upper(r)}))
           breaking.push_back(con.pair[r]);
       }
+    }
+    if (!gamma_.isZero(0) && s.qp_converged()) {
+      // The shear along the fibres with the same bonds: ties only where bonds carry shear (s_t > 0;
+      // otherwise the fibres slip along z, as the exact law's cell without shear rows).
+      const Scene& scene = setup_.scene();
+      const bool ties = scene.interface.tangential_strength > 0;
+      std::vector<char> bonded(current.size(), 0);
+      for (std::size_t p = 0; p < current.size(); ++p) bonded[p] = ties && current[p] ? 1 : 0;
+      const primal::ShearResponse z =
+          primal::longitudinal_shear_at(setup_.mesh(), scene.fibre, scene.matrix, bonded, gamma_, shear_strength_);
+      s.gamma = gamma_;
+      s.shear_stress = z.tau;
+      for (std::size_t p = 0; p < current.size(); ++p)
+        if (bonded[p] && law::bond::at_strength(z.pair_forces(static_cast<Eigen::Index>(p)),
+                                                {-shear_strength_[p], shear_strength_[p]}))
+          breaking.push_back(static_cast<int>(p));
     }
     if (breaking.empty() || round >= max_rounds) {
       s.add_work(previous);

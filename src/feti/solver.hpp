@@ -12,6 +12,7 @@
 //   ε̄      | Solution::strain       | (1/|Ω|) ∮ sym(u ⊗ n) ds over the outer boundary
 //   s*     | debond_onset()         | load factor at which the first bond reaches its strength
 #include <Eigen/Core>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -78,6 +79,10 @@ struct Solution {
   // Generalised plane strain (docs/method.md §3a): the longitudinal strain ε33 the solve had and
   // the volume average of σzz (plane strain, ε33 = 0: ν's share of the in-plane stresses).
   double eps33 = 0, average_stress_zz = 0;
+  // With shears Γ = (γxz, γyz) along the fibres (ContactSolver::set_longitudinal_shear): Γ and the
+  // average shear stress ⟨τ⟩ = (τxz, τyz) of the final bond state; zero (Γ) and NaN (τ) without.
+  Eigen::Vector2d gamma = Eigen::Vector2d::Zero();
+  Eigen::Vector2d shear_stress = Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN());
   Eigen::VectorXd u;                                   // global DOFs (+3 macro DOFs εxx, εyy, γxy when periodic)
   Eigen::VectorXd lambda;                              // per row of B, physical (force) units
   Eigen::VectorXd multiplier;                          // SMALBE's equality multiplier m (scaled rows), for warm starts
@@ -174,6 +179,14 @@ class ContactSolver {
   // default, is plane strain, every result unchanged bit for bit.
   void set_longitudinal_strain(double eps33) { eps33_ = eps33; }
   double longitudinal_strain() const { return eps33_; }
+  // The shears Γ = (γxz, γyz) along the fibres with every later solve (a periodic cell with
+  // [load] macro = "full", docs/method.md §16a): solve() then runs the antiplane one-body solve
+  // of each round's bond state beside the QP (primal::longitudinal_shear_at, each tie bounded by
+  // its strength s_t L), and a pair whose tie reaches it breaks as a whole with the in-plane
+  // breaks of that round, as the exact law's cascade does; ⟨τ⟩ in Solution::shear_stress. 0, the
+  // default, leaves every result unchanged. Throws std::invalid_argument for another scene.
+  void set_longitudinal_shear(const Eigen::Vector2d& gamma);
+  const Eigen::Vector2d& longitudinal_shear() const { return gamma_; }
 
   const FetiSetup& setup() const { return setup_; }
   const DualProblem& problem(const BondState& bonds);
@@ -209,6 +222,8 @@ class ContactSolver {
   Cached intact_, other_;
   Lifted lifted_;
   double eps33_ = 0;
+  Eigen::Vector2d gamma_ = Eigen::Vector2d::Zero();
+  std::vector<double> shear_strength_;  // per pair, s_t L (shear_strengths), once Γ is set
 };
 
 }  // namespace dualcell::feti

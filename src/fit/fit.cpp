@@ -424,11 +424,11 @@ law::ConeCheck check_held_out(const std::vector<sweep::PathResult>& paths, const
 law::Law fit_law(const std::vector<sweep::PathResult>& all_paths, const sweep::SweepHeader& header, int checked_rows,
                  double law_tolerance) {
   law::Law law;
-  // The fitted forms are in-plane: the paths with a strain along the fibres check the exact law
-  // only (its replay).
+  // The fitted forms are in-plane: the paths with a strain or shears along the fibres check the
+  // exact law only (its replay).
   std::vector<sweep::PathResult> paths;
   for (const sweep::PathResult& p : all_paths)
-    if (p.spec.eps33 == 0) paths.push_back(p);
+    if (p.spec.in_plane()) paths.push_back(p);
   std::vector<double> directions;
   for (const auto& p : paths)
     if (!std::isnan(p.spec.direction_deg)) directions.push_back(p.spec.direction_deg);

@@ -15,7 +15,11 @@ namespace {
 
 constexpr double nan = std::numeric_limits<double>::quiet_NaN();
 
-bool replayed(const sweep::Step& step) { return step.converged && step.load != 0; }
+// A step at load 0 is the unloaded cell, except on a path with shears along the fibres (the shear
+// alone, its first step).
+bool replayed(const sweep::Step& step) {
+  return step.converged && (step.load != 0 || std::isfinite(step.shear_stress(0)));
+}
 
 // A replay's tally: its limit (1e3 × the sweep's QP tolerance), and per point its error, where it
 // is and whether its breaks differ from the reference's.
@@ -98,18 +102,23 @@ law::CellReplay replay_cell(const law::CondensedCell& cell, const std::vector<sw
     for (std::size_t k = 0; k < paths[i].steps.size(); ++k) {
       const sweep::Step& step = paths[i].steps[k];
       const double eps33 = paths[i].spec.eps33;
-      const law::CellResponse r = evaluator.at_stress(step.stress, history, eps33);
+      const Eigen::Vector2d& gamma = paths[i].spec.gamma;
+      const law::CellResponse r = evaluator.at_stress(step.stress, history, eps33, gamma);
       if (!r.ok)
         throw ExactLawFailed("not kept: its QP failed on the sweep's stress of path " + std::to_string(i) + ": " +
                              r.message);
       if (!replayed(step)) continue;
       Eigen::Vector3d expected = engineering_from_tensor(step.strain), strain = r.strain;
       if (cell.n_macro == 2) expected(2) = strain(2) = 0;  // no shear with the symmetry boundary
-      // A path with a strain along the fibres: ε̄ against ε̄ and ε33 together, and σ33 too.
-      double error = (strain - expected).norm() / (expected.norm() + std::abs(eps33));
+      // A path with a strain along the fibres: ε̄ against ε̄ and ε33 together, and σ33 too; with
+      // shears along them ε̄ against ε̄ and Γ together, and ⟨τ⟩ against ⟨τ⟩ and σ̄ together.
+      double error = (strain - expected).norm() / (expected.norm() + std::abs(eps33) + gamma.norm());
       if (eps33 != 0)
         error =
             std::max(error, std::abs(r.stress_zz - step.stress_zz) / (std::abs(step.stress_zz) + step.stress.norm()));
+      if (!gamma.isZero(0))
+        error =
+            std::max(error, (r.shear_z - step.shear_stress).norm() / (step.shear_stress.norm() + step.stress.norm()));
       tally.add(error, static_cast<int>(i), static_cast<int>(k), r.broken != step.broken_bonds);
     }
   }

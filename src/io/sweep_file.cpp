@@ -57,6 +57,13 @@ void write_path(File& f, const sweep::PathResult& p) {
     for (const auto& s : p.steps) zz.push_back(s.stress_zz);
     f.write(g + "/stress_zz", zz, {n});
   }
+  // A path with shears along the fibres: Γ and ⟨τ⟩ per step (likewise only there).
+  if (!p.spec.gamma.isZero(0)) {
+    f.write_attribute(g, "gamma", std::vector<double>{p.spec.gamma(0), p.spec.gamma(1)});
+    std::vector<double> tau;
+    for (const auto& s : p.steps) tau.insert(tau.end(), s.shear_stress.data(), s.shear_stress.data() + 2);
+    f.write(g + "/shear_stress", tau, {n, 2});
+  }
   if (p.fuse) {
     for (const FuseField& z : fuse_fields) {
       const std::string name = g + "/fuse/" + z.name;
@@ -113,6 +120,14 @@ sweep::PathResult read_path(const File& f, int index) {
       throw InputError(where + ": attribute eps33 = " + shortest(p.spec.eps33) + ", not a finite non-zero strain");
     const auto zz = f.read_doubles(g + "/stress_zz", {n}, " like " + g + "/load");
     for (hsize_t i = 0; i < n; ++i) p.steps[i].stress_zz = zz[i];
+  }
+  if (f.has_attribute(g, "gamma")) {
+    const auto gamma = f.read_double_attribute(g, "gamma", 2);
+    p.spec.gamma = {gamma[0], gamma[1]};
+    if (!p.spec.gamma.allFinite() || p.spec.gamma.isZero(0))
+      throw InputError(where + ": attribute gamma = " + shortest(gamma) + ", not finite shears, not both 0");
+    const auto tau = f.read_doubles(g + "/shear_stress", {n, 2}, " like " + g + "/load");
+    for (hsize_t i = 0; i < n; ++i) p.steps[i].shear_stress = {tau[2 * i], tau[2 * i + 1]};
   }
   // Loads and applied stresses are always finite; strains of a converged step too.
   for (hsize_t i = 0; i < n; ++i) {

@@ -234,8 +234,12 @@ ShearResponse longitudinal_shear_at(const mesh::Mesh& mesh, const Material& fibr
     for (std::size_t p = 0; p < P; ++p) tied[p] = bonded[p] && !slipping[p];
     const TiedSolve s = tied_solve(mesh, mu_fibre, mu_matrix, places, tied, slipping, strength, gamma);
     if (strength.empty()) return s.response;
+    // Round-off decides neither change: a jump against its force of less than 1e-12 of the
+    // largest jump, or a force past its strength by less than 1e-12 of it, is none (without this
+    // margin a tie at its strength to the last digit slips and ties again for ever).
+    const double jump_floor = 1e-12 * s.jump.cwiseAbs().maxCoeff();
     std::size_t worst = P;
-    double worst_amount = 0;
+    double worst_amount = jump_floor;
     for (std::size_t p = 0; p < P; ++p)
       if (slipping[p] && slipping[p] * s.jump(static_cast<Eigen::Index>(p)) < -worst_amount)
         worst = p, worst_amount = -slipping[p] * s.jump(static_cast<Eigen::Index>(p));
@@ -243,9 +247,11 @@ ShearResponse longitudinal_shear_at(const mesh::Mesh& mesh, const Material& fibr
       slipping[worst] = 0;
       continue;
     }
-    for (std::size_t p = 0; p < P; ++p)
-      if (tied[p] && std::abs(s.response.pair_forces(static_cast<Eigen::Index>(p))) - strength[p] > worst_amount)
-        worst = p, worst_amount = std::abs(s.response.pair_forces(static_cast<Eigen::Index>(p))) - strength[p];
+    worst_amount = 0;
+    for (std::size_t p = 0; p < P; ++p) {
+      const double past = std::abs(s.response.pair_forces(static_cast<Eigen::Index>(p))) - strength[p];
+      if (tied[p] && past > 1e-12 * strength[p] && past > worst_amount) worst = p, worst_amount = past;
+    }
     if (worst == P) return s.response;
     slipping[worst] = s.response.pair_forces(static_cast<Eigen::Index>(worst)) > 0 ? 1 : -1;
   }

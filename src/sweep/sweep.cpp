@@ -27,6 +27,7 @@ Step make_step(double load, const feti::Solution& s, int broken, double seconds)
   step.seconds = seconds;
   step.converged = s.converged();
   if (s.eps33 != 0) step.stress_zz = s.average_stress_zz;
+  if (!s.gamma.isZero(0)) step.shear_stress = s.shear_stress;
   return step;
 }
 
@@ -135,6 +136,15 @@ std::vector<PathSpec> plan_paths(const Scene& scene) {
         spec.eps33 = eps33;
         paths.push_back(spec);
       }
+  // And with each held shear along the fibres.
+  for (const auto& gamma : scene.sweep.gamma)
+    for (std::size_t i = 0; i < in_plane; ++i)
+      if (!std::isnan(paths[i].direction_deg)) {
+        PathSpec spec = paths[i];
+        spec.index = static_cast<int>(paths.size());
+        spec.gamma = Eigen::Vector2d(gamma[0], gamma[1]);
+        paths.push_back(spec);
+      }
   return paths;
 }
 
@@ -159,15 +169,19 @@ PathResult run_path(feti::ContactSolver& solver, const PathSpec& spec, double fu
   // The path's strain along the fibres, held while it runs and cleared after, however it ends.
   struct HeldStrain {
     feti::ContactSolver& solver;
-    ~HeldStrain() { solver.set_longitudinal_strain(0); }
+    ~HeldStrain() {
+      solver.set_longitudinal_strain(0);
+      solver.set_longitudinal_shear(Eigen::Vector2d::Zero());
+    }
   } held{solver};
   solver.set_longitudinal_strain(spec.eps33);
+  solver.set_longitudinal_shear(spec.gamma);
 
   // The schedule, with the exact onset inserted where it falls inside it (plane strain only).
   std::vector<double> loads = spec.loads;
   double onset = std::numeric_limits<double>::infinity();
   std::vector<int> critical;  // the bonds at their strength at the onset
-  if (adhesion && spec.eps33 == 0) {
+  if (adhesion && spec.in_plane()) {
     onset = spec.sign * solver.debond_onset(spec.sign * spec.unit_stress, &critical);
     if (std::isfinite(onset) && std::abs(onset) <= std::abs(loads.back()) &&
         std::find(loads.begin(), loads.end(), onset) == loads.end()) {
@@ -189,6 +203,15 @@ PathResult run_path(feti::ContactSolver& solver, const PathSpec& spec, double fu
   // max_events_per_step brackets per scheduled load; a progressive debonding beyond that is
   // recorded at the scheduled loads only).
   constexpr int max_events_per_step = 20;
+  if (!spec.gamma.isZero(0)) {
+    // The shear alone first: the bonds it breaks by itself are broken before any in-plane load,
+    // as a bisection from load 0 could not bracket.
+    const auto t0 = Clock::now();
+    feti::Solution s = walk.solve(0.0);
+    record(0.0, s, std::chrono::duration<double>(Clock::now() - t0).count());
+    walk.accept(0.0, s);
+    previous_strain = s.strain;
+  }
   for (double load : loads) {
     for (int event = 0;; ++event) {
       const auto t0 = Clock::now();

@@ -6,7 +6,11 @@
 // Tension and compression each start from the unloaded, intact state. A path of [sweep] eps33
 // holds that strain along the fibres from its start (generalised plane strain, §3a): its loads
 // are the in-plane stress's, its steps record σ33, and it has no exact onset (the load is not
-// linear in its factor then), so its jumps are bracketed by bisection alone.
+// linear in its factor then), so its jumps are bracketed by bisection alone. A path of [sweep]
+// gamma holds those shears along the fibres likewise (the antiplane solve beside each QP, its
+// ties breaking with the bonds: feti::ContactSolver::set_longitudinal_shear); its steps record
+// ⟨τ⟩, and its first step is the shear alone (load 0), so that the bonds it breaks by itself are
+// a state of the path, as the exact law's replay meets them.
 //
 // The fuse: with adhesion, the exact debond onset s* (docs/method.md §11) is inserted as a step, and
 // wherever new breaks appear between two steps the load is bisected until the jump is
@@ -27,12 +31,14 @@ namespace dualcell::sweep {
 
 struct PathSpec {
   int index = 0;
-  double direction_deg = 0;     // NaN for a general stress direction
-  int sign = 1;                 // +1 tension, −1 compression
-  Eigen::Vector3d unit_stress;  // N: (σxx, σyy, σxy), unit Frobenius norm
-  std::vector<double> loads;    // signed loads s, |s| increasing; σ̄ = s·N
-  bool sphere = false;          // one of [sweep] sphere's directions (sign +1, direction_deg NaN)
-  double eps33 = 0;             // the strain along the fibres held along the path ([sweep] eps33)
+  double direction_deg = 0;                         // NaN for a general stress direction
+  int sign = 1;                                     // +1 tension, −1 compression
+  Eigen::Vector3d unit_stress;                      // N: (σxx, σyy, σxy), unit Frobenius norm
+  std::vector<double> loads;                        // signed loads s, |s| increasing; σ̄ = s·N
+  bool sphere = false;                              // one of [sweep] sphere's directions (sign +1, direction_deg NaN)
+  double eps33 = 0;                                 // the strain along the fibres held along the path ([sweep] eps33)
+  Eigen::Vector2d gamma = Eigen::Vector2d::Zero();  // the shears along the fibres held ([sweep] gamma)
+  bool in_plane() const { return eps33 == 0 && gamma.isZero(0); }
 };
 
 // The N directions of [sweep] sphere: a Fibonacci point set on the unit sphere of
@@ -49,6 +55,8 @@ struct Step {
   double kkt_residual = 0;  // max of the relative projected gradient, ‖Gλ−e‖ and equilibrium residuals
   // σ33 (the average σzz) of a path with a strain along the fibres; NaN on a plane-strain path.
   double stress_zz = std::numeric_limits<double>::quiet_NaN();
+  // ⟨τ⟩ = (τxz, τyz) of a path with shears along the fibres; NaN otherwise.
+  Eigen::Vector2d shear_stress = Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN());
   double seconds = 0;
   bool converged = true;
 };

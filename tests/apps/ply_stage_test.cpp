@@ -161,33 +161,51 @@ TEST(PlyStage, DualcellLawEvaluatesTheWholePly) {
   }
 }
 
+// The stages on a bonded full cell of three directions, without paths held along the fibres
+// (plain) and with the [sweep] keys `held` (one more line of that table): each sweep and law. The
+// in-plane paths come first in both and are the same to the bit.
+struct HeldRuns {
+  std::vector<sweep::PathResult> plain, held;
+  law::Law plain_law, held_law;
+};
+HeldRuns held_runs(const std::string& held) {
+  const std::string base = testing::scene_text(
+      1, 1, 2, 0.3,
+      "[interface]\nnormal_strength = 0.02\ntangential_strength = 0.02\n[load]\nboundary = \"periodic\"\nmacro = "
+      "\"full\"\n[solver]\ntolerance = 1e-10\n[sweep]\ndirections_deg = [0, 45, 90]\nmagnitudes = [-0.05, "
+      "-0.02, 0.02, 0.05]\n");
+  HeldRuns out;
+  // One scratch folder per run: the plain run's results are read before the other run is made.
+  {
+    StagesRun plain(base);
+    out.plain = io::read_sweep(plain.sweep);
+    out.plain_law = io::read_law(plain.law);
+  }
+  StagesRun run(base + held);
+  out.held = io::read_sweep(run.sweep);
+  out.held_law = io::read_law(run.law);
+  EXPECT_EQ(out.held.size(), 3 * out.plain.size());
+  for (std::size_t i = 0; i < out.plain.size() && i < out.held.size(); ++i) {
+    EXPECT_TRUE(out.held[i].spec.in_plane());
+    EXPECT_EQ(out.held[i].steps.size(), out.plain[i].steps.size()) << i;
+    for (std::size_t k = 0; k < out.plain[i].steps.size() && k < out.held[i].steps.size(); ++k)
+      EXPECT_EQ(out.held[i].steps[k].strain, out.plain[i].steps[k].strain);
+  }
+  // The fitted forms see the in-plane paths only: the same numbers.
+  EXPECT_EQ(out.held_law.tension.S, out.plain_law.tension.S);
+  EXPECT_EQ(out.held_law.cone.law.C_c, out.plain_law.cone.law.C_c);
+  return out;
+}
+
 // Sweep paths with a strain along the fibres held ([sweep] eps33): each uniaxial path again at
 // each ε33, after the others, their steps recording σ33; the in-plane paths and the fitted laws
 // are those of the same sweep without them (the same numbers: the fits see in-plane paths only),
 // and the exact law replays the ε33 paths too, σ33 included, through the fuse, to the replay's
 // limit with the same broken pairs. A transverse scene that asks for them is refused.
 TEST(PlyStage, SweepPathsHoldAStrainAlongTheFibres) {
-  const std::string base = testing::scene_text(
-      1, 1, 2, 0.3,
-      "[interface]\nnormal_strength = 0.02\ntangential_strength = 0.02\n[load]\nboundary = \"periodic\"\nmacro = "
-      "\"full\"\n[solver]\ntolerance = 1e-10\n[sweep]\ndirections_deg = [0, 45, 90]\nmagnitudes = [-0.05, "
-      "-0.02, 0.02, 0.05]\n");
-  // One scratch folder per test: the plain run's results are read before the other run reuses it.
-  std::vector<sweep::PathResult> a;
-  law::Law la;
-  {
-    StagesRun plain(base);
-    a = io::read_sweep(plain.sweep);
-    la = io::read_law(plain.law);
-  }
-  StagesRun held(base + "eps33 = [-0.002, 0.003]\n");
-  const std::vector<sweep::PathResult> b = io::read_sweep(held.sweep);
+  const HeldRuns runs = held_runs("eps33 = [-0.002, 0.003]\n");
+  const std::vector<sweep::PathResult>&a = runs.plain, &b = runs.held;
   ASSERT_EQ(b.size(), 3 * a.size());
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    EXPECT_EQ(b[i].spec.eps33, 0);
-    ASSERT_EQ(b[i].steps.size(), a[i].steps.size()) << i;
-    for (std::size_t k = 0; k < a[i].steps.size(); ++k) EXPECT_EQ(b[i].steps[k].strain, a[i].steps[k].strain);
-  }
   long broken = 0;
   for (std::size_t i = a.size(); i < b.size(); ++i) {
     EXPECT_EQ(b[i].spec.eps33, i < 2 * a.size() ? -0.002 : 0.003);
@@ -198,9 +216,7 @@ TEST(PlyStage, SweepPathsHoldAStrainAlongTheFibres) {
     }
   }
   EXPECT_GT(broken, 0) << "the ε33 paths reach past the fuse";
-  const law::Law lb = io::read_law(held.law);
-  EXPECT_EQ(lb.tension.S, la.tension.S);
-  EXPECT_EQ(lb.cone.law.C_c, la.cone.law.C_c);
+  const law::Law &la = runs.plain_law, &lb = runs.held_law;
   EXPECT_GT(lb.cell_replay.points, 2 * la.cell_replay.points);
   EXPECT_EQ(lb.cell_longitudinal_replay.points, la.cell_longitudinal_replay.points) << "the checks: in-plane paths";
   EXPECT_LE(lb.cell_replay.max_error, lb.cell_replay.limit);
@@ -210,6 +226,48 @@ TEST(PlyStage, SweepPathsHoldAStrainAlongTheFibres) {
   const auto r = run_command(bin("dualcell-mesh") + " --config " + q(scene) + " --out " + q(dir / "m.h5"));
   EXPECT_EQ(r.exit_code, exit_input_error);
   EXPECT_NE(r.output.find("eps33"), std::string::npos) << r.output;
+}
+
+// Paths holding shears Γ along the fibres ([sweep] gamma): each uniaxial path again per Γ, after
+// the others, which stay as they were; the full solver runs the antiplane solve beside each QP
+// with the same bonds, a tie at its strength breaking its pair (its first step the shear alone).
+// The exact law replays them with its cascade: the same pairs broken at every point and ⟨τ⟩ and ε̄
+// within the replay's limit (1e3 × the QP tolerance: the sweep's strains carry the QP's error).
+// The larger Γ breaks ties by itself, the smaller does not.
+TEST(PlyStage, SweepPathsHoldAShearAlongTheFibres) {
+  const HeldRuns runs = held_runs("gamma = [[0.05, 0.0], [0.0, -0.001]]\n");
+  const std::vector<sweep::PathResult>&a = runs.plain, &b = runs.held;
+  ASSERT_EQ(b.size(), 3 * a.size());
+  long alone_large = 0, alone_small = 0;
+  for (std::size_t i = a.size(); i < b.size(); ++i) {
+    const bool large = i < 2 * a.size();
+    EXPECT_EQ(b[i].spec.gamma, large ? Eigen::Vector2d(0.05, 0) : Eigen::Vector2d(0, -0.001));
+    EXPECT_EQ(b[i].spec.direction_deg, b[i - (large ? 1 : 2) * a.size()].spec.direction_deg);
+    ASSERT_FALSE(b[i].steps.empty());
+    EXPECT_EQ(b[i].steps[0].load, 0.0);
+    (large ? alone_large : alone_small) += b[i].steps[0].broken_bonds;
+    for (const sweep::Step& step : b[i].steps) EXPECT_TRUE(step.shear_stress.allFinite());
+  }
+  EXPECT_GT(alone_large, 0) << "the larger shear breaks ties by itself";
+  EXPECT_EQ(alone_small, 0);
+  const law::Law &la = runs.plain_law, &lb = runs.held_law;
+  EXPECT_GT(lb.cell_replay.points, 2 * la.cell_replay.points);
+  EXPECT_LE(lb.cell_replay.max_error, lb.cell_replay.limit);
+  EXPECT_EQ(lb.cell_replay.break_mismatches, 0);
+  testing::ScratchDir dir;
+  const auto scene = dir.write("t.toml", testing::scene_text(1, 1, 2, 0.3,
+                                                             "[load]\nboundary = \"periodic\"\nmacro = "
+                                                             "\"full\"\n[sweep]\ngamma = [[0.001]]\n"));
+  const auto r = run_command(bin("dualcell-mesh") + " --config " + q(scene) + " --out " + q(dir / "m.h5"));
+  EXPECT_EQ(r.exit_code, exit_input_error);
+  EXPECT_NE(r.output.find("gamma"), std::string::npos) << r.output;
+  // The transverse law has no shear along the fibres: a scene asking for it is refused, named.
+  const auto transverse = dir.write("u.toml", testing::scene_text(1, 1, 2, 0.3,
+                                                                  "[load]\nboundary = \"periodic\"\n[sweep]\n"
+                                                                  "gamma = [[0.001, 0]]\n"));
+  const auto u = run_command(bin("dualcell-mesh") + " --config " + q(transverse) + " --out " + q(dir / "m.h5"));
+  EXPECT_EQ(u.exit_code, exit_input_error);
+  EXPECT_NE(u.output.find("macro = \"full\" and boundary = \"periodic\""), std::string::npos) << u.output;
 }
 
 }  // namespace
