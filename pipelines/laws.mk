@@ -20,7 +20,8 @@ PLY_SCENES ?= default structure-cell-adhesion rve4-adhesion
 PLY_OUT := $(OUT_ROOT)/ply
 
 ply: $(PLY_OUT)/constants.md $(PLY_OUT)/states.md $(PLY_OUT)/laminate/laminate.md $(PLY_OUT)/umat/cube.md \
-  $(PLY_OUT)/umat/cube_small.md $(PLY_OUT)/shear.md $(PLY_OUT)/small.md $(PLY_OUT)/umat/beam.md
+  $(PLY_OUT)/umat/cube_small.md $(PLY_OUT)/shear.md $(PLY_OUT)/small.md $(PLY_OUT)/umat/beam.md \
+  $(PLY_OUT)/umat/beam-fuse.md
 
 $(PLY_OUT)/constants.md: $(foreach s,$(PLY_SCENES),$(LAWS_OUT)/$(s)/law.h5) $(TOOLS)/ply_constants.py $(TOOLS)/ccx_ply.py
 	@mkdir -p $(dir $@)
@@ -41,17 +42,28 @@ $(PLY_OUT)/umat/cube.md: $(CCX_UMAT) $(PLY_OUT)/umat/ply.inp $(TOOLS)/ccx_umat_c
 
 # A beam of 3D elements with the whole ply's exact law (layout 3) in CalculiX against
 # dualcell-structure's transverse solution of the same beam (tools/ccx_solid_beam.py): below the
-# first break (structure-ply-beam.toml). Past it (structure-ply-beam-fuse.toml) ccx's Newton,
-# without a line search, does not converge where the umat's debond cascade drops the stress at a
-# trial strain; the rule stays, to show it: make $(PLY_OUT)/umat/beam-fuse.md.
+# first break (structure-ply-beam.toml, the card as exported by default), and past it
+# (structure-ply-beam-fuse.toml: bonds per point at CalculiX's quadrature points) with the card
+# whose bonds break between increments (--breaks between, cell id 3), each load level repeated
+# once per debond round of dualcell-structure's. About 2 min of ccx.
+$(PLY_OUT)/umat/ply_rounds.inp: $(LAWS_OUT)/ply/law.h5 $(BUILT)
+	@mkdir -p $(dir $@)
+	$(BIN)/dualcell-export --quiet --law $< --format umat --form cell --breaks between --cell-id 3 --name PLY_ROUNDS \
+	  --out $@
+
 $(PLY_OUT)/umat/%.h5: $(SCENES)/structure-ply-%.toml $(LAWS_OUT)/ply/law.h5 $(BUILT)
 	@mkdir -p $(dir $@)
 	$(BIN)/dualcell-structure --quiet --config $< --law $(LAWS_OUT)/ply/law.h5 --out $@
 
-$(PLY_OUT)/umat/beam.md $(PLY_OUT)/umat/beam-fuse.md: $(PLY_OUT)/umat/%.md: $(CCX_UMAT) $(PLY_OUT)/umat/ply.inp \
-    $(PLY_OUT)/umat/%.h5 $(TOOLS)/ccx_solid_beam.py $(TOOLS)/ccx_umat_check.py
-	$(PY) $(TOOLS)/ccx_solid_beam.py $(CCX_UMAT) $(PLY_OUT)/umat/ply.inp $(PLY_OUT)/umat/$*.h5 \
-	  $(SCENES)/structure-ply-$*.toml $@
+$(PLY_OUT)/umat/beam.md: $(CCX_UMAT) $(PLY_OUT)/umat/ply.inp $(PLY_OUT)/umat/beam.h5 $(TOOLS)/ccx_solid_beam.py \
+    $(TOOLS)/ccx_umat_check.py
+	$(PY) $(TOOLS)/ccx_solid_beam.py $(CCX_UMAT) $(PLY_OUT)/umat/ply.inp $(PLY_OUT)/umat/beam.h5 \
+	  $(SCENES)/structure-ply-beam.toml $@
+
+$(PLY_OUT)/umat/beam-fuse.md: $(CCX_UMAT) $(PLY_OUT)/umat/ply_rounds.inp $(PLY_OUT)/umat/beam-fuse.h5 \
+    $(TOOLS)/ccx_solid_beam.py $(TOOLS)/ccx_umat_check.py
+	$(PY) $(TOOLS)/ccx_solid_beam.py $(CCX_UMAT) $(PLY_OUT)/umat/ply_rounds.inp $(PLY_OUT)/umat/beam-fuse.h5 \
+	  $(SCENES)/structure-ply-beam-fuse.toml $@
 
 # The small cell of the whole ply (docs/method.md §16e) against its exact law along six-component
 # strain paths, with adhesion (the ply scene) and without (bimodular-ply): /law/small_ply_check.

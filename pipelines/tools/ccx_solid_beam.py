@@ -9,12 +9,16 @@ usage:
 CARD.inp is a layout-3 card (dualcell-export --format umat of a law with [load] macro = "full",
 the cell's file beside it). STRUCTURE.h5 is dualcell-structure's solution of SCENE.toml with the
 same law.h5: a roller left edge, one point held in y, a traction linear along the right edge,
-load factors in equal steps from 0. Its p2 mesh is extruded along the fibres (z) into one layer
+load factors as its steps. Its p2 mesh is extruded along the fibres (z) into one layer
 of C3D15 wedges of unit thickness; every node is held at w = 0, so the 3D elements are in plane
 strain and the umat takes (ε11, ε22, γ12) with ε33 = γ13 = γ23 = 0: the transverse law, which is
 the full law's in-plane part. The right face carries the consistent nodal forces of the traction
 (the 8-node face, 3 × 3 Gauss points). ccx takes the scene's steps as fixed increments (*STATIC,
-DIRECT): each increment's bonds start from the last one's, as dualcell-structure's steps do.
+DIRECT, one increment per step): each starts from the last one's bonds, as dualcell-structure's
+steps do. With a card whose bonds break between increments (dualcell-export --breaks between:
+held within an increment, what each point's cascade breaks at its end broken at the start of the
+next) each load level is repeated once per debond round dualcell-structure took there, and once
+more: the rounds of its debond loop (equilibrium with the bonds held, then each point's cascade).
 
 Compared at the last step: the end rotation and the largest nodal displacement difference (the
 bottom layer against dualcell-structure's nodes; the top layer must equal the bottom), and the
@@ -83,16 +87,20 @@ def main(argv):
     if edges.get("left", {}).get("type") != "roller" or edges.get("right", {}).get("type") != "traction":
         sys.exit("ccx_solid_beam.py: the scene must have a roller left edge and a traction right edge")
     factors = scene.get("steps", {}).get("factors", [1.0])
-    dt = factors[0]
-    if any(abs(t - (i + 1) * dt) > 1e-12 for i, t in enumerate(factors)):
-        sys.exit(f"ccx_solid_beam.py: the scene's load factors {factors} are not equal steps from 0 "
-                 "(ccx takes them as fixed increments)")
+    between = len(k) >= 5 and k[4] != 0
     with h5py.File(args.structure_h5, "r") as f:
         nodes, tri = f["/mesh/nodes"][:], f["/mesh/triangles"][:]
         steps = sorted(key for key in f["/steps"].keys() if key.isdigit())
         u_ref = f[f"/steps/{steps[-1]}/displacement"][:]
         watch_ref = f["/steps/watch_displacement"][:]
+        rounds_ref = [int(r) for r in f["/steps/fuse_rounds"][:]]
         law_file = common.text(f.attrs.get("law_file", ""))
+    if len(rounds_ref) != len(factors):
+        sys.exit(f"ccx_solid_beam.py: {args.structure_h5} has {len(rounds_ref)} steps, the scene {len(factors)}")
+    # Per load level, the ccx steps at it: one; with bonds breaking between increments (the card's
+    # 5th constant) one more per debond round dualcell-structure took there, and one to see that
+    # nothing more breaks.
+    repeats = [1 + (r + 1 if between else 0) for r in rounds_ref]
     if tri.shape[1] != 6:
         sys.exit("ccx_solid_beam.py: the structure must be meshed with p2 triangles")
     N = len(nodes)
@@ -108,7 +116,7 @@ def main(argv):
     right = sorted((i for i in range(N) if abs(nodes[i, 0] - L) < tol), key=lambda i: nodes[i, 1])
     t0 = edges["right"]["traction"]
     t1 = edges["right"].get("traction_end", t0)
-    forces = face_forces(nodes, right, layer, [factors[-1] * v for v in t0], [factors[-1] * v for v in t1])
+    forces = face_forces(nodes, right, layer, t0, t1)  # at load factor 1
     deck = "*NODE, NSET=NALL\n"
     deck += "".join(f"{layer(i, 0)}, {x:.13e}, {y:.13e}, 0\n" for i, (x, y) in enumerate(nodes))
     deck += "".join(f"{layer(i, 2)}, {x:.13e}, {y:.13e}, 1\n" for i, (x, y) in enumerate(nodes))
@@ -130,12 +138,15 @@ def main(argv):
                 deck += "".join(f"{layer(i, lv)}, {axis}, {axis}, 0.\n" for lv in range(3) if lv != 1 or i in mid_layer)
     watch = np.array(scene.get("output", {}).get("watch", [L, 0]), dtype=float)
     w = int(np.argmin(np.linalg.norm(nodes - watch, axis=1)))
-    # Fixed increments, the scene's steps; Newton with the umat's tangent to a tight residual.
-    deck += (f"*STEP, INC=1000\n*STATIC, DIRECT\n{dt:.12g}, {factors[-1]:.12g}\n*CONTROLS, PARAMETERS=FIELD\n"
-             "1e-10, 1e-10\n*CONTROLS, PARAMETERS=TIME INCREMENTATION\n4, 8, 9, 200, 10, 4, , 200\n*CLOAD\n")
-    for i, fv in sorted(forces.items()):
-        deck += f"{i}, 1, {fv[0]:.13e}\n{i}, 2, {fv[1]:.13e}\n"
-    deck += "*NODE PRINT, NSET=NALL\nU\n*END STEP\n"
+    # One ccx step (one increment) per load level and round, the loads at the level's factor;
+    # Newton with the umat's tangent to a tight residual.
+    for t, repeat in zip(factors, repeats):
+        for _ in range(repeat):
+            deck += ("*STEP, INC=1000\n*STATIC, DIRECT\n1., 1.\n*CONTROLS, PARAMETERS=FIELD\n1e-10, 1e-10\n"
+                     "*CONTROLS, PARAMETERS=TIME INCREMENTATION\n4, 8, 9, 200, 10, 4, , 200\n*CLOAD\n")
+            for i, fv in sorted(forces.items()):
+                deck += f"{i}, 1, {t * fv[0]:.13e}\n{i}, 2, {t * fv[1]:.13e}\n"
+            deck += "*NODE PRINT, NSET=NALL\nU\n*END STEP\n"
     work = tempfile.mkdtemp(prefix="ccx-solid-beam-", dir=os.path.dirname(os.path.abspath(args.out)))
     try:
         dat, seconds = run_ccx(args.ccx, work, deck, args.card)
@@ -149,9 +160,14 @@ def main(argv):
         elif blocks and line.split():
             r = line.split()
             blocks[-1][int(r[0]) - 1] = [float(v) for v in r[1:4]]
-    if len(blocks) != len(factors):
-        sys.exit(f"ccx_solid_beam.py: ccx printed {len(blocks)} increments, not the scene's {len(factors)}")
-    watch_ccx = [b[layer(w, 0) - 1] for b in blocks]
+    if len(blocks) != sum(repeats):
+        sys.exit(f"ccx_solid_beam.py: ccx printed {len(blocks)} increments, not the {sum(repeats)} asked")
+    # Each load level's last round; with breaks between increments, the last two rounds must agree
+    # (nothing more broke).
+    ends = np.cumsum(repeats) - 1
+    watch_ccx = [blocks[e][layer(w, 0) - 1] for e in ends]
+    settled = max((np.abs(blocks[e] - blocks[e - 1]).max() for e, r in zip(ends, repeats) if r > 1), default=0.0)
+    settled /= max(np.abs(b).max() for b in blocks)
     u3 = blocks[-1]
     bottom = u3[:N, :2]
     top = u3[N:2 * N, :2]
@@ -172,7 +188,11 @@ def main(argv):
           f"{os.path.basename(args.structure_h5)}'s mesh ({len(tri)} p2 triangles) extruded along the fibres into "
           f"{len(tri)} C3D15 (one layer, w = 0: plane strain), the edges and steps of "
           f"{os.path.basename(args.scene_file)}, material {name} (layout 3) of {law_file or 'the law'}; against "
-          "dualcell-structure on the same law and mesh.", "",
+          "dualcell-structure on the same law and mesh. "
+          + (f"Bonds break between increments (the card's 5th constant): each load level is repeated once "
+             f"per debond round of dualcell-structure's and once more ({sum(repeats)} ccx steps); the last two "
+             f"rounds of a level differ by {settled:.1e} of the largest displacement."
+             if between else "One ccx step per load level; bonds break within it."), "",
           "| load factor | deflection, dualcell-structure | deflection, CalculiX C3D15 | relative difference |",
           "|---|---|---|---|"]
     for t, ref, got in zip(factors, watch_ref, watch_ccx):

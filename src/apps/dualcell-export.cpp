@@ -53,6 +53,13 @@ int main(int argc, char** argv) {
                  "umat --form cell or small: the id that names the cell's file (dualcell-cell-<id>.txt)")
       ->capture_default_str()
       ->check(CLI::Range(1, 999999));
+  std::string breaks;
+  app.add_option("--breaks", breaks,
+                 "umat --form cell or small of a whole ply's law (layout 3): within, each material point's debond "
+                 "cascade runs at every strain (default); between, its bonds are held within an increment and "
+                 "what its cascade breaks at the increment's end breaks at the start of the next (a response a "
+                 "Newton method converges on; repeat an increment at the same load to finish the cascade)")
+      ->check(CLI::IsMember({"within", "between"}));
   app.add_flag("--quiet", quiet, "do not print what was written");
   if (const auto stop = dualcell::parse_options(app, argc, argv)) return *stop;
 
@@ -67,6 +74,7 @@ int main(int argc, char** argv) {
     options.force = force;
     options.form = form;
     options.cell_id = cell_id;
+    options.breaks = breaks;
     const std::string written = stage::export_law(options);
     if (!quiet) std::printf("dualcell-export: %s -> %s (%s)\n", law_file.c_str(), out.c_str(), written.c_str());
   });

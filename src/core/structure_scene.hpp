@@ -22,6 +22,9 @@ struct StructureScene : EdgeLoads {
   double cell_size = 1;       // side of one cell: the fitted cell's (from law.h5), not a key
   int elements_per_cell = 2;  // m: m × m squares per cell, two triangles each
   Element element = Element::p2;
+  // Quadrature points per p2 triangle: 6 (degree 4, the default) or 3 (degree 2, as CalculiX's
+  // CPE6 and C3D15 integrate: a structure compared with them point by point, past the fuse).
+  int quadrature = 6;
   // The exact law's bond history (law/condensed.hpp): per cell (every point of a cell shares its
   // bonds; the cell's debond cascade runs at its mean strain) or per quadrature point.
   enum class BondUnit { cell, point } bond_unit = BondUnit::cell;

@@ -42,6 +42,12 @@ StructureScene parse_structure_scene(std::string_view text, const std::filesyste
     scene.ny = static_cast<int>(cells[1]);
     scene.elements_per_cell = count(st, "elements_per_cell", 2, 1, 64);
     scene.element = st.string("element", "p2", {"p1", "p2"}) == "p1" ? Element::p1 : Element::p2;
+    scene.quadrature = count(st, "quadrature", 6, 3, 6);
+    if (scene.quadrature != 3 && scene.quadrature != 6)
+      st.fail(st.node("quadrature"), "quadrature", show(*st.node("quadrature"), lines), "must be 3 or 6");
+    if (scene.quadrature == 3 && scene.element != Element::p2)
+      st.fail(st.node("quadrature"), "quadrature", show(*st.node("quadrature"), lines),
+              "a p1 triangle has one point: quadrature = 3 is for element = \"p2\"");
     scene.bond_unit = st.string("bonds", "cell", {"cell", "point"}) == "cell" ? StructureScene::BondUnit::cell
                                                                               : StructureScene::BondUnit::point;
     // The same bound as a cell scene's mesh: (nx·m·k + 1)(ny·m·k + 1) nodes for m elements per

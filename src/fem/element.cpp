@@ -57,6 +57,12 @@ const std::array<TrianglePoint, 6>& triangle_rule() {
   return rule;
 }
 
+const std::array<TrianglePoint, 3>& triangle_rule_3() {
+  static const std::array<TrianglePoint, 3> rule{
+      {{1.0 / 6, 1.0 / 6, 1.0 / 6}, {2.0 / 3, 1.0 / 6, 1.0 / 6}, {1.0 / 6, 2.0 / 3, 1.0 / 6}}};
+  return rule;
+}
+
 void triangle_shape(int n, double L1, double L2, double* phi, double* dphi_dL1, double* dphi_dL2) {
   // Barycentric coordinates L0 = 1 − L1 − L2, L1, L2 (L1, L2 also the reference coordinates).
   const double L[3] = {1 - L1 - L2, L1, L2};

@@ -48,6 +48,9 @@ struct TrianglePoint {
   double L1, L2, weight;
 };
 const std::array<TrianglePoint, 6>& triangle_rule();
+// The 3-point rule of degree 2 at (1/6, 1/6), (2/3, 1/6), (1/6, 2/3), weights 1/6: what CalculiX's
+// CPE6 and C3D15 (in the plane) integrate with, for a structure that compares with them.
+const std::array<TrianglePoint, 3>& triangle_rule_3();
 
 // Shape functions of the p1 (n = 3) or p2 (n = 6) triangle at (L₁, L₂), and their derivatives
 // dφ/dL₁, dφ/dL₂; arrays of length n.

@@ -371,8 +371,8 @@ std::string law_calculix(const Law& law, const std::string& name, const std::str
         "--name " + name + ": at most " + std::to_string(80 - ply_suffix) +
         " characters for a law with the ply's cards (the longest name is <name>_PLY_AFTER_FUSE_COMPRESSION)");
   const SolidMaterial tension = solid_material(law.tension.S, law, source, "S_tension");
-  const SolidMaterial compression = solid_material(law.compression.S, law, source, "S_compression");
-  const OutOfPlane z = rule_of_mixtures(law);
+  const SolidMaterial compression = solid_material(law.compression.S, law, source, "S_compression", -1);
+  const OutOfPlane z = out_of_plane(law);
   std::string out = card_header(law, source, "law for CalculiX/Abaqus");
   out +=
       "** Material axes: 1 = x, 2 = y (the plane of the cells), 3 = z = fibre direction.\n"
@@ -382,15 +382,30 @@ std::string law_calculix(const Law& law, const std::string& name, const std::str
       "** compression paths (bimodular: choose by the sign of the load). Plane-strain elements (CPE*,\n"
       "** eps33 = 0) in the x-y plane reproduce the fitted plane-strain compliance S exactly:\n"
       "**   S11 = Sps11 + S13^2/S33, S22 = Sps22 + S23^2/S33, S12 = Sps12 + S13 S23/S33, 1/G12 = Sps33,\n"
-      "** out of plane by the rule of mixtures:\n"
-      "**   E3 = Vf Ef + (1 - Vf) Em, nu31 = nu32 = Vf nuf + (1 - Vf) num  (S13 = S23 = -nu31/E3, S33 = 1/E3),\n"
-      "**   1/G13 = 1/G23 = Vf/Gf + (1 - Vf)/Gm, G = E/(2 (1 + nu)),\n";
-  out += "** with Vf = " + formatted("%.6g", law.constituents.fibre_volume_fraction) +
-         ", fibre E = " + formatted("%.6g", law.constituents.fibre_E) +
-         ", nu = " + formatted("%.6g", law.constituents.fibre_nu) +
-         ", matrix E = " + formatted("%.6g", law.constituents.matrix_E) +
-         ", nu = " + formatted("%.6g", law.constituents.matrix_nu) + ": E3 = " + formatted("%.6g", z.E3) +
-         ", nu31 = " + formatted("%.6g", z.nu31) + ", G13 = G23 = " + formatted("%.6g", z.G_longitudinal) + "\n";
+      "** with S13 = -nu31/E3, S23 = -nu32/E3, S33 = 1/E3 and G13, G23 out of plane, ";
+  if (z.from_cell) {
+    out +=
+        "from the cell's exact law (the ply's\n** constants, /law/ply: E3 = its E1, nu31 = nu12, nu32 = nu13, "
+        "G13 = G12, G23 = G13; " +
+        std::string(law.cell && law.cell->adhesion() ? "bonded" : "the contact state of each sign") + "):\n";
+    for (const int sign : {1, -1}) {
+      const OutOfPlane w = out_of_plane(law, sign);
+      out += "**   " + std::string(sign > 0 ? "tension" : "compression") + ": E3 = " + formatted("%.6g", w.E3) +
+             ", nu31 = " + formatted("%.6g", w.nu31) + ", nu32 = " + formatted("%.6g", w.nu32) +
+             ", G13 = " + formatted("%.6g", w.G13) + ", G23 = " + formatted("%.6g", w.G23) + "\n";
+    }
+  } else {
+    out +=
+        "by the rule of mixtures:\n"
+        "**   E3 = Vf Ef + (1 - Vf) Em, nu31 = nu32 = Vf nuf + (1 - Vf) num, 1/G13 = 1/G23 = Vf/Gf + (1 - Vf)/Gm,\n"
+        "**   G = E/(2 (1 + nu)),\n";
+    out += "** with Vf = " + formatted("%.6g", law.constituents.fibre_volume_fraction) +
+           ", fibre E = " + formatted("%.6g", law.constituents.fibre_E) +
+           ", nu = " + formatted("%.6g", law.constituents.fibre_nu) +
+           ", matrix E = " + formatted("%.6g", law.constituents.matrix_E) +
+           ", nu = " + formatted("%.6g", law.constituents.matrix_nu) + ": E3 = " + formatted("%.6g", z.E3) +
+           ", nu31 = " + formatted("%.6g", z.nu31) + ", G13 = G23 = " + formatted("%.6g", z.G13) + "\n";
+  }
   out += material_cards(name + "_TENSION", "S_tension", tension, law.tension.S);
   out += material_cards(name + "_COMPRESSION", "S_compression", compression, law.compression.S);
   if (!law.ply.rows.empty()) out += ply_cards(law, name);
@@ -402,7 +417,7 @@ std::vector<double> umat_constants(const Law& law, const std::string& file) {
     throw InputError(file + ": /law/cone: no fitted cone-wise law (" + one_line(law.cone.message) +
                      "): there is no law for a user material");
   check_constituents(law, file);
-  const OutOfPlane z = rule_of_mixtures(law);
+  const OutOfPlane z = out_of_plane(law);
   const bool fuse = law.cone_after_fuse.ok && law.onset.linear && law.onset.facets.rows() > 0;
   const auto planes = [](const ConeLaw& l) { return static_cast<double>(l.q.size()); };
   std::vector<double> k = {1.0,
@@ -410,8 +425,8 @@ std::vector<double> umat_constants(const Law& law, const std::string& file) {
                            fuse ? planes(law.cone_after_fuse.law) : 0.0,
                            fuse ? static_cast<double>(law.onset.facets.rows()) : 0.0,
                            z.E3,
-                           z.G_longitudinal,
-                           z.G_longitudinal};
+                           z.G13,
+                           z.G23};
   const auto add_law = [&](const ConeLaw& l) {
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j) k.push_back(l.C_c(i, j));
@@ -434,7 +449,8 @@ std::string law_umat(const Law& law, const std::string& name, const std::string&
   out +=
       "** For a code built with dualcell's umat (src/umat/dualcell_umat.c; CalculiX: make -C pipelines ccx-umat).\n"
       "** Plane strain in the x-y plane (CPE*): sigma = C_c eps + sum_k beta_k <q_k.eps>+ q_k in (11, 22, 12),\n"
-      "** engineering shear; out of plane decoupled: E33, G13, G23 (rule of mixtures).\n";
+      "** engineering shear; out of plane decoupled: E33, G13, G23 (" +
+      std::string(out_of_plane(law).from_cell ? "the cell's, /law/ply" : "rule of mixtures") + ").\n";
   out += fuse ? "** The fuse: a point whose stress leaves the onset surface (max_f g_f.sigma >= 1) switches to the\n"
                 "** law past the fuse for good (state variable 1: 0 bonded, 1 fused).\n"
               : "** No fuse: the law has no onset surface or no law past the fuse; points stay bonded.\n";
@@ -481,7 +497,8 @@ namespace {
 
 // Layout 3: the whole ply's exact law or its small cell, every component from the cell.
 std::string law_umat_ply(const Law& law, const law::CondensedCell& cell, bool small, const std::string& name, int id,
-                         std::uint64_t cell_hash, const std::string& source) {
+                         std::uint64_t cell_hash, const std::string& source, UmatBreaks breaks) {
+  const bool between = breaks == UmatBreaks::between;
   const int depvar = 1 + cell.n_pairs + cell.n_macro + cell.n_rows() + cell.shear_rows;
   std::string out = card_header(
       law, source,
@@ -502,10 +519,15 @@ std::string law_umat_ply(const Law& law, const law::CondensedCell& cell, bool sm
       std::to_string(1 + cell.n_pairs) +
       ", 1 where a pair broke) and the warm starts of its QPs (src/umat/cell_umat.h).\n"
       "** Constants: layout 3, law id, the cell file's hash (FNV-1a, high and low 32 bits: a file replaced\n"
-      "** after this card was written is refused, not mixed with it).\n";
+      "** after this card was written is refused, not mixed with it)" +
+      std::string(between ? ", 1: bonds break between increments\n"
+                            "** (held within one; the pairs its cascade breaks at its end break at the start of the "
+                            "next: repeat\n** an increment at the same load until none does).\n"
+                          : ".\n");
   out += "*MATERIAL, NAME=ABAQUS_" + name + "\n";
-  out += "*USER MATERIAL, CONSTANTS=4\n";
-  out += card_number(3) + ", " + card_number(id) + ", " + umat_cell_hash_constants(cell_hash) + "\n";
+  out += std::string("*USER MATERIAL, CONSTANTS=") + (between ? "5" : "4") + "\n";
+  out += card_number(3) + ", " + card_number(id) + ", " + umat_cell_hash_constants(cell_hash) +
+         (between ? ", " + card_number(1) : "") + "\n";
   out += "*DEPVAR\n" + std::to_string(depvar) + "\n";
   return out;
 }
@@ -513,13 +535,18 @@ std::string law_umat_ply(const Law& law, const law::CondensedCell& cell, bool sm
 }  // namespace
 
 std::string law_umat_cell(const Law& law, CellForm form, const std::string& name, int id, std::uint64_t cell_hash,
-                          const std::string& source) {
+                          const std::string& source, UmatBreaks breaks) {
   check_name(name);
   const bool small = form == CellForm::small;
   const law::CondensedCell& cell = umat_cell(law, form, source);
-  if (cell.longitudinal == 1 && cell.shear == 2) return law_umat_ply(law, cell, small, name, id, cell_hash, source);
+  if (cell.longitudinal == 1 && cell.shear == 2)
+    return law_umat_ply(law, cell, small, name, id, cell_hash, source, breaks);
+  if (breaks == UmatBreaks::between)
+    throw InputError(source +
+                     ": --breaks between: only for a cell of the whole ply (the umat's layout 3: [load] "
+                     "macro = \"full\", periodic)");
   check_constituents(law, source);
-  const OutOfPlane z = rule_of_mixtures(law);
+  const OutOfPlane z = out_of_plane(law);
   const int depvar = 1 + cell.n_pairs + cell.n_macro + cell.n_rows();
   std::string out = card_header(
       law, source,
@@ -540,8 +567,8 @@ std::string law_umat_cell(const Law& law, CellForm form, const std::string& name
       "** a file replaced after this card was written is refused, not mixed with it).\n";
   out += "*MATERIAL, NAME=ABAQUS_" + name + "\n";
   out += "*USER MATERIAL, CONSTANTS=7\n";
-  out += card_number(2) + ", " + card_number(id) + ", " + card_number(z.E3) + ", " + card_number(z.G_longitudinal) +
-         ", " + card_number(z.G_longitudinal) + ", " + umat_cell_hash_constants(cell_hash) + "\n";
+  out += card_number(2) + ", " + card_number(id) + ", " + card_number(z.E3) + ", " + card_number(z.G13) + ", " +
+         card_number(z.G23) + ", " + umat_cell_hash_constants(cell_hash) + "\n";
   out += "*DEPVAR\n" + std::to_string(depvar) + "\n";
   return out;
 }

@@ -31,13 +31,22 @@ OutOfPlane rule_of_mixtures(const Law& law) {
   const double Vf = law.constituents.fibre_volume_fraction;
   const double G_f = law.constituents.fibre_E / (2 * (1 + law.constituents.fibre_nu));
   const double G_m = law.constituents.matrix_E / (2 * (1 + law.constituents.matrix_nu));
-  return {Vf * law.constituents.fibre_E + (1 - Vf) * law.constituents.matrix_E,    // E3 = Vf E_f + (1 − Vf) E_m
-          Vf * law.constituents.fibre_nu + (1 - Vf) * law.constituents.matrix_nu,  // ν31 = Vf ν_f + (1 − Vf) ν_m
-          1 / (Vf / G_f + (1 - Vf) / G_m)};                                        // 1/G = Vf/G_f + (1 − Vf)/G_m
+  const double nu = Vf * law.constituents.fibre_nu + (1 - Vf) * law.constituents.matrix_nu;  // ν31 = ν32
+  const double G = 1 / (Vf / G_f + (1 - Vf) / G_m);  // 1/G13 = 1/G23 = Vf/G_f + (1 − Vf)/G_m
+  return {Vf * law.constituents.fibre_E + (1 - Vf) * law.constituents.matrix_E, nu, nu, G, G};
+}
+
+OutOfPlane out_of_plane(const Law& law, int sign) {
+  // The bonded state's (either sign: bonded, both are the same law), or the contact state's of the sign.
+  for (const PlyState state : {PlyState::bonded, PlyState::contact})
+    for (const PlyConstants& c : law.ply.rows)
+      if (c.state == state && (state == PlyState::bonded ? c.sign == 1 : c.sign == sign))
+        return {c.E1, c.nu12, c.nu13, c.G12, c.G13, true};
+  return rule_of_mixtures(law);
 }
 
 SolidMaterial solid_material(const Eigen::Matrix3d& S_ps_in, const Law& law, const std::string& file,
-                             const std::string& fit_name) {
+                             const std::string& fit_name, int sign) {
   const std::string what = file + ": /law/" + fit_name;
   static const char* entry_names[3][3] = {
       {"xx,xx", "xx,yy", "xx,xy"}, {"yy,xx", "yy,yy", "yy,xy"}, {"xy,xx", "xy,yy", "xy,xy"}};
@@ -66,9 +75,9 @@ SolidMaterial solid_material(const Eigen::Matrix3d& S_ps_in, const Law& law, con
                         std::abs(S_ps(1, 2)) / std::sqrt(S_ps(1, 1) * S_ps(2, 2)));
   m.orthotropic = m.coupling <= coupling_tolerance;
 
-  const OutOfPlane z = rule_of_mixtures(law);
-  // S13 = S23 = −ν31/E3, S33 = 1/E3.
-  const double S13 = -z.nu31 / z.E3, S23 = S13, S33 = 1 / z.E3;
+  const OutOfPlane z = out_of_plane(law, sign);
+  // S13 = −ν31/E3, S23 = −ν32/E3, S33 = 1/E3.
+  const double S13 = -z.nu31 / z.E3, S23 = -z.nu32 / z.E3, S33 = 1 / z.E3;
   auto& S = m.S;
   S(2, 2) = S33;
   S(0, 2) = S(2, 0) = S13;
@@ -84,7 +93,8 @@ SolidMaterial solid_material(const Eigen::Matrix3d& S_ps_in, const Law& law, con
     S(1, 3) = S(3, 1) = S_ps(1, 2);
   }
   // Out-of-plane shears γ13, γ23.
-  S(4, 4) = S(5, 5) = 1 / z.G_longitudinal;
+  S(4, 4) = 1 / z.G13;
+  S(5, 5) = 1 / z.G23;
 
   const Eigen::Matrix<double, 6, 1> eigenvalues_3d =
       Eigen::SelfAdjointEigenSolver<SolidMaterial::Matrix6d>(S).eigenvalues();

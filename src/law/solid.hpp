@@ -6,10 +6,15 @@
 // 3 = z = fibre direction, chosen so that plane-strain elements (ε33 = 0) reproduce the fitted
 // plane-strain compliance S_ps exactly. Voigt order (11, 22, 33, 12, 13, 23), engineering shear.
 //
-//   out of plane, rule of mixtures (Vf fibre volume fraction, f fibre, m matrix):
+//   out of plane, where the law's exact law carries the whole ply (law/ply.hpp), the cell's own
+//   constants of the bonded state (with adhesion) or of the contact state of the same sign (without):
+//     E3 = the ply's E1, ν31 = its ν12, ν32 = its ν13, G13 = its G12, G23 = its G13
+//     (the ply's axis 1 is z, its 2 and 3 are x and y);
+//   otherwise (a transverse law, which carries nothing along the fibres) the rule of mixtures
+//   (Vf fibre volume fraction, f fibre, m matrix):
 //     E3 = Vf E_f + (1 − Vf) E_m,   ν31 = ν32 = Vf ν_f + (1 − Vf) ν_m,
-//     1/G13 = 1/G23 = Vf/G_f + (1 − Vf)/G_m,   G = E / (2 (1 + ν)),
-//     S13 = S23 = −ν31/E3,   S33 = 1/E3;
+//     1/G13 = 1/G23 = Vf/G_f + (1 − Vf)/G_m,   G = E / (2 (1 + ν));
+//   S13 = −ν31/E3, S23 = −ν32/E3, S33 = 1/E3;
 //   in plane: ε33 = 0 ⇒ σ33 = −(S13 σ11 + S23 σ22)/S33, so the plane-strain compliance is
 //     S_ps,ij = S_ij − S_i3 S_j3 / S33 (i, j ∈ {1, 2}) and the shear row is unchanged, hence
 //     S11 = S_ps11 + S13²/S33,  S22 = S_ps22 + S23²/S33,  S12 = S_ps12 + S13 S23/S33,
@@ -45,21 +50,24 @@ struct SolidMaterial {
   OrthotropicConstants constants;
 };
 
-// Builds the 3D material of S_ps (law.tension.S or law.compression.S, named `fit_name`) with the
-// law's constituents. Refuses with an InputError naming `file` and the object a compliance with
-// NaN entries, an asymmetric one, one that is not positive definite, and missing or unphysical
-// constituents.
+// Builds the 3D material of S_ps (law.tension.S or law.compression.S, named `fit_name`, of the
+// sign `sign`: +1 tension, −1 compression) with the law's out-of-plane constants (out_of_plane).
+// Refuses with an InputError naming `file` and the object a compliance with NaN entries, an
+// asymmetric one, one that is not positive definite, and missing or unphysical constituents.
 SolidMaterial solid_material(const Eigen::Matrix3d& S_ps, const Law& law, const std::string& file,
-                             const std::string& fit_name);
+                             const std::string& fit_name, int sign = 1);
 
 // Refuses (InputError naming `file`) constituents that cannot give the out-of-plane constants.
 void check_constituents(const Law& law, const std::string& file);
 
-// The out-of-plane constants by the rule of mixtures (formulas above).
+// The out-of-plane constants (formulas above): from the cell where the law carries the whole ply
+// (from_cell), by the rule of mixtures otherwise; `sign` chooses the state of a cell without
+// adhesion (the contact cell's tension or compression constants).
 struct OutOfPlane {
-  double E3, nu31, G_longitudinal;
+  double E3, nu31, nu32, G13, G23;
+  bool from_cell = false;
 };
-
 OutOfPlane rule_of_mixtures(const Law& law);
+OutOfPlane out_of_plane(const Law& law, int sign = 1);
 
 }  // namespace dualcell::law

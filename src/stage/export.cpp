@@ -62,9 +62,13 @@ std::string export_law(const ExportOptions& options) {
   if (options.form != "" && options.form != "cell" && options.form != "small" && options.form != "cone")
     throw InputError("--form " + options.form +
                      ": must be \"cell\" (the exact law), \"small\" (its small cell) or \"cone\"");
+  if (!options.breaks.empty() && options.breaks != "within" && options.breaks != "between")
+    throw InputError("--breaks " + options.breaks + ": must be \"within\" or \"between\"");
   io::check_outputs({options.out}, {options.law_file});
   const law::Law law = io::read_law(options.law_file);
   const std::string form = options.form.empty() ? (law.cell ? "cell" : "cone") : options.form;
+  if (!options.breaks.empty() && (options.format != io::ExportFormat::umat || form == "cone"))
+    throw InputError("--breaks " + options.breaks + ": only for --format umat of a cell (--form cell or small)");
   // The small cell is vouched for by its check against the exact law, as the cone-wise law is.
   if (options.format == io::ExportFormat::umat && form == "small" && law.small)
     refuse_over_error(options, "the small cell", law.small_check);
@@ -101,7 +105,8 @@ std::string export_law(const ExportOptions& options) {
                          "choose another --cell-id, or --force to replace it");
     }
     const std::string card =
-        io::law_umat_cell(law, cell_form, options.name, options.cell_id, cell_hash, options.law_file.string());
+        io::law_umat_cell(law, cell_form, options.name, options.cell_id, cell_hash, options.law_file.string(),
+                          options.breaks == "between" ? io::UmatBreaks::between : io::UmatBreaks::within);
     io::AtomicOutputs outputs;
     outputs.add(options.out);
     outputs.add(cell_file);

@@ -20,6 +20,8 @@ struct ExportOptions {
   // or "" for the exact law where law.h5 has one.
   std::string form;
   int cell_id = 1;
+  // umat of a cell: where its bonds break ("within" each increment, the default, or "between").
+  std::string breaks;
 };
 
 // Reads law_file, converts, writes `out` atomically (nothing is left behind on any error) and

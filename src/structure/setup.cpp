@@ -37,7 +37,7 @@ void HomogenisedStructure::Impl::check_law() const {
 // the exact law, their histories and the evaluators.
 void HomogenisedStructure::Impl::set_quadrature() {
   const Eigen::Index T = mesh.triangles.rows();
-  // p1 constant strain, one point; p2 the 6-point degree-4 rule.
+  // p1 constant strain, one point; p2 the 6-point degree-4 rule, or the scene's 3-point one.
   points.resize(T);
   grad_s_centroid.resize(T);
   area.resize(T);
@@ -49,10 +49,14 @@ void HomogenisedStructure::Impl::set_quadrature() {
     if (per == 3) {
       points[t].push_back({grad_s_centroid[t], 0.5 * det_J});
     } else {
-      for (const auto& p : fem::triangle_rule()) {
+      const auto add = [&](const fem::TrianglePoint& p) {
         Eigen::MatrixXd grad_s = fem::strain_displacement_at(x, p.L1, p.L2, det_J);
         points[t].push_back({std::move(grad_s), p.weight * det_J});
-      }
+      };
+      if (scene.quadrature == 3)
+        for (const auto& p : fem::triangle_rule_3()) add(p);
+      else
+        for (const auto& p : fem::triangle_rule()) add(p);
     }
     area[t] = fem::element_area(x);
   }

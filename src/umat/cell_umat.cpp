@@ -135,7 +135,7 @@ void write_active(const std::vector<dualcell::qp::Bound>& active, int n, double*
 // The law at the in-plane strain (n = 3: ε11, ε22, γ12) or the whole ply's (n = 6, Abaqus's
 // order), σ and D (n × n, row by row) in the same order.
 int cell_law(int id, const double hash_constants[2], int n, const double* e, double* statev, int nstatv, double* s,
-             double* D, double* W) {
+             double* D, double* W, bool between) {
   const Loaded& law = load(id);
   if (!law.cell) return 1;
   std::uint64_t expected = 0;
@@ -183,12 +183,29 @@ int cell_law(int id, const double hash_constants[2], int n, const double* e, dou
   // The law's order (xx, yy, xy, zz, xz, yz) from Abaqus's (11, 22, 33, 12, 13, 23) and back.
   static constexpr int law_of[6] = {0, 1, 3, 2, 4, 5};
   const Eigen::Vector3d in_plane(e[0], e[1], n == 6 ? e[3] : e[2]);
-  const dualcell::law::CellResponse r =
-      n == 6 ? evaluator->at_strain(in_plane, h, dualcell::law::BondMode::cascade, e[2], Eigen::Vector2d(e[4], e[5]))
-             : evaluator->at_strain(in_plane, h);
+  const double eps33 = n == 6 ? e[2] : 0;
+  const Eigen::Vector2d gamma = n == 6 ? Eigen::Vector2d(e[4], e[5]) : Eigen::Vector2d::Zero();
+  // Within the increment (the default) the point's debond cascade at this strain; between
+  // increments the bonds held (a bonded row at its strength carries its strength), and the pairs
+  // the cascade at this strain would break are only marked, to break at the start of the next
+  // increment (cell_umat.h).
+  const dualcell::law::BondMode mode = between ? dualcell::law::BondMode::held : dualcell::law::BondMode::cascade;
+  const dualcell::law::CellResponse r = evaluator->at_strain(in_plane, h, mode, eps33, gamma);
   if (!r.ok) {
     tell_once(id, "qp", "law " + std::to_string(id) + ": " + r.message);
     return 1;
+  }
+  std::vector<std::uint8_t> pending;
+  if (between) {
+    dualcell::law::CellHistory next = h;
+    const dualcell::law::CellResponse c =
+        evaluator->at_strain(in_plane, next, dualcell::law::BondMode::cascade, eps33, gamma);
+    if (!c.ok) {
+      tell_once(id, "qp", "law " + std::to_string(id) + ": " + c.message);
+      return 1;
+    }
+    pending.assign(static_cast<std::size_t>(cell.n_pairs), 0);
+    for (int p = 0; p < cell.n_pairs; ++p) pending[p] = h.bonded[p] && !next.bonded[p];
   }
   // The law's order; in-plane only the first three of σ and the top 3 × 3 of the tangent count.
   const Eigen::Matrix<double, 6, 1> sigma = dualcell::law::ply_stress(r);
@@ -204,7 +221,8 @@ int cell_law(int id, const double hash_constants[2], int n, const double* e, dou
   }
   *W = r.energy;
   statev[0] = r.broken;
-  for (int p = 0; p < cell.n_pairs; ++p) statev[1 + p] = cell.bonded[p] && !h.bonded[p] ? 1 : 0;
+  for (int p = 0; p < cell.n_pairs; ++p)
+    statev[1 + p] = cell.bonded[p] && !h.bonded[p] ? 1 : !pending.empty() && pending[p] ? 2 : 0;
   write_active(h.active, unknowns, active);
   write_active(h.active_z, shear_rows, active + unknowns);
   return 0;
@@ -214,9 +232,9 @@ int cell_law(int id, const double hash_constants[2], int n, const double* e, dou
 // would abort the whole analysis): every failure is a line and a return of 1, and the umat asks
 // for a smaller increment.
 int guarded(int id, const double hash[2], int n, const double* e, double* statev, int nstatv, double* s, double* D,
-            double* W) {
+            double* W, int between) {
   try {
-    return cell_law(id, hash, n, e, statev, nstatv, s, D, W);
+    return cell_law(id, hash, n, e, statev, nstatv, s, D, W, between != 0);
   } catch (const std::bad_alloc&) {
     tell_once(id, "memory", "law " + std::to_string(id) + ": out of memory");
   } catch (const std::exception& error) {
@@ -230,11 +248,11 @@ int guarded(int id, const double hash[2], int n, const double* e, double* statev
 }  // namespace
 
 extern "C" int dualcell_cell_law(int id, const double hash[2], const double e[3], double* statev, int nstatv,
-                                 double s[3], double D[9], double* W) {
-  return guarded(id, hash, 3, e, statev, nstatv, s, D, W);
+                                 double s[3], double D[9], double* W, int between) {
+  return guarded(id, hash, 3, e, statev, nstatv, s, D, W, between);
 }
 
 extern "C" int dualcell_cell_law6(int id, const double hash[2], const double e[6], double* statev, int nstatv,
-                                  double s[6], double D[36], double* W) {
-  return guarded(id, hash, 6, e, statev, nstatv, s, D, W);
+                                  double s[6], double D[36], double* W, int between) {
+  return guarded(id, hash, 6, e, statev, nstatv, s, D, W, between);
 }

@@ -4,7 +4,9 @@
  * working directory. It is read once per process; each thread has its own evaluator.
  *
  * State variables of a material point (all 0 for the unloaded cell, as the codes start them):
- *   1: the number of broken pairs;  2 … 1 + P: 1 where pair k is broken (P pairs);
+ *   1: the number of broken pairs;  2 … 1 + P: 1 where pair k is broken (P pairs), 2 where it
+ *   breaks at the start of the next increment (`between` only: it was at its strength when this
+ *   one ended);
  *   then m + n entries: the active set of the last evaluation (−1 lower, 0 free, 1 upper), the
  *   warm start of the next (m = 3 macro stresses, n interface rows); a cell with the shears
  *   along the fibres then the active set of its shear rows (r entries, docs/method.md §16a).
@@ -21,8 +23,13 @@ extern "C" {
 int dualcell_cell_statev(int id);
 
 /* The law `id` at the in-plane strain e = (ε11, ε22, γ12) from the state `statev` (nstatv
- * entries), which is updated: the debond cascade of the point at e (bonds break within 1e-7 of
- * their strength and never heal). `hash`: the card's constants 6 and 7, the file's hash
+ * entries), which is updated: with between = 0 the debond cascade of the point at e (bonds break
+ * within 1e-7 of their strength and never heal); with between = 1 the bonds of the state held (a
+ * row at its strength carries its strength: a response continuous in e, on which a Newton
+ * method without a line search converges), the pairs the cascade at e would break marked to
+ * break at the start of the next increment. An increment repeated at the same load is then one
+ * round of a structure's debond loop (dualcell-structure's: equilibrium with the bonds held,
+ * then each point's cascade at its strain). `hash`: the card's constants 6 and 7, the file's hash
  * (FNV-1a of its text, high and low 32 bits); a file whose hash differs was replaced after the
  * card was written and is refused. Writes σ = (σ11, σ22, σ12), the tangent D = dσ/dε row by row
  * and the strain energy per unit volume W. Returns 0, or 1 when the file cannot be read or is
@@ -30,7 +37,7 @@ int dualcell_cell_statev(int id);
  * anything else fails (memory included: nothing is thrown into the caller); the reason on
  * stderr, once per law and kind. */
 int dualcell_cell_law(int id, const double hash[2], const double e[3], double* statev, int nstatv, double s[3],
-                      double D[9], double* W);
+                      double D[9], double* W, int between);
 
 /* Whether law `id` is the whole ply's (its cell carries the strain and the shears along the
  * fibres: dualcell_cell_law6); 0 when it is in-plane only, −1 when its file cannot be read. */
@@ -42,7 +49,7 @@ int dualcell_cell_is_ply(int id);
  * dualcell_cell_law otherwise. Writes σ = (σ11, σ22, σ33, σ12, σ13, σ23), the 6 × 6 tangent
  * D = dσ/dε row by row (symmetric) and W. */
 int dualcell_cell_law6(int id, const double hash[2], const double e[6], double* statev, int nstatv, double s[6],
-                       double D[36], double* W);
+                       double D[36], double* W, int between);
 
 #ifdef __cplusplus
 }

@@ -13,6 +13,8 @@
  * elements keep ε33 = γ13 = γ23 = 0, where the in-plane law holds exactly.
  *
  * Constants (*USER MATERIAL, CONSTANTS = n, written by dualcell-export --format umat):
+ * layout 3 takes a 5th constant: 1 where bonds break between increments (cell_umat.h,
+ *   `between`), 0 or absent where the cascade runs within each.
  * layout 3, the whole ply's exact law (a cell with the strain and the shears along the fibres,
  *   docs/method.md §16a): 1: 3   2: id, the law's file   3–4: its hash; σ and the 6 × 6 tangent
  *   from the cell in the material axes 1 = x, 2 = y (the plane of the cells), 3 = z (the
@@ -86,7 +88,9 @@ void umat_(double* stress, double* statev, double* ddsdde, double* sse, double* 
   double s[3], D[3][3], W, E33, G13, G23;
   if (n == 6 && props[0] == 3) {
     double D36[36];
-    if (*nprops < 4 || dualcell_cell_law6((int)props[1], props + 2, e6, statev, *nstatv, stress, D36, sse) != 0) {
+    const int between = *nprops >= 5 && props[4] != 0;
+    if (*nprops < 4 ||
+        dualcell_cell_law6((int)props[1], props + 2, e6, statev, *nstatv, stress, D36, sse, between) != 0) {
       *pnewdt = 0.25; /* no law, a card without the hash or a failed QP: a smaller increment, failing visibly */
       return;
     }
@@ -101,7 +105,7 @@ void umat_(double* stress, double* statev, double* ddsdde, double* sse, double* 
     }
     E33 = props[2], G13 = props[3], G23 = props[4];
     double D9[9];
-    if (dualcell_cell_law((int)props[1], props + 5, e, statev, *nstatv, s, D9, &W) != 0) {
+    if (dualcell_cell_law((int)props[1], props + 5, e, statev, *nstatv, s, D9, &W, 0) != 0) {
       *pnewdt = 0.25; /* no law or a failed QP: ask for a smaller increment, which fails visibly */
       return;
     }

@@ -93,6 +93,41 @@ std::string refusal(const Eigen::Matrix3d& S, const Law& law) {
   return "";
 }
 
+// A law whose exact law carries the whole ply takes its out-of-plane constants from the cell (the
+// ply's constants, /law/ply: E3 = E1, ν31 = ν12, ν32 = ν13, G13 = G12, G23 = G13, the ply's axis 1
+// being z), not from the rule of mixtures: bonded with adhesion (either sign), the contact state
+// of each sign without. Plane strain still reproduces the fitted compliance.
+TEST(Export, AWholePlysLawTakesItsOutOfPlaneConstantsFromTheCell) {
+  Law law = testing::synthetic_law();
+  const auto row = [](PlyState state, int sign, double E1, double nu12, double nu13, double G12, double G13) {
+    PlyConstants c;
+    c.state = state, c.sign = sign, c.E1 = E1, c.nu12 = nu12, c.nu13 = nu13, c.G12 = G12, c.G13 = G13;
+    return c;
+  };
+  law.ply.rows = {row(PlyState::contact, 1, 29.879, 0.29244, 0.29, 0.57251, 0.6),
+                  row(PlyState::contact, -1, 29.861, 0.35, 0.34, 0.57251, 0.6)};
+  for (const int sign : {1, -1}) {
+    const PlyConstants& c = law.ply.rows[sign > 0 ? 0 : 1];
+    const Eigen::Matrix3d& S_ps = sign > 0 ? law.tension.S : law.compression.S;
+    const SolidMaterial m = solid_material(S_ps, law, "law.h5", "S", sign);
+    EXPECT_LT((condense(m.S) - S_ps).norm(), 1e-14 * S_ps.norm());
+    EXPECT_NEAR(m.S(2, 2), 1 / c.E1, 1e-15);
+    EXPECT_NEAR(m.S(0, 2), -c.nu12 / c.E1, 1e-15);
+    EXPECT_NEAR(m.S(1, 2), -c.nu13 / c.E1, 1e-15);
+    EXPECT_NEAR(m.S(4, 4), 1 / c.G12, 1e-13);
+    EXPECT_NEAR(m.S(5, 5), 1 / c.G13, 1e-13);
+  }
+  // Bonded rows win over any other state, whatever the sign.
+  law.ply.rows.push_back(row(PlyState::bonded, 1, 30.0, 0.3, 0.31, 2.7, 2.8));
+  EXPECT_EQ(out_of_plane(law, -1).E3, 30.0);
+  EXPECT_EQ(out_of_plane(law, -1).G23, 2.8);
+  EXPECT_TRUE(out_of_plane(law).from_cell);
+  const std::string card = law_umat(law, "PLY", "law.h5");
+  EXPECT_NE(card.find("E33, G13, G23 (the cell's, /law/ply)"), std::string::npos) << card;
+  law.ply.rows.clear();
+  EXPECT_FALSE(out_of_plane(law).from_cell);
+}
+
 TEST(Export, InadmissibleLawsAreRefused) {
   const Law law = testing::synthetic_law();
   Eigen::Matrix3d S = law.tension.S;

@@ -24,6 +24,12 @@ TEST(StructureScene, ReadsTheDocumentedKeys) {
   EXPECT_EQ(s.ny, 2);
   EXPECT_EQ(s.elements_per_cell, 3);
   EXPECT_EQ(s.element, Element::p1);
+  EXPECT_EQ(s.quadrature, 6);
+  EXPECT_EQ(
+      parse_structure_scene(
+          std::string("[structure]\ncells = [2, 2]\nquadrature = 3\n") + beam.substr(beam.find("[edges")), "q.toml")
+          .quadrature,
+      3);
   EXPECT_EQ(s.edges[0].kind, EdgeKind::roller);
   EXPECT_EQ(s.edges[1].kind, EdgeKind::traction);
   EXPECT_EQ(s.edges[1].traction_start, Eigen::Vector2d(1e-3, 0));
@@ -59,6 +65,11 @@ TEST(StructureScene, MistakesAreNamed) {
   EXPECT_NE(refusal("[structure]\ncells = [0, 2]\n" + held).find("s.toml:2:9: [structure] cells"), std::string::npos);
   EXPECT_NE(refusal("[structure]\ncells = [2, 2]\nelements_per_cell = 65\n" + held)
                 .find("[structure] elements_per_cell = 65: must be an integer in [1, 64]"),
+            std::string::npos);
+  EXPECT_NE(refusal("[structure]\ncells = [2, 2]\nquadrature = 4\n" + held).find("quadrature = 4: must be 3 or 6"),
+            std::string::npos);
+  EXPECT_NE(refusal("[structure]\ncells = [2, 2]\nelement = \"p1\"\nquadrature = 3\n" + held)
+                .find("a p1 triangle has one point"),
             std::string::npos);
   EXPECT_NE(refusal("[structure]\ncells = [2, 2]\nelement = \"p3\"\n" + held).find("must be one of \"p1\", \"p2\""),
             std::string::npos);

@@ -116,7 +116,7 @@ TEST(CellUmat, EqualsTheLibraryAlongAPathThroughTheCascade) {
   ASSERT_NE(card.find(depvar), std::string::npos) << card;
   const OutOfPlane z = rule_of_mixtures(law);
   const double high = static_cast<double>(hash >> 32), low = static_cast<double>(hash & 0xffffffffULL);
-  const std::vector<double> props = {2, 7001, z.E3, z.G_longitudinal, z.G_longitudinal, high, low};
+  const std::vector<double> props = {2, 7001, z.E3, z.G13, z.G23, high, low};
   ASSERT_NE(card.find("CONSTANTS=7"), std::string::npos) << card;
   ASSERT_NE(card.find(formatted("%.12e", high) + ", " + formatted("%.12e", low)), std::string::npos) << card;
   std::vector<double> statev(1 + cell.n_pairs + 3 + cell.n_rows(), 0.0);
@@ -151,7 +151,7 @@ TEST(CellUmat, EqualsTheLibraryAlongAPathThroughTheCascade) {
   std::vector<double> short_state(3, 0.0);
   EXPECT_EQ(call(props, direction * 1e-3, short_state).pnewdt, 0.25);
   // A card written before the hash (5 constants), and one whose hash is not the file's: refused.
-  EXPECT_EQ(call({2, 7001, z.E3, z.G_longitudinal, z.G_longitudinal}, direction * 1e-3, state).pnewdt, 0.25);
+  EXPECT_EQ(call({2, 7001, z.E3, z.G13, z.G23}, direction * 1e-3, state).pnewdt, 0.25);
   std::vector<double> other = props;
   other[6] = low == 0 ? 1 : low - 1;
   EXPECT_EQ(call(other, direction * 1e-3, state).pnewdt, 0.25);
@@ -185,13 +185,16 @@ Call6 call6(const std::vector<double>& props, const Eigen::Matrix<double, 6, 1>&
   return c;
 }
 
-// The whole ply (layout 3): a cell with the strain and the shears along the fibres gives all six
-// components from the library's evaluation, in Abaqus's order (11, 22, 33, 12, 13, 23: x, y, z),
-// along a path whose shear along the fibres breaks pairs; nothing is filled in by a rule of
-// mixtures. A layout that does not match its cell is refused.
-TEST(CellUmat, TheWholePlyGivesAllSixComponentsFromTheCell) {
-  testing::ScratchDir dir;
-  setenv("DUALCELL_CELL_DIR", dir.path().c_str(), 1);
+// A whole ply's cell (the strain and the shears along the fibres, bonds of strength 0.01) in the
+// cell file of `id` in `dir` (DUALCELL_CELL_DIR), its layout-3 card's constants and *DEPVAR.
+struct PlyCard {
+  CondensedCell cell;
+  std::vector<double> props;
+  int depvar = 0;
+  std::string card;
+};
+PlyCard ply_card(const std::filesystem::path& dir, int id, io::UmatBreaks breaks) {
+  setenv("DUALCELL_CELL_DIR", dir.c_str(), 1);
   Scene s = parse_scene(testing::scene_text(1, 1, 2, 0.3), "test.toml");
   s.geometry.element = Element::p1;
   s.fibre = {30.0, 0.22};
@@ -201,21 +204,37 @@ TEST(CellUmat, TheWholePlyGivesAllSixComponentsFromTheCell) {
   s.interface.normal_strength = s.interface.tangential_strength = 0.01;
   const mesh::Mesh mesh = mesh::build_mesh(s.geometry);
   feti::ContactSolver solver(mesh, s);
-  const CondensedCell cell = feti::condense(solver.setup());
-  ASSERT_EQ(cell.shear_rows, cell.n_pairs);
+  PlyCard out;
+  out.cell = feti::condense(solver.setup());
   std::ostringstream text;
-  write_cell_text(text, cell);
-  std::ofstream(dir / io::umat_cell_file(7011)) << text.str();
+  write_cell_text(text, out.cell);
+  std::ofstream(dir / io::umat_cell_file(id)) << text.str();
   Law law;
   law.constituents = {30.0, 0.22, 1.0, 0.35, 0.28, 1.0};
-  law.cell = cell;
+  law.cell = out.cell;
   const std::uint64_t hash = text_hash_value(text.str());
-  const std::string card = io::law_umat_cell(law, io::CellForm::exact, "PLY", 7011, hash, "law.h5");
-  const int depvar = 1 + cell.n_pairs + 3 + cell.n_rows() + cell.shear_rows;
-  ASSERT_NE(card.find("*DEPVAR\n" + std::to_string(depvar)), std::string::npos) << card;
-  ASSERT_NE(card.find("CONSTANTS=4"), std::string::npos) << card;
+  out.card = io::law_umat_cell(law, io::CellForm::exact, "PLY", id, hash, "law.h5", breaks);
+  out.depvar = 1 + out.cell.n_pairs + 3 + out.cell.n_rows() + out.cell.shear_rows;
   const double high = static_cast<double>(hash >> 32), low = static_cast<double>(hash & 0xffffffffULL);
-  const std::vector<double> props = {3, 7011, high, low};
+  out.props = {3, static_cast<double>(id), high, low};
+  if (breaks == io::UmatBreaks::between) out.props.push_back(1);
+  return out;
+}
+
+// The whole ply (layout 3): a cell with the strain and the shears along the fibres gives all six
+// components from the library's evaluation, in Abaqus's order (11, 22, 33, 12, 13, 23: x, y, z),
+// along a path whose shear along the fibres breaks pairs; nothing is filled in by a rule of
+// mixtures. A layout that does not match its cell is refused.
+TEST(CellUmat, TheWholePlyGivesAllSixComponentsFromTheCell) {
+  testing::ScratchDir dir;
+  const PlyCard ply = ply_card(dir.path(), 7011, io::UmatBreaks::within);
+  const CondensedCell& cell = ply.cell;
+  ASSERT_EQ(cell.shear_rows, cell.n_pairs);
+  ASSERT_NE(ply.card.find("*DEPVAR\n" + std::to_string(ply.depvar)), std::string::npos) << ply.card;
+  ASSERT_NE(ply.card.find("CONSTANTS=4"), std::string::npos) << ply.card;
+  const std::vector<double>& props = ply.props;
+  const double high = props[2], low = props[3];
+  const int depvar = ply.depvar;
   std::vector<double> statev(depvar, 0.0);
 
   CellEvaluator library(cell);
@@ -254,6 +273,60 @@ TEST(CellUmat, TheWholePlyGivesAllSixComponentsFromTheCell) {
   // A ply cell under a layout-2 card, and an in-plane cell under a layout-3 card: refused.
   std::vector<double> state(depvar, 0.0);
   EXPECT_EQ(call({2, 7011, 1, 1, 1, high, low}, Eigen::Vector3d(1e-4, 0, 0), state).pnewdt, 0.25);
+}
+
+// Bonds breaking between increments (dualcell-export --breaks between, a 5th constant 1): within
+// an increment the bonds of its start are held (the library's held evaluation), and the pairs the
+// cascade at the strain would break are marked (state 2); the next increment at the same strain
+// starts with them broken and is then the library's cascade from the intact cell, to round-off,
+// and a third changes nothing. The umat's rounds are a structure's debond loop's.
+TEST(CellUmat, BetweenIncrementsTheBondsAreHeldAndBreakAtTheNextIncrement) {
+  testing::ScratchDir dir;
+  const PlyCard ply = ply_card(dir.path(), 7012, io::UmatBreaks::between);
+  ASSERT_NE(ply.card.find("CONSTANTS=5"), std::string::npos) << ply.card;
+  const CondensedCell& cell = ply.cell;
+  Eigen::Matrix<double, 6, 1> e;  // (ε11, ε22, ε33, γ12, γ13, γ23), past the bonds' strength
+  e << 4e-3, -2e-3, 6e-3, 2e-3, 2e-2, 8e-3;
+  const int law_of[6] = {0, 1, 3, 2, 4, 5};
+  const auto library_at = [&](BondMode mode, CellHistory& h) {
+    CellEvaluator library(cell);
+    const CellResponse r =
+        library.at_strain(Eigen::Vector3d(e(0), e(1), e(3)), h, mode, e(2), Eigen::Vector2d(e(4), e(5)));
+    EXPECT_TRUE(r.ok) << r.message;
+    return r;
+  };
+  CellEvaluator unloaded(cell);
+  CellHistory held_h = unloaded.unloaded(), cascade_h = unloaded.unloaded();
+  const CellResponse held = library_at(BondMode::held, held_h), cascade = library_at(BondMode::cascade, cascade_h);
+  ASSERT_GT(cascade.broken, 0);
+  std::vector<double> statev(ply.depvar, 0.0);
+  const auto expect_equal = [&](const Call6& c, const CellResponse& r, const char* what) {
+    const Eigen::Matrix<double, 6, 1> sigma = ply_stress(r);
+    for (int i = 0; i < 6; ++i) EXPECT_NEAR(c.stress(i), sigma(law_of[i]), 1e-12 * sigma.norm()) << what << " " << i;
+  };
+  const Call6 first = call6(ply.props, e, statev);
+  ASSERT_EQ(first.pnewdt, 1);
+  expect_equal(first, held, "the first increment: the bonds held");
+  EXPECT_EQ(statev[0], 0);
+  int marked = 0;
+  for (int p = 0; p < cell.n_pairs; ++p) {
+    marked += statev[1 + p] == 2;
+    EXPECT_EQ(statev[1 + p] == 2, cell.bonded[p] && !cascade_h.bonded[p]) << p;
+  }
+  EXPECT_EQ(marked, cascade.broken);
+  const Call6 second = call6(ply.props, e, statev);
+  expect_equal(second, cascade, "the second increment: the cascade's bonds");
+  EXPECT_EQ(statev[0], cascade.broken);
+  const std::vector<double> settled = statev;
+  const Call6 third = call6(ply.props, e, statev);
+  expect_equal(third, cascade, "the third increment");
+  EXPECT_EQ(statev, settled) << "nothing more breaks";
+  // Only a whole ply's card breaks between increments (layout 3).
+  Law law;
+  law.constituents = {30.0, 0.22, 1.0, 0.35, 0.28, 1.0};
+  law.cell = adhesive_cell();
+  EXPECT_THROW(io::law_umat_cell(law, io::CellForm::exact, "CELL", 7013, 1, "law.h5", io::UmatBreaks::between),
+               InputError);
 }
 
 // A cell file replaced after its card was written (another law exported under the same id,
