@@ -269,6 +269,9 @@ void validate_sweep_and_solver(const Checker& c, const Scene& scene) {
   if (!sw.eps33.empty() && scene.load.macro != Macro::full)
     c.fail("sweep", "eps33", shortest(sw.eps33),
            "paths with a strain along the fibres need [load] macro = \"full\" (the transverse law has no ε33)");
+  if (sw.gamma.size() > 100)
+    c.fail("sweep", "gamma", std::to_string(sw.gamma.size()) + " shears",
+           "at most 100 (each copies every uniaxial path)");
   for (const auto& g : sw.gamma)
     if (!(std::isfinite(g[0]) && std::isfinite(g[1])) || (g[0] == 0 && g[1] == 0) || std::abs(g[0]) > 0.1 ||
         std::abs(g[1]) > 0.1)

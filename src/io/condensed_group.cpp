@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <string_view>
 #include <type_traits>
 
 #include "core/error.hpp"
@@ -98,6 +99,13 @@ law::CondensedCell read_condensed(const File& f, const std::string& group) {
     } else if constexpr (law::ListMember<T>) {
       if (law::optional_extent(m.rows) && size[rows] == 0 && !f.exists(name)) {
         value.clear();
+        return;
+      }
+      // A file of the shear along the fibres written before pair_z had a shear row per pair, in
+      // order: that is what its rows are.
+      if (std::string_view(m.name) == "pair_z" && !f.exists(name) && size[rows] == static_cast<hsize_t>(cell.n_pairs)) {
+        value.resize(static_cast<std::size_t>(cell.n_pairs));
+        for (int p = 0; p < cell.n_pairs; ++p) value[static_cast<std::size_t>(p)] = p;
         return;
       }
     }

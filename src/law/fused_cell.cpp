@@ -112,7 +112,7 @@ BondedCell bonded_cell(const CondensedCell& cell) {
     }
     if (!r.ok || r.broken > 0)
       throw std::invalid_argument(std::string("the bonded cell's response to a strain along the fibres ") +
-                                  (r.ok ? "breaks a bond at 1e-15" : "failed: " + r.message));
+                                  (r.ok ? "breaks a bond at " + std::to_string(16 * e) : "failed: " + r.message));
     out.A33 = r.strain.head(n) / e;
     out.C33 = r.stress_zz / e;
     A.col(n) = r.forces / e;
@@ -193,7 +193,9 @@ double onset_error(const Eigen::MatrixXd& all, const Eigen::MatrixXd& kept) {
     for (const Eigen::Vector3d& d : sample_directions(n == 3 ? 3 : 2, onset_check_directions))
       directions.emplace_back(d.head(n));
   } else {
-    const Eigen::VectorXd scale = all.cwiseAbs().colwise().maxCoeff().transpose();
+    // A column that loads no bond (all 0) keeps its scale 1.
+    const Eigen::VectorXd scale =
+        all.cwiseAbs().colwise().maxCoeff().transpose().unaryExpr([](double v) { return v > 0 ? v : 1.0; });
     std::mt19937_64 generator(4);
     const auto uniform = [&] { return (static_cast<double>(generator() >> 11) + 0.5) * 0x1.0p-53; };
     for (int i = 0; i < onset_check_directions; ++i) {
@@ -240,13 +242,21 @@ Eigen::MatrixXd rows_of(const Eigen::MatrixXd& all, const std::vector<int>& rows
 }  // namespace
 
 FusedCell cell_with_fuse(const CondensedCell& cell, const CondensedCell& after) {
-  const int n = cell.n_macro, L = cell.longitudinal;
+  // The strain along the fibres where both carry it (a cell on the symmetry boundary has ε33 but
+  // no shear, and its small cell stays in the plane).
+  const int n = cell.n_macro, L = cell.longitudinal == 1 && after.longitudinal == 1 ? 1 : 0;
   if (!cell.adhesion()) throw std::invalid_argument("the cell has no adhesion: it has no fuse");
   if (after.adhesion() || after.n_macro != n || after.volume != cell.volume || !(after.S0 - cell.S0).isZero(0))
     throw std::invalid_argument("the cell past the fuse is not a cell of contact rows with the cell's macro part");
   if (L == 1 && (after.longitudinal != 1 || after.A33 != cell.A33 || after.C33 != cell.C33))
     throw std::invalid_argument("the cell past the fuse does not carry the cell's open response along the fibres");
-  const BondedCell bonded = bonded_cell(cell);
+  CondensedCell in_plane;  // the cell without its ε33 column, where `after` has none
+  if (L != cell.longitudinal) {
+    in_plane = cell;
+    in_plane.longitudinal = 0;
+    in_plane.A33.resize(0, 0), in_plane.C33.resize(0, 0), in_plane.y33.resize(0, 0);
+  }
+  const BondedCell bonded = bonded_cell(L != cell.longitudinal ? in_plane : cell);
   FusedCell out;
   out.candidate_facets = static_cast<int>(bonded.facets.rows());
   const std::vector<int> rows = polytope_facets(bonded.facets);

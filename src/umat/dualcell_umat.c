@@ -9,7 +9,8 @@
  * with the bonded law until the point's stress leaves the onset surface (max_f g_f·σ ≥ 1) and
  * the law past the fuse from then on, for good (state variable 1: 0 bonded, 1 fused; the code
  * keeps it only when the increment converges). Out of the plane the point is decoupled and
- * linear, σ33 = E33 ε33, σ13 = G13 γ13, σ23 = G23 γ23 (rule of mixtures): plane-strain
+ * linear, σ33 = E33 ε33, σ13 = G13 γ13, σ23 = G23 γ23 (the card's: the cell's ply constants
+ * where the law carries the whole ply, else the rule of mixtures): plane-strain
  * elements keep ε33 = γ13 = γ23 = 0, where the in-plane law holds exactly.
  *
  * Constants (*USER MATERIAL, CONSTANTS = n, written by dualcell-export --format umat):

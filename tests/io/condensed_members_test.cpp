@@ -6,6 +6,7 @@
 #include "law/condensed_members.hpp"
 
 #include <gtest/gtest.h>
+#include <hdf5.h>
 
 #include <cstring>
 #include <map>
@@ -297,6 +298,23 @@ TEST(CondensedMembers, ANonConvexCellIsRefused) {
   cell = distinct_cell();
   cell.S0 *= 1e40, cell.volume *= 1e-40;
   EXPECT_EQ(law::consistency_problem(cell), "");
+}
+
+// A law.h5 with the shear along the fibres written before pair_z (one shear row per pair, in
+// order) reads with that meaning; the cell's text of that time (version 3) is refused instead
+// (above), since the umat's card must be exported again anyway.
+TEST(CondensedMembers, AFileOfShearRowsWithoutPairZReadsOneRowPerPair) {
+  testing::ScratchDir dir;
+  law::Law law = testing::synthetic_law();
+  CondensedCell cell = distinct_cell();
+  cell.pair_z = {0, 1};
+  law.cell = cell;
+  write_law(dir / "old.h5", law);
+  const hid_t f = H5Fopen((dir / "old.h5").c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  ASSERT_GE(f, 0);
+  ASSERT_GE(H5Ldelete(f, "/law/cell/pair_z", H5P_DEFAULT), 0);
+  H5Fclose(f);
+  EXPECT_EQ(read_law(dir / "old.h5").cell->pair_z, (std::vector<int>{0, 1}));
 }
 
 }  // namespace
