@@ -37,7 +37,7 @@ import tomllib
 import numpy as np
 
 import common
-from ccx_umat_check import card_constants, material_cards, run_ccx
+from ccx_umat_check import card_constants, end_rotation, material_cards, run_ccx
 
 
 def quad8(xi, zeta):
@@ -74,37 +74,24 @@ def face_forces(nodes, edge, layer, t_start, t_end):
     return f
 
 
-def main(argv):
-    parser = common.Parser(__doc__)
-    for name in ("ccx", "card", "structure_h5", "scene_file", "out"):
-        parser.add_argument(name)
-    args = parser.parse_args(argv[1:])
-    import h5py
-    name, k, text = card_constants(args.card)
-    if k[0] != 3:
-        sys.exit("ccx_solid_beam.py: the card must be the whole ply's law (layout 3: [load] macro = \"full\")")
-    with open(args.scene_file, "rb") as f:
-        scene = tomllib.load(f)
-    edges = scene.get("edges", {})
-    if edges.get("left", {}).get("type") != "roller" or edges.get("right", {}).get("type") != "traction":
-        sys.exit("ccx_solid_beam.py: the scene must have a roller left edge and a traction right edge")
-    factors = scene.get("steps", {}).get("factors", [1.0])
-    between = len(k) >= 5 and k[4] != 0
-    with h5py.File(args.structure_h5, "r") as f:
-        nodes, tri = f["/mesh/nodes"][:], f["/mesh/triangles"][:]
-        steps = sorted(key for key in f["/steps"].keys() if key.isdigit())
-        u_ref = f[f"/steps/{steps[-1]}/displacement"][:]
-        watch_ref = f["/steps/watch_displacement"][:]
-        rounds_ref = [int(r) for r in f["/steps/fuse_rounds"][:]]
-        law_file = common.text(f.attrs.get("law_file", ""))
-    if len(rounds_ref) != len(factors):
-        sys.exit(f"ccx_solid_beam.py: {args.structure_h5} has {len(rounds_ref)} steps, the scene {len(factors)}")
-    # Per load level, the ccx steps at it: one; with bonds breaking between increments (the card's
-    # 5th constant) one more per debond round dualcell-structure took there, and one to see that
-    # nothing more breaks.
-    repeats = [1 + (r + 1 if between else 0) for r in rounds_ref]
-    if tri.shape[1] != 6:
-        sys.exit("ccx_solid_beam.py: the structure must be meshed with p2 triangles")
+def displacement_blocks(dat, nodes):
+    """Every node's displacement (nodes × 3) per block of ccx's .dat, in order."""
+    blocks = []
+    for line in dat.splitlines():
+        if line.strip().startswith("displacements"):
+            blocks.append(np.zeros((nodes, 3)))
+        elif blocks and line.split():
+            r = line.split()
+            blocks[-1][int(r[0]) - 1] = [float(v) for v in r[1:4]]
+    return blocks
+
+
+def solid_deck(nodes, tri, scene, text, name, factors, repeats):
+    """The ccx deck of the beam: the p2 mesh extruded into one layer of C3D15 (2D node i at z = 0,
+    1 and, for corners, 0.5), w = 0 everywhere, the scene's roller edge and supports, the right
+    face's consistent forces, and `repeats[k]` one-increment steps at load factor `factors[k]`.
+    Returns the deck, layer(i, level) (the 3D id of 2D node i at z = level/2), the right edge's
+    nodes in order and the watched node."""
     N = len(nodes)
     corners = sorted(set(tri[:, :3].ravel()))
     mid_layer = {c: 2 * N + j + 1 for j, c in enumerate(corners)}
@@ -116,6 +103,7 @@ def main(argv):
     tol = 1e-9 * max(L, H)
     left = [i for i in range(N) if abs(nodes[i, 0]) < tol]
     right = sorted((i for i in range(N) if abs(nodes[i, 0] - L) < tol), key=lambda i: nodes[i, 1])
+    edges = scene["edges"]
     t0 = edges["right"]["traction"]
     t1 = edges["right"].get("traction_end", t0)
     forces = face_forces(nodes, right, layer, t0, t1)  # at load factor 1
@@ -149,19 +137,48 @@ def main(argv):
             for i, fv in sorted(forces.items()):
                 deck += f"{i}, 1, {t * fv[0]:.13e}\n{i}, 2, {t * fv[1]:.13e}\n"
             deck += "*NODE PRINT, NSET=NALL\nU\n*END STEP\n"
+    return deck, layer, right, w
+
+
+def main(argv):
+    parser = common.Parser(__doc__)
+    for name in ("ccx", "card", "structure_h5", "scene_file", "out"):
+        parser.add_argument(name)
+    args = parser.parse_args(argv[1:])
+    import h5py
+    name, k, text = card_constants(args.card)
+    if k[0] != 3:
+        sys.exit("ccx_solid_beam.py: the card must be the whole ply's law (layout 3: [load] macro = \"full\")")
+    with open(args.scene_file, "rb") as f:
+        scene = tomllib.load(f)
+    edges = scene.get("edges", {})
+    if edges.get("left", {}).get("type") != "roller" or edges.get("right", {}).get("type") != "traction":
+        sys.exit("ccx_solid_beam.py: the scene must have a roller left edge and a traction right edge")
+    factors = scene.get("steps", {}).get("factors", [1.0])
+    between = len(k) >= 5 and k[4] != 0
+    with h5py.File(args.structure_h5, "r") as f:
+        nodes, tri = f["/mesh/nodes"][:], f["/mesh/triangles"][:]
+        steps = sorted(key for key in f["/steps"].keys() if key.isdigit())
+        u_ref = f[f"/steps/{steps[-1]}/displacement"][:]
+        watch_ref = f["/steps/watch_displacement"][:]
+        rounds_ref = [int(r) for r in f["/steps/fuse_rounds"][:]]
+        law_file = common.text(f.attrs.get("law_file", ""))
+    if len(rounds_ref) != len(factors):
+        sys.exit(f"ccx_solid_beam.py: {args.structure_h5} has {len(rounds_ref)} steps, the scene {len(factors)}")
+    # Per load level, the ccx steps at it: one; with bonds breaking between increments (the card's
+    # 5th constant) one more per debond round dualcell-structure took there, and one to see that
+    # nothing more breaks.
+    repeats = [1 + (r + 1 if between else 0) for r in rounds_ref]
+    if tri.shape[1] != 6:
+        sys.exit("ccx_solid_beam.py: the structure must be meshed with p2 triangles")
+    N = len(nodes)
+    deck, layer, right, w = solid_deck(nodes, tri, scene, text, name, factors, repeats)
     work = tempfile.mkdtemp(prefix="ccx-solid-beam-", dir=os.path.dirname(os.path.abspath(args.out)))
     try:
         dat, seconds = run_ccx(args.ccx, work, deck, args.card)
     finally:
         shutil.rmtree(work, ignore_errors=True)
-    # One block of every node's displacement per increment, in order.
-    blocks = []
-    for line in dat.splitlines():
-        if line.strip().startswith("displacements"):
-            blocks.append(np.zeros((3 * N, 3)))
-        elif blocks and line.split():
-            r = line.split()
-            blocks[-1][int(r[0]) - 1] = [float(v) for v in r[1:4]]
+    blocks = displacement_blocks(dat, 3 * N)
     if len(blocks) != sum(repeats):
         sys.exit(f"ccx_solid_beam.py: ccx printed {len(blocks)} increments, not the {sum(repeats)} asked")
     # Each load level's last round; with breaks between increments, the last two rounds must agree
@@ -173,15 +190,9 @@ def main(argv):
     u3 = blocks[-1]
     bottom = u3[:N, :2]
     top = u3[N:2 * N, :2]
-
-    def rotation(disp):
-        y = nodes[right, 1]
-        A = np.column_stack([y, np.ones_like(y)])
-        (s, b), *_ = np.linalg.lstsq(A, disp[right, 0], rcond=None)
-        return -s, -b / s / H
-
-    rot_ccx, axis_ccx = rotation(bottom)
-    rot_ref, axis_ref = rotation(u_ref)
+    H = nodes[:, 1].max()
+    rot_ccx, axis_ccx = end_rotation(nodes, right, bottom, H)
+    rot_ref, axis_ref = end_rotation(nodes, right, u_ref, H)
     error = (rot_ccx - rot_ref) / rot_ref
     scale = np.abs(u_ref).max()
     nodal = np.abs(bottom - u_ref).max() / scale

@@ -256,6 +256,15 @@ def edge_forces(nodes, edge_nodes, t_start, t_end):
     return f
 
 
+def end_rotation(nodes, right, disp, H):
+    """The end section's rotation and neutral axis y_n/H: the line u_x = −θ y + b fitted through
+    the right edge's nodes `right` (least squares), θ and −b/θ/H."""
+    y = nodes[right, 1]
+    A = np.column_stack([y, np.ones_like(y)])
+    (s, b), *_ = np.linalg.lstsq(A, disp[right, 0], rcond=None)
+    return -s, -b / s / H
+
+
 def beam(ccx, card, structure_h5, scene_file, out):
     import h5py
     name, _, text = card_constants(card)
@@ -310,14 +319,8 @@ def beam(ccx, card, structure_h5, scene_file, out):
     for r in rows:
         u[int(r[0]) - 1] = r[1:3]
 
-    def rotation(disp):
-        y = nodes[right, 1]
-        A = np.column_stack([y, np.ones_like(y)])
-        (s, b), *_ = np.linalg.lstsq(A, disp[right, 0], rcond=None)
-        return -s, -b / s / H
-
-    rot_ccx, axis_ccx = rotation(u)
-    rot_ref, axis_ref = rotation(u_ref)
+    rot_ccx, axis_ccx = end_rotation(nodes, right, u, H)
+    rot_ref, axis_ref = end_rotation(nodes, right, u_ref, H)
     error = (rot_ccx - rot_ref) / rot_ref
     nodal = np.abs(u - u_ref).max() / np.abs(u_ref).max()
     md = ["# The bimodular beam in CalculiX with dualcell's umat", "",

@@ -149,6 +149,15 @@ void add_periodic_rows(RowBuilder& rows, const mesh::Mesh& mesh, const std::vect
 
 }  // namespace
 
+std::vector<int> ties_at_strength(const Eigen::VectorXd& pair_forces, const std::vector<char>& bonded,
+                                  const std::vector<double>& strength) {
+  std::vector<int> out;
+  for (std::size_t p = 0; p < bonded.size(); ++p)
+    if (bonded[p] && law::bond::at_strength(pair_forces(static_cast<Eigen::Index>(p)), {-strength[p], strength[p]}))
+      out.push_back(static_cast<int>(p));
+  return out;
+}
+
 std::vector<double> shear_strengths(const mesh::Mesh& mesh, const Scene& scene) {
   namespace bond = law::bond;
   const std::vector<double> length = interface_lengths(mesh);

@@ -64,6 +64,11 @@ std::vector<double> interface_lengths(const mesh::Mesh& mesh);
 // Each pair's strength along the fibres (the shear along z, docs/method.md §16a): its in-plane
 // tangential row's intact bound, s_t L (law::bond::bounds); 0 without a tangential strength.
 std::vector<double> shear_strengths(const mesh::Mesh& mesh, const Scene& scene);
+// The tied pairs (bonded[p] ≠ 0) whose force along z, pair_forces(p), is at its strength ±strength[p]
+// (law::bond::at_strength): the ties a round of the cascade along the fibres breaks, in the full
+// solver's debond loop and in the sweep's one-body checks alike.
+std::vector<int> ties_at_strength(const Eigen::VectorXd& pair_forces, const std::vector<char>& bonded,
+                                  const std::vector<double>& strength);
 
 // The mesh sides of the edges left, right, bottom, top (the order of edge_names).
 extern const std::array<int, 4> edge_sides;

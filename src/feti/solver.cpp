@@ -299,10 +299,7 @@ Solution ContactSolver::solve(const Eigen::Vector3d& sigma, const BondState& bon
           primal::longitudinal_shear_at(setup_.mesh(), scene.fibre, scene.matrix, bonded, gamma_, shear_strength_);
       s.gamma = gamma_;
       s.shear_stress = z.tau;
-      for (std::size_t p = 0; p < current.size(); ++p)
-        if (bonded[p] && law::bond::at_strength(z.pair_forces(static_cast<Eigen::Index>(p)),
-                                                {-shear_strength_[p], shear_strength_[p]}))
-          breaking.push_back(static_cast<int>(p));
+      for (const int p : ties_at_strength(z.pair_forces, bonded, shear_strength_)) breaking.push_back(p);
     }
     if (breaking.empty() || round >= max_rounds) {
       s.add_work(previous);

@@ -252,10 +252,9 @@ std::vector<sweep::ShearPoint> shear_points(const mesh::Mesh& mesh, const Scene&
       primal::ShearResponse r;
       for (bool any = true; any;) {
         r = primal::longitudinal_shear_at(mesh, scene.fibre, scene.matrix, bonded, gamma, strength);
-        any = false;
-        for (std::size_t q = 0; q < P; ++q)
-          if (bonded[q] && bond::at_strength(r.pair_forces(static_cast<Eigen::Index>(q)), {-strength[q], strength[q]}))
-            bonded[q] = 0, any = true;
+        const std::vector<int> breaking = feti::ties_at_strength(r.pair_forces, bonded, strength);
+        for (const int q : breaking) bonded[static_cast<std::size_t>(q)] = 0;
+        any = !breaking.empty();
       }
       int broken = 0;
       for (std::size_t q = 0; q < P; ++q) broken += st > 0 && !bonded[q];
