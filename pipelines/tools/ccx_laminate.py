@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """How a 3D model uses the ply's constants: a [0/90]s laminated beam of C3D20R bricks in
 CalculiX, the plies' material the cell's bonded card (tools/ply_constants.py), against classical
-laminate theory (README, "The ply's nine constants").
+laminate theory (docs/results/ply.md).
 
 usage:
   ccx_laminate.py CONSTANTS.csv CELL OUT_FOLDER [--ccx PATH]

@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """The whole ply's law in a beam of 3D elements in CalculiX, loaded past the fuse, against
-dualcell-structure's transverse solution of the same beam (docs/method.md §16a, README "How a 3D
+dualcell-structure's transverse solution of the same beam (docs/method.md §16a, docs/results/ply.md "How a 3D
 model uses the ply").
 
 usage:

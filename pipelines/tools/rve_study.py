@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """The RVE-size study: random fibre RVEs of N fibres, several realisations each, their transverse
-law against N (README, "Random fibre RVEs").
+law against N (docs/results/rve.md).
 
 usage:
   rve_study.py BIN_DIR OUT_DIR MATERIAL [--fibres 1 4 9 16 36 64] [--realisations 5]

@@ -2,8 +2,8 @@
 //
 // JSON (everything in law.h5, for scripts), CSV (one row per direction) or CalculiX/Abaqus
 // material cards: <name>_TENSION and <name>_COMPRESSION, 3D materials in the axes x, y, z = fibre
-// direction whose plane-strain response is the fitted one (formulas: README.md, "Stage:
-// dualcell-export", and src/io/law_export.hpp). The output is written to a temporary and renamed,
+// direction whose plane-strain response is the fitted one (formulas: docs/guide/export.md, "3D
+// constants", and src/io/law_export.hpp). The output is written to a temporary and renamed,
 // so a refused or failed export leaves no file.
 //
 //   dualcell-export --law law.h5 --format calculix --out law.inp --name GLASS_EPOXY
@@ -16,7 +16,7 @@
 int main(int argc, char** argv) {
   CLI::App app{
       "dualcell-export: write a law.h5 as JSON, CSV, CalculiX/Abaqus material cards or a user-material card\n"
-      "(layout and formulas: README.md, \"Stage: dualcell-export\")."};
+      "(layout and formulas: docs/guide/export.md)."};
   std::string law_file, format, out, name = "DUALCELL";
   bool quiet = false;
   app.add_option("--law", law_file, "law.h5 written by dualcell-fit")->required();

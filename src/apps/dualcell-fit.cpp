@@ -6,7 +6,7 @@
 // all directions the in-plane compliances S_tension, S_compression with their residuals and
 // definiteness, the cone-wise linear check, the cone-wise law before and after the fuse, and
 // the exact onset surface checked against the sweep, and with an exact law the small cell fitted
-// to it. Writes law.h5 (layout: README.md, "law.h5").
+// to it. Writes law.h5 (layout: docs/reference/law-h5.md).
 //
 //   dualcell-fit --sweep sweep.h5 --out law.h5 [--law-tolerance 0.02]
 
@@ -18,7 +18,7 @@
 int main(int argc, char** argv) {
   CLI::App app{
       "dualcell-fit: fit the bilinear tension/compression law to a sweep and write law.h5\n"
-      "(layout: README.md, \"law.h5\")."};
+      "(layout: docs/reference/law-h5.md)."};
   std::string sweep_file, out;
   double law_tolerance = dualcell::fit::default_law_tolerance;
   bool quiet = false;

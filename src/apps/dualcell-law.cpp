@@ -23,7 +23,7 @@
 int main(int argc, char** argv) {
   CLI::App app{
       "dualcell-law: evaluate a law.h5 at macro strains or stresses from a CSV file, with history along\n"
-      "paths (format: README.md, \"dualcell-law\")."};
+      "paths (format: docs/guide/evaluate.md)."};
   dualcell::stage::LawPointsOptions options;
   std::string law_file, strain_file, stress_file, out, form = "cell";
   bool quiet = false;

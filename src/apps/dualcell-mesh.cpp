@@ -15,7 +15,7 @@ int main(int argc, char** argv) {
   CLI::App app{
       "dualcell-mesh: mesh a block of fibre cells (fibre disc + matrix square-with-hole per cell),\n"
       "or a periodic RVE ([geometry] size) with gmsh and METIS, and write mesh.h5 with mesh.xdmf\n"
-      "beside it (layout: README.md, \"mesh.h5\")."};
+      "beside it (layout: docs/reference/mesh-h5.md)."};
   std::string config, out;
   bool quiet = false;
   app.add_option("--config", config, "scene file (TOML)")->required();

@@ -19,7 +19,7 @@
 int main(int argc, char** argv) {
   CLI::App app{
       "dualcell-solve: one macroscopic stress through the dual (Total FETI) contact/adhesion solver.\n"
-      "Writes solution.h5 and solution.xdmf (layout: README.md, \"solution.h5\")."};
+      "Writes solution.h5 and solution.xdmf (layout: docs/reference/solution-h5.md)."};
   dualcell::stage::SolveOptions options;
   bool quiet = false;
   app.add_option("--config", options.scene_file, "scene file (TOML)")->required();

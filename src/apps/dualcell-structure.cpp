@@ -4,9 +4,9 @@
 // p1 or p2 triangles, every element with the cell's exact law (every quadrature point a cell
 // with its own bond history) or its cone-wise law and the fuse: a cell whose average stress
 // leaves the onset surface switches to the law past the fuse, irreversibly.
-// Edge conditions, supports, point loads and load steps from structure.toml (keys: README.md,
-// "Stage: dualcell-structure"); Newton with a line search per step. Writes structure.h5 and
-// structure.xdmf (layout: README.md, "structure.h5").
+// Edge conditions, supports, point loads and load steps from structure.toml (keys:
+// docs/reference/scene-keys.md); Newton with a line search per step. Writes structure.h5 and
+// structure.xdmf (layout: docs/reference/structure-h5.md).
 //
 //   dualcell-structure --config structure.toml --law law.h5 --out structure.h5 [--form cell|small|cone]
 #include <cstdio>
@@ -18,7 +18,7 @@
 int main(int argc, char** argv) {
   CLI::App app{
       "dualcell-structure: solve a structure of homogeneous cells with the cell's exact law (or its cone-wise\n"
-      "law and fuse), and write structure.h5 + structure.xdmf (layout: README.md, \"structure.h5\")."};
+      "law and fuse), and write structure.h5 + structure.xdmf (layout: docs/reference/structure-h5.md)."};
   dualcell::stage::StructureOptions options;
   std::string config, law, out;
   bool quiet = false;

@@ -17,7 +17,7 @@
 int main(int argc, char** argv) {
   CLI::App app{
       "dualcell-sweep: sweep load paths (directions x tension/compression x magnitudes) with bond history\n"
-      "and the fuse; writes sweep.h5 (layout: README.md, \"sweep.h5\"). Resumes an interrupted run."};
+      "and the fuse; writes sweep.h5 (layout: docs/reference/sweep-h5.md). Resumes an interrupted run."};
   dualcell::stage::SweepOptions options;
   bool quiet = false;
   app.add_option("--config", options.scene_file, "scene file (TOML)")->required();

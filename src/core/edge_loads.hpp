@@ -3,7 +3,7 @@
 // (structure.toml) and the resolved block of cells with `[load] boundary = "edges"`
 // (scene.toml): per edge fixed, roller, prescribed displacement or a traction varying linearly
 // along it; point supports and point loads at nodes; proportional load steps and the node whose
-// displacement is reported. Keys in README.md ("Stage: dualcell-structure").
+// displacement is reported. Keys in docs/reference/scene-keys.md.
 #include <Eigen/Core>
 #include <array>
 #include <functional>

@@ -1,5 +1,5 @@
 #pragma once
-// The exit codes of every stage, one contract (README, "Exit codes"): the tests use these names.
+// The exit codes of every stage, one contract (docs/reference/exit-codes.md): the tests use these names.
 namespace dualcell {
 
 inline constexpr int exit_ok = 0;

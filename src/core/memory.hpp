@@ -1,6 +1,6 @@
 #pragma once
 // What a stage may allocate, known before it allocates: the machine's physical memory, and the
-// line that refuses an input whose estimate exceeds it (README, "Limits").
+// line that refuses an input whose estimate exceeds it (docs/reference/limits.md).
 #include <cstddef>
 #include <string>
 

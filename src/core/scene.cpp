@@ -336,7 +336,7 @@ void validate(const Scene& scene) {
 std::vector<std::string> scene_warnings(const Scene& scene) {
   // Triangles lock as ν → 0.5 in plane strain: the volumetric constraint over-stiffens the mesh.
   // Measured: the bonded near-void modulus normalised by E_m/(1−ν_m²), which is ν-independent
-  // in the continuum (Cherkaev, Lurie & Milton 1992), at degree 3: linear triangles drift by 3 %
+  // in the continuum (docs/method.md §18), at degree 3: linear triangles drift by 3 %
   // at ν_m = 0.45 (0.4 % at 0.3); quadratic ones by 0.05 % at 0.45, 0.3 % at 0.499 and 0.9 % at
   // 0.4999. So p1 is warned about from 0.45 on, p2 from 0.499 on.
   const bool linear = scene.geometry.element == Element::p1;

@@ -3,7 +3,7 @@
 // Reading (parse_scene) checks the TOML, the tables, the keys and their types; validate()
 // checks every value's range and the combinations of keys, for scenes read from a file and for
 // scenes built in code alike, with the same one-line messages naming the file, the line, the
-// key, the value and the allowed range. All keys and their defaults: README.md ("Scene files").
+// key, the value and the allowed range. All keys and their defaults: docs/reference/scene-keys.md.
 #include <array>
 #include <cstdint>
 #include <filesystem>
@@ -64,7 +64,7 @@ struct Geometry {
   std::array<double, 2> fibre_offset{0, 0};  // fibre centre minus cell centre
   int degree = 1;                            // k: 4k+1 element corners on each cell edge (docs/method.md §2)
   // p2 by default: on the accuracy study's cell it reaches a given error far sooner than p1
-  // (README, "Accuracy per second").
+  // (docs/results/accuracy.md).
   Element element = Element::p2;
 
   bool rve() const { return layout != FibreLayout::cells; }
@@ -128,7 +128,7 @@ struct SweepSettings {
   double fuse_tolerance = 1e-3;  // relative load bracket of the debond jump
 };
 
-// Preconditioner of the dual operator F (docs/method.md §8; Farhat, Mandel, Roux 1994): none, the
+// Preconditioner of the dual operator F (docs/method.md §8): none, the
 // lumped one Σ B_i K_i B_iᵀ, or the Dirichlet one Σ B_i S_i B_iᵀ (S_i the Schur complement of
 // K_i on its boundary), both with stiffness-weighted rows; applied by MPRGP in the free face.
 enum class Preconditioner { none, lumped, dirichlet };

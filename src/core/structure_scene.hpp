@@ -1,5 +1,5 @@
 #pragma once
-// A structure scene (structure.toml, keys in README.md "Stage: dualcell-structure"): a
+// A structure scene (structure.toml, keys in docs/reference/scene-keys.md): a
 // rectangle of nx × ny homogeneous cells, its edge conditions, supports, point loads and load
 // steps. Read by parse_structure_scene, which checks the TOML, every key's type and range, and
 // names the file, line, key and value of anything wrong.

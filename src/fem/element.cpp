@@ -44,7 +44,7 @@ Matrix66 triangle_stiffness(const Eigen::Vector2d& p0, const Eigen::Vector2d& p1
 namespace dualcell::fem {
 
 const std::array<TrianglePoint, 6>& triangle_rule() {
-  // Symmetric 6-point rule of degree 4 (Dunavant 1985): two orbits (a, a, 1 − 2a), weights for a
+  // Symmetric 6-point rule of degree 4 (docs/method.md §3): two orbits (a, a, 1 − 2a), weights for a
   // reference triangle of area 1 halved to area ½.
   constexpr double a1 = 0.44594849091596488632, w1 = 0.22338158967801146570 / 2;
   constexpr double a2 = 0.09157621350977074346, w2 = 0.10995174365532186764 / 2;

@@ -137,7 +137,7 @@ class DualProblem {
   //   M⁻¹ = Σ_i W⁻¹D_iW⁻¹ B_i T_i B_iᵀ W⁻¹D_iW⁻¹,  T_i = K_i (lumped) or S_i (Dirichlet),
   // B_i the local rows as scaled by the weights W (Constraints::weight), and D_i the stiffness
   // weights of the row's parties, δ_ri = (1/k_ri) / Σ_j (1/k_rj), k_ri the diagonal stiffness
-  // of subdomain i under row r (Rixen & Farhat 1999). For one row shared by springs of
+  // of subdomain i under row r (docs/method.md §8). For one row shared by springs of
   // stiffness k_i this makes M⁻¹ = 1/F exactly; the macro subdomain (K = 0) is no party.
   // The caller projects: P M⁻¹ P.
   void apply_preconditioner(const Eigen::VectorXd& x, Eigen::VectorXd& y) const;

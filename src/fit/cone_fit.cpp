@@ -155,7 +155,7 @@ double fit_one_plane(const std::vector<ConePoint>& points, const Eigen::Vector3d
   return best;
 }
 
-// min ‖Ax − b‖ subject to x ≥ 0 (Lawson & Hanson's active-set method, 1974): columns enter the
+// min ‖Ax − b‖ subject to x ≥ 0 (the active-set method of docs/method.md §14): columns enter the
 // passive set by the largest gradient and leave when an interpolation step would make them
 // negative. Finite; each subproblem a small dense least-squares solve.
 Eigen::VectorXd nonnegative_least_squares(const Eigen::MatrixXd& A, const Eigen::VectorXd& b) {

@@ -9,7 +9,7 @@
 //     not convex in q (the kink of ⟨q·ε⟩₊ moves with it), so it starts from the linear fit C₀
 //     of all points with q at each of 64 points spread over the unit sphere (and the guess);
 //   compression struts: fixed planes q_k = −n_k⊗n_k/|n_k⊗n_k| at θ_k = k·15°; σ is linear in
-//     (C_c, β), so a least-squares problem with β ≥ 0 (Lawson–Hanson), tried with at least 7
+//     (C_c, β), so a least-squares problem with β ≥ 0 (docs/method.md §14), tried with at least 7
 //     distinct strain directions and kept only where C_c is positive definite.
 #include <Eigen/Core>
 #include <string>

@@ -12,7 +12,7 @@
 //     equations normalised by its load so that every point weighs alike (gsl_multifit_linear,
 //     or its truncated SVD when the directions do not determine all six entries: the
 //     undetermined entries are NaN).
-//   cone-wise linear check (Curnier, He & Zysset 1995): ΔC = S_t⁻¹ − S_c⁻¹ rank-one?
+//   cone-wise linear check (docs/method.md §14): ΔC = S_t⁻¹ − S_c⁻¹ rank-one?
 #include <stdexcept>
 #include <vector>
 

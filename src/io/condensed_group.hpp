@@ -1,7 +1,7 @@
 #pragma once
 // The exact law of a cell (law/condensed.hpp) as an HDF5 group, the same in sweep.h5 (/cell) and
 // law.h5 (/law/cell); a dataset per member of law::for_each_member (law/condensed_members.hpp),
-// and `bytes`; layout in README.md:
+// and `bytes`; layout in docs/reference/sweep-h5.md ("/cell"):
 //   n_macro, n_pairs (int), volume, reciprocity_error, seconds (1 each), operator_applications (int);
 //   S0 (m×m), Y (n×m), H (n×n), G (k×n), row-major;
 //   tangential, pair (n, int), lower_bonded, upper_bonded, lower_broken, upper_broken (n);

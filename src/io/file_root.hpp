@@ -9,7 +9,7 @@
 
 namespace dualcell::io {
 
-// The formats the stages write (layouts in README.md); law.h5's is law::format_name.
+// The formats the stages write (layouts in docs/reference/); law.h5's is law::format_name.
 inline constexpr const char* mesh_format = "dualcell mesh 4";
 inline constexpr const char* solution_format = "dualcell solution 2";
 inline constexpr const char* sweep_format = "dualcell sweep 3";

@@ -1,5 +1,5 @@
 #pragma once
-// The exports of a law.h5 (README.md, "Stage: dualcell-export"): JSON for scripts, CSV with one
+// The exports of a law.h5 (docs/guide/export.md): JSON for scripts, CSV with one
 // row per direction, CalculiX/Abaqus material cards (the 3D materials of law/solid.hpp) and the
 // constants of dualcell's umat.
 #include <cstdint>

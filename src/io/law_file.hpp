@@ -1,6 +1,6 @@
 #pragma once
-// law.h5: the effective law of a cell block as it leaves the fit stage (layout in README.md,
-// "law.h5 layout"). One group /law holds every field of Law under its own name: per-direction
+// law.h5: the effective law of a cell block as it leaves the fit stage (layout in
+// docs/reference/law-h5.md). One group /law holds every field of Law under its own name: per-direction
 // datasets of D entries, the two 3×3 compliances with their standard errors and quality, the
 // cone-wise linear form, and the constituents as attributes; the root holds the format and the
 // provenance (io/file_root.hpp).

@@ -1,6 +1,6 @@
 #pragma once
-// mesh.h5: the mesh stage's output and every later stage's input. Layout in README.md
-// ("mesh.h5"); reading checks every dataset's presence and shape and the cross-references
+// mesh.h5: the mesh stage's output and every later stage's input. Layout in
+// docs/reference/mesh-h5.md; reading checks every dataset's presence and shape and the cross-references
 // (node indices in range, subdomain ranges contiguous), so a corrupt file is refused at once.
 #include <filesystem>
 #include <string>

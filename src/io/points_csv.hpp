@@ -1,5 +1,5 @@
 #pragma once
-// The points dualcell-law evaluates (README, "dualcell-law"): a CSV file, one state per row,
+// The points dualcell-law evaluates (docs/guide/evaluate.md): a CSV file, one state per row,
 // three numbers (εxx, εyy, γxy) or (σxx, σyy, σxy), comma separated, with an optional header
 // line and an optional first column `path`: rows with the same path value form one loading path,
 // evaluated in file order from the unloaded state with the history carried along it. Blank lines

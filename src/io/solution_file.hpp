@@ -1,5 +1,5 @@
 #pragma once
-// solution.h5: the output of dualcell-solve (layout in README.md, "solution.h5"), with an
+// solution.h5: the output of dualcell-solve (layout in docs/reference/solution-h5.md), with an
 // XDMF beside it that shows the deformed shape, gaps included, in ParaView.
 #include <cstdint>
 #include <filesystem>

@@ -1,5 +1,5 @@
 #pragma once
-// structure.h5 (layout in README.md, "structure.h5") and its XDMF companion: the mesh of a
+// structure.h5 (layout in docs/reference/structure-h5.md) and its XDMF companion: the mesh of a
 // structure of homogeneous cells and, per load step, displacements, element stresses, open
 // planes and fuse states, with the step's Newton report and reactions. Written atomically.
 #include <filesystem>

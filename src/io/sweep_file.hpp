@@ -1,5 +1,5 @@
 #pragma once
-// sweep.h5 (layout in README.md, "sweep.h5") and its journal: every finished path is written
+// sweep.h5 (layout in docs/reference/sweep-h5.md) and its journal: every finished path is written
 // at once to <out>.parts/path-NNN.h5 (temporary + rename), so that after an interruption,
 // even kill -9, the same command skips the finished paths and the final file, assembled from
 // the parts and renamed into place at the end, holds the same data as an uninterrupted run.

@@ -1,7 +1,7 @@
 #pragma once
 // The exact law of a cell (law/condensed.hpp) as a plain text file, for codes that cannot read
 // HDF5: the user material in CalculiX reads it (src/umat/cell_umat.hpp), `dualcell-export
-// --format umat --form cell` writes it. Layout (README.md, "The law in CalculiX"): a first line
+// --format umat --form cell` writes it. Layout (docs/reference/cell-text.md): a first line
 // "dualcell cell law 1", then one keyword per line followed by its numbers, whitespace
 // separated, matrices row by row, doubles with 17 significant digits (so that the file gives
 // the same law bit for bit), infinite bounds as "inf" / "-inf"; the keywords are the members of

@@ -1,5 +1,5 @@
 #pragma once
-// The cone-wise linear law (Curnier, He & Zysset, J. Elasticity 37, 1995; docs/method.md §14),
+// The cone-wise linear law (docs/method.md §14),
 // with one or more switching planes: one strain energy for every strain, in the
 // engineering-shear strain space ε = (εxx, εyy, γxy),
 //
@@ -9,7 +9,7 @@
 //
 // with C_c symmetric positive definite, unit normals q_k and β_k ≥ 0. Each term is convex and
 // C¹, so W is convex and C¹ (σ continuous across every plane) and a structure code can use it
-// for every strain. Curnier, He & Zysset's form is one plane (K = 1): stiffness C_c where
+// for every strain. The original form (docs/method.md §14) is one plane (K = 1): stiffness C_c where
 // q·ε ≤ 0 and C_c + β q qᵀ where q·ε > 0. Several planes q_k = −n_k⊗n_k (compression struts
 // along in-plane directions n_k) describe a cell whose gaps close under compression along n_k
 // whatever the other strains do.

@@ -1,5 +1,5 @@
 #pragma once
-// The effective law of a cell block: what leaves the project (law.h5, layout in README.md).
+// The effective law of a cell block: what leaves the project (law.h5, layout in docs/reference/law-h5.md).
 //
 // Conventions: plane strain in the x–y plane, z = fibre direction. Stresses and moduli in the
 // units of the input scene. In-plane compliances use engineering shear:
@@ -115,7 +115,7 @@ inline constexpr SmallCellFitField small_cell_fit_fields[] = {
 struct Law {
   std::vector<DirectionLaw> directions;  // ascending direction_deg
   ComplianceFit tension, compression;
-  // Cone-wise linear form (Curnier, He & Zysset, J. Elasticity 37, 1995): the stiffness jump
+  // Cone-wise linear form (docs/method.md §14): the stiffness jump
   // C_t − C_c across the switching plane must be rank-one, ΔC = β q⊗q.
   double cone_rank_one_ratio = 0;                         // |second eigenvalue| / |first| of ΔC (0 = exactly rank-one)
   bool cone_wise_linear = false;                          // ratio below 0.05 and both fits SPD

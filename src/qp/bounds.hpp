@@ -2,10 +2,10 @@
 // the free/chopped split of the gradient and the KKT residuals of a returned point.
 // Entries of l may be -inf and of u +inf, so lower-only, upper-only and box bounds are one case.
 //
-// Definitions (Dostál 2009, §5.1, extended to upper bounds), for feasible x and g = A x - b:
+// Definitions (docs/method.md §7 and §17, extended to upper bounds), for feasible x and g = A x - b:
 //   free set      F = {i : l_i < x_i < u_i}
 //   φ_i  (free gradient)     = g_i on F, 0 otherwise
-//   ψ_i  (chopped gradient, β in Dostál's papers)
+//   ψ_i  (chopped gradient, β in the papers of docs/method.md §18)
 //                            = min(g_i, 0) at a lower bound, max(g_i, 0) at an upper bound,
 //                              0 on F and where l_i = u_i (a fixed component)
 //   gᴾ   (projected gradient) = φ + ψ; x is a KKT point iff gᴾ = 0

@@ -182,7 +182,7 @@ DenseQpResult DenseActiveSet::solve(const Eigen::VectorXd& b, const Eigen::Vecto
 
   Eigen::VectorXd x = Eigen::VectorXd::Zero(n), x_free, mu;
   // Warm start: the given set (none: every variable free) and up to max_guesses corrections of it
-  // in the manner of block principal pivoting (Júdice & Pires): a variable its subproblem puts
+  // in the manner of block principal pivoting (docs/method.md §16a): a variable its subproblem puts
   // beyond a bound is held there, a held one whose multiplier has the wrong sign is freed. The
   // first guess whose subproblem's solution is feasible starts the primal method; along a path
   // that is usually the given set itself, one solve.

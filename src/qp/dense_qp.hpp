@@ -13,7 +13,7 @@
 // held at their bounds (the KKT system of the free ones, equilibrated and factorised by LU
 // with partial pivoting), then either steps to the first bound met (which joins the working
 // set) or, at the solution of that subproblem, releases the bound whose multiplier has the
-// wrong sign by the most (Nocedal & Wright, Numerical Optimization, §16.5). Every step keeps x
+// wrong sign by the most (docs/method.md §16a). Every step keeps x
 // feasible and does not increase the objective; a working set never repeats once the objective
 // has decreased, so the method terminates.
 //

@@ -2,10 +2,10 @@
 //
 // Solves   min f(x) = ½ xᵀA x - bᵀx   s.t.   l ≤ x ≤ u,   A symmetric positive semidefinite.
 //
-// Z. Dostál, J. Schöberl: Minimizing quadratic functions subject to bound constraints with the
-// rate of convergence and finite termination, Comput. Optim. Appl. 30 (2005) 23–43 (MPRGP);
-// lower and upper bounds and the reduced free gradient φ̃ as in Z. Dostál, Optimal Quadratic
-// Programming Algorithms, Springer 2009, ch. 5. Definitions of φ, ψ (β in the papers), φ̃, gᴾ:
+// The method: docs/method.md §7 (MPRGP, from the works of §18), with lower and upper bounds
+// and the reduced free gradient φ̃.
+//
+// Definitions of φ, ψ (β in the papers), φ̃, gᴾ:
 // qp/bounds.hpp. Step lengths are ω here (α in the papers; α is the rigid-body amplitude in
 // this project, docs/method.md glossary).
 //
@@ -23,14 +23,14 @@
 // ω_cg, so any ω ≤ ω_cg still decreases f. All moves go through step_within_box, so every
 // iterate is feasible up to the last bit.
 //
-// Preconditioning in face (optional; Dostál 2009, §5.10). With a preconditioner M⁻¹ ≈ A⁻¹
+// Preconditioning in face (optional; docs/method.md §7). With a preconditioner M⁻¹ ≈ A⁻¹
 // (symmetric, positive definite on the free components) the CG directions are built from the
 // preconditioned free gradient
 //   z = χ_F ⊙ M⁻¹(χ_F ⊙ g) = χ_F ⊙ M⁻¹φ,   χ_F the indicator of the free set F,
 // i.e. the restriction (M⁻¹)_FF of one fixed M⁻¹ to the face instead of the book's (M_FF)⁻¹,
 // which would have to be rebuilt whenever F changes (approximate variants of this kind are
-// studied in J. Kružík, D. Horák: Accelerating MPGP-type methods through preconditioning,
-// arXiv:2507.00617, 2025). z, p and the steps vanish off F, so within a face this is PCG on
+// studied in a work listed in docs/method.md §18).
+// z, p and the steps vanish off F, so within a face this is PCG on
 // min f(x - d), d_i = 0 off F, i.e. on A_FF d_F = g_F, with preconditioner (M⁻¹)_FF:
 //   ζ = zᵀAp / pᵀAp makes the new p A-conjugate to the old one;
 //   ω_cg = gᵀp / pᵀAp is the exact minimiser of f along -p. After an exact line search the new

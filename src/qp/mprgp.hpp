@@ -1,7 +1,7 @@
 // MPRGP: min ½ xᵀA x - bᵀx  s.t.  l ≤ x ≤ u, for symmetric positive semidefinite A given as an
-// operator (Dostál & Schöberl, Comput. Optim. Appl. 30 (2005); box form as in Dostál,
-// Optimal Quadratic Programming Algorithms, Springer 2009, ch. 5), optionally preconditioned in
-// face (ibid. §5.10). See mprgp.cpp for the method.
+// operator, in box form (docs/method.md §7, its sources in §18),
+// optionally preconditioned in
+// face (docs/method.md §7). See mprgp.cpp for the method.
 #pragma once
 
 #include <Eigen/Core>

@@ -1,5 +1,5 @@
 // SMALBE-M — SemiMonotonic Augmented Lagrangian for Bound and Equality constraints, variant with
-// adaptive precision ξ (M in Dostál's book; here M⁻¹ is the preconditioner), plus a bounded
+// adaptive precision ξ (M in the book of docs/method.md §18; here M⁻¹ is the preconditioner), plus a bounded
 // penalty growth safeguard.
 //
 // Solves   min f(x) = ½ xᵀA x - bᵀx   s.t.   Q x = 0,   l ≤ x ≤ u,
@@ -7,7 +7,7 @@
 // and ‖Q x‖ = ‖Ĝ x‖. In FETI: A = PFP, P = I - Q, which makes the spectrum of A + ρQ on Im Q
 // equal to ρ, so ρ up to ‖A‖ costs the inner solver nothing.
 //
-// Z. Dostál, Optimal Quadratic Programming Algorithms, Springer 2009, ch. 6 (SMALBE; SMALBE-M
+// The method: docs/method.md §7 (SMALBE, its source in §18; SMALBE-M
 // keeps ρ and adapts ξ). The multiplier μ of Ĝx = 0 is kept as m = Ĝᵀμ ∈ Im Q, so
 //   L(x, m, ρ) = ½ xᵀA x - bᵀx + mᵀx + ρ/2 xᵀQ x = ½ xᵀ(A + ρQ) x - (b - m)ᵀx,
 //   ∇ₓL = A x - b + m + ρ Q x.

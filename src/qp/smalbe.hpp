@@ -1,6 +1,6 @@
 // SMALBE-M: min ½ xᵀA x - bᵀx  s.t.  Q x = 0, l ≤ x ≤ u, with Q the orthogonal projector onto
-// Im Ĝᵀ (Q = Ĝᵀ Ĝ, Ĝ with orthonormal rows) given as an operator (Dostál, Optimal Quadratic
-// Programming Algorithms, Springer 2009, ch. 6). See smalbe.cpp for the method.
+// Im Ĝᵀ (Q = Ĝᵀ Ĝ, Ĝ with orthonormal rows) given as an operator (docs/method.md §7).
+// See smalbe.cpp for the method.
 #pragma once
 
 #include <Eigen/Core>
@@ -38,7 +38,7 @@ struct SmalbeOptions {
   double eta_factor = 0.1;   // η = eta_factor·‖b‖
   double xi0 = 1.0;          // ξ₀ = xi0·‖A‖ (relative to ‖A‖ like ρ)
   double xi_reduction = 10;  // ξ ← ξ/xi_reduction when the augmented Lagrangian grows too little
-  // Safeguard beyond SMALBE-M (penalty growth as in Dostál 1997 and the thesis): ρ ← c_ρ ρ,
+  // Safeguard beyond SMALBE-M (penalty growth, docs/method.md §7): ρ ← c_ρ ρ,
   // c_ρ = rho_growth, when an inner solve converged but ‖Qx‖ fell by less than the factor
   // feasibility_reduction (r_Q), up to rho_max_factor·‖A‖. rho_growth = 1 gives plain SMALBE-M.
   double rho_growth = 10;

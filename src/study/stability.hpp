@@ -1,5 +1,5 @@
 #pragma once
-// The stability matrix (README, "Numerical stability on stiff and extreme cases"): the solver run
+// The stability matrix (docs/results/stability.md): the solver run
 // for both element orders over stiffness contrasts E_f/E_m ∈ {1e-6, 1e-3, 1, 1e3, 1e6}, matrix Poisson ratios ν_m ∈ {0,
 // 0.3, 0.45, 0.499}, fibre sizes r/a ∈ {0.05, 0.3, 0.45} and an off-centre fibre next to the cell edge, adhesion none /
 // tiny / huge, load magnitudes from 1e-12 to 1e6 (units of E_m), directions 0°, 30°, 45°, 90° and the three boundary

@@ -1,6 +1,6 @@
 /* The cell law as an Abaqus-style user material (umat), for CalculiX (materials named
- * ABAQUS...) and other codes with the same interface (docs/method.md §14, §15, §16a; README,
- * "The law in CalculiX"): the cone-wise law with the fuse (layout 1), the exact law of the
+ * ABAQUS...) and other codes with the same interface (docs/method.md §14, §15, §16a;
+ * docs/guide/calculix.md): the cone-wise law with the fuse (layout 1), the exact law of the
  * cell (layout 2, cell_umat.h), or the exact law of the whole ply (layout 3: all six components
  * from the cell, nothing filled in).
  *

@@ -1,14 +1,20 @@
-// The README's commands run as written: every indented command block that starts with a stage
-// (or `mpirun -np N` and a stage) is extracted from README.md and run, in the README's order, in
-// one folder holding the small files the commands name (scene.toml, beam.toml, structure.toml,
-// points.csv).
+// The documents' commands run as written: every indented command block that starts with a stage
+// (or `mpirun -np N` and a stage) is extracted from README.md and from every page of docs/ (README
+// first, then docs/**/*.md sorted by path, each file's blocks in their order) and run in that order,
+// in one folder holding the small files the commands name (scene.toml, beam.toml, structure.toml,
+// points.csv, and the default scene's path, pipelines/scenes/default.toml, holding scene.toml's
+// small scene: the default scene's own run and printed figures are readme_figures_test.cpp's).
+// The README's quick start comes first, so mesh.h5, sweep.h5 and law.h5 exist for every later
+// page's commands.
 // A synopsis is made runnable by dropping its optional [...] parts and filling its placeholders
 // (sxx,syy,sxy, N, FILE); a choice a|b|c runs once per alternative. Every command must exit 0,
-// so that an option renamed, a stage's order changed or a file name drifting in the README fails
+// so that an option renamed, a stage's order changed or a file name drifting in a document fails
 // here. Left out: the two set-up commands (they are CI itself) and the cluster example that needs
 // a host file.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -34,12 +40,28 @@ bool starts_with_stage(const std::string& line) {
   return false;
 }
 
-// The indented (4-space) code blocks of README.md whose lines are commands, continuation lines
+// A stage command as written in a document: the command and the file it is in.
+struct Written {
+  std::string command;
+  std::string file;
+};
+
+// The documents whose commands run: README.md, then every .md below docs/, sorted by path.
+std::vector<std::string> documents() {
+  std::vector<std::string> docs;
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(testing::source_dir() + "/docs"))
+    if (entry.is_regular_file() && entry.path().extension() == ".md")
+      docs.push_back(std::filesystem::relative(entry.path(), testing::source_dir()).generic_string());
+  std::sort(docs.begin(), docs.end());
+  docs.insert(docs.begin(), "README.md");
+  return docs;
+}
+
+// The indented (4-space) code blocks of one document whose lines are commands, continuation lines
 // of a synopsis joined to their command.
-std::vector<std::string> readme_commands() {
-  std::ifstream in(testing::source_dir() + "/README.md");
-  EXPECT_TRUE(in);
-  std::vector<std::string> commands;
+void add_commands(const std::string& file, std::vector<Written>& commands) {
+  std::ifstream in(testing::source_dir() + "/" + file);
+  EXPECT_TRUE(in) << file;
   std::string line;
   bool previous_blank = true, in_block = false;
   while (std::getline(in, line)) {
@@ -50,16 +72,21 @@ std::vector<std::string> readme_commands() {
       const std::size_t first = text.find_first_not_of(' ');
       if (first == std::string::npos || text[0] == '#') continue;
       if (starts_with_stage(text))
-        commands.push_back(text);
-      else if (first > 0 && !commands.empty() && text[first] == '[') {
-        commands.back().push_back(' ');  // a synopsis' continuation line
-        commands.back().append(text, first);
+        commands.push_back({text, file});
+      else if (first > 0 && !commands.empty() && commands.back().file == file && text[first] == '[') {
+        commands.back().command.push_back(' ');  // a synopsis' continuation line
+        commands.back().command.append(text, first);
       }
     } else {
       in_block = false;
     }
     previous_blank = line.find_first_not_of(' ') == std::string::npos;
   }
+}
+
+std::vector<Written> documented_commands() {
+  std::vector<Written> commands;
+  for (const std::string& file : documents()) add_commands(file, commands);
   return commands;
 }
 
@@ -108,15 +135,18 @@ std::vector<std::string> runnable(const std::string& command) {
 }
 
 TEST(Readme, EveryStageCommandRunsAsWritten) {
-  const std::vector<std::string> commands = readme_commands();
-  ASSERT_GE(commands.size(), 9u) << "the README's command blocks were not found";
+  const std::vector<Written> commands = documented_commands();
+  ASSERT_GE(commands.size(), 9u) << "the documents' command blocks were not found";
   testing::ScratchDir dir;
-  // One geometry for all: the periodic cell of scene.toml and the resolved block of beam.toml
-  // share the mesh.h5 that the README's first command makes.
-  dir.write("scene.toml", testing::scene_text(2, 1, 1, 0.3,
-                                              "[interface]\nnormal_strength = 0.05\n[load]\nboundary = \"periodic\"\n"
-                                              "[sweep]\ndirections_deg = [0, 45, 90]\nmagnitudes = [-0.2, -0.02, "
-                                              "0.02, 0.2]\n"));
+  // One geometry for all: the periodic cell of scene.toml (also at the default scene's path) and
+  // the resolved block of beam.toml share the mesh.h5 that the README's first command makes.
+  const std::string scene = testing::scene_text(2, 1, 1, 0.3,
+                                                "[interface]\nnormal_strength = 0.05\n[load]\nboundary = \"periodic\"\n"
+                                                "[sweep]\ndirections_deg = [0, 45, 90]\nmagnitudes = [-0.2, -0.02, "
+                                                "0.02, 0.2]\n");
+  dir.write("scene.toml", scene);
+  std::filesystem::create_directories(dir / "pipelines/scenes");
+  dir.write("pipelines/scenes/default.toml", scene);
   dir.write("beam.toml", testing::scene_text(2, 1, 1, 0.3,
                                              "[load]\nboundary = \"edges\"\n[edges.left]\ntype = \"fixed\"\n"
                                              "[edges.right]\ntype = \"traction\"\ntraction = [0, -0.01]\n"));
@@ -127,10 +157,10 @@ TEST(Readme, EveryStageCommandRunsAsWritten) {
   dir.write("points.csv", "path,a,b,c\np,0.001,0,0\np,0.002,-0.0005,0.0001\n");
   const bool have_mpi = testing::mpi_runs();
   int ran = 0;
-  for (const std::string& written : commands) {
-    if (written.find("--hostfile") != std::string::npos) continue;  // a cluster's
-    for (std::string command : runnable(written)) {
-      SCOPED_TRACE("README: " + written + "\n  run as: " + command);
+  for (const Written& written : commands) {
+    if (written.command.find("--hostfile") != std::string::npos) continue;  // a cluster's
+    for (std::string command : runnable(written.command)) {
+      SCOPED_TRACE(written.file + ": " + written.command + "\n  run as: " + command);
       if (command.rfind("mpirun -np ", 0) == 0) {
         if (!have_mpi) continue;
         command = testing::mpiexec(2, 120) + command.substr(command.find(' ', 11) + 1);

@@ -1,6 +1,6 @@
-// The figures the README quotes from the default scene's run are checked against a fresh run of
-// that scene (mesh → sweep → fit, about 10 s): the lines the README shows as the sweep's and the
-// fit's output must be what the stages print today, so that a change of the cell, the law or its
+// The figures the README's quick start quotes from the default scene's run are checked against a
+// fresh run of that scene (mesh → sweep → fit, about 10 s): the lines the README shows as the
+// sweep's and the fit's output must be what the stages print today, so that a change of the cell, the law or its
 // check cannot leave the README quoting an older run. Counts (interface rows, kB, points,
 // directions) and the printed percentages must agree exactly; the replay error is round-off
 // (a few 1e-8 on this cell), whose digits differ between machines and builds, so it must stay

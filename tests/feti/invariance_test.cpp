@@ -1,4 +1,4 @@
-// Invariances the homogenised response must have (README, "Numerical stability on stiff and extreme cases"): scaling
+// Invariances the homogenised response must have (docs/results/stability.md): scaling
 // laws, the square cell's 90° symmetry, near-voids (Cherkaev, Lurie & Milton 1992), and the locking warning for nearly
 // incompressible materials.
 #include <gtest/gtest.h>

@@ -136,7 +136,7 @@ TEST_P(ContactSolverOrders, BondedEqualsMonolithicPrimalForEveryBoundary) {
 
 // Subdomain work on 1, 2 and 3 threads (every preconditioner): every subdomain is worked on by one thread and the
 // contributions are summed in subdomain order, so the solution is the same to the last bit
-// (the README's target is 1e-14; equality is what the design gives). Adhesion with breaks, so that
+// (docs/results/bench.md's target is 1e-14; equality is what the design gives). Adhesion with breaks, so that
 // the debonding rounds and the warm-started problems are covered too.
 // Near-rigid bonded fibres in thin ligaments (E_f/E_m = 1e6, r = 0.45, periodic, degree 4): the
 // QP converges at the scene's tolerance 1e-8, but the contrast amplifies the dual residual in u

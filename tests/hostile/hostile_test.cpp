@@ -1,4 +1,4 @@
-// Hostile input, nothing lost (README, "Hostile input, nothing lost"): every stage run on every file of the committed
+// Hostile input, nothing lost (docs/reference/hostile-input.md): every stage run on every file of the committed
 // corpus data/hostile/ (malformed scene files, truncated and corrupted HDF5 inputs; expectations in its expected.tsv
 // files) answers within seconds with exit code 1 and exactly one line
 // "<stage>: error: ..." containing the expected words, never a crash, a hang or an internal

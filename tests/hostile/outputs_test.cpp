@@ -1,4 +1,4 @@
-// Nothing lost, ever (README, "Hostile input, nothing lost"): every stage's outputs against a
+// Nothing lost, ever (docs/reference/hostile-input.md): every stage's outputs against a
 // write that fails (a file-size limit stepped over the file's growth, a full file system), an
 // output path that is a device, a pipe or one of the stage's inputs, an empty output path,
 // temporaries orphaned by a killed run; and the refusals of structures that can still move,

@@ -30,7 +30,7 @@ using io::umat_constants;
 using testing::bin;
 using testing::run_command;
 
-// The required agreement of the apparent modulus in CalculiX (README, "Stage: dualcell-export").
+// The required agreement of the apparent modulus in CalculiX (docs/guide/export.md).
 constexpr double ccx_tolerance = 0.005;
 
 // The plane-strain compliance of a 3D one: ε33 = 0 ⇒ σ33 = −(S31 σ11 + S32 σ22 + S34 σ12)/S33,

@@ -150,7 +150,7 @@ TEST(LawFile, HoldsTheDocumentedObjects) {
   testing::ScratchDir dir;
   write_law(dir / "law.h5", testing::synthetic_law());
   const io::File f = io::File::open_read(dir / "law.h5");
-  // The names the README's law.h5 layout documents, and their shapes.
+  // The names docs/reference/law-h5.md documents, and their shapes.
   for (const char* name : {"direction_deg", "E_tension", "E_compression", "nu_tension", "nu_compression", "fuse_stress",
                            "fuse_strain_jump", "E_after_fuse", "E_tension_se", "E_compression_se", "nu_tension_se",
                            "nu_compression_se", "E_after_fuse_se"})

@@ -242,7 +242,7 @@ TEST(Mesh, BoundaryEdgesCoverThePerimeterWithOutwardNormals) {
 }
 
 // Minimum angles for degree 1..6, against bounds = measured worst case rounded down (the table
-// is in the README). The mapping keeps 8k nodes on the circle, so elements beside a small fibre
+// is in docs/guide/mesh.md, "Mesh quality"). The mapping keeps 8k nodes on the circle, so elements beside a small fibre
 // (tangential spacing 2πr/8k against a radial gap (a/2 - r)/k) or a thin ligament are
 // stretched by the geometry itself: the bounds say how far, and a change of the mapping that
 // makes the mesh worse fails here.
