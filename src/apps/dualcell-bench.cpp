@@ -37,7 +37,7 @@ int main(int argc, char** argv) {
                  "only the compact laws of this law.h5 (with an exact law, no adhesion) against its exact law, error "
                  "against evaluation cost: small_cell.md, small_cell.json");
   app.add_option("--threads", options.threads, "threads for the multi-threaded rows; 0 = OMP_NUM_THREADS or all cores")
-      ->check(CLI::Range(0, 4096));
+      ->check(dualcell::number_in(0, 4096));
   if (const auto stop = dualcell::parse_options(app, argc, argv)) return *stop;
   if (operators_cell.size() == 2)
     options.operators_scene = operators_cell[0], options.operators_mesh = operators_cell[1];

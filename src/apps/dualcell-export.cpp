@@ -37,8 +37,7 @@ int main(int argc, char** argv) {
                  "directions (law.h5 /law/cone_check, /law/cone_after_fuse_check) exceeds this fraction, or that "
                  "was measured against neither; likewise a small cell (/law/small_check)")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 1.0))
-      ->check(dualcell::finite_number);
+      ->check(dualcell::number_in(0.0, 1.0));
   app.add_flag(
       "--force", force,
       "umat: write the cone-wise law or the small cell whatever its measured error; replace a cell file that holds "
@@ -52,7 +51,7 @@ int main(int argc, char** argv) {
   app.add_option("--cell-id", cell_id,
                  "umat --form cell or small: the id that names the cell's file (dualcell-cell-<id>.txt)")
       ->capture_default_str()
-      ->check(CLI::Range(1, 999999));
+      ->check(dualcell::number_in(1, 999999));
   std::string breaks;
   app.add_option("--breaks", breaks,
                  "umat --form cell or small of a whole ply's law (layout 3): within, each material point's debond "

@@ -27,14 +27,13 @@ int main(int argc, char** argv) {
   app.add_option("--law-tolerance", law_tolerance,
                  "the small cell's largest stress error over the sphere (relative): its rows grow until it holds")
       ->capture_default_str()
-      ->check(CLI::Range(1e-6, 1.0))
-      ->check(dualcell::finite_number);
-  app.add_flag("--quiet", quiet, "do not print the table");
+      ->check(dualcell::number_in(1e-6, 1.0));
+  app.add_flag("--quiet", quiet, "no progress and no table");
   if (const auto stop = dualcell::parse_options(app, argc, argv)) return *stop;
 
   return dualcell::run_stage("dualcell-fit", [&] {
     using namespace dualcell;
-    const law::Law law = stage::run_fit(sweep_file, out, law_tolerance);
+    const law::Law law = stage::run_fit(sweep_file, out, law_tolerance, !quiet);
     if (!quiet) stage::print_fit_summary(sweep_file, out, law);
   });
 }

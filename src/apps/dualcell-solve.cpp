@@ -30,7 +30,7 @@ int main(int argc, char** argv) {
   app.add_option("--eps33", options.eps33,
                  "longitudinal strain e33 along the fibres (generalised plane strain, docs/method.md §3a); "
                  "default 0: plane strain")
-      ->check(CLI::Range(-1.0, 1.0));
+      ->check(dualcell::number_in(-1.0, 1.0));
   app.add_flag("--longitudinal-shear", options.longitudinal_shear,
                "also the cell's longitudinal shear moduli Gxz, Gyz with the bonds this load left (periodic "
                "boundary; docs/method.md §3b)");
@@ -40,7 +40,7 @@ int main(int argc, char** argv) {
   app.add_flag("--quiet", quiet, "no progress and no summary");
   app.add_option("--threads", options.threads,
                  "threads for the subdomain work; 0 = OMP_NUM_THREADS or all cores (results do not depend on it)")
-      ->check(CLI::Range(0, 4096));
+      ->check(dualcell::number_in(0, 4096));
   if (const auto stop = dualcell::parse_options(app, argc, argv)) return *stop;
   options.progress = !quiet;
 

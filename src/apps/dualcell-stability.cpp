@@ -20,9 +20,7 @@ int main(int argc, char** argv) {
   app.add_option("--out", options.csv, "CSV, one row per case")->required();
   app.add_option("--summary", options.summary, "Markdown summary (per boundary and factor)");
   app.add_flag("--fast", options.fast, "the subset the test suite runs");
-  app.add_option("--tolerance", options.tolerance, "solver tolerance")
-      ->check(CLI::Range(1e-14, 1e-2))
-      ->check(dualcell::finite_number);
+  app.add_option("--tolerance", options.tolerance, "solver tolerance")->check(dualcell::number_in(1e-14, 1e-2));
   if (const auto stop = dualcell::parse_options(app, argc, argv)) return *stop;
 
   int failed = 0;

@@ -26,11 +26,11 @@ int main(int argc, char** argv) {
   app.add_flag("--quiet", quiet, "no progress on stderr");
   app.add_option("--threads", options.threads,
                  "threads for the subdomain work; 0 = OMP_NUM_THREADS or all cores (results do not depend on it)")
-      ->check(CLI::Range(0, 4096));
+      ->check(dualcell::number_in(0, 4096));
   app.add_option("--ranks-per-path", options.ranks_per_path,
                  "under mpirun: ranks that solve one path together, sharing its subdomains (default 1: each rank "
                  "solves whole paths; results do not depend on it)")
-      ->check(CLI::Range(1, 1 << 20));
+      ->check(dualcell::number_in(1, 1 << 20));
   // For tests of the resume: stop dead (as kill -9 would) after this many finished paths.
   app.add_option("--interrupt-after-paths", options.interrupt_after, "")->group("");
   if (const auto stop = dualcell::parse_options(app, argc, argv)) return *stop;

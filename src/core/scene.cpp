@@ -170,6 +170,18 @@ void validate_rve(const Checker& c, const Scene& scene) {
 
 double rve_element_size(double mean_radius, int degree) { return std::numbers::pi * mean_radius / (4 * degree); }
 
+void check_load_strain(const Scene& scene, double stress_norm, const std::string& what) {
+  const double strain = stress_norm / std::min(scene.fibre.E, scene.matrix.E);
+  if (!(strain <= max_load_strain))
+    throw InputError(what + ": a stress of " + shortest(stress_norm) + " strains the softer phase (E = " +
+                     shortest(std::min(scene.fibre.E, scene.matrix.E)) + ") by about " + formatted("%.3g", strain) +
+                     ", beyond " + shortest(max_load_strain) + ": no finite answer in doubles");
+}
+
+double rve_default_min_gap(double mean_radius, int degree) {
+  return 2 * rve_element_size(mean_radius, degree) / rve_narrowest_gap_divisor;
+}
+
 double rve_node_estimate(double Lx, double Ly, double mean_radius, int degree, Element element) {
   const double h = rve_element_size(mean_radius, degree);
   return 1.2 * Lx * Ly / (h * h) * (element == Element::p2 ? 4 : 1);
@@ -254,6 +266,12 @@ void validate_sweep_and_solver(const Checker& c, const Scene& scene) {
   c.reals(
       "sweep", "magnitudes", sw.magnitudes, [](double v) { return v != 0; },
       "an array of at least 1 numbers, each non-zero");
+  const double softer = std::min(scene.fibre.E, scene.matrix.E);
+  for (const double m : sw.magnitudes)
+    if (!(std::abs(m) / softer <= max_load_strain))
+      c.fail("sweep", "magnitudes", shortest(m),
+             "out of range: it strains the softer phase (E = " + shortest(softer) + ") beyond " +
+                 shortest(max_load_strain) + " (no finite answer in doubles)");
   for (const auto& t : sw.stress_directions)
     if (!(std::isfinite(t[0]) && std::isfinite(t[1]) && std::isfinite(t[2])) || (t[0] == 0 && t[1] == 0 && t[2] == 0))
       c.fail("sweep", "stress_directions", shortest(std::vector<double>(t.begin(), t.end())),

@@ -79,6 +79,13 @@ struct Geometry {
 // fibres exist, the scene's mean (a list's mean, or the nominal mean of random radii, which the
 // volume fraction then scales a little).
 double rve_element_size(double mean_radius, int degree);
+// The narrowest gap (between fibres, to an edge, a sliver an edge cuts) the RVE mesher meshes:
+// h/50, across which its finest elements (h/10) are still no slivers (rve/mesher.cpp).
+inline constexpr double rve_narrowest_gap_divisor = 50;
+// The gap a random RVE keeps when its scene gives no min_gap: twice the narrowest the mesher
+// meshes at the scene's degree, so that every drawn RVE meshes (the volume fraction scales the
+// drawn radii, and h with them, by a few per cent).
+double rve_default_min_gap(double mean_radius, int degree);
 // The nodes of an RVE's mesh at that element size over Lx × Ly: about 1.2 per h² for p1, 4 times
 // that for p2 (the mesh budget, checked against max_mesh_nodes before gmsh runs).
 double rve_node_estimate(double Lx, double Ly, double mean_radius, int degree, Element element);
@@ -218,6 +225,12 @@ inline constexpr ConstituentField constituent_fields[] = {
 // Largest mesh a scene may ask for (nodes of all subdomains, dim u = 2 × nodes): 3×3 cells at
 // degree 256 or 100×100 at degree 6 fit, 4096×4096 at degree 256 (10^13 nodes) does not.
 inline constexpr long max_mesh_nodes = 10'000'000;
+// The largest macro stress a solve takes, as the strain it causes: |σ|∞ / min(E_fibre, E_matrix)
+// at most this. Beyond it the solver's products of forces and displacements overflow doubles and
+// no finite answer exists; a small-strain law is meaningless long before.
+inline constexpr double max_load_strain = 1e100;
+// Refuses (InputError, naming `what`) a stress beyond max_load_strain for the scene's phases.
+void check_load_strain(const Scene& scene, double stress_norm, const std::string& what);
 // The most fibres an RVE may have: gmsh meshes 6 400 in about a minute here and its time grows
 // as N^1.4 (10 000: about two minutes; 160 000 would take over an hour).
 inline constexpr long max_rve_fibres = 10'000;

@@ -70,7 +70,8 @@ void check_top_level_keys(SceneReading& r) {
 }
 
 // A periodic RVE: [geometry] size = [Lx, Ly], kind = "list" (the [[fibres]] tables: centre,
-// radius) or "random" (volume_fraction, radius = [mean, sd], min_gap, seed); min_gap for both.
+// radius) or "random" (volume_fraction, radius = [mean, sd], min_gap, seed); min_gap for both
+// (random fibres without it keep the gap the mesher needs at the degree, rve_default_min_gap).
 void read_rve(SceneReading& r, TableReader& g) {
   Geometry& geo = r.scene.geometry;
   for (const char* key : {"cells", "cell_size", "fibre_radius", "fibre_offset"})
@@ -89,6 +90,7 @@ void read_rve(SceneReading& r, TableReader& g) {
     const auto radius = g.reals("radius", {0, 0}, 1, 2);
     geo.random.radius_mean = radius[0];
     geo.random.radius_sd = radius.size() > 1 ? radius[1] : 0;
+    if (!g.has("min_gap")) geo.random.min_gap = rve_default_min_gap(geo.random.radius_mean, geo.degree);
     const auto seed = g.integer<std::int64_t>("seed", 1);
     if (seed < 0) g.fail(g.node("seed"), "seed", std::to_string(seed), "must be an integer >= 0");
     geo.random.seed = static_cast<std::uint64_t>(seed);

@@ -115,9 +115,11 @@ class TableReader {
     if (!n) return fallback;
     remember(key, *n);
     auto a = n->as_array();
-    const std::string what =
-        "an array of " + (min_size == max_size ? std::to_string(min_size) : "at least " + std::to_string(min_size)) +
-        " numbers";
+    const std::string what = "an array of " +
+                             (min_size == max_size ? std::to_string(min_size)
+                              : min_size == 0      ? "at most " + std::to_string(max_size)
+                                                   : std::to_string(min_size) + " to " + std::to_string(max_size)) +
+                             " numbers";
     if (!a || a->size() < min_size || a->size() > max_size) fail(n, key, show(*n, lines_), "must be " + what);
     std::vector<double> v;
     for (const toml::node& e : *a) {

@@ -201,7 +201,7 @@ void ContactSolver::report(const DualProblem& dual, const Eigen::VectorXd& f, co
   out.primal_ok = true;
   out.primal_message.clear();
   auto check = [&](double value, double limit, const char* what) {
-    if (value > limit) {
+    if (!(value <= limit)) {  // NaN fails too
       out.primal_ok = false;
       if (out.primal_message.empty()) {
         char text[160];
@@ -217,6 +217,12 @@ void ContactSolver::report(const DualProblem& dual, const Eigen::VectorXd& f, co
   out.strain = boundary_strain(mesh, out.u);
   out.eps33 = eps33_;
   out.average_stress = average_stress(mesh, scene.fibre, scene.matrix, out.u, eps33_, &out.average_stress_zz);
+  // No answer with a non-finite number passes (a load beyond what doubles carry).
+  if (!out.u.allFinite() || !out.lambda.allFinite() || !out.strain.allFinite() || !out.average_stress.allFinite() ||
+      !std::isfinite(out.average_stress_zz)) {
+    out.primal_ok = false;
+    out.primal_message = "recovered solution is not finite (the load is beyond what doubles carry)";
+  }
 }
 
 }  // namespace dualcell::feti

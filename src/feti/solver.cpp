@@ -25,6 +25,9 @@ double seconds_since(Clock::time_point t) { return std::chrono::duration<double>
 // The tightest dual tolerance the primal check may ask for: a relative projected gradient of
 // 1e-14 is a few hundred ulps of its terms, below which SMALBE stagnates instead of converging.
 constexpr double min_qp_tolerance = 1e-14;
+// A QP whose forces are all below this (a load some 1e-100 of the moduli or less) is solved
+// scaled by a power of two: its CG's squares would underflow (docs/theory/solver.md §7, "Tiny loads").
+constexpr double smallest_unscaled_qp = 1e-100;
 
 // SMALBE's options from the scene's solver settings, at the dual tolerance `tolerance`, for A = PFP
 // of norm norm_PFP.
@@ -164,7 +167,8 @@ Solution ContactSolver::solve_fixed(const Eigen::Vector3d& sigma, const BondStat
   // primal solution misses its check (a stiffness contrast amplifies the dual residual in u),
   // the dual tolerance does not give the accuracy this problem needs. Tighten it a decade at a
   // time and go on from the multipliers reached, down to min_qp_tolerance.
-  while (out.qp_converged() && !out.primal_ok && out.qp_tolerance > min_qp_tolerance) {
+  // (A non-finite answer is not a matter of tolerance: no tightening mends it.)
+  while (out.qp_converged() && !out.primal_ok && out.u.allFinite() && out.qp_tolerance > min_qp_tolerance) {
     const double tighter = std::max(out.qp_tolerance / 10, min_qp_tolerance);
     Solution next = solve_problem(dual, c.norm_PFP, sigma, &out.lambda, &out.multiplier, tighter);
     next.add_work(out);
@@ -209,7 +213,7 @@ Solution ContactSolver::solve_problem(const DualProblem& dual, double norm_PFP, 
   const qp::LinearOperator Q = [&](const Eigen::VectorXd& x, Eigen::VectorXd& y) { dual.apply_Q(x, y); };
   const long extra_applications = 1;  // Fλ₀
 
-  const Eigen::VectorXd lower = con.lower - lambda0, upper = con.upper - lambda0;
+  Eigen::VectorXd lower = con.lower - lambda0, upper = con.upper - lambda0;
   // The QP's unknown: λ − λ₀ (scaled rows), zero or the caller's warm start.
   Eigen::VectorXd lambda_shift = Eigen::VectorXd::Zero(m);
   if (warm_lambda && warm_lambda->size() == m) lambda_shift = warm_lambda->cwiseQuotient(con.weight) - lambda0;
@@ -238,7 +242,20 @@ Solution ContactSolver::solve_problem(const DualProblem& dual, double norm_PFP, 
   if (warm_multiplier && warm_multiplier->size() == m) multiplier = *warm_multiplier;
   FaceCoarse face(dual);
   options.face_projector = &face;
+  // The problem is positively homogeneous in the load and the strengths together: a tiny one is
+  // solved as the same problem times s = 2^k, exactly (a power of two), and scaled back. Every
+  // other load has s = 1 and the same bits.
+  const double size = std::max(b.lpNorm<Eigen::Infinity>(), lambda0.lpNorm<Eigen::Infinity>());
+  const double s = size > 0 && size < smallest_unscaled_qp ? std::ldexp(1.0, -std::ilogb(size)) : 1.0;
+  if (s != 1) {
+    b *= s;
+    for (Eigen::VectorXd* v : {&lower, &upper, &lambda_shift, &multiplier}) *v *= s;
+  }
   out.qp = qp::smalbe(A, Q, b, lower, upper, lambda_shift, multiplier, options);
+  if (s != 1) {
+    lambda_shift /= s;
+    multiplier /= s;
+  }
   out.seconds.qp = seconds_since(t_qp);
   out.seconds.in_qp = dual.profile() - profile_before;
   out.counters = out.qp.counters;

@@ -271,7 +271,7 @@ constexpr int check_directions = 1000;
 // the one that misses it least (measured on directions other than those it was fitted to) kept;
 // the law past the fuse likewise against the exact law past the fuse (with adhesion).
 void check_against_cell(law::Law& law, const std::vector<ConePoint>& bonded, const std::vector<ConePoint>& debonded,
-                        int n_directions, double law_tolerance) {
+                        int n_directions, double law_tolerance, Progress* progress) {
   const auto keep_better = [&](law::ConeFit& cone, law::ConeCheck& kept, const law::CellSample& sample,
                                law::ConeFit from_cell) {
     if (cone.ok) kept = law::check_cone(cone.law, sample);
@@ -290,7 +290,7 @@ void check_against_cell(law::Law& law, const std::vector<ConePoint>& bonded, con
     kept.sweep_fit_rms_error = sweep_fit_rms;
   };
   const law::CondensedCell& cell = *law.cell;
-  const law::CellSample check = law::sample_cell(cell, check_directions);
+  const law::CellSample check = law::sample_cell(cell, check_directions, progress);
   keep_better(law.cone, law.cone_check, check, fit_cone_to_cell(cell, bonded, n_directions, Fitted::bonded));
   // Past the fuse each direction runs its cascade, tens of factorisations (0.025 s at 256 rows),
   // so fewer directions: about 280 to check and others to fit (no direction in common), as many
@@ -304,19 +304,21 @@ void check_against_cell(law::Law& law, const std::vector<ConePoint>& bonded, con
   std::optional<law::CellSample> past_fuse, past_fuse_paths;
   std::vector<Eigen::Matrix3d> group = {Eigen::Matrix3d::Identity()};
   if (cell.adhesion() && law.onset.linear) {
-    past_fuse = law::sample_cell_past_fuse(cell, past_fuse_check_directions, law::past_fuse_load_ratio);
-    group = cell_symmetries(cell, law::sample_cell(cell, fit_directions));
+    past_fuse = law::sample_cell_past_fuse(cell, past_fuse_check_directions, law::past_fuse_load_ratio, progress);
+    group = cell_symmetries(cell, law::sample_cell(cell, fit_directions, progress));
     const int images = static_cast<int>(group.size());
-    past_fuse_paths = law::sample_cell_past_fuse(
-        cell, std::max(fit_directions, (small_cell_directions + images - 1) / images), law::past_fuse_load_ratio);
+    past_fuse_paths =
+        law::sample_cell_past_fuse(cell, std::max(fit_directions, (small_cell_directions + images - 1) / images),
+                                   law::past_fuse_load_ratio, progress);
   }
   fit_small(law, check, past_fuse ? &*past_fuse : nullptr, past_fuse_paths ? &*past_fuse_paths : nullptr, group,
-            law_tolerance);
+            law_tolerance, progress);
   if (!law.cone_check.directions.empty()) law.cone_check.polar = law::exact_polar(cell);
   if (cell.adhesion() && law.cone_after_fuse.ok)
     keep_better(law.cone_after_fuse, law.cone_after_fuse_check,
-                past_fuse ? *past_fuse
-                          : law::sample_cell_past_fuse(cell, past_fuse_check_directions, law::past_fuse_load_ratio),
+                past_fuse
+                    ? *past_fuse
+                    : law::sample_cell_past_fuse(cell, past_fuse_check_directions, law::past_fuse_load_ratio, progress),
                 fit_cone_to_cell(cell, debonded, n_directions, Fitted::past_fuse, fit_directions,
                                  past_fuse_paths ? &*past_fuse_paths : nullptr, past_fuse_paths ? &group : nullptr));
 }
@@ -328,7 +330,8 @@ void check_against_cell(law::Law& law, const std::vector<ConePoint>& bonded, con
 // the basis cell and is fitted to them, and both are measured at the held-out paths' full solves
 // (docs/method.md §16c). False (nothing done) without a basis cell or with too few sphere paths.
 bool check_against_solves(law::Law& law, const std::vector<sweep::PathResult>& paths, const sweep::SweepHeader& header,
-                          const std::vector<double>& directions, const Eigen::Vector3d& guess, double tolerance) {
+                          const std::vector<double>& directions, const Eigen::Vector3d& guess, double tolerance,
+                          Progress* progress) {
   std::vector<const sweep::PathResult*> sphere;
   for (const auto& p : paths)
     if (p.spec.sphere) sphere.push_back(&p);
@@ -359,8 +362,8 @@ bool check_against_solves(law::Law& law, const std::vector<sweep::PathResult>& p
     law.cone_check.against = law::CheckedAgainst::held_out_solves;
   }
   const law::CondensedCell& basis = *header.cell_basis;
-  const law::CellSample start = law::sample_cell(basis, small_cell_directions);
-  fit_small_ladder(law, basis, training, &start, check, law::CheckedAgainst::held_out_solves, tolerance);
+  const law::CellSample start = law::sample_cell(basis, small_cell_directions, progress);
+  fit_small_ladder(law, basis, training, &start, check, law::CheckedAgainst::held_out_solves, tolerance, {}, progress);
   return true;
 }
 
@@ -422,7 +425,7 @@ law::ConeCheck check_held_out(const std::vector<sweep::PathResult>& paths, const
 }  // namespace
 
 law::Law fit_law(const std::vector<sweep::PathResult>& all_paths, const sweep::SweepHeader& header, int checked_rows,
-                 double law_tolerance) {
+                 double law_tolerance, Progress* progress) {
   law::Law law;
   // The fitted forms are in-plane: the paths with a strain or shears along the fibres check the
   // exact law only (its replay).
@@ -495,8 +498,8 @@ law::Law fit_law(const std::vector<sweep::PathResult>& all_paths, const sweep::S
   // RVE, over 16 min at the ~1500 of a 36-fibre one. Above checked_rows the exact law is
   // kept (replayed above) and the compact law measured on held-out directions instead.
   if (law.cell && law.cell->n_rows() <= checked_rows) {
-    check_against_cell(law, bonded, debonded, n_directions, law_tolerance);
-  } else if (check_against_solves(law, paths, header, directions, guess, law_tolerance)) {
+    check_against_cell(law, bonded, debonded, n_directions, law_tolerance, progress);
+  } else if (check_against_solves(law, paths, header, directions, guess, law_tolerance, progress)) {
     if (law.cone_after_fuse.ok) law.cone_after_fuse_check = check_held_out(paths, directions, debonded);
   } else {
     law.small_note = law.cell ? "the exact law has " + std::to_string(law.cell->n_rows()) +

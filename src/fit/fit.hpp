@@ -16,6 +16,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "core/progress.hpp"
 #include "law/law.hpp"
 #include "sweep/sweep.hpp"
 
@@ -38,8 +39,11 @@ inline constexpr int min_held_out = 50;
 // --law-tolerance): m grows until its error over the fit's directions is within it.
 inline constexpr double default_law_tolerance = 0.02;
 
+// `progress`: where the fit's long parts (sampling the exact law, the small cell's ladder) say
+// how far they are.
 law::Law fit_law(const std::vector<sweep::PathResult>& paths, const sweep::SweepHeader& header,
-                 int checked_rows = max_checked_rows, double law_tolerance = default_law_tolerance);
+                 int checked_rows = max_checked_rows, double law_tolerance = default_law_tolerance,
+                 Progress* progress = nullptr);
 
 // The exact law replayed through every converged point of the paths, each path from the unloaded
 // cell with its bonds carried (law::CellReplay); the limit is 1e3 × the sweep's QP tolerance.

@@ -3,8 +3,10 @@
 #include <Eigen/Dense>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <limits>
 
+#include "core/text.hpp"
 #include "law/reduced.hpp"
 
 namespace dualcell::fit {
@@ -137,8 +139,10 @@ Eigen::VectorXd starting_parameters(const law::CondensedCell& cell, const law::C
 // from x, until three accepted steps in a row lower the cost by less than 1e-6 of it or
 // max_iterations; false where the cell at x cannot be evaluated. JᵀJ is p × p (2 272 at m = 64),
 // formed by one symmetric rank update: a general least-squares library's unblocked BLAS made
-// that the whole cost. The matrices are allocated once per call, not per step.
-bool levenberg_marquardt(Problem& problem, Eigen::VectorXd& x, int max_iterations, int& iterations) {
+// that the whole cost. The matrices are allocated once per call, not per step. `step` is told
+// each step's index (the fit's progress line).
+bool levenberg_marquardt(Problem& problem, Eigen::VectorXd& x, int max_iterations, int& iterations,
+                         const std::function<void(int)>& step) {
   const Eigen::Index n = problem.layout.nm * static_cast<Eigen::Index>(problem.points.size());
   const Eigen::Index p = problem.layout.size();
   Eigen::VectorXd f(n), trial_f(n), g(p), scale(p), candidate(p);
@@ -147,6 +151,7 @@ bool levenberg_marquardt(Problem& problem, Eigen::VectorXd& x, int max_iteration
   double cost = f.squaredNorm(), lambda = 1e-3;
   int quiet = 0;  // accepted steps in a row that lowered the cost by less than 1e-6 of it
   for (int it = 0; it < max_iterations && quiet < 3; ++it, ++iterations) {
+    step(it);
     A.setZero();
     A.selfadjointView<Eigen::Lower>().rankUpdate(J.transpose());
     g.noalias() = J.transpose() * f;
@@ -247,7 +252,16 @@ SmallCell fit_small_cell(const law::CondensedCell& cell, const law::CellSample& 
   Eigen::VectorXd best = x;
   double best_max = out.start_max_error;
   for (int round = 0; round < options.minimax_rounds; ++round) {
-    if (!levenberg_marquardt(problem, x, options.max_iterations, out.iterations))
+    const auto tell = [&](int step) {
+      if (options.progress)
+        options.progress->update([&] {
+          return "small cell of " + std::to_string(options.rows) + " rows: round " + std::to_string(round + 1) +
+                 " of " + std::to_string(options.minimax_rounds) + ", step " + std::to_string(step + 1) +
+                 ", largest error so far " + formatted("%.2f", 100 * best_max) + " %, " +
+                 seconds_text(options.progress->seconds());
+        });
+    };
+    if (!levenberg_marquardt(problem, x, options.max_iterations, out.iterations, tell))
       return finish(false, "a fitted cell cannot be evaluated");
     const law::ConeCheck c = law::check_reduced(cell_of(cell, rows_of(problem.layout, x.data())), training);
     if (c.max_error < best_max) best_max = c.max_error, best = x;

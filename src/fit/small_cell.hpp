@@ -25,9 +25,10 @@
 namespace dualcell::fit {
 
 struct SmallCellOptions {
-  int rows = 16;             // m
-  int max_iterations = 200;  // Levenberg–Marquardt steps per round
-  int minimax_rounds = 6;    // Lawson reweightings toward the smallest largest error
+  int rows = 16;                 // m
+  int max_iterations = 200;      // Levenberg–Marquardt steps per round
+  int minimax_rounds = 6;        // Lawson reweightings toward the smallest largest error
+  Progress* progress = nullptr;  // where a long fit says how far it is
 };
 
 struct SmallCell {

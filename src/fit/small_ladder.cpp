@@ -28,7 +28,7 @@ constexpr double small_cell_stall = 0.95;
 
 void fit_small_ladder(law::Law& law, const law::CondensedCell& cell, const law::CellSample& training,
                       const law::CellSample* start_sample, const law::CellSample& check, law::CheckedAgainst against,
-                      double tolerance, const Ladder& ladder) {
+                      double tolerance, const Ladder& ladder, Progress* progress) {
   law.small_fit.tolerance = tolerance;
   SmallCell kept;
   for (const int m : small_cell_rows) {
@@ -36,6 +36,7 @@ void fit_small_ladder(law::Law& law, const law::CondensedCell& cell, const law::
     SmallCellOptions options;
     options.rows = m;
     options.minimax_rounds = ladder.minimax_rounds;
+    options.progress = progress;
     // Each rung starts from the last one's rows where that start is better (fit_small_cell): on
     // the 16-fibre RVE 32 rows then reach 1.28 % on the training directions and 1.75 % on the
     // check's, where from the greedy alone they ended at 2.40 % and 2.86 %, above 24 rows.
@@ -127,7 +128,7 @@ void check_ply_part(law::Law& law) {
 // at three times the cost.
 constexpr Ladder fuse_ladder{false, 16, 2};
 void fit_small_with_fuse(law::Law& law, const law::CellSample& past_fuse, const law::CellSample& paths,
-                         const std::vector<Eigen::Matrix3d>& group, double tolerance) {
+                         const std::vector<Eigen::Matrix3d>& group, double tolerance, Progress* progress) {
   const law::CondensedCell& cell = *law.cell;
   const law::CondensedCell debonded = law::debonded_cell(cell);
   law::CellSample training;
@@ -147,9 +148,9 @@ void fit_small_with_fuse(law::Law& law, const law::CellSample& past_fuse, const 
       add(i, paths.path_strain[i][k], paths.path_stress[i][k]);
     add(i, paths.strain[i], paths.stress[i]);
   }
-  const law::CellSample start = law::sample_cell(debonded, small_cell_directions);
+  const law::CellSample start = law::sample_cell(debonded, small_cell_directions, progress);
   fit_small_ladder(law, debonded, training, &start, past_fuse, law::CheckedAgainst::exact_law_past_fuse, tolerance,
-                   fuse_ladder);
+                   fuse_ladder, progress);
   if (!law.small) return;
   if (ply(law) && !fit_ply_part(law, *law.small)) {
     law.small.reset();
@@ -171,7 +172,8 @@ void fit_small_with_fuse(law::Law& law, const law::CellSample& past_fuse, const 
 }  // namespace
 
 void fit_small(law::Law& law, const law::CellSample& check, const law::CellSample* past_fuse,
-               const law::CellSample* past_fuse_paths, const std::vector<Eigen::Matrix3d>& group, double tolerance) {
+               const law::CellSample* past_fuse_paths, const std::vector<Eigen::Matrix3d>& group, double tolerance,
+               Progress* progress) {
   const law::CondensedCell& cell = *law.cell;
   if (cell.n_rows() <= 2 * small_cell_rows.back()) {
     law.small_note = "the exact law has " + std::to_string(cell.n_rows()) +
@@ -180,14 +182,14 @@ void fit_small(law::Law& law, const law::CellSample& check, const law::CellSampl
   }
   if (cell.adhesion()) {
     if (past_fuse)
-      fit_small_with_fuse(law, *past_fuse, *past_fuse_paths, group, tolerance);
+      fit_small_with_fuse(law, *past_fuse, *past_fuse_paths, group, tolerance, progress);
     else
       law.small_note =
           "the cell's bonded law is not linear below its onset (" + law.onset.message + "): no small cell with a fuse";
     return;
   }
-  fit_small_ladder(law, cell, law::sample_cell(cell, small_cell_directions), nullptr, check,
-                   law::CheckedAgainst::exact_law, tolerance);
+  fit_small_ladder(law, cell, law::sample_cell(cell, small_cell_directions, progress), nullptr, check,
+                   law::CheckedAgainst::exact_law, tolerance, {}, progress);
   if (!law.small || !ply(law)) return;
   if (!fit_ply_part(law, *law.small)) {
     law.small.reset();

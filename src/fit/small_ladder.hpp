@@ -34,7 +34,7 @@ struct Ladder {
 // is); `tolerance` is the largest stress error the law promises (--law-tolerance).
 void fit_small_ladder(law::Law& law, const law::CondensedCell& cell, const law::CellSample& training,
                       const law::CellSample* start_sample, const law::CellSample& check, law::CheckedAgainst against,
-                      double tolerance, const Ladder& ladder = {});
+                      double tolerance, const Ladder& ladder = {}, Progress* progress = nullptr);
 
 // The small cell of law.cell, the exact law: none for a cell of at most twice the largest m rows
 // (it costs what a small cell would); without adhesion the ladder over the exact law's sample,
@@ -42,6 +42,7 @@ void fit_small_ladder(law::Law& law, const law::CondensedCell& cell, const law::
 // `past_fuse_paths` with their images under the cell's symmetries `group` and measured along
 // `past_fuse` (both null where the bonded law is not linear below its onset: then none).
 void fit_small(law::Law& law, const law::CellSample& check, const law::CellSample* past_fuse,
-               const law::CellSample* past_fuse_paths, const std::vector<Eigen::Matrix3d>& group, double tolerance);
+               const law::CellSample* past_fuse_paths, const std::vector<Eigen::Matrix3d>& group, double tolerance,
+               Progress* progress = nullptr);
 
 }  // namespace dualcell::fit

@@ -129,13 +129,19 @@ sweep::PathResult read_path(const File& f, int index) {
     const auto tau = f.read_doubles(g + "/shear_stress", {n, 2}, " like " + g + "/load");
     for (hsize_t i = 0; i < n; ++i) p.steps[i].shear_stress = {tau[2 * i], tau[2 * i + 1]};
   }
-  // Loads and applied stresses are always finite; strains of a converged step too.
+  // Loads and applied stresses are always finite; strains of a converged step too, and its
+  // stress along the fibres (a path with eps33) and its shear stresses (a path with gamma).
+  const bool zz = p.spec.eps33 != 0, shear = !p.spec.gamma.isZero(0);
   for (hsize_t i = 0; i < n; ++i) {
     const sweep::Step& s = p.steps[i];
     if (!std::isfinite(s.load)) throw InputError(where + "/load: non-finite load in row " + std::to_string(i));
     if (!s.stress.allFinite()) throw InputError(where + "/stress: non-finite stress in row " + std::to_string(i));
     if (s.converged && !s.strain.allFinite())
       throw InputError(where + "/strain: non-finite strain in converged row " + std::to_string(i));
+    if (s.converged && zz && !std::isfinite(s.stress_zz))
+      throw InputError(where + "/stress_zz: non-finite stress in converged row " + std::to_string(i));
+    if (s.converged && shear && !s.shear_stress.allFinite())
+      throw InputError(where + "/shear_stress: non-finite stress in converged row " + std::to_string(i));
   }
   if (f.exists(g + "/fuse")) {
     sweep::Fuse z;
@@ -150,6 +156,14 @@ sweep::PathResult read_path(const File& f, int index) {
     p.fuse = z;
   }
   return p;
+}
+
+// A dataset of a check (every row a converged solve): refused with the row of its first
+// non-finite value.
+void check_finite(const File& f, const std::string& name, const std::vector<double>& values, std::size_t columns) {
+  for (std::size_t k = 0; k < values.size(); ++k)
+    if (!std::isfinite(values[k]))
+      throw InputError(f.path().string() + ": " + name + ": non-finite value in row " + std::to_string(k / columns));
 }
 
 // /longitudinal_check: stress (N×3), eps33 (N), strain (N×3), stress_zz (N), broken (N; absent in
@@ -184,6 +198,11 @@ std::vector<sweep::LongitudinalPoint> read_longitudinal_points(const File& f) {
   const std::vector<std::int64_t> broken =
       f.exists(g + "/broken") ? f.read_ints(g + "/broken", {n}, like) : std::vector<std::int64_t>(n, 0);
   std::vector<sweep::LongitudinalPoint> points(n);
+  // Every check is a converged solve: all its numbers finite.
+  check_finite(f, g + "/eps33", eps33, 1);
+  check_finite(f, g + "/stress", stress, 3);
+  check_finite(f, g + "/strain", strain, 3);
+  check_finite(f, g + "/stress_zz", zz, 1);
   for (hsize_t i = 0; i < n; ++i) {
     if (broken[i] < 0) throw InputError(f.path().string() + ": " + g + "/broken: row " + std::to_string(i) + " < 0");
     points[i].broken = broken[i];
@@ -222,6 +241,8 @@ std::vector<sweep::ShearPoint> read_shear_points(const File& f) {
   const std::vector<double> tau = f.read_doubles(g + "/tau", {n, 2}, like);
   const std::vector<std::int64_t> broken = f.read_ints(g + "/broken", {n}, like);
   std::vector<sweep::ShearPoint> points(n);
+  check_finite(f, g + "/gamma", gamma, 2);
+  check_finite(f, g + "/tau", tau, 2);
   for (hsize_t i = 0; i < n; ++i) {
     if (path[i] < 0 || path[i] > std::numeric_limits<int>::max() || broken[i] < 0 ||
         broken[i] > std::numeric_limits<int>::max())

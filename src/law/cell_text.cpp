@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <istream>
 #include <limits>
 #include <ostream>
@@ -113,6 +114,20 @@ void write_cell_text(std::ostream& out, const CondensedCell& cell) {
     else if constexpr (ListMember<T>)
       write_list(out, key, value);
   });
+}
+
+std::uintmax_t max_cell_text_bytes() {
+  // A number as number() prints it, sign, 17 digits, point and a three-digit exponent, and its
+  // separator; a count or a list entry is shorter.
+  constexpr std::uintmax_t number_bytes = 25;
+  std::uintmax_t bytes = std::strlen(header_shear) + 1;
+  const CondensedCell cell;
+  for_each_member(cell, [&](const Member& m, const auto&) {
+    if (m.measured) return;
+    const auto numbers = static_cast<std::uintmax_t>(extent_limit(m.rows) * extent_limit(m.cols));
+    bytes += std::strlen(m.text ? m.text : m.name) + 1 + number_bytes * numbers;
+  });
+  return bytes;
 }
 
 CondensedCell read_cell_text(std::istream& in, std::string& error) {

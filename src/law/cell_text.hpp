@@ -12,6 +12,7 @@
 //   S0 (m·m) | Y (n·m) | H (n·n) | G (k·n)
 //   tangential (n, 0/1) | pair (n) | lower_bonded, upper_bonded, lower_broken, upper_broken (n each)
 //   bonded (P, 0/1)
+#include <cstdint>
 #include <iosfwd>
 #include <string>
 
@@ -24,5 +25,10 @@ void write_cell_text(std::ostream& out, const CondensedCell& cell);
 // The cell of a file written by write_cell_text; `error` is set (and an empty cell returned)
 // when the text is not one: what is wrong and where (the keyword).
 CondensedCell read_cell_text(std::istream& in, std::string& error);
+
+// The largest text write_cell_text writes for a cell within the limits (every extent at its
+// extent_limit, every number at its longest, "-2.2250738585072014e-308"): a reader refuses a
+// larger file from its size, before reading a byte of it (about 900 MB at 3 000 rows).
+std::uintmax_t max_cell_text_bytes();
 
 }  // namespace dualcell::law

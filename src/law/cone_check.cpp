@@ -42,13 +42,27 @@ std::vector<Eigen::Vector3d> sample_directions(int n_macro, int n) {
   return n_macro == 3 ? ordered_sphere(n) : ordered_circle(std::max(180, n / 2));
 }
 
-CellSample sample_cell(const CondensedCell& cell, int n) {
+namespace {
+
+// "sampling the exact law (what): direction i of n" on `progress`, when a line is due.
+void tell(Progress* progress, const char* what, std::size_t i, std::size_t n) {
+  if (progress)
+    progress->update([&] {
+      return std::string("sampling the exact law ") + what + ": direction " + std::to_string(i + 1) + " of " +
+             std::to_string(n) + ", " + seconds_text(progress->seconds());
+    });
+}
+
+}  // namespace
+
+CellSample sample_cell(const CondensedCell& cell, int n, Progress* progress) {
   CellSample sample;
   CellEvaluator evaluator(cell);
   const bool adhesion = cell.adhesion();
   CellHistory history = evaluator.unloaded();
   sample.direction = sample_directions(cell.n_macro, n);
   for (const Eigen::Vector3d& N : sample.direction) {
+    tell(progress, "below the onset", sample.stress.size(), sample.direction.size());
     double s = 1;
     if (adhesion) {
       const double onset = evaluator.onset(N);
@@ -67,13 +81,14 @@ CellSample sample_cell(const CondensedCell& cell, int n) {
   return sample;
 }
 
-CellSample sample_cell_past_fuse(const CondensedCell& cell, int n, double factor) {
+CellSample sample_cell_past_fuse(const CondensedCell& cell, int n, double factor, Progress* progress) {
   CellSample sample;
   CellEvaluator evaluator(cell);
   CellHistory history = evaluator.unloaded();
   sample.direction = sample_directions(cell.n_macro, n);
   const double nan = std::numeric_limits<double>::quiet_NaN();
   for (const Eigen::Vector3d& N : sample.direction) {
+    tell(progress, "past the fuse", sample.stress.size(), sample.direction.size());
     const double onset = evaluator.onset(N);
     Eigen::Vector3d e = Eigen::Vector3d::Constant(nan);
     if (std::isfinite(onset)) {

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "core/progress.hpp"
 #include "law/condensed.hpp"
 #include "law/cone.hpp"
 #include "law/polar.hpp"
@@ -65,7 +66,8 @@ struct CellSample {
   // the onset, then each step), strain and stress (empty where the strain is NaN).
   std::vector<std::vector<Eigen::Vector3d>> path_strain, path_stress;
 };
-CellSample sample_cell(const CondensedCell& cell, int n);
+// `progress`: where a long sample says how far it is (none by default).
+CellSample sample_cell(const CondensedCell& cell, int n, Progress* progress = nullptr);
 
 // The exact law past the fuse, for the compact law after it (Law::cone_after_fuse): the same
 // directions N, each loaded from the intact cell just past its onset s*(N) (the cascade) and
@@ -78,7 +80,7 @@ inline constexpr double past_fuse_load_ratio = 2;
 // end, so one step would miss breaks (0.8 % of strain at some directions of a test cell; four
 // steps already give the path of forty there).
 inline constexpr int past_fuse_steps = 8;
-CellSample sample_cell_past_fuse(const CondensedCell& cell, int n, double factor);
+CellSample sample_cell_past_fuse(const CondensedCell& cell, int n, double factor, Progress* progress = nullptr);
 
 // The check over a sample of the exact law (sample_cell) of any compact law, given as its stress at
 // a strain (NaN where it has none); polar_* are left empty.

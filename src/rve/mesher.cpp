@@ -46,10 +46,9 @@ std::vector<Image> images_in(const Microstructure& m) {
 }
 
 // The smallest element is h/smallest_element_divisor: the size field refines narrow gaps down to
-// it and no further. A gap narrower than h/narrowest_gap_divisor is refused: its elements, that
-// smallest size across a gap five times narrower, would be slivers.
+// it and no further. A gap narrower than h/rve_narrowest_gap_divisor (core/scene.hpp) is refused:
+// its elements, that smallest size across a gap five times narrower, would be slivers.
 constexpr double smallest_element_divisor = 10;
-constexpr double narrowest_gap_divisor = 50;
 
 // The mesh size at a point: h, or the sum of the distances to the two nearest fibre surfaces
 // where that is smaller (a narrow gap), not below h/smallest_element_divisor.
@@ -315,7 +314,7 @@ mesh::Mesh build_rve_mesh(const Geometry& geometry, int subdomain_dofs, const st
   // The size field stops refining at the smallest element: a narrower gap would get elements of
   // angles near 0 (and a gap of 0 none at all).
   const double narrowest = std::min(r.fibres.gap_min, r.fibres.edge_gap_min);
-  if (narrowest < h / narrowest_gap_divisor)
+  if (narrowest < h / rve_narrowest_gap_divisor)
     throw InputError(where + ": the narrowest gap (between fibres, to an edge, or a sliver of a fibre an edge cuts), " +
                      formatted("%.3g", narrowest) + ", is too narrow to mesh at degree " +
                      std::to_string(geometry.degree) + " (elements of h = " + formatted("%.3g", h) +

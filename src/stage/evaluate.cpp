@@ -225,7 +225,11 @@ LawPointsSummary evaluate_law(const LawPointsOptions& options) {
           finite = finite && std::isfinite(row.tangent[static_cast<std::size_t>(square * a + b)]);
     if (!finite)
       throw InputError(where() + "the law's answer at (" + shortest(v(0)) + ", " + shortest(v(1)) + ", " +
-                       shortest(v(2)) + ") is not finite (the input is beyond what the law carries in doubles)");
+                       shortest(v(2)) + ")" + (point.eps33 != 0 ? ", eps33 " + shortest(point.eps33) : "") +
+                       (point.gamma.isZero(0)
+                            ? ""
+                            : ", gamma (" + shortest(point.gamma(0)) + ", " + shortest(point.gamma(1)) + ")") +
+                       " is not finite (the input is beyond what the law carries in doubles)");
     ++summary.rows;
     append_row(out, points.has_path() ? &point.path : nullptr, row, n);
     if (out.size() >= output_piece) {

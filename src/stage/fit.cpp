@@ -9,6 +9,7 @@
 
 #include "core/error.hpp"
 #include "core/hash.hpp"
+#include "core/progress.hpp"
 #include "core/text.hpp"
 #include "fit/fit.hpp"
 #include "io/atomic_output.hpp"
@@ -19,11 +20,15 @@
 
 namespace dualcell::stage {
 
-law::Law run_fit(const std::filesystem::path& sweep_file, const std::filesystem::path& out, double law_tolerance) {
+law::Law run_fit(const std::filesystem::path& sweep_file, const std::filesystem::path& out, double law_tolerance,
+                 bool progress) {
   io::check_outputs({out}, {sweep_file});
   const io::SweepHeader header = io::read_sweep_header(sweep_file);
   const std::vector<sweep::PathResult> paths = io::read_sweep(sweep_file);
-  law::Law law = fit::fit_law(paths, header, fit::max_checked_rows, law_tolerance);
+  law::Law law = [&] {
+    Progress line("dualcell-fit", progress);
+    return fit::fit_law(paths, header, fit::max_checked_rows, law_tolerance, &line);
+  }();
   // The exact law must give back the sweep it came from, and where it carries the strain along
   // the fibres the sweep's checks of it; one that does not is not written.
   const auto refuse = [&](const law::CellReplay& c, const std::string& where, const char* why) {

@@ -122,6 +122,7 @@ SolveOutcome run_solve(const SolveOptions& options) {
                        to_string(scene.load.boundary) + "\"; the longitudinal shear of a cell needs \"periodic\"");
     if (edges) feti::check_positions(loaded->mesh, scene.load.edge_loads);
     if (!edges) sigma = parse_stress(options.stress_text);
+    check_load_strain(scene, sigma.lpNorm<Eigen::Infinity>(), "--stress " + options.stress_text);
     if (scene.load.boundary == Boundary::symmetry && sigma(2) != 0)
       throw InputError("--stress " + options.stress_text +
                        ": the symmetry boundary carries only sxx and syy (sxy must be 0); use boundary = "

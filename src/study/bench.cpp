@@ -151,7 +151,7 @@ void threads_section(int tn, int tk, int all, std::ostringstream& md, JsonObject
 }
 
 // Progress on stderr costs nothing: the same solve with a live progress line and without,
-// alternated three times, the fastest of each compared (docs: README, "Progress").
+// alternated three times, the fastest of each compared (docs/guide/solve.md, "Progress").
 void progress_section(int tn, int tk, std::ostringstream& md, JsonObject& json) {
   progress("progress line");
   double with_line = 1e300, without_line = 1e300;

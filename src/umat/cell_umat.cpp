@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <memory>
@@ -52,11 +53,21 @@ const Loaded& load(int id) {
   law.path = std::string(dir && *dir ? dir : ".") + "/dualcell-cell-" + std::to_string(id) + ".txt";
   std::string error;
   try {
-    std::ifstream in(law.path, std::ios::binary);
-    if (!in) {
+    // What the file is and its size before a byte is read: a device (/dev/zero, or a link to it)
+    // or a file beyond the largest cell the limits allow would otherwise be read whole to hash it.
+    std::error_code code;
+    const std::filesystem::file_status status = std::filesystem::status(law.path, code);
+    const std::uintmax_t largest = dualcell::law::max_cell_text_bytes();
+    std::ifstream in;
+    if (!code && std::filesystem::exists(status) && !std::filesystem::is_regular_file(status)) {
+      error = "is not a regular file (a directory, a device or a pipe): a cell file is the text dualcell-export writes";
+    } else if (std::uintmax_t bytes = std::filesystem::file_size(law.path, code); !code && bytes > largest) {
+      error = std::to_string(bytes) + " bytes, more than the largest cell the limits allow (" +
+              std::to_string(largest) + " bytes at " + std::to_string(dualcell::law::max_cell_rows) + " rows)";
+    } else if (in.open(law.path, std::ios::binary); !in) {
       error = "cannot be opened";
     } else {
-      // Read whole to hash it: at most max_cell_rows rows, a few hundred MB of text at worst.
+      // Read whole to hash it: at most max_cell_text_bytes.
       std::ostringstream read;
       read << in.rdbuf();
       std::string text = std::move(read).str();
@@ -246,6 +257,14 @@ int guarded(int id, const double hash[2], int n, const double* e, double* statev
 }
 
 }  // namespace
+
+extern "C" void dualcell_umat_refuse(const char* message) {
+  try {
+    tell_once(-1, message, message);
+  } catch (...) {
+    // Out of memory for the line itself: the refusal still stands (the umat returns).
+  }
+}
 
 extern "C" int dualcell_cell_law(int id, const double hash[2], const double e[3], double* statev, int nstatv,
                                  double s[3], double D[9], double* W, int between) {

@@ -51,6 +51,11 @@ int dualcell_cell_is_ply(int id);
 int dualcell_cell_law6(int id, const double hash[2], const double e[6], double* statev, int nstatv, double s[6],
                        double D[36], double* W, int between);
 
+/* A card the user material refuses before any law is evaluated (too few constants, an unknown
+ * layout, too few state variables): `message` on stderr once per process and message, as every
+ * other refusal is told, so that the smaller increment the umat then asks for is never silent. */
+void dualcell_umat_refuse(const char* message);
+
 #ifdef __cplusplus
 }
 #endif

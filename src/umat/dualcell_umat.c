@@ -90,9 +90,14 @@ void umat_(double* stress, double* statev, double* ddsdde, double* sse, double* 
   if (n == 6 && props[0] == 3) {
     double D36[36];
     const int between = *nprops >= 5 && props[4] != 0;
-    if (*nprops < 4 ||
-        dualcell_cell_law6((int)props[1], props + 2, e6, statev, *nstatv, stress, D36, sse, between) != 0) {
-      *pnewdt = 0.25; /* no law, a card without the hash or a failed QP: a smaller increment, failing visibly */
+    if (*nprops < 4) {
+      dualcell_umat_refuse("a layout-3 card (the whole ply's exact law) with fewer than 4 constants (3, id and the "
+                           "cell file's hash): export the law again");
+      *pnewdt = 0.25; /* a smaller increment, failing visibly */
+      return;
+    }
+    if (dualcell_cell_law6((int)props[1], props + 2, e6, statev, *nstatv, stress, D36, sse, between) != 0) {
+      *pnewdt = 0.25; /* no law or a failed QP (told by the law): a smaller increment, failing visibly */
       return;
     }
     for (int i = 0; i < 36; ++i) ddsdde[i] = D36[i]; /* symmetric: row by row is column by column */
@@ -101,7 +106,9 @@ void umat_(double* stress, double* statev, double* ddsdde, double* sse, double* 
   }
   if (n == 6 && props[0] == 2) {
     if (*nprops < 7) {
-      *pnewdt = 0.25; /* a card without the cell file's hash (written before it): refused */
+      dualcell_umat_refuse("a layout-2 card (the exact law) with fewer than 7 constants: no cell file's hash (a card "
+                           "written before it): export the law again");
+      *pnewdt = 0.25; /* refused: a smaller increment, failing visibly */
       return;
     }
     E33 = props[2], G13 = props[3], G23 = props[4];
@@ -114,8 +121,17 @@ void umat_(double* stress, double* statev, double* ddsdde, double* sse, double* 
   } else {
     const int Kb = (int)props[1], Ka = (int)props[2], F = (int)props[3];
     const int needed = 7 + 9 + 4 * Kb + (Ka > 0 ? 9 + 4 * Ka : 0) + 3 * F;
-    if (n != 6 || props[0] != 1 || Kb < 1 || Kb > max_planes || Ka < 0 || Ka > max_planes || F < 0 ||
-        *nprops < needed || *nstatv < 1) {
+    const char* wrong = n != 6 ? "ntens is not 6 (the umat takes the six components CalculiX passes)"
+                        : props[0] != 1
+                            ? "the card's first constant is not a layout (1 cone-wise, 2 exact law, 3 whole ply)"
+                        : Kb < 1 || Kb > max_planes || Ka < 0 || Ka > max_planes || F < 0
+                            ? "a layout-1 card whose counts of planes or facets are out of range (K_b in [1, 32], "
+                              "K_a in [0, 32], F >= 0)"
+                        : *nprops < needed ? "a layout-1 card with fewer constants than its counts need"
+                        : *nstatv < 1      ? "a layout-1 card needs 1 state variable (*DEPVAR)"
+                                           : NULL;
+    if (wrong) {
+      dualcell_umat_refuse(wrong);
       *pnewdt = 0.25; /* a wrong card: ask for a smaller increment, which fails the analysis visibly */
       return;
     }

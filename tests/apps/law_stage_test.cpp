@@ -138,6 +138,13 @@ TEST(LawStage, DualcellLawEvaluatesTheStrainAlongTheFibres) {
   const auto cone = law("--stress " + q(stresses) + " --eps33 --form cone --out " + q(run.dir / "c.csv"));
   EXPECT_EQ(cone.exit_code, exit_input_error);
   EXPECT_NE(cone.output.find("the cone-wise law has no strain along the fibres"), std::string::npos) << cone.output;
+  // An ε33 beyond what doubles carry is named in the message, not only the in-plane part (once
+  // "the law's answer at (0, 0, 0)").
+  const auto huge = run.dir.write("h.csv", "exx,eyy,gxy,e33\n0,0,0,1e308\n");
+  const auto overflow = law("--strain " + q(huge) + " --eps33 --out " + q(run.dir / "h-out.csv"));
+  EXPECT_EQ(overflow.exit_code, exit_input_error);
+  EXPECT_NE(overflow.output.find("the law's answer at (0, 0, 0), eps33 1e+308 is not finite"), std::string::npos)
+      << overflow.output;
 }
 
 TEST(LawStage, DualcellLawRefusesBadPointsWithTheLine) {

@@ -1,4 +1,4 @@
-// A long solve says how it is doing (README, "Progress"): on a terminal one line rewritten in
+// A long solve says how it is doing (docs/guide/solve.md, "Progress"): on a terminal one line rewritten in
 // place and erased before the summary; in a pipe plain lines at most one per interval (none for a
 // short run at the default 5 s); nothing with --quiet; under mpirun from rank 0 alone.
 #include <gtest/gtest.h>
@@ -93,6 +93,34 @@ TEST_F(Progress, InAPipePlainLinesAtMostOnePerInterval) {
   EXPECT_NE(bad.output.find("warning: DUALCELL_PROGRESS_INTERVAL = 'soon' is not a number of seconds >= 0: 5 s used"),
             std::string::npos)
       << bad.output;
+}
+
+// A long fit says how far it is as the sweep does (a 10-fibre RVE's ran over 3 minutes silent):
+// dualcell-fit passes its Progress down (the sampling of the exact law here; the small cell's
+// ladder in SmallCell.IsAConvexCellThatBeatsItsStartAndHoldsOnOtherDirections), a plain line per
+// due update in a pipe; nothing with --quiet.
+TEST(FitProgress, TheFitShowsTheSamplingOfTheExactLaw) {
+  testing::ScratchDir dir;
+  const auto scene = dir.write("s.toml", testing::scene_text(1, 1, 2, 0.3,
+                                                             "[load]\nboundary = \"periodic\"\n[sweep]\n"
+                                                             "directions_deg = [0, 90]\nmagnitudes = [-0.1, 0.1]\n"));
+  const std::string cfg = " --quiet --config " + scene.string() + " --mesh " + (dir / "mesh.h5").string();
+  ASSERT_EQ(testing::run_command(bin("dualcell-mesh") + " --quiet --config " + scene.string() + " --out " +
+                                 (dir / "mesh.h5").string())
+                .exit_code,
+            0);
+  const auto sweep = testing::run_command(bin("dualcell-sweep") + cfg + " --out " + (dir / "sweep.h5").string());
+  ASSERT_EQ(sweep.exit_code, 0) << sweep.output;
+  const std::string fit =
+      bin("dualcell-fit") + " --sweep " + (dir / "sweep.h5").string() + " --out " + (dir / "law.h5").string();
+  const auto log = stderr_of("DUALCELL_PROGRESS_INTERVAL=0 " + fit);
+  EXPECT_EQ(log.exit_code, 0) << log.output;
+  EXPECT_NE(log.output.find("dualcell-fit: sampling the exact law below the onset: direction "), std::string::npos)
+      << log.output.substr(0, 2000);
+  EXPECT_EQ(log.output.find('\r'), std::string::npos);
+  const auto quiet = stderr_of("DUALCELL_PROGRESS_INTERVAL=0 " + fit + " --quiet");
+  EXPECT_EQ(quiet.exit_code, 0);
+  EXPECT_EQ(quiet.output, "");
 }
 
 TEST_F(Progress, UnderMpirunOnlyRankZeroPrints) {

@@ -147,6 +147,50 @@ TEST(SolveStage, ALongitudinalStrainWritesTheLongitudinalStress) {
   EXPECT_FALSE(std::filesystem::exists(p.dir / "bad.h5"));
 }
 
+// A load is an ordinary load however small, and one whose answer cannot be finite in doubles is
+// refused before the work, with one line and exit 1: a 1 × 1 p1 cell with adhesion.
+TEST(SolveStage, ALoadBeyondDoublesIsRefusedAndATinyOneIsAnOrdinaryLoad) {
+  Prepared p;
+  p.scene =
+      p.dir.write("s.toml", testing::scene_text(1, 1, 1, 0.3,
+                                                "[interface]\nnormal_strength = 0.01\ntangential_strength = 0.01\n"
+                                                "[load]\nboundary = \"periodic\"\n",
+                                                "p1"));
+  p.mesh = p.dir / "mesh.h5";
+  ASSERT_EQ(run_command(bin("dualcell-mesh") + " --quiet --config " + p.scene.string() + " --out " + p.mesh.string())
+                .exit_code,
+            0);
+  const std::string cfg =
+      bin("dualcell-solve") + " --quiet --config " + p.scene.string() + " --mesh " + p.mesh.string();
+  const auto out = p.dir / "solution.h5";
+  // 1e308 strains the matrix (E = 1) by 1e308: refused, nothing written (it once ran and wrote
+  // strains of inf and NaN).
+  for (const std::string& load : {std::string(" --stress 1e308,0,0"), std::string(" --stress 0,-1e101,0")}) {
+    const auto huge = run_command(cfg + load + " --out " + out.string());
+    EXPECT_EQ(huge.exit_code, exit_input_error) << huge.output;
+    EXPECT_EQ(testing::occurrences(huge.output, "\n"), 1u) << huge.output;
+    EXPECT_NE(huge.output.find("no finite answer in doubles"), std::string::npos) << huge.output;
+    EXPECT_FALSE(std::filesystem::exists(out));
+  }
+  const auto not_a_number = run_command(cfg + " --stress 0,0,0 --eps33 nan --out " + out.string());
+  EXPECT_EQ(not_a_number.exit_code, exit_input_error) << not_a_number.output;
+  EXPECT_NE(not_a_number.output.find("--eps33: 'nan' is not a finite number"), std::string::npos)
+      << not_a_number.output;
+  EXPECT_EQ(testing::occurrences(not_a_number.output, "\n"), 1u) << not_a_number.output;
+  // ε33 = 1e-300 at zero stress (it once failed the primal check, exit 4) is the answer at 1e-3
+  // times 1e-297: the cell is linear while its bonds hold (1e-9: the two solves' tolerance).
+  const auto tiny = run_command(cfg + " --stress 0,0,0 --eps33 1e-300 --out " + out.string());
+  ASSERT_EQ(tiny.exit_code, exit_ok) << tiny.output;
+  const auto ordinary = p.dir / "ordinary.h5";
+  ASSERT_EQ(run_command(cfg + " --stress 0,0,0 --eps33 1e-3 --out " + ordinary.string()).exit_code, exit_ok);
+  const auto small = io::File::open_read(out).read_doubles("/macro/strain", {3});
+  const auto large = io::File::open_read(ordinary).read_doubles("/macro/strain", {3});
+  for (int i = 0; i < 2; ++i) EXPECT_NEAR(small[i] * 1e297, large[i], 1e-9 * std::abs(large[0])) << i;
+  const double zz = io::File::open_read(ordinary).read_doubles("/macro/average_stress_zz", {1})[0];
+  EXPECT_NEAR(io::File::open_read(out).read_doubles("/macro/average_stress_zz", {1})[0] * 1e297, zz,
+              1e-9 * std::abs(zz));
+}
+
 // --longitudinal-shear (docs/method.md §3b): the longitudinal shear moduli with the bonds the
 // load left. Bonded stiff fibres stiffen the matrix (μ_m = E/(2(1 + ν)) = 1/2.7); a load that
 // breaks bonds lowers them; without adhesion (frictionless contact, no shear along z) the fibres

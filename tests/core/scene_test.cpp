@@ -96,6 +96,20 @@ TEST(Scene, ErrorsNameFileKeyValueAndRange) {
        "nothing loads the block"},
       {scene_text(1, 1, 1, 0.3, "[load]\nboundary = \"edges\"\n[edges.left]\ntype = \"glued\"\n"),
        "[edges.left] type = \"glued\": must be one of"},
+      // An array beyond its size names its limit (once "at least 0 numbers" for 200 values).
+      {scene_text(
+           1, 1, 1, 0.3,
+           "[load]\nboundary = \"periodic\"\nmacro = \"full\"\n[sweep]\neps33 = [" +
+               [] {
+                 std::string v = "0.001";
+                 for (int i = 1; i < 200; ++i) v += ", 0.001";
+                 return v;
+               }() +
+               "]\n"),
+       "must be an array of at most 100 numbers"},
+      // A magnitude that strains the softer phase (E = 1) by 1e200: no finite answer.
+      {scene_text(1, 1, 1, 0.3, "[sweep]\nmagnitudes = [1, 1e200]\n"),
+       "[sweep] magnitudes = [1, 1e200]: out of range: it strains the softer phase (E = 1) beyond 1e+100"},
   };
   for (const auto& c : cases) {
     const std::string message = error_of(c.text);

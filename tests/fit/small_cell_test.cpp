@@ -7,6 +7,8 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <cstdlib>
+#include <string>
 
 #include "law/condensed_cells.hpp"
 #include "law/reduced.hpp"
@@ -46,10 +48,26 @@ TEST(SmallCell, TheJacobianInClosedFormIsTheFiniteDifferenceOne) {
 
 TEST(SmallCell, IsAConvexCellThatBeatsItsStartAndHoldsOnOtherDirections) {
   const law::CondensedCell cell = testing::periodic_contact_cell(Eigen::Vector2d(0.07, -0.04));
-  const law::CellSample training = law::sample_cell(cell, 300);
-  SmallCellOptions options;
-  options.rows = 6;
-  const SmallCell small = fit_small_cell(cell, training, options);
+  // With its progress on stderr, a line per due update (interval 0): the sampling and the steps of
+  // the fit (a 10-fibre RVE's fit once ran 3 minutes silent).
+  setenv("DUALCELL_PROGRESS_INTERVAL", "0", 1);
+  ::testing::internal::CaptureStderr();
+  SmallCell small;
+  {
+    Progress progress("dualcell-fit", true);
+    const law::CellSample training = law::sample_cell(cell, 300, &progress);
+    SmallCellOptions options;
+    options.rows = 6;
+    options.progress = &progress;
+    small = fit_small_cell(cell, training, options);
+  }
+  unsetenv("DUALCELL_PROGRESS_INTERVAL");
+  const std::string told = ::testing::internal::GetCapturedStderr();
+  EXPECT_NE(told.find("dualcell-fit: sampling the exact law below the onset: direction 1 of "), std::string::npos)
+      << told.substr(0, 2000);
+  EXPECT_NE(told.find("dualcell-fit: small cell of 6 rows: round 1 of 6, step 1, largest error so far "),
+            std::string::npos)
+      << told.substr(0, 2000);
   ASSERT_TRUE(small.ok) << small.message;
   EXPECT_EQ(small.cell.n_rows(), 6);
   EXPECT_EQ(law::consistency_problem(small.cell), "");

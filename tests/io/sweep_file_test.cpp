@@ -8,7 +8,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
+#include "core/error.hpp"
 #include "feti/condense.hpp"
 #include "feti/solver.hpp"
 #include "sweep/sweep.hpp"
@@ -102,6 +104,47 @@ TEST(SweepFile, EveryColumnAndTheHeaderComeBackAsWritten) {
   EXPECT_EQ(h.cell->G, w.header.cell->G);
   EXPECT_EQ(h.cell_note, w.header.cell_note);
   EXPECT_EQ(h.qp_tolerance, w.header.qp_tolerance);
+}
+
+// NaN in the newer datasets is refused on reading, as in the older ones: a converged step's stress
+// along the fibres (a path with eps33) or shear stresses (a path with gamma), and any number of
+// the checks along the fibres (/longitudinal_check, /shear_check). (The fit once replayed an
+// all-NaN stress_zz "to max 9.6e-08", dropped a step with a NaN shear stress and the exact law
+// with a NaN check, each with exit 0.)
+TEST(SweepFile, NotANumberInTheNewerDatasetsIsRefused) {
+  const Written w = sweep_of_a_cell_with_adhesion();
+  testing::ScratchDir dir;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const auto refused = [&](std::vector<sweep::PathResult> paths, SweepHeader header, const std::string& expected) {
+    const auto file = dir / "sweep.h5";
+    std::filesystem::remove(file);
+    write_sweep(file, paths, header);
+    std::string error;
+    try {
+      read_sweep_header(file);
+      read_sweep(file);
+    } catch (const InputError& e) {
+      error = e.what();
+    }
+    EXPECT_NE(error.find(expected), std::string::npos) << "'" << error << "', expected '" << expected << "'";
+  };
+  std::vector<sweep::PathResult> along = w.paths;
+  along[0].spec.eps33 = 1e-3;
+  for (sweep::Step& step : along[0].steps) step.stress_zz = 0.1;
+  along[0].steps[1].stress_zz = nan;
+  refused(along, w.header, "/stress_zz: non-finite stress in converged row 1");
+  std::vector<sweep::PathResult> sheared = w.paths;
+  sheared[1].spec.gamma = Eigen::Vector2d(1e-3, 0);
+  for (sweep::Step& step : sheared[1].steps) step.shear_stress = Eigen::Vector2d(0.1, 0);
+  sheared[1].steps[2].shear_stress(1) = nan;
+  refused(sheared, w.header, "/shear_stress: non-finite stress in converged row 2");
+  SweepHeader checks = w.header;
+  checks.longitudinal_points = {{Eigen::Vector3d(0.1, 0, 0), 1e-3, Eigen::Vector3d(0.01, 0, 0), 0.2, 0},
+                                {Eigen::Vector3d(0.1, 0, 0), 1e-3, Eigen::Vector3d(0.01, 0, 0), nan, 0}};
+  refused(w.paths, checks, "/longitudinal_check/stress_zz: non-finite value in row 1");
+  checks.longitudinal_points.clear();
+  checks.shear_points = {{0, Eigen::Vector2d(1e-3, 0), Eigen::Vector2d(nan, 0), 0}};
+  refused(w.paths, checks, "/shear_check/tau: non-finite value in row 0");
 }
 
 }  // namespace

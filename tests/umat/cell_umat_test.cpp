@@ -2,10 +2,13 @@
 // own evaluation (law::CellEvaluator) along a loading path through the debond cascade, with the
 // state variables carried from call to call as a code carries them over converged increments;
 // the text file that carries the cell, bit for bit; and the refusals.
+#include "umat/cell_umat.h"
+
 #include <gtest/gtest.h>
 
 #include <cstddef>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -150,8 +153,13 @@ TEST(CellUmat, EqualsTheLibraryAlongAPathThroughTheCascade) {
   EXPECT_EQ(call({2, 7002, 1, 1, 1, 0, 0}, direction * 1e-3, state).pnewdt, 0.25);
   std::vector<double> short_state(3, 0.0);
   EXPECT_EQ(call(props, direction * 1e-3, short_state).pnewdt, 0.25);
-  // A card written before the hash (5 constants), and one whose hash is not the file's: refused.
+  // A card written before the hash (5 constants), and one whose hash is not the file's: refused,
+  // each with its line (the first once was silent).
+  ::testing::internal::CaptureStderr();
   EXPECT_EQ(call({2, 7001, z.E3, z.G13, z.G23}, direction * 1e-3, state).pnewdt, 0.25);
+  const std::string told = ::testing::internal::GetCapturedStderr();
+  EXPECT_NE(told.find("dualcell umat: a layout-2 card (the exact law) with fewer than 7 constants"), std::string::npos)
+      << told;
   std::vector<double> other = props;
   other[6] = low == 0 ? 1 : low - 1;
   EXPECT_EQ(call(other, direction * 1e-3, state).pnewdt, 0.25);
@@ -359,6 +367,31 @@ TEST(CellUmat, AReplacedOrOversizedCellFileIsRefusedNotMixed) {
   std::vector<double> p = props;
   p[1] = 7004;
   EXPECT_EQ(call(p, Eigen::Vector3d(1e-3, 0, 0), state).pnewdt, 0.25);
+}
+
+// A cell file is judged by what it is and its size before a byte is read: a device (a link to
+// /dev/zero once drove CalculiX past 4.5 GB in a minute) or a directory gets its own line, and a
+// file larger than the largest cell the limits allow (a sparse 8 GiB file here) is refused from
+// its size, at once.
+TEST(CellUmat, ACellFileThatIsNoRegularFileOrTooLargeIsRefusedBeforeItIsRead) {
+  testing::ScratchDir dir;
+  setenv("DUALCELL_CELL_DIR", dir.path().c_str(), 1);
+  std::filesystem::create_symlink("/dev/zero", dir / io::umat_cell_file(7021));
+  std::filesystem::create_directory(dir / io::umat_cell_file(7022));
+  std::ofstream(dir / io::umat_cell_file(7023)).close();
+  std::filesystem::resize_file(dir / io::umat_cell_file(7023), std::uintmax_t{8} << 30);
+  // The bound: the text of a cell at max_cell_rows with every number at its longest, about 900 MB.
+  EXPECT_GT(max_cell_text_bytes(), std::uintmax_t{800} << 20);
+  EXPECT_LT(max_cell_text_bytes(), std::uintmax_t{1} << 30);
+  const std::pair<int, const char*> cases[] = {
+      {7021, "is not a regular file"}, {7022, "is not a regular file"}, {7023, "more than the largest cell"}};
+  for (const auto& [id, expected] : cases) {
+    ::testing::internal::CaptureStderr();
+    EXPECT_EQ(dualcell_cell_statev(id), -1) << id;
+    const std::string told = ::testing::internal::GetCapturedStderr();
+    EXPECT_NE(told.find(expected), std::string::npos) << id << ": " << told;
+    EXPECT_EQ(testing::occurrences(told, "\n"), 1u) << told;
+  }
 }
 
 }  // namespace
