@@ -30,13 +30,13 @@ int main(int argc, char** argv) {
   app.add_option("--name", name,
                  "calculix: base of the material names <name>_TENSION and <name>_COMPRESSION; umat: ABAQUS_<name>")
       ->capture_default_str();
-  double max_law_error = 0.02;
+  double max_law_error = std::numeric_limits<double>::quiet_NaN();
   bool force = false;
   app.add_option("--max-law-error", max_law_error,
                  "umat: refuse a cone-wise law whose stress error against the exact law or held-out sweep "
                  "directions (law.h5 /law/cone_check, /law/cone_after_fuse_check) exceeds this fraction, or that "
-                 "was measured against neither; likewise a small cell (/law/small_check)")
-      ->capture_default_str()
+                 "was measured against neither; likewise a small cell (/law/small_check); default: the tolerance "
+                 "the law was fitted to (dualcell-fit --law-tolerance, /law/small_fit), else 0.02")
       ->check(dualcell::number_in(0.0, 1.0));
   app.add_flag(
       "--force", force,

@@ -42,15 +42,28 @@ std::string read_text(const std::filesystem::path& file) {
   return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
-// A compact law whose measured error passes --max-law-error is not exported (unless --force).
-void refuse_over_error(const ExportOptions& options, const std::string& what, const law::ConeCheck& c) {
-  if (options.force || c.directions.empty() || c.max_error <= options.max_law_error) return;
+// The largest error a compact law may have to be exported, and how a message names it: the
+// option where given, else the tolerance the law was fitted to.
+struct ErrorLimit {
+  double value;
+  std::string name;
+};
+ErrorLimit error_limit(const ExportOptions& options, const law::Law& law) {
+  if (!std::isnan(options.max_law_error)) return {options.max_law_error, "--max-law-error"};
+  if (std::isfinite(law.small_fit.tolerance)) return {law.small_fit.tolerance, "the law's fit tolerance"};
+  return {fit::default_law_tolerance, "the default tolerance"};
+}
+
+// A compact law whose measured error passes the limit is not exported (unless --force).
+void refuse_over_error(const ExportOptions& options, const ErrorLimit& limit, const std::string& what,
+                       const law::ConeCheck& c) {
+  if (options.force || c.directions.empty() || c.max_error <= limit.value) return;
   char text[400];
   std::snprintf(text, sizeof text,
-                " misses %s by %.1f %% of stress at sxx,syy,sxy = %.3f,%.3f,%.3f, more than --max-law-error %.3g %%: "
+                " misses %s by %.1f %% of stress at sxx,syy,sxy = %.3f,%.3f,%.3f, more than %s %.3g %%: "
                 "not exported (--force writes it anyway)",
                 law::checked_against_text(c.against), 100 * c.max_error, c.worst(0), c.worst(1), c.worst(2),
-                100 * options.max_law_error);
+                limit.name.c_str(), 100 * limit.value);
   throw InputError(options.law_file.string() + ": " + what + text);
 }
 
@@ -69,17 +82,18 @@ std::string export_law(const ExportOptions& options) {
   const std::string form = options.form.empty() ? (law.cell ? "cell" : "cone") : options.form;
   if (!options.breaks.empty() && (options.format != io::ExportFormat::umat || form == "cone"))
     throw InputError("--breaks " + options.breaks + ": only for --format umat of a cell (--form cell or small)");
+  const ErrorLimit limit = error_limit(options, law);
   // The small cell is vouched for by its check against the exact law, as the cone-wise law is.
   if (options.format == io::ExportFormat::umat && form == "small" && law.small)
-    refuse_over_error(options, "the small cell", law.small_check);
+    refuse_over_error(options, limit, "the small cell", law.small_check);
   // And the small cell of the whole ply by its check along six-component strain paths.
   const law::PlyCheck& ply = law.small_ply_check;
   if (options.format == io::ExportFormat::umat && form == "small" && law.small && ply.directions > 0 &&
-      !options.force && !(ply.max_error <= options.max_law_error))
+      !options.force && !(ply.max_error <= limit.value))
     throw InputError(options.law_file.string() + ": the small cell of the whole ply misses the exact law along " +
                      std::to_string(ply.directions) + " six-component strain paths by " +
-                     formatted("%.1f", 100 * ply.max_error) + " % of stress, more than --max-law-error " +
-                     formatted("%.3g", 100 * options.max_law_error) + " %: not exported (--force writes it anyway)");
+                     formatted("%.1f", 100 * ply.max_error) + " % of stress, more than " + limit.name + " " +
+                     formatted("%.3g", 100 * limit.value) + " %: not exported (--force writes it anyway)");
   if (options.format == io::ExportFormat::umat && (form == "cell" || form == "small")) {
     const io::CellForm cell_form = form == "small" ? io::CellForm::small : io::CellForm::exact;
     const law::CondensedCell& cell = io::umat_cell(law, cell_form, options.law_file.string());
@@ -137,8 +151,8 @@ std::string export_law(const ExportOptions& options) {
                          "sweep directions (" +
                          (law.cell_note.empty() ? std::string("the sweep has one direction") : law.cell_note) +
                          "): not exported (--force writes it anyway)");
-      refuse_over_error(options, "the cone-wise law", law.cone_check);
-      refuse_over_error(options, "the cone-wise law after the fuse", law.cone_after_fuse_check);
+      refuse_over_error(options, limit, "the cone-wise law", law.cone_check);
+      refuse_over_error(options, limit, "the cone-wise law after the fuse", law.cone_after_fuse_check);
       text = io::law_umat(law, options.name, options.law_file.string());
       break;
     }

@@ -2,6 +2,7 @@
 // The export stage as one call (dualcell-export): a law.h5 to JSON, CSV, CalculiX cards or the
 // umat's card (conversions in io/law_export.hpp).
 #include <filesystem>
+#include <limits>
 #include <string>
 
 #include "io/law_export.hpp"
@@ -12,9 +13,11 @@ struct ExportOptions {
   std::filesystem::path law_file, out;
   io::ExportFormat format = io::ExportFormat::json;
   std::string name = "DUALCELL";  // CalculiX material base name: a letter, then letters, digits, _
-  // The umat carries the compact cone-wise law: refused when it misses the exact law by more
-  // than this (the largest relative stress error of /law/cone_check), unless forced.
-  double max_law_error = 0.02;
+  // The umat carries a compact law (cone-wise, small cell): refused when it misses the exact law
+  // by more than this (the largest relative stress error of its check), unless forced. NaN, the
+  // default: the tolerance the law was fitted to (/law/small_fit tolerance, dualcell-fit
+  // --law-tolerance), or fit::default_law_tolerance where it records none.
+  double max_law_error = std::numeric_limits<double>::quiet_NaN();
   bool force = false;
   // umat: "cell" (the exact law, its cell in io::umat_cell_file(cell_id) beside `out`), "cone",
   // or "" for the exact law where law.h5 has one.

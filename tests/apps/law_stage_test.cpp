@@ -311,7 +311,8 @@ TEST(LawStage, ExportRefusesACompactLawThatMissesTheExactOne) {
   const auto refused = run_command(export_umat);
   EXPECT_EQ(refused.exit_code, exit_input_error);
   EXPECT_NE(refused.output.find("the cone-wise law misses the exact law by"), std::string::npos) << refused.output;
-  EXPECT_NE(refused.output.find("--max-law-error 2 %"), std::string::npos) << refused.output;
+  // No small cell, so no tolerance it was fitted to: the default limit, named so.
+  EXPECT_NE(refused.output.find("more than the default tolerance 2 %"), std::string::npos) << refused.output;
   EXPECT_FALSE(std::filesystem::exists(run.dir / "u.inp"));
   EXPECT_EQ(run_command(export_umat + " --force").exit_code, exit_ok);
   EXPECT_EQ(run_command(export_umat + " --max-law-error 0.99").exit_code, exit_ok);
@@ -496,6 +497,22 @@ TEST(LawStage, TheSmallCellGoesThroughLawAndExport) {
   const std::string card((std::istreambuf_iterator<char>(card_file)), std::istreambuf_iterator<char>());
   EXPECT_NE(card.find("small cell fitted to the exact law (4 rows"), std::string::npos) << card;
   EXPECT_TRUE(std::filesystem::exists(run.dir / "dualcell-cell-4.txt"));
+  // A law fitted to a looser tolerance (dualcell-fit --law-tolerance) is exported by default
+  // within it, and refused by an explicit --max-law-error below its error (the export once held
+  // every law to its own 2 %).
+  law.small_fit.tolerance = 2 * law.small_check.max_error;
+  const auto looser = run.dir / "looser.h5";
+  io::write_law(looser, law);
+  const std::string export_looser = bin("dualcell-export") + " --law " + q(looser) +
+                                    " --format umat --form small --cell-id 5 --out " + q(run.dir / "l.inp");
+  const auto within = run_command(export_looser);
+  EXPECT_EQ(within.exit_code, exit_ok) << within.output;
+  const auto told = run_command(export_looser + " --max-law-error 0.02");
+  EXPECT_EQ(told.exit_code, exit_input_error) << told.output;
+  EXPECT_NE(told.output.find("more than --max-law-error 2 %"), std::string::npos) << told.output;
+  const auto over = run_command(bin("dualcell-export") + " --law " + q(with_small) +
+                                " --format umat --form small --cell-id 6 --out " + q(run.dir / "o.inp"));
+  EXPECT_NE(over.output.find("more than the default tolerance 2 %"), std::string::npos) << over.output;
 }
 
 }  // namespace
