@@ -61,7 +61,7 @@ law::CellReplay replay_longitudinal(const law::CondensedCell& cell, const std::v
   for (std::size_t i = 0; i < points.size(); ++i) {
     const sweep::LongitudinalPoint& p = points[i];
     law::CellHistory history = evaluator.unloaded();
-    const law::CellResponse r = evaluator.at_stress(p.stress, history, p.eps33);
+    const law::CellResponse r = evaluator.at(MacroState::stress(p.stress).hold(MacroState::zz, p.eps33), history);
     if (!r.ok)
       throw ExactLawFailed("not kept: its QP failed at the check of the strain along the fibres: " + r.message);
     Eigen::Vector3d expected = engineering_from_tensor(p.strain), strain = r.strain;
@@ -81,8 +81,7 @@ law::CellReplay replay_shear(const law::CondensedCell& cell, const std::vector<s
   for (std::size_t i = 0; i < points.size(); ++i) {
     const sweep::ShearPoint& p = points[i];
     law::CellHistory& history = histories.try_emplace(p.path, evaluator.unloaded()).first->second;
-    const law::CellResponse r =
-        evaluator.at_strain(Eigen::Vector3d::Zero(), history, law::BondMode::cascade, 0, p.gamma);
+    const law::CellResponse r = evaluator.at(MacroState::strain(Eigen::Vector3d::Zero()).hold_shear(p.gamma), history);
     if (!r.ok) throw ExactLawFailed("not kept: its QP failed at the check of the shear along the fibres: " + r.message);
     const double error = (r.shear_z - p.tau).norm() / p.tau.norm();
     tally.add(error, p.path, static_cast<int>(i), r.broken != p.broken);
@@ -103,7 +102,8 @@ law::CellReplay replay_cell(const law::CondensedCell& cell, const std::vector<sw
       const sweep::Step& step = paths[i].steps[k];
       const double eps33 = paths[i].spec.eps33;
       const Eigen::Vector2d& gamma = paths[i].spec.gamma;
-      const law::CellResponse r = evaluator.at_stress(step.stress, history, eps33, gamma);
+      const law::CellResponse r =
+          evaluator.at(MacroState::stress(step.stress).hold(MacroState::zz, eps33).hold_shear(gamma), history);
       if (!r.ok)
         throw ExactLawFailed("not kept: its QP failed on the sweep's stress of path " + std::to_string(i) + ": " +
                              r.message);

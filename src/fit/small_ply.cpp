@@ -23,7 +23,7 @@ bool small_ply_residuals(const law::CondensedCell& small, const Eigen::VectorXd&
   if (J) J->setZero(4 * points, m);
   for (int i = 0; i < points; ++i) {
     const law::Vector6d& e = strain[static_cast<std::size_t>(i)];
-    const law::CellResponse r = evaluator.at_strain(e.head<3>(), history, law::BondMode::cascade, e(3));
+    const law::CellResponse r = evaluator.at(MacroState::strain(e.head<3>()).hold(MacroState::zz, e(3)), history);
     if (!r.ok) return false;
     const double scale = stress[static_cast<std::size_t>(i)].norm();
     f.segment<3>(4 * i) = (r.stress - stress[static_cast<std::size_t>(i)].head<3>()) / scale;
@@ -112,7 +112,7 @@ SmallPlyFit fit_small_ply(law::CondensedCell& small, const law::CondensedCell& c
   double sum = 0;
   for (int i = 0; i < out.points; ++i) {
     const law::Vector6d& e = strain[static_cast<std::size_t>(i)];
-    const law::CellResponse r = evaluator.at_strain(e.head<3>(), history, law::BondMode::cascade, e(3), e.tail<2>());
+    const law::CellResponse r = evaluator.at(MacroState::ply_strain(e), history);
     const law::Vector6d& target = stress[static_cast<std::size_t>(i)];
     const double error =
         r.ok ? (law::ply_stress(r) - target).norm() / target.norm() : std::numeric_limits<double>::infinity();

@@ -98,12 +98,17 @@ bool PointsReader::next(LawPoint& point) {
     if (static_cast<int>(f.size()) != columns_)
       throw InputError(where + std::to_string(f.size()) + " columns, expected " + std::to_string(columns_) +
                        " like the first row");
+    point.state = MacroState::strain(Eigen::Vector3d::Zero());
     for (int k = 0; k < numbers_; ++k) {
       const std::string_view field = f[columns_ - numbers_ + k];
-      double& v = k < 3 ? point.value(k) : k == 3 ? point.eps33 : point.gamma(k - 4);
+      double v = 0;
       if (!number(field, v) || !std::isfinite(v))
         throw InputError(where + "column " + std::to_string(columns_ - numbers_ + 1 + k) + " = '" +
                          clipped(std::string(field)) + "' is not a finite number");
+      if (k < 3)
+        point.state.value(k) = v;
+      else
+        point.state.hold(static_cast<MacroState::Component>(k), v);
     }
     point.path = has_path() ? std::string(f[0]) : std::string();
     point.line = number_of_line_;

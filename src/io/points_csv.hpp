@@ -14,6 +14,8 @@
 #include <string>
 #include <vector>
 
+#include "core/macro_state.hpp"
+
 namespace dualcell::io {
 
 // 1 GiB: about 30 million rows, hours of evaluation at the exact law's 0.02–100 ms per row.
@@ -23,10 +25,11 @@ inline constexpr std::size_t max_points_line = 4096;
 
 struct LawPoint {
   std::string path;  // empty without the path column
-  Eigen::Vector3d value;
-  double eps33 = 0;  // the fourth number of a row of four or six (the strain along the fibres)
-  Eigen::Vector2d gamma = Eigen::Vector2d::Zero();  // the fifth and sixth of a row of six (γxz, γyz)
-  long line = 0;                                    // the row's line in the file, for messages
+  // The row's numbers in the law's order (core/macro_state.hpp): the in-plane three, then ε33
+  // (a row of four or six) and γxz, γyz (a row of six), those held; strain-driven as read (the
+  // stage says whether the in-plane part is a stress).
+  MacroState state;
+  long line = 0;  // the row's line in the file, for messages
 };
 
 class PointsReader {

@@ -104,9 +104,12 @@ double CellEvaluator::strength_use(const Eigen::VectorXd& forces, const Eigen::V
   return use;
 }
 
-void CellEvaluator::check_inputs(const Eigen::Vector3d& v, double eps33, const Eigen::Vector2d& gamma,
-                                 CellResponse& out) const {
-  if (!v.allFinite() || !std::isfinite(eps33) || !gamma.allFinite()) out.message = "a non-finite input";
+void CellEvaluator::check_inputs(const MacroState& s, CellResponse& out) const {
+  const Eigen::Vector3d v = s.in_plane();
+  const double eps33 = s.eps33();
+  const Eigen::Vector2d gamma = s.gamma();
+  if (!v.allFinite() || !std::isfinite(eps33) || !gamma.allFinite() || !std::isfinite(s.delta_T()))
+    out.message = "a non-finite input";
   if (cell_.n_macro == 2 && v(2) != 0)
     out.message = "the cell has the symmetry boundary: it carries no shear (the third component must be 0)";
   if (eps33 != 0 && cell_.longitudinal == 0)
@@ -115,6 +118,25 @@ void CellEvaluator::check_inputs(const Eigen::Vector3d& v, double eps33, const E
     out.message =
         "the cell has no shear along the fibres (its scene's [load] macro is not \"full\"): gamma_xz and gamma_yz "
         "must be 0";
+  if (!s.in_plane_stress() && !s.in_plane_strain())
+    out.message = "an in-plane state part stress, part strain: the cell takes σ̄ or ε̄";
+  if ((s.stress_driven & ~MacroState::in_plane_mask) != 0)
+    out.message = "a stress along the fibres: the cell takes the strain ε33 and the shears Γ along them";
+  if (s.delta_T() != 0) out.message = "a temperature change: the cell carries none";
+}
+
+CellResponse CellEvaluator::at(const MacroState& s, CellHistory& h, BondMode bonds) {
+  CellResponse out;
+  check_inputs(s, out);
+  if (!out.message.empty()) return out;
+  if (s.in_plane_stress()) {
+    if (bonds != BondMode::cascade) {
+      out.message = "a stress-driven state runs the bonds' cascade (held or lifted bonds: strain-driven only)";
+      return out;
+    }
+    return stress_driven(s.in_plane(), h, s.eps33(), s.gamma());
+  }
+  return strain_driven(s.in_plane(), h, bonds, s.eps33(), s.gamma());
 }
 
 bool CellEvaluator::solve_shear(const Eigen::Vector2d& gamma, CellHistory& h, bool lifted, CellResponse& r) {
@@ -201,11 +223,9 @@ bool CellEvaluator::solve_qp(qp::DenseActiveSet& qp, const Eigen::VectorXd& b, c
   return true;
 }
 
-CellResponse CellEvaluator::at_stress(const Eigen::Vector3d& sigma, CellHistory& h, double eps33,
-                                      const Eigen::Vector2d& gamma) {
+CellResponse CellEvaluator::stress_driven(const Eigen::Vector3d& sigma, CellHistory& h, double eps33,
+                                          const Eigen::Vector2d& gamma) {
   CellResponse out;
-  check_inputs(sigma, eps33, gamma, out);
-  if (!out.message.empty()) return out;
   const int m = cell_.n_macro, n = cell_.n_rows();
   if (h.active.size() != static_cast<std::size_t>(n)) h.active.clear();
   Eigen::Matrix3d compliance = Eigen::Matrix3d::Zero();
@@ -235,11 +255,9 @@ CellResponse CellEvaluator::at_stress(const Eigen::Vector3d& sigma, CellHistory&
   return out;
 }
 
-CellResponse CellEvaluator::at_strain(const Eigen::Vector3d& strain, CellHistory& h, BondMode bonds, double eps33,
-                                      const Eigen::Vector2d& gamma) {
+CellResponse CellEvaluator::strain_driven(const Eigen::Vector3d& strain, CellHistory& h, BondMode bonds, double eps33,
+                                          const Eigen::Vector2d& gamma) {
   CellResponse out;
-  check_inputs(strain, eps33, gamma, out);
-  if (!out.message.empty()) return out;
   const int m = cell_.n_macro, n = cell_.n_rows();
   if (h.active.size() != static_cast<std::size_t>(m + n)) h.active.clear();
   Eigen::VectorXd z;

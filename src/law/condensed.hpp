@@ -26,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "core/macro_state.hpp"
 #include "law/bond.hpp"
 #include "qp/dense_qp.hpp"
 
@@ -165,15 +166,20 @@ class CellEvaluator {
   const CondensedCell& cell() const { return cell_; }
   // The unloaded cell's history.
   CellHistory unloaded() const;
-  // The response to a macro stress σ̄ (stress-driven) or a macro strain ε̄ (strain-driven,
-  // engineering shear), from the history h, which is updated (breaks are irreversible); with a
-  // strain eps33 along the fibres (the cell must carry its longitudinal data when eps33 ≠ 0)
-  // and the shears gamma = (γxz, γyz) along them (the cell's shear data when gamma ≠ 0; with it
-  // the shear rows join the cascade: a pair at its strength along z breaks as a whole too).
-  CellResponse at_stress(const Eigen::Vector3d& sigma, CellHistory& h, double eps33 = 0,
-                         const Eigen::Vector2d& gamma = Eigen::Vector2d::Zero());
-  CellResponse at_strain(const Eigen::Vector3d& strain, CellHistory& h, BondMode bonds = BondMode::cascade,
-                         double eps33 = 0, const Eigen::Vector2d& gamma = Eigen::Vector2d::Zero());
+  // The response to the macro state s (core/macro_state.hpp) from the history h, which is updated
+  // (breaks are irreversible): its in-plane part a macro stress σ̄ (stress-driven, the bonds'
+  // cascade) or a macro strain ε̄ (strain-driven, engineering shear, with `bonds`); with a strain
+  // ε33 along the fibres (the cell must carry its longitudinal data when ε33 ≠ 0) and the shears
+  // Γ = (γxz, γyz) along them (the cell's shear data when Γ ≠ 0; with it the shear rows join the
+  // cascade: a pair at its strength along z breaks as a whole too). A state the cell cannot take
+  // (a mixed in-plane part, a stress along the fibres, a temperature change) is not ok, with the
+  // reason.
+  CellResponse at(const MacroState& s, CellHistory& h, BondMode bonds = BondMode::cascade);
+  // The in-plane state alone: at(MacroState::stress(sigma)), at(MacroState::strain(strain)).
+  CellResponse at_stress(const Eigen::Vector3d& sigma, CellHistory& h) { return at(MacroState::stress(sigma), h); }
+  CellResponse at_strain(const Eigen::Vector3d& strain, CellHistory& h, BondMode bonds = BondMode::cascade) {
+    return at(MacroState::strain(strain), h, bonds);
+  }
   // The load factor s* at which the first bond of the unloaded cell breaks under s·σ̄ (+inf
   // without adhesion or when no bond ever reaches its strength along σ̄): the bonded cell with
   // its strengths lifted is homogeneous of degree one in σ̄, so s* = min over bonded rows of
@@ -187,7 +193,10 @@ class CellEvaluator {
   // The largest strength use of the bonded rows' forces p and shear rows' forces q (empty: none).
   double strength_use(const Eigen::VectorXd& forces, const Eigen::VectorXd& forces_z,
                       const std::vector<std::uint8_t>& bonded) const;
-  void check_inputs(const Eigen::Vector3d& v, double eps33, const Eigen::Vector2d& gamma, CellResponse& out) const;
+  void check_inputs(const MacroState& s, CellResponse& out) const;
+  CellResponse stress_driven(const Eigen::Vector3d& sigma, CellHistory& h, double eps33, const Eigen::Vector2d& gamma);
+  CellResponse strain_driven(const Eigen::Vector3d& strain, CellHistory& h, BondMode bonds, double eps33,
+                             const Eigen::Vector2d& gamma);
   // The shear along the fibres at gamma for the bonds of h: the shear rows' QP (where the cell
   // has them), ⟨τ⟩ and its tangent into r; false, with r.message, when the QP did not converge.
   bool solve_shear(const Eigen::Vector2d& gamma, CellHistory& h, bool lifted, CellResponse& r);

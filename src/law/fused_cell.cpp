@@ -107,7 +107,7 @@ BondedCell bonded_cell(const CondensedCell& cell) {
     CellResponse r;
     for (int tries = 0; tries < 10; ++tries, e /= 16) {
       CellHistory history = evaluator.unloaded();
-      r = evaluator.at_stress(Eigen::Vector3d::Zero(), history, e);
+      r = evaluator.at(MacroState::stress(Eigen::Vector3d::Zero()).hold(MacroState::zz, e), history);
       if (!r.ok || r.broken == 0) break;
     }
     if (!r.ok || r.broken > 0)
@@ -131,8 +131,8 @@ BondedCell bonded_cell(const CondensedCell& cell) {
     Eigen::MatrixXd Q(cell.shear_rows, 2);
     for (int j = 0; j < 2; ++j) {
       CellHistory lifted = evaluator.unloaded();
-      const CellResponse r =
-          evaluator.at_strain(Eigen::Vector3d::Zero(), lifted, BondMode::lifted, 0, Eigen::Vector2d::Unit(j));
+      const CellResponse r = evaluator.at(
+          MacroState::strain(Eigen::Vector3d::Zero()).hold_shear(Eigen::Vector2d::Unit(j)), lifted, BondMode::lifted);
       if (!r.ok) throw std::invalid_argument("the bonded cell's shear along the fibres failed: " + r.message);
       out.Dz.col(j) = r.shear_z;
       Q.col(j) = r.forces_z;

@@ -49,7 +49,7 @@ class StateProbes {
 
   CellResponse at_stress(const Eigen::Vector3d& sigma, double eps33) {
     CellHistory h = h_;
-    CellResponse r = law_.at_stress(sigma, h, eps33);
+    CellResponse r = law_.at(MacroState::stress(sigma).hold(MacroState::zz, eps33), h);
     check(r);
     return r;
   }
@@ -57,7 +57,8 @@ class StateProbes {
   // dτ/dΓ of the state (bonds held: the probe's shear is far below any strength).
   Eigen::Matrix2d shear_moduli(double e) {
     CellHistory h = h_;
-    CellResponse r = law_.at_strain(Eigen::Vector3d::Zero(), h, BondMode::held, 0, Eigen::Vector2d(e, e));
+    CellResponse r =
+        law_.at(MacroState::strain(Eigen::Vector3d::Zero()).hold_shear(Eigen::Vector2d(e, e)), h, BondMode::held);
     check(r);
     return r.tangent_z;
   }

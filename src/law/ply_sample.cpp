@@ -51,7 +51,7 @@ PlySample sample_ply(const CondensedCell& cell, int n, unsigned seed) {
     if (adhesion) {
       // The bonded cell is linear in the strain with its strengths lifted: t* = 1/(use at t = 1).
       CellHistory lifted = evaluator.unloaded();
-      const CellResponse r = evaluator.at_strain(d.head<3>(), lifted, BondMode::lifted, d(3), d.tail<2>());
+      const CellResponse r = evaluator.at(MacroState::ply_strain(d), lifted, BondMode::lifted);
       if (!r.ok || !(r.strength_use > 0)) loads.clear();
       const double onset = r.ok ? 1 / r.strength_use : 0;
       if (!loads.empty()) {
@@ -64,7 +64,7 @@ PlySample sample_ply(const CondensedCell& cell, int n, unsigned seed) {
     CellHistory history = evaluator.unloaded();
     for (const double t : loads) {
       const Vector6d e = t * d;
-      const CellResponse r = evaluator.at_strain(e.head<3>(), history, BondMode::cascade, e(3), e.tail<2>());
+      const CellResponse r = evaluator.at(MacroState::ply_strain(e), history);
       if (!r.ok) {
         strain.clear(), stress.clear();
         break;
@@ -90,7 +90,7 @@ PlyCheck check_ply(const CondensedCell& compact, const PlySample& sample) {
     double error = 0;
     for (std::size_t k = 0; k < sample.strain[i].size(); ++k) {
       const Vector6d& e = sample.strain[i][k];
-      const CellResponse r = evaluator.at_strain(e.head<3>(), history, BondMode::cascade, e(3), e.tail<2>());
+      const CellResponse r = evaluator.at(MacroState::ply_strain(e), history);
       const double point = r.ok ? (ply_stress(r) - sample.stress[i][k]).norm() / sample.stress[i][k].norm()
                                 : std::numeric_limits<double>::infinity();
       const double counted = std::isfinite(point) ? point : std::numeric_limits<double>::infinity();

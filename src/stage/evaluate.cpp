@@ -179,7 +179,9 @@ LawPointsSummary evaluate_law(const LawPointsOptions& options) {
     // After the first row: whether the file has the path column is known then.
     if (summary.rows == 0) out = header_line(points.has_path(), options.strain_driven, cell_form, n);
     const auto where = [&] { return options.points_file.string() + ":" + std::to_string(point.line) + ": "; };
-    const Eigen::Vector3d& v = point.value;
+    // The row's state: its in-plane part a stress where the points are stresses.
+    if (!options.strain_driven) point.state.stress_driven = MacroState::in_plane_mask;
+    const Eigen::Vector3d v = point.state.in_plane();
     if (points.has_path() && !(cell_form ? histories.count(point.path) : fused_paths.count(point.path))) {
       held_bytes += history_bytes + point.path.size();
       if (held_bytes > max_history_bytes)
@@ -194,9 +196,7 @@ LawPointsSummary evaluate_law(const LawPointsOptions& options) {
       law::CellHistory fresh;
       law::CellHistory& h = points.has_path() ? histories.try_emplace(point.path, evaluator->unloaded()).first->second
                                               : (fresh = evaluator->unloaded());
-      const law::CellResponse r = options.strain_driven
-                                      ? evaluator->at_strain(v, h, law::BondMode::cascade, point.eps33, point.gamma)
-                                      : evaluator->at_stress(v, h, point.eps33);
+      const law::CellResponse r = evaluator->at(point.state, h);
       if (!r.ok) throw InputError(where() + r.message);
       row.other = law::ply_stress(r);
       if (!options.strain_driven) row.other.head<3>() = r.strain;
@@ -224,12 +224,13 @@ LawPointsSummary evaluate_law(const LawPointsOptions& options) {
         if ((a < n_finite || a >= 3) && (b < n_finite || b >= 3))
           finite = finite && std::isfinite(row.tangent[static_cast<std::size_t>(square * a + b)]);
     if (!finite)
-      throw InputError(where() + "the law's answer at (" + shortest(v(0)) + ", " + shortest(v(1)) + ", " +
-                       shortest(v(2)) + ")" + (point.eps33 != 0 ? ", eps33 " + shortest(point.eps33) : "") +
-                       (point.gamma.isZero(0)
-                            ? ""
-                            : ", gamma (" + shortest(point.gamma(0)) + ", " + shortest(point.gamma(1)) + ")") +
-                       " is not finite (the input is beyond what the law carries in doubles)");
+      throw InputError(
+          where() + "the law's answer at (" + shortest(v(0)) + ", " + shortest(v(1)) + ", " + shortest(v(2)) + ")" +
+          (point.state.eps33() != 0 ? ", eps33 " + shortest(point.state.eps33()) : "") +
+          (point.state.gamma().isZero(0)
+               ? ""
+               : ", gamma (" + shortest(point.state.gamma()(0)) + ", " + shortest(point.state.gamma()(1)) + ")") +
+          " is not finite (the input is beyond what the law carries in doubles)");
     ++summary.rows;
     append_row(out, points.has_path() ? &point.path : nullptr, row, n);
     if (out.size() >= output_piece) {

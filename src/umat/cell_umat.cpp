@@ -191,17 +191,25 @@ int cell_law(int id, const double hash_constants[2], int n, const double* e, dou
   read_active(active, unknowns, h.active);
   read_active(active + unknowns, shear_rows, h.active_z);
 
-  // The law's order (xx, yy, xy, zz, xz, yz) from Abaqus's (11, 22, 33, 12, 13, 23) and back.
+  // The macro state in the law's order (xx, yy, xy, zz, xz, yz) from Abaqus's (11, 22, 33, 12,
+  // 13, 23), strain-driven, the in-plane part at load factor 1 and the rest held; the response
+  // goes back through the same map.
+  using dualcell::MacroState;
   static constexpr int law_of[6] = {0, 1, 3, 2, 4, 5};
-  const Eigen::Vector3d in_plane(e[0], e[1], n == 6 ? e[3] : e[2]);
-  const double eps33 = n == 6 ? e[2] : 0;
-  const Eigen::Vector2d gamma = n == 6 ? Eigen::Vector2d(e[4], e[5]) : Eigen::Vector2d::Zero();
+  MacroState state = MacroState::strain(Eigen::Vector3d::Zero());
+  for (int i = 0; i < n; ++i) {
+    const int k = n == 6 ? law_of[i] : i;
+    if (k < 3)
+      state.value(k) = e[i];
+    else
+      state.hold(static_cast<MacroState::Component>(k), e[i]);
+  }
   // Within the increment (the default) the point's debond cascade at this strain; between
   // increments the bonds held (a bonded row at its strength carries its strength), and the pairs
   // the cascade at this strain would break are only marked, to break at the start of the next
   // increment (cell_umat.h).
   const dualcell::law::BondMode mode = between ? dualcell::law::BondMode::held : dualcell::law::BondMode::cascade;
-  const dualcell::law::CellResponse r = evaluator->at_strain(in_plane, h, mode, eps33, gamma);
+  const dualcell::law::CellResponse r = evaluator->at(state, h, mode);
   if (!r.ok) {
     tell_once(id, "qp", "law " + std::to_string(id) + ": " + r.message);
     return 1;
@@ -209,8 +217,7 @@ int cell_law(int id, const double hash_constants[2], int n, const double* e, dou
   std::vector<std::uint8_t> pending;
   if (between) {
     dualcell::law::CellHistory next = h;
-    const dualcell::law::CellResponse c =
-        evaluator->at_strain(in_plane, next, dualcell::law::BondMode::cascade, eps33, gamma);
+    const dualcell::law::CellResponse c = evaluator->at(state, next, dualcell::law::BondMode::cascade);
     if (!c.ok) {
       tell_once(id, "qp", "law " + std::to_string(id) + ": " + c.message);
       return 1;

@@ -44,7 +44,7 @@ void expect_cell(law::CellEvaluator& law, ContactSolver& solver, const Eigen::Ve
   const Solution s = solver.solve_fixed(sigma, solver.intact());  // bonds held: none reaches its strength
   ASSERT_TRUE(s.converged()) << s.qp.message;
   law::CellHistory h = law.unloaded();
-  const law::CellResponse r = law.at_stress(sigma, h, eps33);
+  const law::CellResponse r = law.at(MacroState::stress(sigma).hold(MacroState::zz, eps33), h);
   ASSERT_TRUE(r.ok) << r.message;
   Eigen::Vector3d expected = engineering_from_tensor(s.strain), strain = r.strain;
   if (!shear) expected(2) = strain(2) = 0;
@@ -115,18 +115,18 @@ TEST(CondensedLongitudinal, TheStrainDrivenLawIsItsInverseWithItsTangentAndEnerg
   for (const auto& [sigma, eps33] : {std::pair{Eigen::Vector3d(0.01, -0.004, 0.003), 0.005},
                                      std::pair{Eigen::Vector3d(-0.008, 0.002, -0.001), -0.004}}) {
     law::CellHistory h = law.unloaded();
-    const law::CellResponse r = law.at_stress(sigma, h, eps33);
+    const law::CellResponse r = law.at(MacroState::stress(sigma).hold(MacroState::zz, eps33), h);
     ASSERT_TRUE(r.ok) << r.message;
     law::CellHistory h2 = law.unloaded();
-    const law::CellResponse back = law.at_strain(r.strain, h2, law::BondMode::cascade, eps33);
+    const law::CellResponse back = law.at(MacroState::strain(r.strain).hold(MacroState::zz, eps33), h2);
     ASSERT_TRUE(back.ok) << back.message;
     EXPECT_LE((back.stress - sigma).norm(), 1e-9 * sigma.norm());
     EXPECT_NEAR(back.stress_zz, r.stress_zz, 1e-9 * std::abs(r.stress_zz));
 
     const double step = 1e-7 * std::abs(eps33);
     law::CellHistory hp = law.unloaded(), hm = law.unloaded();
-    const law::CellResponse plus = law.at_strain(r.strain, hp, law::BondMode::cascade, eps33 + step);
-    const law::CellResponse minus = law.at_strain(r.strain, hm, law::BondMode::cascade, eps33 - step);
+    const law::CellResponse plus = law.at(MacroState::strain(r.strain).hold(MacroState::zz, eps33 + step), hp);
+    const law::CellResponse minus = law.at(MacroState::strain(r.strain).hold(MacroState::zz, eps33 - step), hm);
     const Eigen::Vector3d column = (plus.stress - minus.stress) / (2 * step);
     EXPECT_LE((column - back.tangent_zz).norm(), 1e-6 * back.tangent.norm());
     EXPECT_NEAR((plus.stress_zz - minus.stress_zz) / (2 * step), back.tangent_zz_zz, 1e-6 * back.tangent_zz_zz);
@@ -136,9 +136,9 @@ TEST(CondensedLongitudinal, TheStrainDrivenLawIsItsInverseWithItsTangentAndEnerg
       const double dk = 1e-7 * r.strain.norm();
       law::CellHistory a = law.unloaded(), b = law.unloaded();
       const double zz_plus =
-          law.at_strain(r.strain + dk * Eigen::Vector3d::Unit(k), a, law::BondMode::cascade, eps33).stress_zz;
+          law.at(MacroState::strain(r.strain + dk * Eigen::Vector3d::Unit(k)).hold(MacroState::zz, eps33), a).stress_zz;
       const double zz_minus =
-          law.at_strain(r.strain - dk * Eigen::Vector3d::Unit(k), b, law::BondMode::cascade, eps33).stress_zz;
+          law.at(MacroState::strain(r.strain - dk * Eigen::Vector3d::Unit(k)).hold(MacroState::zz, eps33), b).stress_zz;
       EXPECT_NEAR((zz_plus - zz_minus) / (2 * dk), back.tangent_zz(k), 1e-6 * back.tangent.norm()) << k;
     }
   }
@@ -160,7 +160,7 @@ TEST(CondensedLongitudinal, TheTransverseLawIsTheFullLawsInPlanePart) {
   EXPECT_LE((a.H - b.H).norm(), 1e-12 * b.H.norm());
   law::CellEvaluator law(b);
   law::CellHistory h = law.unloaded();
-  const law::CellResponse r = law.at_strain(Eigen::Vector3d(0.01, 0, 0), h, law::BondMode::cascade, 0.01);
+  const law::CellResponse r = law.at(MacroState::strain(Eigen::Vector3d(0.01, 0, 0)).hold(MacroState::zz, 0.01), h);
   EXPECT_FALSE(r.ok);
   EXPECT_NE(r.message.find("no strain along the fibres"), std::string::npos) << r.message;
   EXPECT_TRUE(std::isnan(law.at_strain(Eigen::Vector3d(0.01, 0, 0), h).stress_zz));
@@ -192,7 +192,8 @@ TEST(CondensedLongitudinal, TheShearAlongTheFibresIsTheAntiplaneSolveOfItsBondSt
   for (const auto& bonded : {cell.bonded, pattern}) {
     law::CellHistory h = law.unloaded();
     h.bonded = bonded;
-    const law::CellResponse r = law.at_strain(Eigen::Vector3d::Zero(), h, law::BondMode::held, 0, gamma);
+    const law::CellResponse r =
+        law.at(MacroState::strain(Eigen::Vector3d::Zero()).hold_shear(gamma), h, law::BondMode::held);
     ASSERT_TRUE(r.ok) << r.message;
     const Eigen::Matrix2d G = primal_G(bonded);
     EXPECT_LE((r.shear_z - G * gamma).norm(), 1e-10 * (G * gamma).norm());
@@ -205,15 +206,17 @@ TEST(CondensedLongitudinal, TheShearAlongTheFibresIsTheAntiplaneSolveOfItsBondSt
   // sees the weakened cell).
   law::CellHistory h = law.unloaded();
   law::CellHistory h0 = law.unloaded();
-  const double use = law.at_strain(Eigen::Vector3d::Zero(), h0, law::BondMode::held, 0, gamma).strength_use;
+  const double use =
+      law.at(MacroState::strain(Eigen::Vector3d::Zero()).hold_shear(gamma), h0, law::BondMode::held).strength_use;
   const Eigen::Vector2d large = 1.5 / use * gamma;  // half as much again as the first pair's strength
-  const law::CellResponse r = law.at_strain(Eigen::Vector3d::Zero(), h, law::BondMode::cascade, 0, large);
+  const law::CellResponse r = law.at(MacroState::strain(Eigen::Vector3d::Zero()).hold_shear(large), h);
   ASSERT_TRUE(r.ok) << r.message;
   EXPECT_GT(r.broken, 0);
   EXPECT_LT(r.strength_use, 1);
   const Eigen::Matrix2d G = primal_G(h.bonded);
   EXPECT_LE((r.shear_z - G * large).norm(), 1e-10 * (G * large).norm());
-  const law::CellResponse after = law.at_strain(Eigen::Vector3d::Zero(), h, law::BondMode::held, 0, gamma);
+  const law::CellResponse after =
+      law.at(MacroState::strain(Eigen::Vector3d::Zero()).hold_shear(gamma), h, law::BondMode::held);
   EXPECT_LE((after.tangent_z - G).norm(), 1e-10 * G.norm());
   EXPECT_LT(after.tangent_z(0, 0), primal_G(cell.bonded)(0, 0));
   // ⟨τ⟩ is the energy's derivative in Γ (held bonds: smooth within the state).
@@ -221,10 +224,12 @@ TEST(CondensedLongitudinal, TheShearAlongTheFibresIsTheAntiplaneSolveOfItsBondSt
     const double step = 1e-6;
     law::CellHistory a = h, b = h;
     const double plus =
-        law.at_strain(Eigen::Vector3d::Zero(), a, law::BondMode::held, 0, gamma + step * Eigen::Vector2d::Unit(k))
+        law.at(MacroState::strain(Eigen::Vector3d::Zero()).hold_shear(gamma + step * Eigen::Vector2d::Unit(k)), a,
+               law::BondMode::held)
             .energy;
     const double minus =
-        law.at_strain(Eigen::Vector3d::Zero(), b, law::BondMode::held, 0, gamma - step * Eigen::Vector2d::Unit(k))
+        law.at(MacroState::strain(Eigen::Vector3d::Zero()).hold_shear(gamma - step * Eigen::Vector2d::Unit(k)), b,
+               law::BondMode::held)
             .energy;
     EXPECT_NEAR((plus - minus) / (2 * step), after.shear_z(k), 1e-7 * after.shear_z.norm()) << k;
   }
@@ -236,7 +241,7 @@ TEST(CondensedLongitudinal, TheShearAlongTheFibresIsTheAntiplaneSolveOfItsBondSt
   EXPECT_EQ(open.shear_rows, 0);
   law::CellEvaluator open_law(open);
   law::CellHistory ho = open_law.unloaded();
-  const law::CellResponse ro = open_law.at_strain(Eigen::Vector3d::Zero(), ho, law::BondMode::cascade, 0, gamma);
+  const law::CellResponse ro = open_law.at(MacroState::strain(Eigen::Vector3d::Zero()).hold_shear(gamma), ho);
   const Eigen::Matrix2d holes = primal_G(std::vector<std::uint8_t>(open.n_pairs, 0));
   EXPECT_LE((ro.shear_z - holes * gamma).norm(), 1e-12 * (holes * gamma).norm());
 }

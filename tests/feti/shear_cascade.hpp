@@ -23,7 +23,8 @@ inline int expect_the_one_body_cascade(const mesh::Mesh& mesh, const Scene& scen
   law::CellEvaluator law(cell);
   std::vector<double> strength(cell.strength_z.data(), cell.strength_z.data() + cell.strength_z.size());
   law::CellHistory h0 = law.unloaded();
-  const law::CellResponse small = law.at_strain(Eigen::Vector3d::Zero(), h0, law::BondMode::held, 0, 1e-3 * direction);
+  const law::CellResponse small =
+      law.at(MacroState::strain(Eigen::Vector3d::Zero()).hold_shear(1e-3 * direction), h0, law::BondMode::held);
   std::vector<char> bonded(cell.bonded.begin(), cell.bonded.end());
   const primal::ShearResponse tied =
       primal::longitudinal_shear_at(mesh, scene.fibre, scene.matrix, bonded, 1e-3 * direction, strength);
@@ -34,7 +35,7 @@ inline int expect_the_one_body_cascade(const mesh::Mesh& mesh, const Scene& scen
   int broken = 0;
   for (const double factor : {0.5, 1.2, 2.0, 4.0}) {
     const Eigen::Vector2d gamma = factor * first * direction;
-    const law::CellResponse r = law.at_strain(Eigen::Vector3d::Zero(), h, law::BondMode::cascade, 0, gamma);
+    const law::CellResponse r = law.at(MacroState::strain(Eigen::Vector3d::Zero()).hold_shear(gamma), h);
     EXPECT_TRUE(r.ok) << r.message;
     primal::ShearResponse one_body;
     for (bool any = true; any;) {

@@ -42,7 +42,7 @@ const Cells& cells() {
 }
 
 CellResponse at(CellEvaluator& law, const Vector6d& e, CellHistory& h, BondMode bonds = BondMode::cascade) {
-  return law.at_strain(e.head<3>(), h, bonds, e(3), e.tail<2>());
+  return law.at(MacroState::ply_strain(e), h, bonds);
 }
 
 TEST(FusedPly, IsAConvexCellOfOnePairWithTheOnsetsFacetsInThePlaneAndAlongTheFibres) {

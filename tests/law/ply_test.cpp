@@ -50,7 +50,8 @@ TEST(PlyConstants, BondedTheyAreTheInverseOfTheLawsTangentAndTheAntiplaneSolve) 
   ASSERT_EQ(t.rows.size(), 4u);
   CellEvaluator law(c.cell);
   CellHistory h = law.unloaded();
-  const CellResponse r = law.at_strain(Eigen::Vector3d(1e-6, 0, 0), h, BondMode::held, 1e-6);
+  const CellResponse r =
+      law.at(MacroState::strain(Eigen::Vector3d(1e-6, 0, 0)).hold(MacroState::zz, 1e-6), h, BondMode::held);
   Eigen::Matrix4d D;
   D.topLeftCorner<3, 3>() = r.tangent;
   D.block<3, 1>(0, 3) = r.tangent_zz;

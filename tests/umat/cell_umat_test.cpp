@@ -254,8 +254,10 @@ TEST(CellUmat, TheWholePlyGivesAllSixComponentsFromTheCell) {
   for (const double scale : {1e-4, 1e-3, 5e-3, 2e-2, 5e-3, 0.0}) {
     const Eigen::Matrix<double, 6, 1> e = scale * direction;
     const Call6 c = call6(props, e, statev);
-    const CellResponse r =
-        library.at_strain(Eigen::Vector3d(e(0), e(1), e(3)), h, BondMode::cascade, e(2), Eigen::Vector2d(e(4), e(5)));
+    const CellResponse r = library.at(MacroState::strain(Eigen::Vector3d(e(0), e(1), e(3)))
+                                          .hold(MacroState::zz, e(2))
+                                          .hold_shear(Eigen::Vector2d(e(4), e(5))),
+                                      h);
     ASSERT_TRUE(r.ok) << r.message;
     ASSERT_EQ(c.pnewdt, 1) << scale;
     Eigen::Matrix<double, 6, 1> sigma;
@@ -298,8 +300,10 @@ TEST(CellUmat, BetweenIncrementsTheBondsAreHeldAndBreakAtTheNextIncrement) {
   const int law_of[6] = {0, 1, 3, 2, 4, 5};
   const auto library_at = [&](BondMode mode, CellHistory& h) {
     CellEvaluator library(cell);
-    const CellResponse r =
-        library.at_strain(Eigen::Vector3d(e(0), e(1), e(3)), h, mode, e(2), Eigen::Vector2d(e(4), e(5)));
+    const CellResponse r = library.at(MacroState::strain(Eigen::Vector3d(e(0), e(1), e(3)))
+                                          .hold(MacroState::zz, e(2))
+                                          .hold_shear(Eigen::Vector2d(e(4), e(5))),
+                                      h, mode);
     EXPECT_TRUE(r.ok) << r.message;
     return r;
   };
