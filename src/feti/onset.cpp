@@ -54,13 +54,11 @@ ContactSolver::Lifted& ContactSolver::lifted() {
 }
 
 double ContactSolver::debond_onset(const Eigen::Vector3d& sigma, std::vector<int>* critical) {
-  if (eps33_ != 0)
-    throw std::logic_error("debond_onset with a longitudinal strain: the load is not linear in its factor");
   if (critical) critical->clear();
   if (!setup_.scene().interface.has_adhesion()) return std::numeric_limits<double>::infinity();
   Lifted& lifted = this->lifted();
   const Eigen::VectorXd &lower = lifted.lower, &upper = lifted.upper;
-  const Solution s = solve_problem(*lifted.dual, lifted.norm_PFP, sigma, nullptr, nullptr,
+  const Solution s = solve_problem(*lifted.dual, lifted.norm_PFP, MacroState::stress(sigma), nullptr, nullptr,
                                    std::min(onset_qp_tolerance, setup_.scene().solver.tolerance));
   if (!s.converged()) return std::numeric_limits<double>::quiet_NaN();
   // The load factor at which row r reaches its bound (+inf where it never does along σ̄).
@@ -79,7 +77,6 @@ double ContactSolver::debond_onset(const Eigen::Vector3d& sigma, std::vector<int
 }
 
 law::OnsetSurface ContactSolver::onset_surface() {
-  if (eps33_ != 0) throw std::logic_error("onset_surface with a longitudinal strain: the load is not linear");
   law::OnsetSurface out;
   if (!setup_.scene().interface.has_adhesion()) {
     out.message = "no adhesion: nothing to break";
@@ -102,8 +99,8 @@ law::OnsetSurface ContactSolver::onset_surface() {
   const int n_unit = setup_.scene().load.boundary == Boundary::symmetry ? 2 : 3;
   Eigen::MatrixXd a = Eigen::MatrixXd::Zero(c.n_rows(), 3);
   for (int j = 0; j < n_unit; ++j) {
-    const Solution s = solve_problem(*lifted.dual, lifted.norm_PFP, Eigen::Vector3d::Unit(j), nullptr, nullptr,
-                                     std::min(onset_qp_tolerance, setup_.scene().solver.tolerance));
+    const Solution s = solve_problem(*lifted.dual, lifted.norm_PFP, MacroState::stress(Eigen::Vector3d::Unit(j)),
+                                     nullptr, nullptr, std::min(onset_qp_tolerance, setup_.scene().solver.tolerance));
     if (!s.converged()) {
       out.message = "the unit solve " + std::to_string(j) + " did not converge: " + s.qp.message;
       return out;

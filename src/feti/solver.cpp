@@ -145,8 +145,11 @@ ContactSolver::Cached& ContactSolver::cached(const BondState& bonds) {
 
 const DualProblem& ContactSolver::problem(const BondState& bonds) { return *cached(bonds).dual; }
 
-Solution ContactSolver::solve_fixed(const Eigen::Vector3d& sigma, const BondState& bonds,
-                                    const Eigen::VectorXd* warm_lambda, const Eigen::VectorXd* warm_multiplier) {
+Solution ContactSolver::solve_fixed(const MacroState& state, const BondState& bonds, const Eigen::VectorXd* warm_lambda,
+                                    const Eigen::VectorXd* warm_multiplier) {
+  if (!state.in_plane_stress() || state.delta_T() != 0)
+    throw std::invalid_argument("the full solver takes the in-plane macro stress, ε33 and Γ (no temperature change)");
+  const Eigen::Vector3d sigma = state.in_plane();
   if (setup_.scene().load.boundary == Boundary::symmetry && sigma(2) != 0)
     throw InputError("the symmetry boundary carries only sxx and syy (sxy must be 0)");
   if (setup_.scene().load.boundary == Boundary::edges && (sigma(1) != 0 || sigma(2) != 0))
@@ -162,7 +165,7 @@ Solution ContactSolver::solve_fixed(const Eigen::Vector3d& sigma, const BondStat
   Cached& c = cached(bonds);
   const DualProblem& dual = *c.dual;
   const double dual_setup = rebuilt ? seconds_since(t0) : 0.0;
-  Solution out = solve_problem(dual, c.norm_PFP, sigma, warm_lambda, warm_multiplier);
+  Solution out = solve_problem(dual, c.norm_PFP, state, warm_lambda, warm_multiplier);
   // A well-posed problem must not end in "failed": when the QP converged but the recovered
   // primal solution misses its check (a stiffness contrast amplifies the dual residual in u),
   // the dual tolerance does not give the accuracy this problem needs. Tighten it a decade at a
@@ -170,7 +173,7 @@ Solution ContactSolver::solve_fixed(const Eigen::Vector3d& sigma, const BondStat
   // (A non-finite answer is not a matter of tolerance: no tightening mends it.)
   while (out.qp_converged() && !out.primal_ok && out.u.allFinite() && out.qp_tolerance > min_qp_tolerance) {
     const double tighter = std::max(out.qp_tolerance / 10, min_qp_tolerance);
-    Solution next = solve_problem(dual, c.norm_PFP, sigma, &out.lambda, &out.multiplier, tighter);
+    Solution next = solve_problem(dual, c.norm_PFP, state, &out.lambda, &out.multiplier, tighter);
     next.add_work(out);
     ++next.tightenings;
     out = std::move(next);
@@ -180,12 +183,14 @@ Solution ContactSolver::solve_fixed(const Eigen::Vector3d& sigma, const BondStat
   return out;
 }
 
-Solution ContactSolver::solve_problem(const DualProblem& dual, double norm_PFP, const Eigen::Vector3d& sigma,
+Solution ContactSolver::solve_problem(const DualProblem& dual, double norm_PFP, const MacroState& state,
                                       const Eigen::VectorXd* warm_lambda, const Eigen::VectorXd* warm_multiplier,
                                       double qp_tolerance) {
   Solution out;
   out.qp_tolerance = qp_tolerance > 0 ? qp_tolerance : setup_.scene().solver.tolerance;
+  const Eigen::Vector3d sigma = state.in_plane();
   out.sigma = sigma;
+  out.eps33 = state.eps33();
   out.seconds.assembly = setup_.seconds_assembly;
   out.seconds.factorisation = setup_.seconds_factorisation;
   out.seconds.explicit_operators = setup_.seconds_explicit;
@@ -197,7 +202,7 @@ Solution ContactSolver::solve_problem(const DualProblem& dual, double norm_PFP, 
 
   const auto t_qp = Clock::now();
   const DualProblem::Profile profile_before = dual.profile();
-  const Eigen::VectorXd f = setup_.load(sigma, eps33_);
+  const Eigen::VectorXd f = setup_.load(sigma, out.eps33);
   const Eigen::VectorXd e = dual.e(f);
   const Eigen::VectorXd lambda0 = dual.lambda_0(e);
   const Eigen::VectorXd d = dual.d(f, setup_.load_factor(sigma));
@@ -272,17 +277,16 @@ Solution ContactSolver::solve_problem(const DualProblem& dual, double norm_PFP, 
   return out;
 }
 
-void ContactSolver::set_longitudinal_shear(const Eigen::Vector2d& gamma) {
-  const Scene& scene = setup_.scene();
-  if (!gamma.isZero(0) && (scene.load.macro != Macro::full || scene.load.boundary != Boundary::periodic))
-    throw std::invalid_argument(
-        "a shear along the fibres needs a periodic cell with [load] macro = \"full\" (the antiplane problem)");
-  gamma_ = gamma;
-  if (!gamma.isZero(0) && shear_strength_.empty()) shear_strength_ = shear_strengths(setup_.mesh(), scene);
-}
-
-Solution ContactSolver::solve(const Eigen::Vector3d& sigma, const BondState& bonds, const Eigen::VectorXd* warm_lambda,
+Solution ContactSolver::solve(const MacroState& state, const BondState& bonds, const Eigen::VectorXd* warm_lambda,
                               const Eigen::VectorXd* warm_multiplier) {
+  const Scene& scene = setup_.scene();
+  const Eigen::Vector2d gamma = state.gamma();
+  if (!gamma.isZero(0)) {
+    if (scene.load.macro != Macro::full || scene.load.boundary != Boundary::periodic)
+      throw std::invalid_argument(
+          "a shear along the fibres needs a periodic cell with [load] macro = \"full\" (the antiplane problem)");
+    if (shear_strength_.empty()) shear_strength_ = shear_strengths(setup_.mesh(), scene);
+  }
   BondState current = bonds;
   Solution total;
   Solution previous;  // the work of the rounds before the current one
@@ -293,7 +297,7 @@ Solution ContactSolver::solve(const Eigen::Vector3d& sigma, const BondState& bon
   const bool adhesion = setup_.scene().interface.has_adhesion();
   for (int round = 1;; ++round) {
     // The caller's multiplier belongs to the first problem only: after breaks the rows change.
-    Solution s = solve_fixed(sigma, current, warm.size() ? &warm : nullptr, round == 1 ? warm_multiplier : nullptr);
+    Solution s = solve_fixed(state, current, warm.size() ? &warm : nullptr, round == 1 ? warm_multiplier : nullptr);
     // Bonds at their strength break, normal and tangential together (docs/method.md §11). No loop at
     // all without adhesion.
     std::vector<int> breaking;
@@ -305,16 +309,15 @@ Solution ContactSolver::solve(const Eigen::Vector3d& sigma, const BondState& bon
           breaking.push_back(con.pair[r]);
       }
     }
-    if (!gamma_.isZero(0) && s.qp_converged()) {
+    if (!gamma.isZero(0) && s.qp_converged()) {
       // The shear along the fibres with the same bonds: ties only where bonds carry shear (s_t > 0;
       // otherwise the fibres slip along z, as the exact law's cell without shear rows).
-      const Scene& scene = setup_.scene();
       const bool ties = scene.interface.tangential_strength > 0;
       std::vector<char> bonded(current.size(), 0);
       for (std::size_t p = 0; p < current.size(); ++p) bonded[p] = ties && current[p] ? 1 : 0;
       const primal::ShearResponse z =
-          primal::longitudinal_shear_at(setup_.mesh(), scene.fibre, scene.matrix, bonded, gamma_, shear_strength_);
-      s.gamma = gamma_;
+          primal::longitudinal_shear_at(setup_.mesh(), scene.fibre, scene.matrix, bonded, gamma, shear_strength_);
+      s.gamma = gamma;
       s.shear_stress = z.tau;
       for (const int p : ties_at_strength(z.pair_forces, bonded, shear_strength_)) breaking.push_back(p);
     }

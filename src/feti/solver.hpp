@@ -17,6 +17,7 @@
 #include <optional>
 #include <vector>
 
+#include "core/macro_state.hpp"
 #include "feti/constraints.hpp"
 #include "feti/dual.hpp"
 #include "feti/setup.hpp"
@@ -79,7 +80,7 @@ struct Solution {
   // Generalised plane strain (docs/method.md §3a): the longitudinal strain ε33 the solve had and
   // the volume average of σzz (plane strain, ε33 = 0: ν's share of the in-plane stresses).
   double eps33 = 0, average_stress_zz = 0;
-  // With shears Γ = (γxz, γyz) along the fibres (ContactSolver::set_longitudinal_shear): Γ and the
+  // With shears Γ = (γxz, γyz) along the fibres (a macro state holding them, ContactSolver::solve): Γ and the
   // average shear stress ⟨τ⟩ = (τxz, τyz) of the final bond state; zero (Γ) and NaN (τ) without.
   Eigen::Vector2d gamma = Eigen::Vector2d::Zero();
   Eigen::Vector2d shear_stress = Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN());
@@ -133,16 +134,36 @@ class ContactSolver {
   ContactSolver(const ContactSolver&) = delete;
   ContactSolver& operator=(const ContactSolver&) = delete;
 
+  // The macro state of a solve (core/macro_state.hpp): the in-plane macro stress σ̄ (stress-driven;
+  // for boundary = "edges" the load factor (t, 0, 0) of the scene's loads), with what it holds:
+  // a uniform strain ε33 along the fibres (generalised plane strain, docs/method.md §3a: each
+  // subdomain's eigen-stress λ ε33 (1, 1, 0) in the load and in the stresses, σzz averaged into
+  // Solution::average_stress_zz), and the shears Γ = (γxz, γyz) along them (a periodic cell with
+  // [load] macro = "full", §16a: solve() runs the antiplane one-body solve of each round's bond
+  // state beside the QP, primal::longitudinal_shear_at, each tie bounded by its strength s_t L,
+  // and a pair whose tie reaches it breaks as a whole with the in-plane breaks of that round, as
+  // the exact law's cascade does; ⟨τ⟩ in Solution::shear_stress; std::invalid_argument for another
+  // scene). Nothing held, the default, is plane strain, every result as before bit for bit.
+  //
   // One QP for a fixed bond state: no bond breaks even where a multiplier sits at its strength.
   // `warm_lambda` (physical) and `warm_multiplier` (SMALBE's m) of the same bond state start the
   // iteration; scaled to a new load they are the exact answer of a positively homogeneous
   // problem (no adhesion), so a proportional step costs almost nothing.
-  Solution solve_fixed(const Eigen::Vector3d& sigma, const BondState& bonds,
-                       const Eigen::VectorXd* warm_lambda = nullptr, const Eigen::VectorXd* warm_multiplier = nullptr);
+  Solution solve_fixed(const MacroState& state, const BondState& bonds, const Eigen::VectorXd* warm_lambda = nullptr,
+                       const Eigen::VectorXd* warm_multiplier = nullptr);
   // Solve, break every bond at its strength (normal and tangential together), re-solve until
   // no new break (docs/method.md §11). `bonds` is the state before the load; the result carries the new one.
-  Solution solve(const Eigen::Vector3d& sigma, const BondState& bonds, const Eigen::VectorXd* warm_lambda = nullptr,
+  Solution solve(const MacroState& state, const BondState& bonds, const Eigen::VectorXd* warm_lambda = nullptr,
                  const Eigen::VectorXd* warm_multiplier = nullptr);
+  // The in-plane macro stress alone: MacroState::stress(sigma).
+  Solution solve_fixed(const Eigen::Vector3d& sigma, const BondState& bonds,
+                       const Eigen::VectorXd* warm_lambda = nullptr, const Eigen::VectorXd* warm_multiplier = nullptr) {
+    return solve_fixed(MacroState::stress(sigma), bonds, warm_lambda, warm_multiplier);
+  }
+  Solution solve(const Eigen::Vector3d& sigma, const BondState& bonds, const Eigen::VectorXd* warm_lambda = nullptr,
+                 const Eigen::VectorXd* warm_multiplier = nullptr) {
+    return solve(MacroState::stress(sigma), bonds, warm_lambda, warm_multiplier);
+  }
 
   // s* = min over bonded rows of bound/λ(σ̄): the load factor t at which the first bond of the
   // intact interface reaches its strength under t·σ̄ (docs/method.md §11), from one solve of the bonded
@@ -173,21 +194,6 @@ class ContactSolver {
     lifted_ = {};
   }
 
-  // A uniform longitudinal strain ε33 (along the fibres) with the σ̄ of every later solve:
-  // generalised plane strain (docs/method.md §3a), each subdomain's eigen-stress λ ε33 (1, 1, 0)
-  // in the load and in the stresses, σzz averaged into Solution::average_stress_zz. 0, the
-  // default, is plane strain, every result unchanged bit for bit.
-  void set_longitudinal_strain(double eps33) { eps33_ = eps33; }
-  double longitudinal_strain() const { return eps33_; }
-  // The shears Γ = (γxz, γyz) along the fibres with every later solve (a periodic cell with
-  // [load] macro = "full", docs/method.md §16a): solve() then runs the antiplane one-body solve
-  // of each round's bond state beside the QP (primal::longitudinal_shear_at, each tie bounded by
-  // its strength s_t L), and a pair whose tie reaches it breaks as a whole with the in-plane
-  // breaks of that round, as the exact law's cascade does; ⟨τ⟩ in Solution::shear_stress. 0, the
-  // default, leaves every result unchanged. Throws std::invalid_argument for another scene.
-  void set_longitudinal_shear(const Eigen::Vector2d& gamma);
-  const Eigen::Vector2d& longitudinal_shear() const { return gamma_; }
-
   const FetiSetup& setup() const { return setup_; }
   const DualProblem& problem(const BondState& bonds);
   BondState intact() const { return intact_bonds(setup_.mesh(), setup_.scene().interface); }
@@ -195,7 +201,7 @@ class ContactSolver {
  private:
   // One QP at the dual tolerance `qp_tolerance` (the scene's when ≤ 0); the primal check always
   // uses the scene's tolerance.
-  Solution solve_problem(const DualProblem& problem, double norm_PFP, const Eigen::Vector3d& sigma,
+  Solution solve_problem(const DualProblem& problem, double norm_PFP, const MacroState& state,
                          const Eigen::VectorXd* warm_lambda, const Eigen::VectorXd* warm_multiplier = nullptr,
                          double qp_tolerance = 0);
   void recover(const DualProblem& problem, const Eigen::VectorXd& f, const Eigen::VectorXd& d,
@@ -221,9 +227,7 @@ class ContactSolver {
   Progress* progress_ = nullptr;
   Cached intact_, other_;
   Lifted lifted_;
-  double eps33_ = 0;
-  Eigen::Vector2d gamma_ = Eigen::Vector2d::Zero();
-  std::vector<double> shear_strength_;  // per pair, s_t L (shear_strengths), once Γ is set
+  std::vector<double> shear_strength_;  // per pair, s_t L (shear_strengths), at the first solve with Γ
 };
 
 }  // namespace dualcell::feti

@@ -50,7 +50,7 @@ feti::Solution solve_steps(feti::ContactSolver& solver, const Scene& scene, feti
   const int watch = feti::node_at(solver.setup().mesh(), loads.watch, loads.watch_where, "[output] watch");
   steps.first_break_factor = solver.debond_onset(Eigen::Vector3d(1, 0, 0));
   const feti::BondState intact = solver.intact();
-  sweep::LoadWalk walk(solver, Eigen::Vector3d(1, 0, 0), std::move(bonds));
+  sweep::LoadWalk walk(solver, MacroState::stress(Eigen::Vector3d(1, 0, 0)), std::move(bonds));
   feti::Solution s;
   for (std::size_t k = 0; k < loads.factors.size(); ++k) {
     const double t = loads.factors[k];
@@ -140,14 +140,13 @@ SolveOutcome run_solve(const SolveOptions& options) {
   feti::ContactSolver solver(in.mesh, in.scene, options.threads, feti::FetiSetup::default_min_dofs_per_thread,
                              par::Group::world(), &progress);
   const feti::BondState bonds = bonds_read ? *bonds_read : solver.intact();
-  solver.set_longitudinal_strain(options.eps33);
   SolveOutcome outcome;
   feti::Timings work;
   if (edges) {
     outcome.steps.emplace();
     outcome.solution = solve_steps(solver, in.scene, bonds, *outcome.steps, work, progress);
   } else {
-    outcome.solution = solver.solve(sigma, bonds);
+    outcome.solution = solver.solve(MacroState::stress(sigma).hold(MacroState::zz, options.eps33), bonds);
     work = outcome.solution.seconds;
   }
   outcome.ranks = io::unpack_rank_table(solver.setup().group().gather(io::pack(rank_entry(solver, work))));

@@ -196,8 +196,8 @@ std::vector<sweep::LongitudinalPoint> longitudinal_points(feti::ContactSolver& s
   std::vector<sweep::LongitudinalPoint> points;
   for (const Eigen::Vector3d& sigma : stresses)
     for (const double eps33 : {e, -e}) {
-      solver.set_longitudinal_strain(eps33);
-      const feti::Solution sol = solver.solve_fixed(sigma, solver.intact());
+      const feti::Solution sol =
+          solver.solve_fixed(MacroState::stress(sigma).hold(MacroState::zz, eps33), solver.intact());
       if (sol.converged()) points.push_back({sigma, eps33, sol.strain, sol.average_stress_zz, 0});
     }
   // Past the fuse: twice the onset along each uniaxial path, with ε33 = ±(that stress over the
@@ -208,14 +208,13 @@ std::vector<sweep::LongitudinalPoint> longitudinal_points(feti::ContactSolver& s
       if (const double along = law::onset_along(onset, u); std::isfinite(along))
         for (const double sign : {1.0, -1.0}) {
           const double eps33 = sign * 2 * along / std::min(scene.fibre.E, scene.matrix.E);
-          solver.set_longitudinal_strain(eps33);
-          const feti::Solution sol = solver.solve(2 * along * u, solver.intact());
+          const feti::Solution sol =
+              solver.solve(MacroState::stress(2 * along * u).hold(MacroState::zz, eps33), solver.intact());
           if (!sol.converged()) continue;
           long broken = 0;
           for (const auto b : sol.bonds) broken += b == 0;
           points.push_back({2 * along * u, eps33, sol.strain, sol.average_stress_zz, broken});
         }
-  solver.set_longitudinal_strain(0);
   return points;
 }
 

@@ -52,7 +52,7 @@ feti::Solution LoadWalk::solve(double load, const feti::BondState* from) {
     scaled = lambda_ * (load / load_);
     if (multiplier_.size() == lambda_.size()) scaled_multiplier = multiplier_ * (load / load_);
   }
-  return solver_.solve(load * unit_stress_, from ? *from : bonds_, scaled.size() ? &scaled : nullptr,
+  return solver_.solve(direction_.at_factor(load), from ? *from : bonds_, scaled.size() ? &scaled : nullptr,
                        scaled_multiplier.size() ? &scaled_multiplier : nullptr);
 }
 
@@ -166,16 +166,6 @@ PathResult run_path(feti::ContactSolver& solver, const PathSpec& spec, double fu
   result.spec = spec;
   const feti::BondState intact = solver.intact();
   const bool adhesion = solver.setup().scene().interface.has_adhesion();
-  // The path's strain along the fibres, held while it runs and cleared after, however it ends.
-  struct HeldStrain {
-    feti::ContactSolver& solver;
-    ~HeldStrain() {
-      solver.set_longitudinal_strain(0);
-      solver.set_longitudinal_shear(Eigen::Vector2d::Zero());
-    }
-  } held{solver};
-  solver.set_longitudinal_strain(spec.eps33);
-  solver.set_longitudinal_shear(spec.gamma);
 
   // The schedule, with the exact onset inserted where it falls inside it (plane strain only).
   std::vector<double> loads = spec.loads;
@@ -190,7 +180,9 @@ PathResult run_path(feti::ContactSolver& solver, const PathSpec& spec, double fu
     }
   }
 
-  LoadWalk walk(solver, spec.unit_stress, intact);
+  // The path's macro state: its stress t·N with the strain and the shears along the fibres it holds.
+  LoadWalk walk(solver, MacroState::stress(spec.unit_stress).hold(MacroState::zz, spec.eps33).hold_shear(spec.gamma),
+                intact);
   Eigen::Vector3d previous_strain = Eigen::Vector3d::Zero();
   auto record = [&](double load, const feti::Solution& s, double seconds) {
     result.steps.push_back(make_step(load, s, count_broken(intact, s.bonds), seconds));

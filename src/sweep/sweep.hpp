@@ -8,7 +8,7 @@
 // are the in-plane stress's, its steps record σ33, and it has no exact onset (the load is not
 // linear in its factor then), so its jumps are bracketed by bisection alone. A path of [sweep]
 // gamma holds those shears along the fibres likewise (the antiplane solve beside each QP, its
-// ties breaking with the bonds: feti::ContactSolver::set_longitudinal_shear); its steps record
+// ties breaking with the bonds: the macro state's Γ in feti::ContactSolver::solve); its steps record
 // ⟨τ⟩, and its first step is the shear alone (load 0), so that the bonds it breaks by itself are
 // a state of the path, as the exact law's replay meets them.
 //
@@ -130,14 +130,16 @@ struct PathResult {
 // for a direction the boundary condition cannot carry (symmetry: shear-free only).
 std::vector<PathSpec> plan_paths(const Scene& scene);
 
-// A walk along loads t·N from a bond state: each solve starts from the last accepted state's
-// bonds (breaks are irreversible) and warm-starts from its λ and SMALBE multiplier scaled to the
-// new load (exact for a positively homogeneous step, so a proportional step costs almost
-// nothing). The sweep's paths and the load steps of a resolved structure walk this way.
+// A walk along the load factor t of a macro state (core/macro_state.hpp: its in-plane stress
+// t·N, with what it holds along the fibres) from a bond state: each solve starts from the last
+// accepted state's bonds (breaks are irreversible) and warm-starts from its λ and SMALBE
+// multiplier scaled to the new load (exact for a positively homogeneous step, so a proportional
+// step costs almost nothing). The sweep's paths and the load steps of a resolved structure walk
+// this way.
 class LoadWalk {
  public:
-  LoadWalk(feti::ContactSolver& solver, const Eigen::Vector3d& unit_stress, feti::BondState bonds)
-      : solver_(solver), unit_stress_(unit_stress), bonds_(std::move(bonds)) {}
+  LoadWalk(feti::ContactSolver& solver, const MacroState& direction, feti::BondState bonds)
+      : solver_(solver), direction_(direction), bonds_(std::move(bonds)) {}
   // The solve at `load` from the last accepted state, or from `from` (the accepted bonds with
   // some more broken) when given.
   feti::Solution solve(double load, const feti::BondState* from = nullptr);
@@ -148,7 +150,7 @@ class LoadWalk {
 
  private:
   feti::ContactSolver& solver_;
-  Eigen::Vector3d unit_stress_;
+  MacroState direction_;
   feti::BondState bonds_;
   Eigen::VectorXd lambda_, multiplier_;
   double load_ = 0;

@@ -1,6 +1,6 @@
 // The exact law with the strain along the fibres (a scene's [load] macro = "full", docs/method.md
 // §16a): the cell condensed with the ε33 column against the full dual solve of generalised plane
-// strain (ContactSolver::set_longitudinal_strain) at loads no condensation step saw, with contact
+// strain (ContactSolver::solve_fixed with the macro state's ε33) at loads no condensation step saw, with contact
 // closing and opening and with bonds; against its own algebra (reciprocity, the tangent as the
 // derivative, σ33 as the energy's); and the transverse law unchanged beside it.
 #include <gtest/gtest.h>
@@ -40,8 +40,8 @@ Scene cell_scene(Boundary boundary, double strength, Macro macro = Macro::full) 
 // The law at (σ̄, ε33) against the full solve: ε̄ and σ33, each relative to the response's size.
 void expect_cell(law::CellEvaluator& law, ContactSolver& solver, const Eigen::Vector3d& sigma, double eps33,
                  bool shear) {
-  solver.set_longitudinal_strain(eps33);
-  const Solution s = solver.solve_fixed(sigma, solver.intact());  // bonds held: none reaches its strength
+  // Bonds held: none reaches its strength.
+  const Solution s = solver.solve_fixed(MacroState::stress(sigma).hold(MacroState::zz, eps33), solver.intact());
   ASSERT_TRUE(s.converged()) << s.qp.message;
   law::CellHistory h = law.unloaded();
   const law::CellResponse r = law.at(MacroState::stress(sigma).hold(MacroState::zz, eps33), h);

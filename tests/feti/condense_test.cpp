@@ -242,7 +242,7 @@ TEST(CondensedAdhesion, ThroughTheFuseAlongAPathAsTheCellDoes) {
       // The onset of §11 (a QP at tolerance 1e-10 on the lifted problem) against the law's.
       const double onset = solver.debond_onset(N);
       EXPECT_NEAR(law.onset(N), onset, against_solver * onset) << N.transpose();
-      sweep::LoadWalk walk(solver, N, solver.intact());
+      sweep::LoadWalk walk(solver, MacroState::stress(N), solver.intact());
       law::CellHistory h = law.unloaded();
       int broken_seen = 0;
       for (const double fraction : {0.5, 0.9, 1.05, 1.3, 1.8, 2.5}) {

@@ -40,18 +40,17 @@ inline void expect_hill_relations(const mesh::Mesh& m, const Scene& scene, doubl
 
   // The uniform state.
   const double e = -(f.lambda - mx.lambda) / (2 * (kf - km)), s = 2 * kf * e + f.lambda;
-  solver.set_longitudinal_strain(1);
-  const feti::Solution uniform = solver.solve_fixed(Eigen::Vector3d(s, s, 0), solver.intact());
+  const feti::Solution uniform =
+      solver.solve_fixed(MacroState::stress(Eigen::Vector3d(s, s, 0)).hold(MacroState::zz, 1), solver.intact());
   ASSERT_TRUE(uniform.converged()) << what << ": " << uniform.qp.message;
   EXPECT_LE((uniform.strain - Eigen::Vector3d(e, e, 0)).norm(), tolerance * std::abs(e)) << what;
   const double zz = vf * (2 * f.lambda * e + f.lambda + 2 * f.mu) + vm * (2 * mx.lambda * e + mx.lambda + 2 * mx.mu);
   EXPECT_NEAR(uniform.average_stress_zz, zz, tolerance * zz) << what;
 
   // k23, then E1 and ν12, against Hill's relations.
-  solver.set_longitudinal_strain(0);
   const feti::Solution biaxial = solver.solve_fixed(Eigen::Vector3d(1, 1, 0), solver.intact());
-  solver.set_longitudinal_strain(1);
-  const feti::Solution axial = solver.solve_fixed(Eigen::Vector3d::Zero(), solver.intact());
+  const feti::Solution axial =
+      solver.solve_fixed(MacroState::stress(Eigen::Vector3d::Zero()).hold(MacroState::zz, 1), solver.intact());
   ASSERT_TRUE(biaxial.converged() && axial.converged()) << what;
   const double inv_k23 = biaxial.strain(0) + biaxial.strain(1);
   const double E1 = axial.average_stress_zz, nu12 = -(axial.strain(0) + axial.strain(1)) / 2;

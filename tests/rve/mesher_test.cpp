@@ -322,8 +322,8 @@ TEST(RveMesher, TheExactLawOfAnRveWithCutFibresIsItsCell) {
   for (const double eps33 : {0.0, 0.3, -0.3})
     for (const Eigen::Vector3d& sigma :
          {Eigen::Vector3d(1, 0.2, 0), Eigen::Vector3d(-0.3, -1, 0.4), Eigen::Vector3d(0.5, -0.5, -0.7)}) {
-      solver.set_longitudinal_strain(eps33);
-      const feti::Solution full = solver.solve_fixed(sigma, solver.intact());
+      const feti::Solution full =
+          solver.solve_fixed(MacroState::stress(sigma).hold(MacroState::zz, eps33), solver.intact());
       ASSERT_TRUE(full.converged());
       law::CellHistory h = law.unloaded();
       const law::CellResponse r = law.at(MacroState::stress(sigma).hold(MacroState::zz, eps33), h);
