@@ -468,7 +468,7 @@ law::Law fit_law(const std::vector<sweep::PathResult>& all_paths, const sweep::S
   law.onset = header.onset;
   if (law.onset.linear) {
     for (const auto& p : paths) {
-      const Eigen::Vector3d N = p.spec.sign * p.spec.unit_stress;
+      const Eigen::Vector3d N = p.spec.sign * p.spec.state.in_plane();
       law.onset.path_stress.push_back(N);
       law.onset.path_onset.push_back(law::onset_along(law.onset, N));
       law.onset.path_sweep_onset.push_back(p.fuse ? std::abs(p.fuse->onset_load) : nan);

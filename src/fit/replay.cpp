@@ -100,8 +100,8 @@ law::CellReplay replay_cell(const law::CondensedCell& cell, const std::vector<sw
     history.bonded = cell.bonded;
     for (std::size_t k = 0; k < paths[i].steps.size(); ++k) {
       const sweep::Step& step = paths[i].steps[k];
-      const double eps33 = paths[i].spec.eps33;
-      const Eigen::Vector2d& gamma = paths[i].spec.gamma;
+      const double eps33 = paths[i].spec.state.eps33();
+      const Eigen::Vector2d gamma = paths[i].spec.state.gamma();
       const law::CellResponse r =
           evaluator.at(MacroState::stress(step.stress).hold(MacroState::zz, eps33).hold_shear(gamma), history);
       if (!r.ok)

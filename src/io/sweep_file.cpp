@@ -29,8 +29,8 @@ void write_path(File& f, const sweep::PathResult& p) {
   f.write_attribute(g, "direction_deg", p.spec.direction_deg);
   f.write_attribute(g, "sign", std::int64_t{p.spec.sign});
   f.write_attribute(g, "sphere", std::int64_t{p.spec.sphere ? 1 : 0});
-  f.write_attribute(g, "unit_stress",
-                    std::vector<double>{p.spec.unit_stress(0), p.spec.unit_stress(1), p.spec.unit_stress(2)});
+  const Eigen::Vector3d N = p.spec.state.in_plane();
+  f.write_attribute(g, "unit_stress", std::vector<double>{N(0), N(1), N(2)});
   f.write_attribute(g, "schedule", p.spec.loads);
   for (const StepColumn& c : step_columns) {
     const std::string name = g + "/" + c.name;
@@ -51,15 +51,15 @@ void write_path(File& f, const sweep::PathResult& p) {
   }
   // A path with a strain along the fibres: that strain and σ33 per step (left out of every other
   // path, whose files stay as they were).
-  if (p.spec.eps33 != 0) {
-    f.write_attribute(g, "eps33", p.spec.eps33);
+  if (p.spec.state.eps33() != 0) {
+    f.write_attribute(g, "eps33", p.spec.state.eps33());
     std::vector<double> zz;
     for (const auto& s : p.steps) zz.push_back(s.stress_zz);
     f.write(g + "/stress_zz", zz, {n});
   }
   // A path with shears along the fibres: Γ and ⟨τ⟩ per step (likewise only there).
-  if (!p.spec.gamma.isZero(0)) {
-    f.write_attribute(g, "gamma", std::vector<double>{p.spec.gamma(0), p.spec.gamma(1)});
+  if (const Eigen::Vector2d gamma = p.spec.state.gamma(); !gamma.isZero(0)) {
+    f.write_attribute(g, "gamma", std::vector<double>{gamma(0), gamma(1)});
     std::vector<double> tau;
     for (const auto& s : p.steps) tau.insert(tau.end(), s.shear_stress.data(), s.shear_stress.data() + 2);
     f.write(g + "/shear_stress", tau, {n, 2});
@@ -87,10 +87,11 @@ sweep::PathResult read_path(const File& f, int index) {
     throw InputError(where + ": attribute sphere = " + std::to_string(sphere) + ", not 0 or 1");
   p.spec.sphere = sphere == 1;
   const auto unit = f.read_double_attribute(g, "unit_stress", 3);
-  p.spec.unit_stress = {unit[0], unit[1], unit[2]};
+  p.spec.state = MacroState::stress(Eigen::Vector3d(unit[0], unit[1], unit[2]));
   p.spec.loads = f.read_double_attribute(g, "schedule");
   // NaN marks a stress_directions path; anything else must be a real path of sign ±1.
-  if (std::isinf(p.spec.direction_deg) || (p.spec.sign != 1 && p.spec.sign != -1) || !p.spec.unit_stress.allFinite())
+  if (std::isinf(p.spec.direction_deg) || (p.spec.sign != 1 && p.spec.sign != -1) ||
+      !p.spec.state.in_plane().allFinite())
     throw InputError(where + ": attributes direction_deg, sign or unit_stress out of range (truncated or corrupt?)");
   const hsize_t n = f.read_doubles(g + "/load", {any_extent}).size();
   p.steps.resize(n);
@@ -115,23 +116,25 @@ sweep::PathResult read_path(const File& f, int index) {
     }
   }
   if (f.has_attribute(g, "eps33")) {
-    p.spec.eps33 = f.read_double_attribute_value(g, "eps33");
-    if (!std::isfinite(p.spec.eps33) || p.spec.eps33 == 0)
-      throw InputError(where + ": attribute eps33 = " + shortest(p.spec.eps33) + ", not a finite non-zero strain");
+    const double eps33 = f.read_double_attribute_value(g, "eps33");
+    if (!std::isfinite(eps33) || eps33 == 0)
+      throw InputError(where + ": attribute eps33 = " + shortest(eps33) + ", not a finite non-zero strain");
+    p.spec.state.hold(MacroState::zz, eps33);
     const auto zz = f.read_doubles(g + "/stress_zz", {n}, " like " + g + "/load");
     for (hsize_t i = 0; i < n; ++i) p.steps[i].stress_zz = zz[i];
   }
   if (f.has_attribute(g, "gamma")) {
     const auto gamma = f.read_double_attribute(g, "gamma", 2);
-    p.spec.gamma = {gamma[0], gamma[1]};
-    if (!p.spec.gamma.allFinite() || p.spec.gamma.isZero(0))
+    const Eigen::Vector2d held(gamma[0], gamma[1]);
+    if (!held.allFinite() || held.isZero(0))
       throw InputError(where + ": attribute gamma = " + shortest(gamma) + ", not finite shears, not both 0");
+    p.spec.state.hold_shear(held);
     const auto tau = f.read_doubles(g + "/shear_stress", {n, 2}, " like " + g + "/load");
     for (hsize_t i = 0; i < n; ++i) p.steps[i].shear_stress = {tau[2 * i], tau[2 * i + 1]};
   }
   // Loads and applied stresses are always finite; strains of a converged step too, and its
   // stress along the fibres (a path with eps33) and its shear stresses (a path with gamma).
-  const bool zz = p.spec.eps33 != 0, shear = !p.spec.gamma.isZero(0);
+  const bool zz = p.spec.state.eps33() != 0, shear = !p.spec.state.gamma().isZero(0);
   for (hsize_t i = 0; i < n; ++i) {
     const sweep::Step& s = p.steps[i];
     if (!std::isfinite(s.load)) throw InputError(where + "/load: non-finite load in row " + std::to_string(i));

@@ -185,7 +185,7 @@ std::vector<sweep::LongitudinalPoint> longitudinal_points(feti::ContactSolver& s
   // The uniaxial paths' directions with their signs, as the sweep planned them.
   std::vector<Eigen::Vector3d> units;
   for (const sweep::PathSpec& spec : specs)
-    if (!std::isnan(spec.direction_deg) && spec.in_plane()) units.push_back(spec.sign * spec.unit_stress);
+    if (!std::isnan(spec.direction_deg) && spec.in_plane()) units.push_back(spec.sign * spec.state.in_plane());
   double s = 1e-3 * smallest;
   if (onset.linear)
     for (const Eigen::Vector3d& u : units)

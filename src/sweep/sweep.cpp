@@ -33,9 +33,9 @@ Step make_step(double load, const feti::Solution& s, int broken, double seconds)
 
 // The jump of the strain along the load N:ε (tensor shear, the fuse's strains).
 double jump_ratio(const PathSpec& spec, const Fuse& fuse) {
-  const double before = work_with_tensor_strain(spec.unit_stress, fuse.strain_before);
-  return before != 0 ? work_with_tensor_strain(spec.unit_stress, fuse.strain_after) / before
-                     : std::numeric_limits<double>::infinity();
+  const Eigen::Vector3d N = spec.state.in_plane();
+  const double before = work_with_tensor_strain(N, fuse.strain_before);
+  return before != 0 ? work_with_tensor_strain(N, fuse.strain_after) / before : std::numeric_limits<double>::infinity();
 }
 
 }  // namespace
@@ -80,7 +80,7 @@ std::vector<PathSpec> plan_paths(const Scene& scene) {
       spec.index = static_cast<int>(paths.size());
       spec.direction_deg = direction_deg;
       spec.sign = sign;
-      spec.unit_stress = unit;
+      spec.state = MacroState::stress(unit);
       spec.loads = loads;
       paths.push_back(spec);
     }
@@ -121,7 +121,7 @@ std::vector<PathSpec> plan_paths(const Scene& scene) {
     spec.index = static_cast<int>(paths.size());
     spec.direction_deg = std::numeric_limits<double>::quiet_NaN();
     spec.sign = 1;
-    spec.unit_stress = unit;
+    spec.state = MacroState::stress(unit);
     spec.loads = sphere_loads;
     spec.sphere = true;
     paths.push_back(spec);
@@ -133,7 +133,7 @@ std::vector<PathSpec> plan_paths(const Scene& scene) {
       if (!std::isnan(paths[i].direction_deg)) {
         PathSpec spec = paths[i];
         spec.index = static_cast<int>(paths.size());
-        spec.eps33 = eps33;
+        spec.state.hold(MacroState::zz, eps33);
         paths.push_back(spec);
       }
   // And with each held shear along the fibres.
@@ -142,7 +142,7 @@ std::vector<PathSpec> plan_paths(const Scene& scene) {
       if (!std::isnan(paths[i].direction_deg)) {
         PathSpec spec = paths[i];
         spec.index = static_cast<int>(paths.size());
-        spec.gamma = Eigen::Vector2d(gamma[0], gamma[1]);
+        spec.state.hold_shear(Eigen::Vector2d(gamma[0], gamma[1]));
         paths.push_back(spec);
       }
   return paths;
@@ -172,7 +172,7 @@ PathResult run_path(feti::ContactSolver& solver, const PathSpec& spec, double fu
   double onset = std::numeric_limits<double>::infinity();
   std::vector<int> critical;  // the bonds at their strength at the onset
   if (adhesion && spec.in_plane()) {
-    onset = spec.sign * solver.debond_onset(spec.sign * spec.unit_stress, &critical);
+    onset = spec.sign * solver.debond_onset(spec.sign * spec.state.in_plane(), &critical);
     if (std::isfinite(onset) && std::abs(onset) <= std::abs(loads.back()) &&
         std::find(loads.begin(), loads.end(), onset) == loads.end()) {
       loads.push_back(onset);
@@ -180,9 +180,7 @@ PathResult run_path(feti::ContactSolver& solver, const PathSpec& spec, double fu
     }
   }
 
-  // The path's macro state: its stress t·N with the strain and the shears along the fibres it holds.
-  LoadWalk walk(solver, MacroState::stress(spec.unit_stress).hold(MacroState::zz, spec.eps33).hold_shear(spec.gamma),
-                intact);
+  LoadWalk walk(solver, spec.state, intact);
   Eigen::Vector3d previous_strain = Eigen::Vector3d::Zero();
   auto record = [&](double load, const feti::Solution& s, double seconds) {
     result.steps.push_back(make_step(load, s, count_broken(intact, s.bonds), seconds));
@@ -195,7 +193,7 @@ PathResult run_path(feti::ContactSolver& solver, const PathSpec& spec, double fu
   // max_events_per_step brackets per scheduled load; a progressive debonding beyond that is
   // recorded at the scheduled loads only).
   constexpr int max_events_per_step = 20;
-  if (!spec.gamma.isZero(0)) {
+  if (!spec.state.gamma().isZero(0)) {
     // The shear alone first: the bonds it breaks by itself are broken before any in-plane load,
     // as a bisection from load 0 could not bracket.
     const auto t0 = Clock::now();

@@ -31,14 +31,16 @@ namespace dualcell::sweep {
 
 struct PathSpec {
   int index = 0;
-  double direction_deg = 0;                         // NaN for a general stress direction
-  int sign = 1;                                     // +1 tension, −1 compression
-  Eigen::Vector3d unit_stress;                      // N: (σxx, σyy, σxy), unit Frobenius norm
-  std::vector<double> loads;                        // signed loads s, |s| increasing; σ̄ = s·N
-  bool sphere = false;                              // one of [sweep] sphere's directions (sign +1, direction_deg NaN)
-  double eps33 = 0;                                 // the strain along the fibres held along the path ([sweep] eps33)
-  Eigen::Vector2d gamma = Eigen::Vector2d::Zero();  // the shears along the fibres held ([sweep] gamma)
-  bool in_plane() const { return eps33 == 0 && gamma.isZero(0); }
+  double direction_deg = 0;  // NaN for a general stress direction
+  int sign = 1;              // +1 tension, −1 compression
+  // The path's macro state at load factor 1 (core/macro_state.hpp): its in-plane stress N
+  // (σxx, σyy, σxy), unit Frobenius norm, and what it holds along the fibres, the strain ε33
+  // ([sweep] eps33) or the shears Γ ([sweep] gamma). At load s the state is state.at_factor(s):
+  // σ̄ = s·N with the held part unchanged.
+  MacroState state;
+  std::vector<double> loads;  // signed loads s, |s| increasing
+  bool sphere = false;        // one of [sweep] sphere's directions (sign +1, direction_deg NaN)
+  bool in_plane() const { return !state.beyond_plane(); }
 };
 
 // The N directions of [sweep] sphere: a Fibonacci point set on the unit sphere of

@@ -97,7 +97,7 @@ TEST(FitStage, OnsetSurfacePredictsTheFirstBreakOfEveryPath) {
   int broke = 0;
   for (std::size_t k = 0; k < paths.size(); ++k) {
     const auto& p = paths[k];
-    EXPECT_LE((onset.path_stress[k] - p.spec.sign * p.spec.unit_stress).norm(), 1e-15);
+    EXPECT_LE((onset.path_stress[k] - p.spec.sign * p.spec.state.in_plane()).norm(), 1e-15);
     const double predicted = onset.path_onset[k];
     ASSERT_TRUE(std::isfinite(predicted)) << "path " << k;
     ASSERT_LT(predicted, 1.0) << "path " << k << ": the schedule must reach the onset";

@@ -208,7 +208,7 @@ TEST(PlyStage, SweepPathsHoldAStrainAlongTheFibres) {
   ASSERT_EQ(b.size(), 3 * a.size());
   long broken = 0;
   for (std::size_t i = a.size(); i < b.size(); ++i) {
-    EXPECT_EQ(b[i].spec.eps33, i < 2 * a.size() ? -0.002 : 0.003);
+    EXPECT_EQ(b[i].spec.state.eps33(), i < 2 * a.size() ? -0.002 : 0.003);
     EXPECT_EQ(b[i].spec.direction_deg, b[i - (i < 2 * a.size() ? 1 : 2) * a.size()].spec.direction_deg);
     for (const sweep::Step& step : b[i].steps) {
       EXPECT_TRUE(std::isfinite(step.stress_zz));
@@ -241,7 +241,7 @@ TEST(PlyStage, SweepPathsHoldAShearAlongTheFibres) {
   long alone_large = 0, alone_small = 0;
   for (std::size_t i = a.size(); i < b.size(); ++i) {
     const bool large = i < 2 * a.size();
-    EXPECT_EQ(b[i].spec.gamma, large ? Eigen::Vector2d(0.05, 0) : Eigen::Vector2d(0, -0.001));
+    EXPECT_EQ(b[i].spec.state.gamma(), large ? Eigen::Vector2d(0.05, 0) : Eigen::Vector2d(0, -0.001));
     EXPECT_EQ(b[i].spec.direction_deg, b[i - (large ? 1 : 2) * a.size()].spec.direction_deg);
     ASSERT_FALSE(b[i].steps.empty());
     EXPECT_EQ(b[i].steps[0].load, 0.0);

@@ -117,7 +117,7 @@ TEST(SweepStage, ResumesAfterAHardStopWithIdenticalData) {
   ASSERT_EQ(resumed.size(), whole.size());
   for (std::size_t p = 0; p < whole.size(); ++p) {
     ASSERT_EQ(resumed[p].steps.size(), whole[p].steps.size());
-    EXPECT_EQ(resumed[p].spec.unit_stress, whole[p].spec.unit_stress);
+    EXPECT_EQ(resumed[p].spec.state.value, whole[p].spec.state.value);
     for (std::size_t i = 0; i < whole[p].steps.size(); ++i) {
       const auto &a = whole[p].steps[i], &b = resumed[p].steps[i];
       // Everything but the wall time is bitwise identical.

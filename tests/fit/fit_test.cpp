@@ -34,11 +34,11 @@ std::vector<sweep::PathResult> synthetic(const Eigen::Matrix3d& S_t, const Eigen
       p.spec.index = static_cast<int>(paths.size());
       p.spec.direction_deg = theta;
       p.spec.sign = sign;
-      p.spec.unit_stress = {c * c, s * s, c * s};
+      p.spec.state = MacroState::stress(Eigen::Vector3d(c * c, s * s, c * s));
       for (double m : {0.2, 0.4, 0.6, 0.8, 1.0}) {
         sweep::Step step;
         step.load = sign * m;
-        step.stress = step.load * p.spec.unit_stress;
+        step.stress = step.load * p.spec.state.in_plane();
         Eigen::Vector3d e = (sign > 0 ? S_t : S_c) * step.stress;
         for (int k = 0; k < 3; ++k) e(k) += noise * std::abs(step.load) * gauss(rng);
         step.strain = {e(0), e(1), e(2) / 2};

@@ -66,7 +66,7 @@ TEST(SweepFile, EveryColumnAndTheHeaderComeBackAsWritten) {
     const sweep::PathResult &a = w.paths[i], &b = back[i];
     EXPECT_EQ(b.spec.sign, a.spec.sign) << i;
     EXPECT_TRUE(same(b.spec.direction_deg, a.spec.direction_deg)) << i;
-    EXPECT_TRUE(same(b.spec.unit_stress, a.spec.unit_stress)) << i;
+    EXPECT_TRUE(same(b.spec.state.in_plane(), a.spec.state.in_plane())) << i;
     EXPECT_EQ(b.spec.loads, a.spec.loads) << i;
     ASSERT_EQ(b.steps.size(), a.steps.size()) << i;
     for (std::size_t k = 0; k < a.steps.size(); ++k)
@@ -129,12 +129,12 @@ TEST(SweepFile, NotANumberInTheNewerDatasetsIsRefused) {
     EXPECT_NE(error.find(expected), std::string::npos) << "'" << error << "', expected '" << expected << "'";
   };
   std::vector<sweep::PathResult> along = w.paths;
-  along[0].spec.eps33 = 1e-3;
+  along[0].spec.state.hold(MacroState::zz, 1e-3);
   for (sweep::Step& step : along[0].steps) step.stress_zz = 0.1;
   along[0].steps[1].stress_zz = nan;
   refused(along, w.header, "/stress_zz: non-finite stress in converged row 1");
   std::vector<sweep::PathResult> sheared = w.paths;
-  sheared[1].spec.gamma = Eigen::Vector2d(1e-3, 0);
+  sheared[1].spec.state.hold_shear(Eigen::Vector2d(1e-3, 0));
   for (sweep::Step& step : sheared[1].steps) step.shear_stress = Eigen::Vector2d(0.1, 0);
   sheared[1].steps[2].shear_stress(1) = nan;
   refused(sheared, w.header, "/shear_stress: non-finite stress in converged row 2");

@@ -28,7 +28,7 @@ Scene make_scene(int cells, int degree, double radius, Boundary boundary, double
 
 // Apparent modulus along the load: s / (N:ε).
 double modulus(const PathSpec& spec, const Step& step) {
-  const Eigen::Vector3d& N = spec.unit_stress;
+  const Eigen::Vector3d N = spec.state.in_plane();
   return step.load / (N(0) * step.strain(0) + N(1) * step.strain(1) + 2 * N(2) * step.strain(2));
 }
 
@@ -40,8 +40,8 @@ TEST(Sweep, PlansPathsAndRefusesDirectionsTheBoundaryCannotCarry) {
   EXPECT_EQ(paths[0].sign, 1);
   EXPECT_EQ(paths[0].loads, (std::vector<double>{1, 2}));
   EXPECT_EQ(paths[1].loads, (std::vector<double>{-1, -2}));
-  EXPECT_NEAR(paths[2].unit_stress(2), 0.5, 1e-15);  // 45°: n⊗n = [[1/2, 1/2], [1/2, 1/2]]
-  EXPECT_NEAR(paths[4].unit_stress(0), std::sqrt(0.5), 1e-15);
+  EXPECT_NEAR(paths[2].state.in_plane()(2), 0.5, 1e-15);  // 45°: n⊗n = [[1/2, 1/2], [1/2, 1/2]]
+  EXPECT_NEAR(paths[4].state.in_plane()(0), std::sqrt(0.5), 1e-15);
   EXPECT_TRUE(std::isnan(paths[4].direction_deg));
   s.load.boundary = Boundary::symmetry;
   try {
@@ -108,7 +108,7 @@ TEST(Sweep, SphereDirectionsCoverTheStressSphere) {
     EXPECT_TRUE(p.sphere);
     EXPECT_EQ(p.sign, 1);
     EXPECT_TRUE(std::isnan(p.direction_deg));
-    const Eigen::Vector3d& N = p.unit_stress;
+    const Eigen::Vector3d N = p.state.in_plane();
     EXPECT_NEAR(N(0) * N(0) + N(1) * N(1) + 2 * N(2) * N(2), 1.0, 1e-15);  // unit Frobenius norm
     EXPECT_EQ(p.loads, std::vector<double>{3.0});                          // no adhesion: the largest |magnitude| only
     mean += Eigen::Vector3d(N(0), N(1), std::sqrt(2.0) * N(2)) / 40;
@@ -151,7 +151,7 @@ TEST_P(SweepOrders, AdhesionBondedBelowOnsetThenAFuse) {
   feti::ContactSolver solver(m, scene);
   const auto paths = plan_paths(scene);
   ASSERT_EQ(paths.size(), 1u);
-  const double onset = solver.debond_onset(paths[0].unit_stress);
+  const double onset = solver.debond_onset(paths[0].state.in_plane());
   const PathResult r = run_path(solver, paths[0], scene.sweep.fuse_tolerance);
   // Bonded modulus from one solve with unbreakable bonds.
   Scene bonded = scene;
