@@ -22,8 +22,16 @@ struct EdgeCondition {
   // displacement: the prescribed components (NaN: that component is free)
   Eigen::Vector2d displacement{std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()};
   Eigen::Vector2d traction_start = Eigen::Vector2d::Zero(), traction_end = Eigen::Vector2d::Zero();
+
+  // The traction at the fraction `along` (0 at the start, 1 at the end) of the edge: linear from start to end.
+  Eigen::Vector2d traction_at(double along) const { return traction_start + along * (traction_end - traction_start); }
 };
 inline constexpr std::array<const char*, 4> edge_names = {"left", "right", "bottom", "top"};
+
+// The one tolerance rule for "the node at a position" (a support, a point load, a watch point,
+// fem::node_near) and for the meshers' "on a side, at the same place" (mesh::side_tolerance): within
+// 1e-9 of the size of the body (its larger side).
+inline double node_reach(double body_size) { return 1e-9 * body_size; }
 
 // `where` is the place it was written ("beam.toml:12: [[support]] 1"), for messages that find
 // no node there; empty for loads built in code.

@@ -71,7 +71,7 @@ std::string seconds_text(double seconds) {
   return text;
 }
 
-double Progress::seconds() const { return std::chrono::duration<double>(Clock::now() - start_).count(); }
+double Progress::seconds() const { return seconds_since(start_); }
 
 bool Progress::due() {
   const Clock::time_point now = Clock::now();

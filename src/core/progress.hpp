@@ -13,6 +13,11 @@
 
 namespace dualcell {
 
+// The seconds of the steady clock since t: every measured duration (timings, progress).
+inline double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
 // "12.3 s", "4 min 05 s", "2 h 03 min": a duration as a person reads it.
 std::string seconds_text(double seconds);
 

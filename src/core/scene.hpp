@@ -236,7 +236,7 @@ void check_load_strain(const Scene& scene, double stress_norm, const std::string
 inline constexpr long max_rve_fibres = 10'000;
 // The range of a law's cell size (any unit) that a structure of homogeneous cells takes: its
 // positions (supports, loads, the watch point) are written in that unit, and beyond this range
-// they and the node tolerance (fem::node_reach: 1e-9 of the structure's size) underflow or lose
+// they and the node tolerance (node_reach: 1e-9 of the structure's size) underflow or lose
 // every digit.
 inline constexpr double min_structure_cell_size = 1e-12, max_structure_cell_size = 1e12;
 

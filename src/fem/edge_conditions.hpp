@@ -14,11 +14,10 @@
 
 namespace dualcell::fem {
 
-// The one tolerance rule for "the node at a position" the user gives (a support, a point load,
-// a watch point): within 1e-9 of the size of the body (its larger side). Sides and periodic
-// partners are not found by position: the mesh records them (mesh::Mesh::point_sides,
-// periodic_pairs; its meshers and reader use the same 1e-9, mesh::side_tolerance).
-inline double node_reach(double body_size) { return 1e-9 * body_size; }
+// "The node at a position" the user gives (a support, a point load, a watch point) is found by
+// the one tolerance rule, node_reach (core/edge_loads.hpp). Sides and periodic partners are not
+// found by position: the mesh records them (mesh::Mesh::point_sides, periodic_pairs; its meshers
+// and reader use the same rule, mesh::side_tolerance).
 
 // The first of n points, position(i), within node_reach(body_size) of x; −1 when none is.
 template <typename Position>

@@ -9,6 +9,7 @@
 #include <numeric>
 
 #include "core/error.hpp"
+#include "core/progress.hpp"
 #include "feti/constraints.hpp"
 #include "feti/dual.hpp"
 #include "feti/macro.hpp"
@@ -388,7 +389,7 @@ law::CondensedCell condense(const FetiSetup& setup, int max_rows) {
   cell.bonded = p.intact;
   set_rows(cell, con, I);
   if (p.longitudinal && setup.scene().load.boundary == Boundary::periodic) set_shear(setup, cell);
-  cell.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  cell.seconds = seconds_since(start);
   return cell;
 }
 
@@ -452,7 +453,7 @@ law::CondensedCell condense_on_solutions(const FetiSetup& setup, const std::vect
       law::cell_of_rows(macro, 0.5 * (e.Y - volume * e.E_p.transpose()), law::with_basis_compliance(e.H));
   cell.reciprocity_error = reciprocity(e.H, e.Y, e.E_p, e.S0, volume);
   cell.operator_applications = 2 * n_macro + mE + k;
-  cell.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  cell.seconds = seconds_since(start);
   return cell;
 }
 

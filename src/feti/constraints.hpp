@@ -72,7 +72,7 @@ std::vector<int> ties_at_strength(const Eigen::VectorXd& pair_forces, const std:
 
 // The mesh sides of the edges left, right, bottom, top (the order of edge_names).
 extern const std::array<int, 4> edge_sides;
-// A node of the mesh at x (within 1e-9 of the block's size), for supports, point loads and the
+// A node of the mesh at x (within node_reach of the block's size), for supports, point loads and the
 // watch point of Boundary::edges; an InputError naming where it was written (or `what`) and x
 // when there is none.
 int node_at(const mesh::Mesh& mesh, const Eigen::Vector2d& x, const std::string& where, const char* what);

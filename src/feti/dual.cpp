@@ -7,6 +7,7 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "core/progress.hpp"
 
 namespace dualcell::feti {
 
@@ -190,7 +191,7 @@ using Clock = std::chrono::steady_clock;
 class ScopedTimer {
  public:
   explicit ScopedTimer(double& total) : total_(total), start_(Clock::now()) {}
-  ~ScopedTimer() { total_ += std::chrono::duration<double>(Clock::now() - start_).count(); }
+  ~ScopedTimer() { total_ += seconds_since(start_); }
   ScopedTimer(const ScopedTimer&) = delete;
   ScopedTimer& operator=(const ScopedTimer&) = delete;
 

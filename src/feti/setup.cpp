@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 
+#include "core/progress.hpp"
 #include "fem/assembly.hpp"
 #include "fem/element.hpp"
 #include "feti/constraints.hpp"
@@ -14,7 +15,6 @@ namespace dualcell::feti {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 // Fixing nodes (docs/method.md §5): node a far from the centroid, node b far from a; fix both
 // components of a and the component of b across the line ab, which removes the rotation.
@@ -307,9 +307,7 @@ Eigen::VectorXd FetiSetup::load(const Eigen::Vector3d& sigma, double eps33) cons
         if (c.kind != EdgeKind::traction) continue;
         const int along = e < 2 ? 1 : 0;
         const double length = along == 1 ? mesh_.block_height() : mesh_.block_width();
-        const auto at = [&](int v) {
-          return (t * (c.traction_start + mesh_.nodes[v](along) / length * (c.traction_end - c.traction_start))).eval();
-        };
+        const auto at = [&](int v) { return (t * c.traction_at(mesh_.nodes[v](along) / length)).eval(); };
         for (const mesh::Edge& edge : mesh_.boundary_edges[edge_sides[e]])
           fem::add_edge_traction(mesh_, edge, at(edge.a), at(edge.b), f);
       }

@@ -9,6 +9,7 @@
 #include <optional>
 
 #include "core/error.hpp"
+#include "core/progress.hpp"
 #include "feti/projected.hpp"
 #include "law/bond.hpp"
 #include "primal/antiplane.hpp"
@@ -20,7 +21,6 @@ namespace dualcell::feti {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 // The tightest dual tolerance the primal check may ask for: a relative projected gradient of
 // 1e-14 is a few hundred ulps of its terms, below which SMALBE stagnates instead of converging.

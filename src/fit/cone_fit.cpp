@@ -11,6 +11,7 @@
 #include <memory>
 #include <numbers>
 
+#include "core/directions.hpp"
 #include "law/cone_check.hpp"
 #include "qp/dense_qp.hpp"
 
@@ -264,8 +265,7 @@ double fit_struts(const std::vector<ConePoint>& points, law::ConeLaw& out) {
   if (3 * distinct.size() <= 6 + n_struts) return std::numeric_limits<double>::infinity();
   std::vector<Eigen::Vector3d> normals;
   for (int k = 0; k < n_struts; ++k) {
-    const double t = k * std::numbers::pi / n_struts, c = std::cos(t), s = std::sin(t);
-    normals.push_back(-Eigen::Vector3d(c * c, s * s, c * s).normalized());
+    normals.push_back(-uniaxial_stress(k * std::numbers::pi / n_struts).normalized());
   }
   return fit_planes(points, normals, out);
 }
@@ -406,16 +406,13 @@ law::ConeFit fit_cone_to_cell(const law::CondensedCell& cell, const std::vector<
   // symmetries (a candidate already in an orbit adds nothing).
   std::vector<std::vector<Eigen::Vector3d>> orbits;
   constexpr int n_candidates = 240;
-  const double golden = std::numbers::pi * (3 - std::sqrt(5.0));
   const auto known = [&](const Eigen::Vector3d& q) {
     for (const auto& orbit : orbits)
       for (const Eigen::Vector3d& p : orbit)
         if ((p - q).norm() < same_normal) return true;
     return false;
   };
-  for (int k = 0; k < n_candidates; ++k) {
-    const double z = 1 - (2 * k + 1.0) / n_candidates, r = std::sqrt(1 - z * z);
-    const Eigen::Vector3d q(r * std::cos(k * golden), r * std::sin(k * golden), z);
+  for (const Eigen::Vector3d& q : fibonacci_sphere(n_candidates)) {
     if (known(q)) continue;
     std::vector<Eigen::Vector3d> orbit;
     for (const Eigen::Matrix3d& R : group) {

@@ -6,6 +6,7 @@
 #include <functional>
 #include <limits>
 
+#include "core/progress.hpp"
 #include "core/text.hpp"
 #include "law/reduced.hpp"
 
@@ -202,7 +203,7 @@ SmallCell fit_small_cell(const law::CondensedCell& cell, const law::CellSample& 
   const auto finish = [&](bool ok, std::string message) {
     out.ok = ok;
     out.message = std::move(message);
-    out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    out.seconds = seconds_since(start);
     return out;
   };
   law::ReduceOptions basis_options;

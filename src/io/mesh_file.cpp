@@ -147,7 +147,7 @@ void check_structure(const mesh::Mesh& m, const std::vector<std::int64_t>& is_fi
   std::vector<int> owner(m.nodes.size());
   for (std::size_t s = 0; s < m.subdomains.size(); ++s)
     for (int v = m.subdomains[s].node_begin; v < m.subdomains[s].node_end; ++v) owner[v] = static_cast<int>(s);
-  const double tol = 1e-9 * std::max(m.block_width(), m.block_height());
+  const double tol = mesh::side_tolerance(m);
   for (std::size_t v = 0; v < m.nodes.size(); ++v)
     if (m.nodes[v].x() < -tol || m.nodes[v].x() > m.block_width() + tol || m.nodes[v].y() < -tol ||
         m.nodes[v].y() > m.block_height() + tol)

@@ -332,4 +332,9 @@ double CellEvaluator::onset(const Eigen::Vector3d& sigma) {
   return use > 0 ? 1 / use : inf;
 }
 
+double CellEvaluator::bonded_load(const Eigen::Vector3d& sigma) {
+  const double s = onset(sigma);
+  return std::isfinite(s) ? 0.5 * s : 1.0;
+}
+
 }  // namespace dualcell::law

@@ -185,6 +185,9 @@ class CellEvaluator {
   // its strengths lifted is homogeneous of degree one in σ̄, so s* = min over bonded rows of
   // bound/p(σ̄).
   double onset(const Eigen::Vector3d& sigma);
+  // A load factor along σ̄ at which the intact cell holds every bond: half its onset s*, or 1
+  // where it has none (no adhesion, no bond ever at its strength, or the onset's QP failed).
+  double bonded_load(const Eigen::Vector3d& sigma);
 
  private:
   template <class Solve>

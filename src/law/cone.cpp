@@ -5,6 +5,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "core/directions.hpp"
+
 namespace dualcell::law {
 
 ConeState evaluate(const ConeLaw& law, const Eigen::Vector3d& strain) {
@@ -59,9 +61,9 @@ Eigen::Vector3d strain_for(const ConeLaw& law, const Eigen::Vector3d& stress) {
 }
 
 double apparent_modulus(const ConeLaw& law, double theta_deg, double sign) {
-  const double t = theta_deg * std::numbers::pi / 180, c = std::cos(t), s = std::sin(t);
-  const Eigen::Vector3d e = strain_for(law, sign * Eigen::Vector3d(c * c, s * s, c * s));
-  return sign / (c * c * e(0) + s * s * e(1) + c * s * e(2));
+  const Eigen::Vector3d n = uniaxial_stress(theta_deg * std::numbers::pi / 180);
+  const Eigen::Vector3d e = strain_for(law, sign * n);
+  return sign / (n(0) * e(0) + n(1) * e(1) + n(2) * e(2));
 }
 
 PolarModuli cone_polar(const ConeLaw& law) {

@@ -6,6 +6,8 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "core/directions.hpp"
+
 namespace dualcell::law {
 
 namespace {
@@ -58,16 +60,11 @@ void tell(Progress* progress, const char* what, std::size_t i, std::size_t n) {
 CellSample sample_cell(const CondensedCell& cell, int n, Progress* progress) {
   CellSample sample;
   CellEvaluator evaluator(cell);
-  const bool adhesion = cell.adhesion();
   CellHistory history = evaluator.unloaded();
   sample.direction = sample_directions(cell.n_macro, n);
   for (const Eigen::Vector3d& N : sample.direction) {
     tell(progress, "below the onset", sample.stress.size(), sample.direction.size());
-    double s = 1;
-    if (adhesion) {
-      const double onset = evaluator.onset(N);
-      if (std::isfinite(onset)) s = 0.5 * onset;
-    }
+    const double s = evaluator.bonded_load(N);
     history.bonded = cell.bonded;  // each point from the intact cell; the active set stays as the warm start
     const CellResponse r = evaluator.at_stress(s * N, history);
     Eigen::Vector3d e = r.strain;
@@ -176,22 +173,17 @@ ConeCheck check_law(const std::function<Eigen::Vector3d(const Eigen::Vector3d&)>
 
 PolarModuli exact_polar(const CondensedCell& cell) {
   CellEvaluator evaluator(cell);
-  const bool adhesion = cell.adhesion();
   CellHistory history = evaluator.unloaded();
   return polar_moduli([&](double theta_deg, double sign) {
-    const double t = theta_deg * std::numbers::pi / 180, c = std::cos(t), si = std::sin(t);
-    const Eigen::Vector3d N = sign * Eigen::Vector3d(c * c, si * si, c * si);
-    double s = 1;
-    if (adhesion) {
-      const double onset = evaluator.onset(N);
-      if (std::isfinite(onset)) s = 0.5 * onset;
-    }
+    const Eigen::Vector3d n = uniaxial_stress(theta_deg * std::numbers::pi / 180);
+    const Eigen::Vector3d N = sign * n;
+    const double s = evaluator.bonded_load(N);
     history.bonded = cell.bonded;
     const CellResponse r = evaluator.at_stress(s * N, history);
     if (!r.ok || r.broken != 0) return std::numeric_limits<double>::quiet_NaN();
     Eigen::Vector3d e = r.strain;
     if (cell.n_macro == 2) e(2) = 0;
-    return sign * s / (c * c * e(0) + si * si * e(1) + c * si * e(2));
+    return sign * s / (n(0) * e(0) + n(1) * e(1) + n(2) * e(2));
   });
 }
 

@@ -89,8 +89,7 @@ BondedCell bonded_cell(const CondensedCell& cell) {
   for (int j = 0; j < n; ++j) {
     Eigen::Vector3d N = Eigen::Vector3d::Zero();
     N(j) = 1;
-    const double onset = evaluator.onset(N);
-    const double s = std::isfinite(onset) ? 0.5 * onset : 1.0;
+    const double s = evaluator.bonded_load(N);
     CellHistory history = evaluator.unloaded();
     const CellResponse r = evaluator.at_stress(s * N, history);
     if (!r.ok || r.broken > 0)

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 
+#include "core/progress.hpp"
 #include "core/text.hpp"
 #include "core/union_find.hpp"
 
@@ -84,7 +85,7 @@ ReducedCell reduce_cell(const CondensedCell& cell, const CellSample& training, c
   const auto finish = [&](bool ok, std::string message) {
     out.ok = ok;
     out.message = std::move(message);
-    out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    out.seconds = seconds_since(start);
     return out;
   };
   if (cell.adhesion())

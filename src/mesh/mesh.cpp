@@ -7,6 +7,8 @@
 #include <numbers>
 #include <tuple>
 
+#include "core/edge_loads.hpp"
+
 namespace dualcell::mesh {
 
 namespace {
@@ -316,7 +318,7 @@ int side_of(const Mesh& mesh, const Eigen::Vector2d& a, const Eigen::Vector2d& b
   return -1;
 }
 
-double side_tolerance(const Mesh& mesh) { return 1e-9 * std::max(mesh.block_width(), mesh.block_height()); }
+double side_tolerance(const Mesh& mesh) { return node_reach(std::max(mesh.block_width(), mesh.block_height())); }
 
 std::vector<int> point_nodes(const Mesh& mesh) {
   std::vector<int> node(mesh.n_points(), -1);

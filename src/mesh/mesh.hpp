@@ -153,7 +153,7 @@ Mesh build_mesh(const Geometry& geometry);
 // the meshers and the reader's check; everything else reads Mesh::point_sides.
 int side_of(const Mesh& mesh, const Eigen::Vector2d& a, const Eigen::Vector2d& b, double eps);
 // The tolerance of the meshers and of the reader's check for "on a side" and "at the same place
-// on the opposite side": 1e-9 of the block's larger side (fem::node_reach of the block).
+// on the opposite side": node_reach (core/edge_loads.hpp) of the block's larger side.
 double side_tolerance(const Mesh& mesh);
 // The sides of the block position x lies on, within tol, as side bits (a corner: two).
 std::uint8_t sides_at(const Mesh& mesh, const Eigen::Vector2d& x, double tol);

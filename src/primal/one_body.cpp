@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/progress.hpp"
 #include "fem/assembly.hpp"
 #include "fem/edge_conditions.hpp"
 #include "linalg/sparse_cholesky.hpp"
@@ -139,8 +140,7 @@ Eigen::VectorXd solve_refined(const Eigen::SparseMatrix<double>& K_red, const Ei
   cholesky.compute(K_red);
   Eigen::VectorXd z, dz, r(n);
   cholesky.solve(f_red, z);
-  if (seconds_factorise_solve)
-    *seconds_factorise_solve = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (seconds_factorise_solve) *seconds_factorise_solve = seconds_since(t0);
   for (int sweep = 0; refine && sweep < 3; ++sweep) {
     std::vector<long double> acc(n, 0.0L);
     for (int k = 0; k < K_red.outerSize(); ++k)

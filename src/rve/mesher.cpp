@@ -12,7 +12,9 @@
 #include <set>
 #include <unordered_map>
 
+#include "core/edge_loads.hpp"
 #include "core/error.hpp"
+#include "core/progress.hpp"
 #include "core/text.hpp"
 #include "core/union_find.hpp"
 #include "rve/disk_grid.hpp"
@@ -23,7 +25,6 @@ namespace dualcell::rve {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 // A periodic image of a fibre that reaches into the rectangle: one fibre piece once meshed.
 struct Image {
@@ -291,7 +292,7 @@ mesh::Mesh collect_mesh(const Geometry& geometry, const Microstructure& m, const
     mesh.fibre_centres.push_back(unit * images[image].centre);
     mesh.fibre_radii.push_back(unit * images[image].radius);
   }
-  const double eps = 1e-9 * std::max(m.Lx, m.Ly);
+  const double eps = node_reach(std::max(m.Lx, m.Ly));
   add_pairs(mesh, copies, n_matrix, eps);
   add_boundary_edges(mesh, eps);
   add_points(mesh, tag_of, eps);

@@ -9,6 +9,7 @@
 
 #include "core/error.hpp"
 #include "core/hash.hpp"
+#include "core/progress.hpp"
 #include "core/text.hpp"
 #include "fit/fit.hpp"
 #include "io/atomic_output.hpp"
@@ -213,7 +214,7 @@ LawPointsSummary evaluate_law(const LawPointsOptions& options) {
       row.tangent.assign(r.tangent.data(), r.tangent.data() + 9);  // symmetric: by row as by column
       row.broken = fused ? 1 : 0;
     }
-    seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    seconds += seconds_since(t0);
     // No NaN or Inf leaves with exit 0: an input this large overflows the law's answer. A cell
     // without shear (n_macro = 2) leaves its shear entries NaN.
     // With ε33 stress-driven the tangent's ε33 entries are NaN by definition (not checked).

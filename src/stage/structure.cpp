@@ -9,6 +9,7 @@
 #include "core/error.hpp"
 #include "core/hash.hpp"
 #include "core/memory.hpp"
+#include "core/progress.hpp"
 #include "core/structure_scene.hpp"
 #include "core/text.hpp"
 #include "io/atomic_output.hpp"
@@ -143,7 +144,7 @@ StructureSummary run_structure(const StructureOptions& options) {
   provenance.law_hash = file_hash(options.law_file);
   io::write_structure(options.out, mesh, summary.steps, summary.first_fuse_factor, summary.law_form,
                       law.cell ? summary.bond_unit : std::string(), provenance);
-  summary.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  summary.seconds = seconds_since(t0);
   return summary;
 }
 

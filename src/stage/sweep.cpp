@@ -163,7 +163,7 @@ void build_basis(feti::ContactSolver& solver, const Scene& scene, sweep::SweepHe
   progress.finish();
   try {
     header.cell_basis = feti::condense_on_solutions(solver.setup(), lambdas);
-    header.cell_basis->seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    header.cell_basis->seconds = seconds_since(start);
   } catch (const InputError& e) {
     header.cell_basis_note = e.what();
   }
@@ -332,8 +332,7 @@ SweepSummary run_sweep(const SweepOptions& options) {
       io::write_part(options.out, result, header);
       if (options.progress && ranks > 1)
         std::fprintf(stderr, "dualcell-sweep: rank %d/%d: path %d/%zu (%s) done, %.0f s\n", par::rank(), ranks,
-                     spec.index + 1, specs.size(), path_label(spec).c_str(),
-                     std::chrono::duration<double>(Clock::now() - t0).count());
+                     spec.index + 1, specs.size(), path_label(spec).c_str(), seconds_since(t0));
       done_steps += static_cast<long>(spec.loads.size());
       if (par::rank() == 0) computed_here.emplace(spec.index, std::move(result));
       // The test hook kills one rank only, the last group's leader (the only rank without MPI),
@@ -352,7 +351,7 @@ SweepSummary run_sweep(const SweepOptions& options) {
   const std::vector<sweep::PathResult> results = collect_paths(options, specs, computed_here, header);
   io::write_sweep(options.out, results, header);
   summarise(summary, results, header);
-  summary.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  summary.seconds = seconds_since(t0);
   summary.dual_operator = to_string(scene.solver.dual_operator);
   summary.subdomains = solver.setup().n_stiff_subdomains();
   summary.explicit_subdomains = solver.setup().explicit_subdomains();

@@ -109,7 +109,7 @@ void HomogenisedStructure::Impl::set_loads() {
     const double length = (mesh.nodes.row(nodes.back()).transpose() - start).norm();
     const auto traction = [&](int node) {
       const double position = (mesh.nodes.row(node).transpose() - start).norm() / length;
-      return (c.traction_start + position * (c.traction_end - c.traction_start)).eval();
+      return c.traction_at(position);
     };
     for (std::size_t k = 0; k + q < nodes.size(); k += q) {
       const int a = nodes[k], b = nodes[k + q];

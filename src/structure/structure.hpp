@@ -51,7 +51,7 @@ struct StructureMesh {
   Eigen::Matrix<int, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> triangles;
   std::vector<int> cell;                        // per triangle, i + nx·j
   std::array<std::vector<int>, 4> edge_nodes;   // per edge, its nodes from start to end
-  int node_at(const Eigen::Vector2d& x) const;  // −1 when none is there (fem::node_reach of the structure's size)
+  int node_at(const Eigen::Vector2d& x) const;  // −1 when none is there (node_reach of the structure's size)
 };
 StructureMesh build_structure_mesh(const StructureScene& scene);
 

@@ -54,11 +54,11 @@ void sweep_step(bool quick, int all, std::ostringstream& md, JsonObject& json) {
   const mesh::Mesh m = mesh::build_mesh(s.geometry);
   feti::ContactSolver solver(m, s, all);
   const feti::Solution first_step = solver.solve({-10, 0, 0}, solver.intact());
-  const double first_seconds = since(t0);
+  const double first_seconds = seconds_since(t0);
   const Eigen::VectorXd lambda = 2 * first_step.lambda, multiplier = 2 * first_step.multiplier;
   const auto t1 = Clock::now();
   const feti::Solution second = solver.solve({-20, 0, 0}, solver.intact(), &lambda, &multiplier);
-  const double second_seconds = since(t1);
+  const double second_seconds = seconds_since(t1);
   const double ratio = second_seconds / first_seconds;
   md << "## Sweep step\n\n"
      << sn << "×" << sn << " cells, degree " << sk << ": first step (setup + solve) " << first_seconds << " s, "

@@ -55,19 +55,18 @@ void exact_law(std::ostringstream& md, JsonObject& json) {
       solver.forget_dual();
       const auto t0 = Clock::now();
       const feti::Solution one = solver.solve(sigma, solver.intact());
-      solve_seconds = std::min(solve_seconds, since(t0));
+      solve_seconds = std::min(solve_seconds, seconds_since(t0));
     }
     const law::CondensedCell cell = feti::condense(solver.setup());
     law::CellEvaluator law(cell);
-    // 400 stresses turning once about the sphere of (σxx, σyy, √2σxy), each of size 0.01, scaled
-    // below half the debond onset along it with adhesion.
+    // 400 stresses turning once about the sphere of (σxx, σyy, √2σxy), each of size 0.01, or half
+    // the debond onset along it where that is smaller (bonded_load).
     std::vector<Eigen::Vector3d> path;
     for (int k = 0; k < 400; ++k) {
       const double t = 2 * std::numbers::pi * k / 400;
       const Eigen::Vector3d N(std::cos(t), std::sin(t) * std::cos(3 * t),
                               std::sin(t) * std::sin(3 * t) / std::sqrt(2.0));
-      const double onset = law.onset(N);
-      path.push_back(std::min(0.01, std::isfinite(onset) ? 0.5 * onset : 0.01) * N);
+      path.push_back(std::min(0.01, law.bonded_load(N)) * N);
     }
     std::vector<Eigen::Vector3d> strains;
     for (const auto& p : path) {
@@ -82,7 +81,7 @@ void exact_law(std::ostringstream& md, JsonObject& json) {
         const law::CellResponse r = strain ? law.at_strain(strains[k], h) : law.at_stress(path[k], h);
         if (!r.ok || r.broken > 0) throw std::runtime_error("exact law bench: " + r.message);
       }
-      return 1e3 * since(t0) / static_cast<double>(path.size());
+      return 1e3 * seconds_since(t0) / static_cast<double>(path.size());
     };
     const double warm_stress = mean_ms(false, true), warm_strain = mean_ms(true, true), cold = mean_ms(false, false);
     const double ratio = 1e-3 * std::max(warm_stress, warm_strain) / solve_seconds;

@@ -33,7 +33,7 @@ double median_seconds(int repeat, F&& f) {
   for (double& x : t) {
     const auto t0 = Clock::now();
     f();
-    x = since(t0);
+    x = seconds_since(t0);
   }
   std::nth_element(t.begin(), t.begin() + repeat / 2, t.end());
   return t[static_cast<std::size_t>(repeat / 2)];
@@ -115,7 +115,7 @@ void dual_operators(const BenchOptions& options, std::ostringstream& md, JsonObj
       const linalg::FixingNodeInverse again(sub.K, sub.fixing_dofs,
                                             {linalg::FactorKind::simplicial, linalg::Ordering::amd}, e.boundary_dofs);
       const Eigen::MatrixXd K_bb = again.last_block_inverse();
-      const double t_setup = since(t0);
+      const double t_setup = seconds_since(t0);
       const double break_even = model.implicit_apply > model.explicit_apply
                                     ? model.explicit_setup / (model.implicit_apply - model.explicit_apply)
                                     : std::numeric_limits<double>::infinity();
@@ -147,7 +147,7 @@ void dual_operators(const BenchOptions& options, std::ostringstream& md, JsonObj
       s.solver.dual_operator = op;
       const auto t0 = Clock::now();
       feti::ContactSolver solver(m, s);
-      const double setup = since(t0);
+      const double setup = seconds_since(t0);
       const feti::Solution r = solver.solve(sigma, solver.intact());
       if (!r.converged()) throw std::runtime_error(std::string("dual operators bench: ") + r.qp.message);
       solves << format("| %s | %s | %d of %d | %.4f | %.4f | %.4f | %ld |\n", cell.name.c_str(), to_string(op),

@@ -18,8 +18,7 @@
 
 namespace dualcell::study::bench {
 
-using Clock = std::chrono::steady_clock;
-inline double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+using Clock = std::chrono::steady_clock;  // timed with seconds_since (core/progress.hpp)
 
 // The benchmark's block: cells × cells of fibres (E_f/E_m = 100, r = 0.3), symmetry boundary,
 // tolerance 1e-8.

@@ -43,10 +43,10 @@ Run contact(int cells, int degree, int threads, Preconditioner preconditioner, E
   const mesh::Mesh m = mesh::build_mesh(s.geometry);
   const auto t0 = Clock::now();  // the mesh is an input of both solvers, timed in neither
   feti::ContactSolver solver(m, s, threads, feti::FetiSetup::default_min_dofs_per_thread, {}, progress);
-  const double setup = since(t0);
+  const double setup = seconds_since(t0);
   const auto t1 = Clock::now();
   feti::Solution r = solver.solve({-10, 0, 0}, solver.intact());
-  const double solve = since(t1);
+  const double solve = seconds_since(t1);
   const int used_threads = solver.setup().parallel() ? solver.setup().threads() : 1;
   return {cells,
           degree,

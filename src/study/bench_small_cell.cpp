@@ -29,7 +29,7 @@ double microseconds_per_point(const law::CellSample& sample, Begin&& begin) {
     const auto t0 = Clock::now();
     for (const Eigen::Vector3d& e : sample.strain)
       if (e.allFinite()) evaluate(e), ++points;
-    best = std::min(best, 1e6 * since(t0) / std::max(points, 1));
+    best = std::min(best, 1e6 * seconds_since(t0) / std::max(points, 1));
   }
   return best;
 }

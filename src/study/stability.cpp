@@ -7,7 +7,9 @@
 #include <numbers>
 #include <sstream>
 
+#include "core/directions.hpp"
 #include "core/error.hpp"
+#include "core/progress.hpp"
 #include "feti/solver.hpp"
 #include "io/atomic_output.hpp"
 #include "mesh/mesh.hpp"
@@ -69,9 +71,8 @@ StabilityRow run_stability_case(const StabilityCase& c, double tolerance) {
   scene.load.boundary = c.boundary;
   scene.solver.tolerance = tolerance;
   validate(scene);
-  const double t = c.direction_deg * std::numbers::pi / 180;
-  const Eigen::Vector3d N(std::cos(t) * std::cos(t), std::sin(t) * std::sin(t),
-                          c.boundary == Boundary::symmetry ? 0.0 : std::cos(t) * std::sin(t));
+  Eigen::Vector3d N = uniaxial_stress(c.direction_deg * std::numbers::pi / 180);
+  if (c.boundary == Boundary::symmetry) N(2) = 0;
   try {
     const mesh::Mesh m = mesh::build_mesh(scene.geometry);
     feti::ContactSolver solver(m, scene);
@@ -98,7 +99,7 @@ StabilityRow run_stability_case(const StabilityCase& c, double tolerance) {
     row.message = e.what();
     row.ok = false;
   }
-  row.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  row.seconds = seconds_since(t0);
   return row;
 }
 

@@ -7,7 +7,9 @@
 #include <numbers>
 #include <utility>
 
+#include "core/directions.hpp"
 #include "core/error.hpp"
+#include "core/progress.hpp"
 #include "core/strain.hpp"
 
 namespace dualcell::sweep {
@@ -87,9 +89,7 @@ std::vector<PathSpec> plan_paths(const Scene& scene) {
   };
   const bool symmetry = scene.load.boundary == Boundary::symmetry;
   for (double theta : scene.sweep.directions_deg) {
-    const double t = theta * std::numbers::pi / 180;
-    const double c = std::cos(t), s = std::sin(t);
-    Eigen::Vector3d unit(c * c, s * s, c * s);
+    Eigen::Vector3d unit = uniaxial_stress(theta * std::numbers::pi / 180);
     // Shear below round-off of cos·sin counts as none (θ a multiple of 90°).
     if (std::abs(unit(2)) < 1e-12) unit(2) = 0;
     if (std::abs(unit(0)) < 1e-12) unit(0) = 0;
@@ -149,13 +149,9 @@ std::vector<PathSpec> plan_paths(const Scene& scene) {
 }
 
 std::vector<Eigen::Vector3d> sphere_directions(int n) {
+  // (x, y, z) = (σxx, σyy, √2σxy) on the unit sphere is a tensor of unit Frobenius norm.
   std::vector<Eigen::Vector3d> out;
-  const double golden = std::numbers::pi * (3 - std::sqrt(5.0));  // the golden angle
-  for (int k = 0; k < n; ++k) {
-    const double z = 1 - (2 * k + 1.0) / n, r = std::sqrt(1 - z * z);
-    // (x, y, z) = (σxx, σyy, √2σxy) on the unit sphere is a tensor of unit Frobenius norm.
-    out.emplace_back(r * std::cos(k * golden), r * std::sin(k * golden), z / std::sqrt(2.0));
-  }
+  for (const Eigen::Vector3d& p : fibonacci_sphere(n)) out.emplace_back(p(0), p(1), p(2) / std::sqrt(2.0));
   return out;
 }
 
@@ -198,7 +194,7 @@ PathResult run_path(feti::ContactSolver& solver, const PathSpec& spec, double fu
     // as a bisection from load 0 could not bracket.
     const auto t0 = Clock::now();
     feti::Solution s = walk.solve(0.0);
-    record(0.0, s, std::chrono::duration<double>(Clock::now() - t0).count());
+    record(0.0, s, seconds_since(t0));
     walk.accept(0.0, s);
     previous_strain = s.strain;
   }
@@ -215,7 +211,7 @@ PathResult run_path(feti::ContactSolver& solver, const PathSpec& spec, double fu
       feti::Solution s = walk.solve(load, &from);
       s.newly_broken += broken_at_onset;
       if (!(adhesion && s.newly_broken > 0) || event >= max_events_per_step) {
-        record(load, s, std::chrono::duration<double>(Clock::now() - t0).count());
+        record(load, s, seconds_since(t0));
         walk.accept(load, s);
         previous_strain = s.strain;
         break;
@@ -234,7 +230,7 @@ PathResult run_path(feti::ContactSolver& solver, const PathSpec& spec, double fu
           at_lo = std::move(m);
         }
       }
-      const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+      const double seconds = seconds_since(t0);
       // The fuse is the jump with the largest growth of the strain along the load, N:ε.
       const Fuse jump{onset, lo, hi, at_lo ? at_lo->strain : previous_strain, at_hi.strain};
       if (!result.fuse || jump_ratio(spec, jump) > jump_ratio(spec, *result.fuse)) result.fuse = jump;
