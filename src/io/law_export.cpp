@@ -116,16 +116,14 @@ std::string json_vector(const Eigen::VectorXd& v) {
   return json_array(std::vector<double>(v.data(), v.data() + v.size()));
 }
 
-// The exact law (/law/cell) and its replay of the sweep (/law/cell_replay), as nested objects
-// with the names of law.h5; the bounds' ±inf (an unbounded row) as null.
-void add_exact_law(JsonObject& o, const Law& law) {
-  o.add_text("cell_note", law.cell_note);
-  if (!law.cell) return;
+// A cell in the exact law's form (/law/cell, /law/small) as a JSON object with the names of
+// law.h5; the bounds' ±inf (an unbounded row) as null.
+std::string cell_json(const law::CondensedCell& c) {
   JsonObject cell;
-  law::for_each_member(*law.cell, [&](const law::Member& m, const auto& value) {
+  law::for_each_member(c, [&](const law::Member& m, const auto& value) {
     using T = std::remove_cvref_t<decltype(value)>;
     // Without an optional part its members are left out, as in law.h5.
-    if (law::left_out(*law.cell, m)) return;
+    if (law::left_out(c, m)) return;
     if constexpr (law::CountMember<T>)
       cell.add(m.name, std::to_string(value));
     else if constexpr (law::RealMember<T>)
@@ -137,7 +135,26 @@ void add_exact_law(JsonObject& o, const Law& law) {
     else if constexpr (law::ListMember<T>)
       cell.add(m.name, json_ints(value));
   });
-  o.add("cell", cell.add("bytes", std::to_string(law.cell->bytes())).str(4));
+  return cell.add("bytes", std::to_string(c.bytes())).str(4);
+}
+
+// A compact law's check (/law/cone_check, /law/small_check, ...), against the exact law or the
+// sweep's held-out directions.
+JsonObject check_json(const law::ConeCheck& k) {
+  return JsonObject()
+      .add_text("against", law::checked_against_text(k.against))
+      .add("directions", std::to_string(k.directions.size()))
+      .add("max_error", json_number(k.max_error))
+      .add("rms_error", json_number(k.rms_error))
+      .add("worst", json_array(std::vector<double>{k.worst(0), k.worst(1), k.worst(2)}));
+}
+
+// The exact law (/law/cell) and its replay of the sweep (/law/cell_replay), as nested objects
+// with the names of law.h5.
+void add_exact_law(JsonObject& o, const Law& law) {
+  o.add_text("cell_note", law.cell_note);
+  if (!law.cell) return;
+  o.add("cell", cell_json(*law.cell));
   for (const law::CellReplayMember& m : law::cell_replay_members) {
     if (!law::carries(*law.cell, m)) continue;
     JsonObject replay;
@@ -165,14 +182,6 @@ void add_exact_law(JsonObject& o, const Law& law) {
 // The compact laws' checks (/law/cone_check, /law/cone_after_fuse_check), against the exact law
 // or the sweep's held-out directions.
 void add_cone_checks(JsonObject& o, const Law& law) {
-  const auto check_json = [](const law::ConeCheck& k) {
-    return JsonObject()
-        .add_text("against", law::checked_against_text(k.against))
-        .add("directions", std::to_string(k.directions.size()))
-        .add("max_error", json_number(k.max_error))
-        .add("rms_error", json_number(k.rms_error))
-        .add("worst", json_array(std::vector<double>{k.worst(0), k.worst(1), k.worst(2)}));
-  };
   if (law.cone_check.directions.empty()) return;
   o.add("cone_check", check_json(law.cone_check)
                           .add("sweep_fit_max_error", json_number(law.cone_check.sweep_fit_max_error))
@@ -180,6 +189,31 @@ void add_cone_checks(JsonObject& o, const Law& law) {
                           .str(4));
   if (!law.cone_after_fuse_check.directions.empty())
     o.add("cone_after_fuse_check", check_json(law.cone_after_fuse_check).str(4));
+}
+
+// The small cell (/law/small), how it was fitted (/law/small_fit) and its checks (/law/small_check,
+// and for the whole ply /law/small_ply_check), or the note that says why there is none: what
+// law.h5 has of it, with its names.
+void add_small_cell(JsonObject& o, const Law& law) {
+  o.add_text("small_note", law.small_note);
+  if (!law.small) return;
+  o.add("small", cell_json(*law.small));
+  JsonObject fit;
+  for (const law::SmallCellFitField& field : law::small_cell_fit_fields) {
+    if (field.count) fit.add(field.name, std::to_string(law.small_fit.*field.count));
+    if (field.value) fit.add(field.name, json_number(law.small_fit.*field.value));
+  }
+  o.add("small_fit", fit.str(4));
+  o.add("small_check", check_json(law.small_check).str(4));
+  if (law.small_ply_check.directions > 0) {
+    JsonObject ply;
+    for (const law::PlyCheckField& field : law::ply_check_fields) {
+      if (field.count) ply.add(field.name, std::to_string(law.small_ply_check.*field.count));
+      if (field.value) ply.add(field.name, json_number(law.small_ply_check.*field.value));
+    }
+    const law::Vector6d& w = law.small_ply_check.worst;
+    o.add("small_ply_check", ply.add("worst", json_array(std::vector<double>(w.data(), w.data() + 6))).str(4));
+  }
 }
 
 // The onset surface (/law/onset) as a JSON object: facets and their pairs, and the check
@@ -278,6 +312,7 @@ std::string law_json(const Law& law) {
   o.add("onset", onset_json(law.onset));
   add_exact_law(o, law);
   add_cone_checks(o, law);
+  add_small_cell(o, law);
   return o.str() + "\n";
 }
 

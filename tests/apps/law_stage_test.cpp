@@ -513,6 +513,28 @@ TEST(LawStage, TheSmallCellGoesThroughLawAndExport) {
   const auto over = run_command(bin("dualcell-export") + " --law " + q(with_small) +
                                 " --format umat --form small --cell-id 6 --out " + q(run.dir / "o.inp"));
   EXPECT_NE(over.output.find("more than the default tolerance 2 %"), std::string::npos) << over.output;
+
+  // law.json mirrors law.h5: every object of /law (and the root's attributes) has its key, the
+  // small cell, its fit and its check included (once left out), and the cells' members and the
+  // fit's fields by the same names.
+  ASSERT_EQ(run_command(bin("dualcell-export") + " --quiet --law " + q(looser) + " --format json --out " +
+                        q(run.dir / "law.json"))
+                .exit_code,
+            exit_ok);
+  const std::string mirror =
+      "import h5py, json, sys\n"
+      "f = h5py.File(sys.argv[1], 'r'); d = json.load(open(sys.argv[2]))\n"
+      "law = f['/law']\n"
+      "h5 = set(law.keys()) | set(law.attrs.keys()) | set(f['/'].attrs.keys())\n"
+      "assert h5 == set(d.keys()), ('only in law.h5', sorted(h5 - set(d)), 'only in law.json', sorted(set(d) - h5))\n"
+      "for g in ('cell', 'small', 'small_fit'):\n"
+      "    h = set(law[g].keys()) | set(law[g].attrs.keys())\n"
+      "    assert h <= set(d[g].keys()), (g, sorted(h - set(d[g])))\n"
+      "assert len(d['small']['Y']) == 4 and d['small_check']['max_error'] > 0.02\n"
+      "print('mirrors')\n";
+  const auto mirrored = run_command("/usr/bin/python3 " + q(run.dir.write("mirror.py", mirror)) + " " + q(looser) +
+                                    " " + q(run.dir / "law.json"));
+  EXPECT_EQ(mirrored.output, "mirrors\n") << mirrored.output;
 }
 
 }  // namespace

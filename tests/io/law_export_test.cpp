@@ -346,8 +346,8 @@ TEST(Export, JsonIsReadByPythonWithEveryObject) {
   ASSERT_EQ(check.exit_code, 0) << check.output;
   // 20 per-direction columns, 7 objects per fit, 4 cone objects, 2 cone-wise fits, the onset
   // surface, 5 constituents and the cell size, format and 5 provenance texts, 3 /law texts, and
-  // the note that says why there is no exact law (this law has none).
-  EXPECT_EQ(check.output, "57\n");
+  // the notes that say why there is no exact law and no small cell (this law has neither).
+  EXPECT_EQ(check.output, "58\n");
 }
 
 TEST(Export, CsvHasAHeaderAndOneRowPerDirection) {
