@@ -47,7 +47,7 @@ int main(int argc, char** argv) {
   app.add_option("--form", form,
                  "umat: cell, the exact law (its cell in dualcell-cell-<id>.txt beside --out), small, its small cell "
                  "(the same way), or cone, the cone-wise law with the fuse; default: cell where law.h5 has it")
-      ->check(CLI::IsMember({"cell", "small", "cone"}));
+      ->check(CLI::IsMember(dualcell::law_forms()));
   app.add_option("--cell-id", cell_id,
                  "umat --form cell or small: the id that names the cell's file (dualcell-cell-<id>.txt)")
       ->capture_default_str()

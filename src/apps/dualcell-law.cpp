@@ -25,7 +25,7 @@ int main(int argc, char** argv) {
       "dualcell-law: evaluate a law.h5 at macro strains or stresses from a CSV file, with history along\n"
       "paths (format: docs/guide/evaluate.md)."};
   dualcell::stage::LawPointsOptions options;
-  std::string law_file, strain_file, stress_file, out, form = "cell";
+  std::string law_file, strain_file, stress_file, out;
   bool quiet = false;
   app.add_option("--law", law_file, "law.h5 written by dualcell-fit")->required();
   auto* strain =
@@ -35,9 +35,10 @@ int main(int argc, char** argv) {
   strain->excludes(stress);
   stress->excludes(strain);
   app.add_option("--out", out, "output CSV file")->required();
-  app.add_option("--form", form,
-                 "cell: the exact condensed law (default); small: its small cell; cone: the compact cone-wise law")
-      ->check(CLI::IsMember({"cell", "small", "cone"}));
+  app.add_option("--form", options.form,
+                 "cell: the exact condensed law; small: its small cell; cone: the compact cone-wise law; default: "
+                 "cell where law.h5 has it, else cone")
+      ->check(CLI::IsMember(dualcell::law_forms()));
   app.add_flag("--eps33", options.eps33,
                "each row has a fourth number, the strain e33 along the fibres (a law fitted with [load] macro = "
                "\"full\"); the output gains szz and the tangent's e33 column");
@@ -58,15 +59,12 @@ int main(int argc, char** argv) {
     options.strain_driven = !strain_file.empty();
     options.points_file = options.strain_driven ? strain_file : stress_file;
     options.out = out;
-    options.form = form == "cone"    ? stage::LawForm::cone
-                   : form == "small" ? stage::LawForm::small
-                                     : stage::LawForm::cell;
     const stage::LawPointsSummary s = stage::evaluate_law(options);
     if (!quiet)
       std::printf(
           "dualcell-law: %d rows (%d paths), %s form, %s-driven -> %s, %.3g ms per row (%ld QP subproblems, "
           "%ld factorisations, %ld bordered)\n",
-          s.rows, s.paths, form.c_str(), options.strain_driven ? "strain" : "stress", out.c_str(),
+          s.rows, s.paths, s.form.c_str(), options.strain_driven ? "strain" : "stress", out.c_str(),
           s.rows > 0 ? 1e3 * s.seconds / s.rows : 0.0, s.qp_iterations, s.qp_factorisations, s.qp_updates);
   });
 }

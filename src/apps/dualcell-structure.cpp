@@ -29,7 +29,7 @@ int main(int argc, char** argv) {
                  "cell: the exact law (/law/cell, every quadrature point a cell with its bond history); small: its "
                  "small cell (/law/small, the same way); cone: the cone-wise law with the fuse per cell; default: cell "
                  "where law.h5 has it, else cone")
-      ->check(CLI::IsMember({"cell", "small", "cone"}));
+      ->check(CLI::IsMember(dualcell::law_forms()));
   app.add_flag("--quiet", quiet, "no progress and no summary");
   if (const auto stop = dualcell::parse_options(app, argc, argv)) return *stop;
 

@@ -10,9 +10,11 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "core/exit_codes.hpp"
 #include "core/text.hpp"
+#include "law/form.hpp"
 #include "par/parallel.hpp"
 
 namespace dualcell {
@@ -31,6 +33,11 @@ inline CLI::Validator number_in(double lo, double hi) {
         return {};
       },
       "NUMBER in [" + shortest(lo) + ", " + shortest(hi) + "]");
+}
+
+// The names --form takes (law::law_form_names), for CLI::IsMember.
+inline std::vector<std::string> law_forms() {
+  return std::vector<std::string>(law::law_form_names.begin(), law::law_form_names.end());
 }
 
 // The exit code when the stage must stop here (help shown, or an option error), else nothing.

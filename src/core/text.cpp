@@ -41,4 +41,10 @@ std::string csv_number(double value) {
   return formatted("%.17g", value);
 }
 
+std::string one_line(std::string text) {
+  for (char& c : text)
+    if (c == '\n' || c == '\r') c = ' ';
+  return text;
+}
+
 }  // namespace dualcell

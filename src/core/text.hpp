@@ -11,5 +11,6 @@ std::string shortest(const std::vector<double>& v);       // "[0.3, 1]"
 std::string formatted(const char* format, double value);  // one number with a printf format ("%.6g")
 std::string clipped(std::string text);                    // at most 60 bytes (+ "..."), cut at UTF-8 boundaries
 std::string csv_number(double value);                     // %.17g, "nan", "inf", "-inf": reads back exactly
+std::string one_line(std::string text);                   // newlines (\n, \r) as spaces: a message stays one line
 
 }  // namespace dualcell

@@ -24,13 +24,6 @@ namespace {
 // (1.2345678901234567e+01 is read as 1.2345678901234567): %.12e is at most 19 characters.
 std::string card_number(double value) { return formatted("%.12e", value); }
 
-// Comment text on one line: a newline in a path or a units string would end the comment.
-std::string one_line(std::string text) {
-  for (char& c : text)
-    if (c == '\n' || c == '\r') c = ' ';
-  return text;
-}
-
 // Three comment lines, one per row.
 std::string matrix_comment(const Eigen::Matrix3d& m) {
   std::string out;
@@ -512,15 +505,10 @@ std::string umat_cell_hash_constants(std::uint64_t hash) {
   return card_number(static_cast<double>(hash >> 32)) + ", " + card_number(static_cast<double>(hash & 0xffffffffULL));
 }
 
-const law::CondensedCell& umat_cell(const Law& law, CellForm form, const std::string& source) {
-  const bool small = form == CellForm::small;
-  const std::string object = small ? "/law/small" : "/law/cell";
-  const std::optional<law::CondensedCell>& kept = small ? law.small : law.cell;
-  if (!kept)
-    throw InputError(source + ": " + object + ": " +
-                     (small ? "no small cell (" + one_line(law.small_note) + "): --form small needs one"
-                            : "no exact law (" + one_line(law.cell_note) + "): --form cell needs one") +
-                     " (--form cone writes the cone-wise law)");
+const law::CondensedCell& umat_cell(const Law& law, law::LawForm form, const std::string& source) {
+  if (form == law::LawForm::cone) throw std::invalid_argument("umat_cell: the cone-wise law has no cell");
+  const std::string object = form == law::LawForm::small ? "/law/small" : "/law/cell";
+  const law::CondensedCell* kept = &law::cell_of(law, law::pick_form(law, law::to_string(form), source));
   if (kept->n_macro != 3)
     throw InputError(source + ": " + object +
                      ": the cell has the symmetry boundary and carries no shear: a material "
@@ -569,10 +557,10 @@ std::string law_umat_ply(const Law& law, const law::CondensedCell& cell, bool sm
 
 }  // namespace
 
-std::string law_umat_cell(const Law& law, CellForm form, const std::string& name, int id, std::uint64_t cell_hash,
+std::string law_umat_cell(const Law& law, law::LawForm form, const std::string& name, int id, std::uint64_t cell_hash,
                           const std::string& source, UmatBreaks breaks) {
   check_name(name);
-  const bool small = form == CellForm::small;
+  const bool small = form == law::LawForm::small;
   const law::CondensedCell& cell = umat_cell(law, form, source);
   if (cell.longitudinal == 1 && cell.shear == 2)
     return law_umat_ply(law, cell, small, name, id, cell_hash, source, breaks);

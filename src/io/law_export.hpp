@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "law/form.hpp"
 #include "law/law.hpp"
 #include "law/solid.hpp"
 
@@ -41,17 +42,16 @@ std::string law_umat(const law::Law& law, const std::string& name, const std::st
 // the same form, /law/small). A cell of the whole ply (the strain and the shears along the
 // fibres: macro = "full", periodic) gets layout 3 instead: constants 3, `id`, the hash, all six
 // components from the cell (no rule of mixtures), *DEPVAR 1 + pairs + 3 + rows + shear rows.
-// Refuses a law without the one asked for.
-enum class CellForm { exact, small };  // /law/cell or /law/small
+// Refuses a law without the one asked for. `form`: law::LawForm::cell or small.
 // The cell the umat carries for `form`; refuses (InputError naming `source` and the object) a law
-// without it, or one without shear (the symmetry boundary).
-const law::CondensedCell& umat_cell(const law::Law& law, CellForm form, const std::string& source);
+// without it (law::pick_form), or one without shear (the symmetry boundary).
+const law::CondensedCell& umat_cell(const law::Law& law, law::LawForm form, const std::string& source);
 // Where a material point's bonds break (umat/cell_umat.h): within each increment (its debond
 // cascade at every strain), or between increments (held within one, the cascade's breaks at its
 // end taking effect in the next: a 5th constant 1, layout 3 only).
 enum class UmatBreaks { within, between };
-std::string law_umat_cell(const law::Law& law, CellForm form, const std::string& name, int id, std::uint64_t cell_hash,
-                          const std::string& source, UmatBreaks breaks = UmatBreaks::within);
+std::string law_umat_cell(const law::Law& law, law::LawForm form, const std::string& name, int id,
+                          std::uint64_t cell_hash, const std::string& source, UmatBreaks breaks = UmatBreaks::within);
 std::string umat_cell_file(int id);
 // The card's hash constants as written (6 and 7 of layout 2, 3 and 4 of layout 3): the cell
 // file's hash, high and low 32 bits.

@@ -17,6 +17,7 @@
 #include "io/points_csv.hpp"
 #include "io/sweep_file.hpp"
 #include "law/cell_text.hpp"
+#include "law/form.hpp"
 
 namespace dualcell::stage {
 
@@ -109,18 +110,10 @@ constexpr std::size_t max_history_bytes = std::size_t{1} << 30;
 constexpr std::size_t output_piece = std::size_t{1} << 20;
 
 // The cell the form evaluates (the exact law or its small cell, evaluated alike), or nullptr for
-// the cone-wise law; an InputError naming the file where the law has no such form, or no ε33 for
-// --eps33.
-const law::CondensedCell* chosen_cell(const law::Law& law, const LawPointsOptions& options) {
-  if (options.form == LawForm::cell && !law.cell)
-    throw InputError(options.law_file.string() + ": has no exact law (" + law.cell_note +
-                     "): use --form cone for the compact one");
-  if (options.form == LawForm::small && !law.small)
-    throw InputError(options.law_file.string() + ": has no small cell (" + law.small_note +
-                     "): use --form cell or cone");
-  const law::CondensedCell* cell = options.form == LawForm::cell    ? &*law.cell
-                                   : options.form == LawForm::small ? &*law.small
-                                                                    : nullptr;
+// the cone-wise law; an InputError naming the file where it has no ε33 for --eps33 or no shears
+// for --full.
+const law::CondensedCell* chosen_cell(const law::Law& law, const LawPointsOptions& options, law::LawForm form) {
+  const law::CondensedCell* cell = form == law::LawForm::cone ? nullptr : &law::cell_of(law, form);
   const bool cell_form = cell != nullptr;
   if (options.full && !options.strain_driven)
     throw InputError(
@@ -138,10 +131,6 @@ const law::CondensedCell* chosen_cell(const law::Law& law, const LawPointsOption
                           ? std::string("its cell has no strain along the fibres (fit a scene with [load] macro = "
                                         "\"full\" and boundary = \"periodic\" for a small cell)")
                           : std::string("the cone-wise law has no strain along the fibres (use --form cell)")));
-  if (!cell_form && !law.cone.ok)
-    throw InputError(options.law_file.string() + ": has no cone-wise law" +
-                     (law.cone.message.empty() ? std::string() : " (" + law.cone.message + ")"));
-
   return cell;
 }
 
@@ -152,7 +141,8 @@ LawPointsSummary evaluate_law(const LawPointsOptions& options) {
   const law::Law law = io::read_law(options.law_file);
   if (options.full && options.eps33) throw InputError("--full has ε33 already: leave out --eps33");
   const int n = options.full ? 6 : options.eps33 ? 4 : 3;
-  const law::CondensedCell* cell = chosen_cell(law, options);
+  const law::LawForm form = law::pick_form(law, options.form, options.law_file.string());
+  const law::CondensedCell* cell = chosen_cell(law, options, form);
   io::PointsReader points(options.points_file, n);
   const bool cell_form = cell != nullptr;
 
@@ -162,6 +152,7 @@ LawPointsSummary evaluate_law(const LawPointsOptions& options) {
   out.reserve(output_piece + 4096);
 
   LawPointsSummary summary;
+  summary.form = law::to_string(form);
   std::optional<law::CellEvaluator> evaluator;
   if (cell_form)
     evaluator.emplace(*cell, options.factorise_each ? qp::DenseActiveSet::Updates::factorise_each

@@ -1,6 +1,7 @@
 #pragma once
 // The law's evaluation as one call (dualcell-law): a law.h5 at the points of a CSV file.
 #include <filesystem>
+#include <string>
 
 namespace dualcell::stage {
 
@@ -8,11 +9,12 @@ namespace dualcell::stage {
 // stress-driven, in its exact form (the condensed cell, /law/cell), as its small cell
 // (/law/small, evaluated as the exact law is) or as the cone-wise law with the fuse (/law/cone
 // and /law/cone_after_fuse as the umat evaluates it).
-enum class LawForm { cell, small, cone };
 struct LawPointsOptions {
   std::filesystem::path law_file, points_file, out;
   bool strain_driven = true;
-  LawForm form = LawForm::cell;
+  // "cell", "small", "cone" or "" for the default (law::pick_form: the exact law where the law
+  // has one, else the cone-wise law).
+  std::string form;
   // Rows of four numbers, the fourth the strain ε33 along the fibres (a cell that carries it:
   // [load] macro = "full"); the output gains σ33 and the tangent's ε33 column.
   bool eps33 = false;
@@ -25,6 +27,7 @@ struct LawPointsOptions {
   bool factorise_each = false;
 };
 struct LawPointsSummary {
+  std::string form;            // the form evaluated (law::law_form_names)
   int rows = 0, paths = 0;     // paths: loading paths with history (rows without a path count one each)
   double seconds = 0;          // of the evaluations alone
   long qp_iterations = 0;      // the cell form's active-set subproblems, all rows

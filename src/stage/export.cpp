@@ -18,6 +18,7 @@
 #include "io/points_csv.hpp"
 #include "io/sweep_file.hpp"
 #include "law/cell_text.hpp"
+#include "law/form.hpp"
 
 namespace dualcell::stage {
 
@@ -72,31 +73,28 @@ void refuse_over_error(const ExportOptions& options, const ErrorLimit& limit, co
 std::string export_law(const ExportOptions& options) {
   if (!options.form.empty() && options.format != io::ExportFormat::umat)
     throw InputError("--form " + options.form + ": only for --format umat (the other formats carry the fitted laws)");
-  if (options.form != "" && options.form != "cell" && options.form != "small" && options.form != "cone")
-    throw InputError("--form " + options.form +
-                     ": must be \"cell\" (the exact law), \"small\" (its small cell) or \"cone\"");
   if (!options.breaks.empty() && options.breaks != "within" && options.breaks != "between")
     throw InputError("--breaks " + options.breaks + ": must be \"within\" or \"between\"");
   io::check_outputs({options.out}, {options.law_file});
   const law::Law law = io::read_law(options.law_file);
-  const std::string form = options.form.empty() ? (law.cell ? "cell" : "cone") : options.form;
-  if (!options.breaks.empty() && (options.format != io::ExportFormat::umat || form == "cone"))
+  const bool umat = options.format == io::ExportFormat::umat;
+  // The umat's form (the other formats carry every form law.h5 has).
+  const law::LawForm form = umat ? law::pick_form(law, options.form, options.law_file.string()) : law::LawForm::cone;
+  const bool small = umat && form == law::LawForm::small;
+  if (!options.breaks.empty() && (!umat || form == law::LawForm::cone))
     throw InputError("--breaks " + options.breaks + ": only for --format umat of a cell (--form cell or small)");
   const ErrorLimit limit = error_limit(options, law);
   // The small cell is vouched for by its check against the exact law, as the cone-wise law is.
-  if (options.format == io::ExportFormat::umat && form == "small" && law.small)
-    refuse_over_error(options, limit, "the small cell", law.small_check);
+  if (small) refuse_over_error(options, limit, "the small cell", law.small_check);
   // And the small cell of the whole ply by its check along six-component strain paths.
   const law::PlyCheck& ply = law.small_ply_check;
-  if (options.format == io::ExportFormat::umat && form == "small" && law.small && ply.directions > 0 &&
-      !options.force && !(ply.max_error <= limit.value))
+  if (small && ply.directions > 0 && !options.force && !(ply.max_error <= limit.value))
     throw InputError(options.law_file.string() + ": the small cell of the whole ply misses the exact law along " +
                      std::to_string(ply.directions) + " six-component strain paths by " +
                      formatted("%.1f", 100 * ply.max_error) + " % of stress, more than " + limit.name + " " +
                      formatted("%.3g", 100 * limit.value) + " %: not exported (--force writes it anyway)");
-  if (options.format == io::ExportFormat::umat && (form == "cell" || form == "small")) {
-    const io::CellForm cell_form = form == "small" ? io::CellForm::small : io::CellForm::exact;
-    const law::CondensedCell& cell = io::umat_cell(law, cell_form, options.law_file.string());
+  if (umat && form != law::LawForm::cone) {
+    const law::CondensedCell& cell = io::umat_cell(law, form, options.law_file.string());
     // Two files, committed together: the card and the cell it names.
     const std::filesystem::path cell_file = options.out.parent_path() / io::umat_cell_file(options.cell_id);
     io::check_outputs({options.out, cell_file}, {options.law_file});
@@ -119,7 +117,7 @@ std::string export_law(const ExportOptions& options) {
                          "choose another --cell-id, or --force to replace it");
     }
     const std::string card =
-        io::law_umat_cell(law, cell_form, options.name, options.cell_id, cell_hash, options.law_file.string(),
+        io::law_umat_cell(law, form, options.name, options.cell_id, cell_hash, options.law_file.string(),
                           options.breaks == "between" ? io::UmatBreaks::between : io::UmatBreaks::within);
     io::AtomicOutputs outputs;
     outputs.add(options.out);
@@ -128,8 +126,8 @@ std::string export_law(const ExportOptions& options) {
     outputs.write(cell_file, cell_text.str());
     outputs.commit();
     return "user material ABAQUS_" + options.name + " for dualcell's umat, " +
-           (form == "small" ? "the small cell (" : "the exact law (") + std::to_string(cell.n_rows()) +
-           (form == "small" ? " rows) in " : " interface rows) in ") + cell_file.string();
+           (small ? "the small cell (" : "the exact law (") + std::to_string(cell.n_rows()) +
+           (small ? " rows) in " : " interface rows) in ") + cell_file.string();
   }
   std::string text;
   switch (options.format) {

@@ -19,8 +19,8 @@ struct ExportOptions {
   // --law-tolerance), or fit::default_law_tolerance where it records none.
   double max_law_error = std::numeric_limits<double>::quiet_NaN();
   bool force = false;
-  // umat: "cell" (the exact law, its cell in io::umat_cell_file(cell_id) beside `out`), "cone",
-  // or "" for the exact law where law.h5 has one.
+  // umat: "cell" (the exact law, its cell in io::umat_cell_file(cell_id) beside `out`), "small"
+  // (its small cell, likewise), "cone", or "" for the default (law::pick_form).
   std::string form;
   int cell_id = 1;
   // umat of a cell: where its bonds break ("within" each increment, the default, or "between").

@@ -15,6 +15,7 @@
 #include "io/atomic_output.hpp"
 #include "io/law_file.hpp"
 #include "io/structure_file.hpp"
+#include "law/form.hpp"
 
 namespace dualcell::stage {
 
@@ -26,27 +27,14 @@ structure::CellLaw cell_law(const std::filesystem::path& law_file, std::string& 
     throw InputError(law_file.string() + ": /law attribute cell_size = " + shortest(cell_size) +
                      ": a structure needs a cell size in [" + shortest(min_structure_cell_size) + ", " +
                      shortest(max_structure_cell_size) + "] (its positions are in that unit)");
-  if (form != "" && form != "cell" && form != "small" && form != "cone")
-    throw InputError("--form " + form +
-                     ": must be \"cell\" (the exact law), \"small\" (its small cell) or \"cone\" (the cone-wise law)");
+  const law::LawForm picked = law::pick_form(law, form, law_file.string(), &note);
+  form = law::to_string(picked);
   structure::CellLaw cell;
-  if (form == "cell" && !law.cell)
-    throw InputError(law_file.string() + ": /law/cell: no exact law (" + law.cell_note + "): --form cell needs one");
-  if (form == "small" && !law.small)
-    throw InputError(law_file.string() + ": /law/small: no small cell (" + law.small_note +
-                     "): --form small needs one");
-  if (form.empty()) {
-    form = law.cell ? "cell" : "cone";
-    if (!law.cell) note = "the cone-wise law: law.h5 has no exact law (" + law.cell_note + ")";
-  }
-  if (form == "cell" || form == "small") {  // both cells, evaluated alike at every quadrature point
-    cell.cell = std::make_shared<const law::CondensedCell>(form == "cell" ? *law.cell : *law.small);
+  if (picked != law::LawForm::cone) {  // both cells, evaluated alike at every quadrature point
+    cell.cell = std::make_shared<const law::CondensedCell>(law::cell_of(law, picked));
     if (!cell.cell->adhesion()) note = "no bond breaks: the cell has no adhesion";
     return cell;
   }
-  if (!law.cone.ok)
-    throw InputError(law_file.string() + ": /law/cone: no fitted cone-wise law (" + law.cone.message +
-                     "): nothing a structure can use");
   cell.bonded = cell.debonded = law.cone.law;
   const std::string prefix = note.empty() ? "" : note + "; ";
   if (!law.onset.linear) {

@@ -26,10 +26,6 @@ struct SweepOptions {
   int sampled_rows = fit::max_checked_rows;
 };
 
-// The solutions, along sphere directions (sweep::sphere_directions), whose interface forces are the
-// columns of /cell_basis: the fit's greedy picks up to 32 rows from this cell's own solutions.
-inline constexpr int basis_solutions = 64;
-
 struct SweepSummary {
   bool written = false;  // this rank wrote sweep.h5 (rank 0; the only one without MPI)
   int paths = 0, resumed = 0, fuses = 0, unconverged_steps = 0;

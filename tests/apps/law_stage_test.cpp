@@ -25,6 +25,7 @@
 #include "law/reduced.hpp"
 #include "stage/sweep.hpp"
 #include "stages_run.hpp"
+#include "sweep/checks.hpp"
 #include "test_util.hpp"
 
 namespace dualcell {
@@ -258,7 +259,7 @@ TEST(LawStage, AboveTheSampledRowsTheSmallCellIsFittedToFullSolves) {
   ASSERT_TRUE(header.cell && header.cell_basis) << header.cell_basis_note;
   EXPECT_EQ(header.cell_basis->n_rows(), summary.basis_rows);
   EXPECT_GT(summary.basis_rows, 0);
-  EXPECT_LE(summary.basis_rows, stage::basis_solutions);
+  EXPECT_LE(summary.basis_rows, sweep::basis_solutions);
   EXPECT_EQ(law::consistency_problem(*header.cell_basis), "");
 
   const law::Law law = fit::fit_law(io::read_sweep(dir / "sweep.h5"), header, 0);
@@ -460,7 +461,7 @@ TEST(LawStage, TheSmallCellGoesThroughLawAndExport) {
   const std::string evaluate = bin("dualcell-law") + " --quiet --strain " + q(points) + " --form small --out ";
   const auto none = run_command(evaluate + q(run.dir / "v.csv") + " --law " + q(run.law));
   EXPECT_EQ(none.exit_code, exit_input_error);
-  EXPECT_NE(none.output.find("has no small cell (the exact law has"), std::string::npos) << none.output;
+  EXPECT_NE(none.output.find("/law/small: no small cell (the exact law has"), std::string::npos) << none.output;
   const auto no_umat = run_command(bin("dualcell-export") + " --law " + q(run.law) +
                                    " --format umat --form small --out " + q(run.dir / "u.inp"));
   EXPECT_EQ(no_umat.exit_code, exit_input_error);

@@ -114,7 +114,7 @@ TEST(CellUmat, EqualsTheLibraryAlongAPathThroughTheCascade) {
   law.constituents = {30.0, 0.22, 1.0, 0.35, 0.28, 1.0};
   law.cell = cell;
   const std::uint64_t hash = text_hash_value(text);
-  const std::string card = io::law_umat_cell(law, io::CellForm::exact, "CELL", 7001, hash, "law.h5");
+  const std::string card = io::law_umat_cell(law, law::LawForm::cell, "CELL", 7001, hash, "law.h5");
   const std::string depvar = std::string("*DEPVAR\n").append(std::to_string(1 + cell.n_pairs + 3 + cell.n_rows()));
   ASSERT_NE(card.find(depvar), std::string::npos) << card;
   const OutOfPlane z = rule_of_mixtures(law);
@@ -221,7 +221,7 @@ PlyCard ply_card(const std::filesystem::path& dir, int id, io::UmatBreaks breaks
   law.constituents = {30.0, 0.22, 1.0, 0.35, 0.28, 1.0};
   law.cell = out.cell;
   const std::uint64_t hash = text_hash_value(text.str());
-  out.card = io::law_umat_cell(law, io::CellForm::exact, "PLY", id, hash, "law.h5", breaks);
+  out.card = io::law_umat_cell(law, law::LawForm::cell, "PLY", id, hash, "law.h5", breaks);
   out.depvar = 1 + out.cell.n_pairs + 3 + out.cell.n_rows() + out.cell.shear_rows;
   const double high = static_cast<double>(hash >> 32), low = static_cast<double>(hash & 0xffffffffULL);
   out.props = {3, static_cast<double>(id), high, low};
@@ -337,7 +337,7 @@ TEST(CellUmat, BetweenIncrementsTheBondsAreHeldAndBreakAtTheNextIncrement) {
   Law law;
   law.constituents = {30.0, 0.22, 1.0, 0.35, 0.28, 1.0};
   law.cell = adhesive_cell();
-  EXPECT_THROW(io::law_umat_cell(law, io::CellForm::exact, "CELL", 7013, 1, "law.h5", io::UmatBreaks::between),
+  EXPECT_THROW(io::law_umat_cell(law, law::LawForm::cell, "CELL", 7013, 1, "law.h5", io::UmatBreaks::between),
                InputError);
 }
 
