@@ -153,9 +153,25 @@ std::vector<int> ties_at_strength(const Eigen::VectorXd& pair_forces, const std:
                                   const std::vector<double>& strength) {
   std::vector<int> out;
   for (std::size_t p = 0; p < bonded.size(); ++p)
-    if (bonded[p] && law::bond::at_strength(pair_forces(static_cast<Eigen::Index>(p)), {-strength[p], strength[p]}))
+    if (bonded[p] &&
+        law::bond::at_strength(pair_forces(static_cast<Eigen::Index>(p)), law::bond::intact_along_fibres(strength[p])))
       out.push_back(static_cast<int>(p));
   return out;
+}
+
+primal::ShearResponse longitudinal_shear_cascade(const mesh::Mesh& mesh, const Scene& scene, std::vector<char>& bonded,
+                                                 const Eigen::Vector2d& gamma, const std::vector<double>& strength) {
+  primal::ShearResponse r;
+  // Each round breaks at least one tie: one more solve than pairs ends every cascade.
+  law::bond::cascade(
+      bonded, static_cast<int>(bonded.size()) + 1,
+      [&] {
+        r = primal::longitudinal_shear_at(mesh, scene.fibre, scene.matrix, bonded, gamma, strength);
+        return true;
+      },
+      [&](std::vector<int>& breaking) { breaking = ties_at_strength(r.pair_forces, bonded, strength); },
+      [](const std::vector<int>&) {});
+  return r;
 }
 
 std::vector<double> shear_strengths(const mesh::Mesh& mesh, const Scene& scene) {
@@ -164,7 +180,7 @@ std::vector<double> shear_strengths(const mesh::Mesh& mesh, const Scene& scene) 
   const double sn = scene.interface.normal_strength, st = scene.interface.tangential_strength;
   std::vector<double> strength(length.size());
   for (std::size_t p = 0; p < length.size(); ++p)
-    strength[p] = bond::bounds(bond::Kind::tangential, bond::State::intact, sn, st, length[p]).upper;
+    strength[p] = bond::bounds(bond::Kind::along_fibres, bond::State::intact, sn, st, length[p]).upper;
   return strength;
 }
 

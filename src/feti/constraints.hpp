@@ -28,6 +28,7 @@
 
 #include "core/scene.hpp"
 #include "mesh/mesh.hpp"
+#include "primal/antiplane.hpp"
 
 namespace dualcell::feti {
 
@@ -65,10 +66,16 @@ std::vector<double> interface_lengths(const mesh::Mesh& mesh);
 // tangential row's intact bound, s_t L (law::bond::bounds); 0 without a tangential strength.
 std::vector<double> shear_strengths(const mesh::Mesh& mesh, const Scene& scene);
 // The tied pairs (bonded[p] ≠ 0) whose force along z, pair_forces(p), is at its strength ±strength[p]
-// (law::bond::at_strength): the ties a round of the cascade along the fibres breaks, in the full
-// solver's debond loop and in the sweep's one-body checks alike.
+// (law::bond::at_strength of an along_fibres row): the ties a round of the cascade along the
+// fibres breaks, in the full solver's debond loop and in the one-body cascade below alike.
 std::vector<int> ties_at_strength(const Eigen::VectorXd& pair_forces, const std::vector<char>& bonded,
                                   const std::vector<double>& strength);
+// The one-body shear along the fibres at Γ with its debond cascade (law::bond::cascade): the ties
+// of `bonded` hold to `strength` (primal::longitudinal_shear_at), those at their strength break
+// and the body is solved again until none is; `bonded` ends as the cascade leaves it. The
+// sweep's /shear_check, and the tests' reference for the exact law's cascade along z.
+primal::ShearResponse longitudinal_shear_cascade(const mesh::Mesh& mesh, const Scene& scene, std::vector<char>& bonded,
+                                                 const Eigen::Vector2d& gamma, const std::vector<double>& strength);
 
 // The mesh sides of the edges left, right, bottom, top (the order of edge_names).
 extern const std::array<int, 4> edge_sides;

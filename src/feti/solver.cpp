@@ -288,70 +288,70 @@ Solution ContactSolver::solve(const MacroState& state, const BondState& bonds, c
     if (shear_strength_.empty()) shear_strength_ = shear_strengths(setup_.mesh(), scene);
   }
   BondState current = bonds;
-  Solution total;
+  Solution s;         // the current round's
   Solution previous;  // the work of the rounds before the current one
-  int newly_broken = 0;
   Eigen::VectorXd warm;
   if (warm_lambda) warm = *warm_lambda;
-  const int max_rounds = setup_.scene().solver.max_debond_rounds;
-  const bool adhesion = setup_.scene().interface.has_adhesion();
-  for (int round = 1;; ++round) {
-    // The caller's multiplier belongs to the first problem only: after breaks the rows change.
-    Solution s = solve_fixed(state, current, warm.size() ? &warm : nullptr, round == 1 ? warm_multiplier : nullptr);
-    // Bonds at their strength break, normal and tangential together (docs/method.md §11). No loop at
-    // all without adhesion.
-    std::vector<int> breaking;
-    if (adhesion && s.qp_converged()) {
-      const Constraints& con = problem(current).constraints();
-      for (int r = 0; r < con.n_rows(); ++r) {
-        if (!is_interface(con.kind[r]) || !current[con.pair[r]]) continue;
-        if (law::bond::at_strength(s.lambda(r) / con.weight(r), {con.lower(r), con.upper(r)}))
-          breaking.push_back(con.pair[r]);
-      }
-    }
-    if (!gamma.isZero(0) && s.qp_converged()) {
-      // The shear along the fibres with the same bonds: ties only where bonds carry shear (s_t > 0;
-      // otherwise the fibres slip along z, as the exact law's cell without shear rows).
-      const bool ties = scene.interface.tangential_strength > 0;
-      std::vector<char> bonded(current.size(), 0);
-      for (std::size_t p = 0; p < current.size(); ++p) bonded[p] = ties && current[p] ? 1 : 0;
-      const primal::ShearResponse z =
-          primal::longitudinal_shear_at(setup_.mesh(), scene.fibre, scene.matrix, bonded, gamma, shear_strength_);
-      s.gamma = gamma;
-      s.shear_stress = z.tau;
-      for (const int p : ties_at_strength(z.pair_forces, bonded, shear_strength_)) breaking.push_back(p);
-    }
-    if (breaking.empty() || round >= max_rounds) {
-      s.add_work(previous);
-      total = std::move(s);
-      total.debond_rounds = round;
-      if (!breaking.empty()) {
-        total.qp.message = "debonding did not settle within max_debond_rounds = " + std::to_string(max_rounds);
-        total.qp.status = qp::Status::max_iterations;
-      }
-      break;
-    }
-    // Carry the multipliers of the rows that stay over to the next problem as a warm start.
-    const Constraints& old = problem(current).constraints();
-    for (int p : breaking) {
-      newly_broken += current[p] ? 1 : 0;
-      current[p] = 0;
-    }
-    const Constraints next = build_constraints(setup_.mesh(), setup_.scene(), current);
-    warm.resize(next.n_rows());
-    // Structural rows keep their order; interface rows are found by (kind, pair).
-    std::map<std::pair<int, int>, double> by_key;
-    for (int r = 0; r < old.n_rows(); ++r)
-      by_key[{static_cast<int>(old.kind[r]), !is_interface(old.kind[r]) ? r : old.pair[r]}] = s.lambda(r);
-    for (int r = 0; r < next.n_rows(); ++r) {
-      const auto it = by_key.find({static_cast<int>(next.kind[r]), !is_interface(next.kind[r]) ? r : next.pair[r]});
-      warm(r) = it == by_key.end()
-                    ? 0.0
-                    : std::clamp(it->second, next.lower(r) * next.weight(r), next.upper(r) * next.weight(r));
-    }
-    previous.add_work(s);
+  const bool adhesion = scene.interface.has_adhesion();
+  // No loop at all without adhesion: one round, nothing can break.
+  const int max_rounds = adhesion ? scene.solver.max_debond_rounds : 1;
+  bool first = true;
+  const law::bond::CascadeEnd end = law::bond::cascade(
+      current, max_rounds,
+      [&] {
+        // The caller's multiplier belongs to the first problem only: after breaks the rows change.
+        s = solve_fixed(state, current, warm.size() ? &warm : nullptr, first ? warm_multiplier : nullptr);
+        first = false;
+        return true;
+      },
+      [&](std::vector<int>& breaking) {
+        // Bonds at their strength break, normal and tangential together (docs/method.md §11).
+        if (!s.qp_converged()) return;
+        if (adhesion) {
+          const Constraints& con = problem(current).constraints();
+          for (int r = 0; r < con.n_rows(); ++r)
+            if (is_interface(con.kind[r]) && current[con.pair[r]] &&
+                law::bond::at_strength(s.lambda(r) / con.weight(r), {con.lower(r), con.upper(r)}))
+              breaking.push_back(con.pair[r]);
+        }
+        if (!gamma.isZero(0)) {
+          // The shear along the fibres with the same bonds: ties only where bonds carry shear (s_t > 0;
+          // otherwise the fibres slip along z, as the exact law's cell without shear rows).
+          const bool ties = scene.interface.tangential_strength > 0;
+          std::vector<char> bonded(current.size(), 0);
+          for (std::size_t p = 0; p < current.size(); ++p) bonded[p] = ties && current[p] ? 1 : 0;
+          const primal::ShearResponse z =
+              primal::longitudinal_shear_at(setup_.mesh(), scene.fibre, scene.matrix, bonded, gamma, shear_strength_);
+          s.gamma = gamma;
+          s.shear_stress = z.tau;
+          for (const int p : ties_at_strength(z.pair_forces, bonded, shear_strength_)) breaking.push_back(p);
+        }
+      },
+      [&](const std::vector<int>&) {
+        // Carry the multipliers of the rows that stay over to the next problem as a warm start.
+        // Structural rows keep their order; interface rows are found by (kind, pair).
+        const Constraints& old = problem(s.bonds).constraints();
+        const Constraints next = build_constraints(setup_.mesh(), scene, current);
+        warm.resize(next.n_rows());
+        std::map<std::pair<int, int>, double> by_key;
+        for (int r = 0; r < old.n_rows(); ++r)
+          by_key[{static_cast<int>(old.kind[r]), !is_interface(old.kind[r]) ? r : old.pair[r]}] = s.lambda(r);
+        for (int r = 0; r < next.n_rows(); ++r) {
+          const auto it = by_key.find({static_cast<int>(next.kind[r]), !is_interface(next.kind[r]) ? r : next.pair[r]});
+          warm(r) = it == by_key.end()
+                        ? 0.0
+                        : std::clamp(it->second, next.lower(r) * next.weight(r), next.upper(r) * next.weight(r));
+        }
+        previous.add_work(s);
+      });
+  s.add_work(previous);
+  Solution total = std::move(s);
+  total.debond_rounds = end.rounds;
+  if (!end.settled) {
+    total.qp.message = "debonding did not settle within max_debond_rounds = " + std::to_string(max_rounds);
+    total.qp.status = qp::Status::max_iterations;
   }
-  total.newly_broken = newly_broken;
+  total.newly_broken = end.newly_broken;
   return total;
 }
 

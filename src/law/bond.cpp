@@ -16,7 +16,10 @@ Bounds bounds(Kind kind, State state, double s_n, double s_t, double L) {
     case Kind::normal:
       return {intact ? -s_n * L : 0.0, inf};
     case Kind::tangential:
+    case Kind::along_fibres:
       return intact ? Bounds{-s_t * L, s_t * L} : Bounds{0.0, 0.0};
+    case Kind::facet:
+      return intact ? Bounds{-inf, 1.0} : Bounds{0.0, 0.0};
   }
   return {};
 }

@@ -99,8 +99,7 @@ double CellEvaluator::strength_use(const Eigen::VectorXd& forces, const Eigen::V
   for (int r = 0; r < cell_.n_rows(); ++r)
     if (bonded[cell_.pair[r]]) use = std::max(use, bond::strength_use(forces(r), cell_.bonded_bounds(r)));
   for (Eigen::Index r = 0; r < forces_z.size(); ++r)
-    if (bonded[cell_.pair_z[r]])
-      use = std::max(use, bond::strength_use(forces_z(r), {-cell_.strength_z(r), cell_.strength_z(r)}));
+    if (bonded[cell_.pair_z[r]]) use = std::max(use, bond::strength_use(forces_z(r), cell_.bonded_bounds_z(r)));
   return use;
 }
 
@@ -148,8 +147,11 @@ bool CellEvaluator::solve_shear(const Eigen::Vector2d& gamma, CellHistory& h, bo
     // the pair broke.
     lower_z_.resize(n), upper_z_.resize(n);
     for (int q = 0; q < n; ++q) {
-      const bond::Bounds intact{-cell_.strength_z(q), cell_.strength_z(q)};
-      const bond::Bounds b = !h.bonded[cell_.pair_z[q]] ? bond::Bounds{} : lifted ? bond::lifted(intact) : intact;
+      const bond::Bounds intact = cell_.bonded_bounds_z(q);
+      const bond::Bounds b = !h.bonded[cell_.pair_z[q]]
+                                 ? bond::bounds(bond::Kind::along_fibres, bond::State::broken, 0, 0, 0)
+                             : lifted ? bond::lifted(intact)
+                                      : intact;
       lower_z_(q) = b.lower, upper_z_(q) = b.upper;
     }
     b_z_ = cell_.Yz * gamma;
@@ -185,23 +187,22 @@ template <class Solve>
 CellResponse CellEvaluator::cascade(CellHistory& h, BondMode bonds, const Eigen::Vector2d& gamma, Solve&& solve) {
   CellResponse out;
   if (static_cast<int>(h.bonded.size()) != cell_.n_pairs) h = unloaded();
-  for (int round = 0; round <= cell_.n_pairs; ++round) {
-    if (!solve(out) || !solve_shear(gamma, h, bonds == BondMode::lifted, out)) return out;
-    if (bonds != BondMode::cascade) break;
-    std::vector<int> breaking;
-    const int n = cell_.n_rows();
-    for (int r = 0; r < n; ++r)
-      if (h.bonded[cell_.pair[r]] && bond::at_strength(out.forces(r), cell_.bonded_bounds(r)))
-        breaking.push_back(cell_.pair[r]);
-    for (Eigen::Index q = 0; q < out.forces_z.size(); ++q)
-      if (h.bonded[cell_.pair_z[q]] && bond::at_strength(out.forces_z(q), {-cell_.strength_z(q), cell_.strength_z(q)}))
-        breaking.push_back(cell_.pair_z[q]);
-    if (breaking.empty()) break;
-    for (int p : breaking) {
-      out.newly_broken += h.bonded[p] ? 1 : 0;
-      h.bonded[p] = 0;
-    }
-  }
+  // Each round breaks at least one bonded pair: n_pairs + 1 solves end every cascade.
+  const bond::CascadeEnd end = bond::cascade(
+      h.bonded, bonds == BondMode::cascade ? cell_.n_pairs + 1 : 1,
+      [&] { return solve(out) && solve_shear(gamma, h, bonds == BondMode::lifted, out); },
+      [&](std::vector<int>& breaking) {
+        if (bonds != BondMode::cascade) return;
+        for (int r = 0; r < cell_.n_rows(); ++r)
+          if (h.bonded[cell_.pair[r]] && bond::at_strength(out.forces(r), cell_.bonded_bounds(r)))
+            breaking.push_back(cell_.pair[r]);
+        for (Eigen::Index q = 0; q < out.forces_z.size(); ++q)
+          if (h.bonded[cell_.pair_z[q]] && bond::at_strength(out.forces_z(q), cell_.bonded_bounds_z(q)))
+            breaking.push_back(cell_.pair_z[q]);
+      },
+      [](const std::vector<int>&) {});
+  if (!end.solved) return out;
+  out.newly_broken = end.newly_broken;
   for (int p = 0; p < cell_.n_pairs; ++p) out.broken += cell_.bonded[p] && !h.bonded[p];
   out.strength_use = strength_use(out.forces, out.forces_z, h.bonded);
   out.ok = true;

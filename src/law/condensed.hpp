@@ -87,6 +87,7 @@ struct CondensedCell {
   bond::Kind kind(int r) const { return tangential[r] ? bond::Kind::tangential : bond::Kind::normal; }
   bond::Bounds bonded_bounds(int r) const { return {lower_bonded(r), upper_bonded(r)}; }
   bond::Bounds broken_bounds(int r) const { return {lower_broken(r), upper_broken(r)}; }
+  bond::Bounds bonded_bounds_z(Eigen::Index q) const { return bond::intact_along_fibres(strength_z(q)); }
   bool adhesion() const;
   // Bytes of the arrays (every array member of law/condensed_members.hpp).
   std::size_t bytes() const;

@@ -8,6 +8,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "law/bond.hpp"
+
 namespace dualcell::law {
 
 namespace {
@@ -299,10 +301,14 @@ FusedCell cell_with_fuse(const CondensedCell& cell, const CondensedCell& after) 
   c.upper_bonded.resize(F + m);
   c.lower_broken.resize(F + m);
   c.upper_broken.resize(F + m);
-  c.lower_bonded << Eigen::VectorXd::Constant(F, -inf), Eigen::VectorXd::Zero(m);
-  c.upper_bonded << Eigen::VectorXd::Ones(F), Eigen::VectorXd::Zero(m);
-  c.lower_broken << Eigen::VectorXd::Zero(F), after.lower_broken;
-  c.upper_broken << Eigen::VectorXd::Zero(F), after.upper_broken;
+  // The facet rows by the bond rule; the rows of `after` carry nothing while the facets hold
+  // (their pair is the fuse's, bonded) and their own broken bounds past it.
+  const bond::Bounds facet_intact = bond::bounds(bond::Kind::facet, bond::State::intact, 0, 0, 0);
+  const bond::Bounds facet_broken = bond::bounds(bond::Kind::facet, bond::State::broken, 0, 0, 0);
+  c.lower_bonded << Eigen::VectorXd::Constant(F, facet_intact.lower), Eigen::VectorXd::Zero(m);
+  c.upper_bonded << Eigen::VectorXd::Constant(F, facet_intact.upper), Eigen::VectorXd::Zero(m);
+  c.lower_broken << Eigen::VectorXd::Constant(F, facet_broken.lower), after.lower_broken;
+  c.upper_broken << Eigen::VectorXd::Constant(F, facet_broken.upper), after.upper_broken;
   if (L == 1) {
     c.longitudinal = 1;
     c.A33 = cell.A33;
@@ -327,7 +333,8 @@ FusedCell cell_with_fuse(const CondensedCell& cell, const CondensedCell& after) 
       c.Yz = Hz * Gf;
       c.Hz = Hz;
       c.Gz.resize(0, Fz);
-      c.strength_z = Eigen::VectorXd::Ones(Fz);
+      // A facet's strength is 1 by its normalisation, both ways along z (the rule's facet row).
+      c.strength_z = Eigen::VectorXd::Constant(Fz, bond::bounds(bond::Kind::facet, bond::State::intact, 0, 0, 0).upper);
       c.pair_z.assign(static_cast<std::size_t>(Fz), 0);
     }
   }

@@ -9,6 +9,7 @@
 #include "core/progress.hpp"
 #include "core/text.hpp"
 #include "core/union_find.hpp"
+#include "law/bond.hpp"
 
 namespace dualcell::law {
 
@@ -59,8 +60,14 @@ CondensedCell cell_of_rows(const CondensedCell& cell, const Eigen::MatrixXd& Y, 
   r.pair.resize(static_cast<std::size_t>(m));
   for (int j = 0; j < m; ++j) r.pair[static_cast<std::size_t>(j)] = j;
   r.n_pairs = m;
-  r.lower_bonded = r.lower_broken = Eigen::VectorXd::Zero(m);
-  r.upper_bonded = r.upper_broken = Eigen::VectorXd::Constant(m, std::numeric_limits<double>::infinity());
+  // Contact rows without strength (the bond rule's normal rows with s_n = 0), the same in every
+  // state: the cell has no bonds to break.
+  const bond::Bounds intact = bond::bounds(bond::Kind::normal, bond::State::intact, 0, 0, 0);
+  const bond::Bounds broken = bond::bounds(bond::Kind::normal, bond::State::broken, 0, 0, 0);
+  r.lower_bonded = Eigen::VectorXd::Constant(m, intact.lower);
+  r.upper_bonded = Eigen::VectorXd::Constant(m, intact.upper);
+  r.lower_broken = Eigen::VectorXd::Constant(m, broken.lower);
+  r.upper_broken = Eigen::VectorXd::Constant(m, broken.upper);
   r.bonded.assign(static_cast<std::size_t>(m), 0);
   return r;
 }

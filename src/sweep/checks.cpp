@@ -118,20 +118,14 @@ std::vector<ShearPoint> shear_points(const mesh::Mesh& mesh, const Scene& scene)
       const primal::ShearResponse r = primal::longitudinal_shear_at(mesh, scene.fibre, scene.matrix, bonded, unit);
       double use = 0;
       for (std::size_t q = 0; q < P; ++q)
-        use =
-            std::max(use, bond::strength_use(r.pair_forces(static_cast<Eigen::Index>(q)), {-strength[q], strength[q]}));
+        use = std::max(use, bond::strength_use(r.pair_forces(static_cast<Eigen::Index>(q)),
+                                               bond::intact_along_fibres(strength[q])));
       if (!(use > 0)) continue;
       factors = {0.5 / use, 1.2 / use, 2 / use, 4 / use};
     }
     for (const double factor : factors) {
       const Eigen::Vector2d gamma = factor * unit;
-      primal::ShearResponse r;
-      for (bool any = true; any;) {
-        r = primal::longitudinal_shear_at(mesh, scene.fibre, scene.matrix, bonded, gamma, strength);
-        const std::vector<int> breaking = feti::ties_at_strength(r.pair_forces, bonded, strength);
-        for (const int q : breaking) bonded[static_cast<std::size_t>(q)] = 0;
-        any = !breaking.empty();
-      }
+      const primal::ShearResponse r = feti::longitudinal_shear_cascade(mesh, scene, bonded, gamma, strength);
       int broken = 0;
       for (std::size_t q = 0; q < P; ++q) broken += st > 0 && !bonded[q];
       points.push_back({path, gamma, r.tau, broken});

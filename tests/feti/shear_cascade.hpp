@@ -12,7 +12,7 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "law/bond.hpp"
+#include "feti/constraints.hpp"
 #include "law/condensed.hpp"
 #include "primal/antiplane.hpp"
 
@@ -37,15 +37,7 @@ inline int expect_the_one_body_cascade(const mesh::Mesh& mesh, const Scene& scen
     const Eigen::Vector2d gamma = factor * first * direction;
     const law::CellResponse r = law.at(MacroState::strain(Eigen::Vector3d::Zero()).hold_shear(gamma), h);
     EXPECT_TRUE(r.ok) << r.message;
-    primal::ShearResponse one_body;
-    for (bool any = true; any;) {
-      one_body = primal::longitudinal_shear_at(mesh, scene.fibre, scene.matrix, bonded, gamma, strength);
-      any = false;
-      for (std::size_t q = 0; q < bonded.size(); ++q)
-        if (bonded[q] &&
-            law::bond::at_strength(one_body.pair_forces(static_cast<Eigen::Index>(q)), {-strength[q], strength[q]}))
-          bonded[q] = 0, any = true;
-    }
+    const primal::ShearResponse one_body = feti::longitudinal_shear_cascade(mesh, scene, bonded, gamma, strength);
     for (std::size_t q = 0; q < bonded.size(); ++q) EXPECT_EQ(h.bonded[q] != 0, bonded[q] != 0) << factor << " " << q;
     EXPECT_LE((r.shear_z - one_body.tau).norm(), tolerance * one_body.tau.norm()) << factor;
     broken = r.broken;

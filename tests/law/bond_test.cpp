@@ -1,11 +1,12 @@
-// The bond rule (law/bond.hpp): its table of bounds per kind and state, the at-strength test and
-// the onset's reach, against the values written out by hand.
+// The bond rule (law/bond.hpp): its table of bounds per kind and state, the at-strength test,
+// the onset's reach and the one debond cascade, against the values written out by hand.
 #include "law/bond.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
+#include <vector>
 
 namespace dualcell::law::bond {
 namespace {
@@ -31,6 +32,19 @@ TEST(BondRule, BoundsPerKindAndState) {
   EXPECT_FALSE(bounds(Kind::tangential, State::intact, sn, 0, L).carries_force());
   EXPECT_FALSE(bounds(Kind::tangential, State::broken, sn, st, L).carries_force());
   EXPECT_TRUE(bounds(Kind::normal, State::broken, sn, st, L).carries_force());
+  // Along the fibres a tie holds the pair's tangential strength both ways; the value the solver
+  // and the cell keep per pair (s_t·L) gives the same bounds.
+  expect_bounds(bounds(Kind::along_fibres, State::intact, sn, st, L), -st * L, st * L);
+  expect_bounds(bounds(Kind::along_fibres, State::broken, sn, st, L), 0, 0);
+  expect_bounds(bounds(Kind::along_fibres, State::lifted, sn, st, L), -inf, inf);
+  expect_bounds(intact_along_fibres(st * L), -st * L, st * L);
+  // A facet row of a compact cell: at its strength on its facet g = 1, never from below; gone
+  // past the fuse.
+  expect_bounds(bounds(Kind::facet, State::intact, sn, st, L), -inf, 1);
+  expect_bounds(bounds(Kind::facet, State::broken, sn, st, L), 0, 0);
+  expect_bounds(bounds(Kind::facet, State::lifted, sn, st, L), -inf, inf);
+  EXPECT_TRUE(at_strength(1.0, bounds(Kind::facet, State::intact, sn, st, L)));
+  EXPECT_FALSE(at_strength(-1e30, bounds(Kind::facet, State::intact, sn, st, L)));
 }
 
 TEST(BondRule, AtStrengthWithinItsTolerance) {
@@ -58,6 +72,45 @@ TEST(BondRule, ReachIsTheInverseOfTheStrengthUsed) {
   EXPECT_EQ(reach(0.0, tangential), inf);
   EXPECT_TRUE(reaches_at_onset(2.0 * (1 + 0.5 * at_strength_tolerance), 2.0));
   EXPECT_FALSE(reaches_at_onset(2.0 * (1 + 2 * at_strength_tolerance), 2.0));
+}
+
+// The cascade on a chain of three pairs whose forces are written out: pair p is at its strength
+// once the pairs before it broke (each break loads the next). Three breaking solves and one that
+// breaks nothing; the warm-start hook runs between them with the pairs just broken.
+TEST(BondRule, TheCascadeBreaksWhatIsAtItsStrengthAndSolvesAgain) {
+  std::vector<char> bonded{1, 1, 1, 0};
+  std::vector<std::vector<int>> carried;
+  int solves = 0;
+  const auto solve = [&] { return ++solves > 0; };
+  const auto at_strength = [&](std::vector<int>& pairs) {
+    for (int p = 0; p < 4; ++p)
+      if (bonded[static_cast<std::size_t>(p)] && (p == 0 || !bonded[static_cast<std::size_t>(p - 1)]))
+        pairs.push_back(p);
+  };
+  const auto next = [&](const std::vector<int>& pairs) { carried.push_back(pairs); };
+  CascadeEnd end = cascade(bonded, 10, solve, at_strength, next);
+  EXPECT_EQ(end.rounds, 4);
+  EXPECT_EQ(solves, 4);
+  EXPECT_EQ(end.newly_broken, 3);
+  EXPECT_TRUE(end.solved && end.settled);
+  EXPECT_EQ(bonded, (std::vector<char>{0, 0, 0, 0}));
+  EXPECT_EQ(carried, (std::vector<std::vector<int>>{{0}, {1}, {2}}));
+
+  // At most max_rounds solves: the last one's pairs stay bonded, and the end says so.
+  bonded = {1, 1, 1, 0};
+  end = cascade(bonded, 2, solve, at_strength, next);
+  EXPECT_EQ(end.rounds, 2);
+  EXPECT_EQ(end.newly_broken, 1);
+  EXPECT_FALSE(end.settled);
+  EXPECT_EQ(bonded, (std::vector<char>{0, 1, 1, 0}));
+
+  // A failed solve stops the cascade there.
+  bonded = {1, 1, 1, 0};
+  end = cascade(
+      bonded, 10, [] { return false; }, at_strength, next);
+  EXPECT_EQ(end.rounds, 1);
+  EXPECT_FALSE(end.solved);
+  EXPECT_EQ(bonded, (std::vector<char>{1, 1, 1, 0}));
 }
 
 }  // namespace
