@@ -17,6 +17,7 @@
 #include <stdexcept>
 
 #include "core/error.hpp"
+#include "core/error_tally.hpp"
 #include "core/strain.hpp"
 #include "core/version.hpp"
 #include "fit/cone_fit.hpp"
@@ -380,8 +381,7 @@ law::ConeCheck check_held_out(const std::vector<sweep::PathResult>& paths, const
   law::ConeCheck check;
   check.against = law::CheckedAgainst::held_out_directions;
   if (n_directions < 2) return check;
-  double sum = 0;
-  int counted = 0;
+  ErrorTally tally;
   for (int d = 0; d < n_directions; ++d) {
     std::vector<ConePoint> others;
     law::CellSample held;
@@ -411,14 +411,12 @@ law::ConeCheck check_held_out(const std::vector<sweep::PathResult>& paths, const
       const double error = refit.ok ? part.error[i] : std::numeric_limits<double>::infinity();
       check.directions.push_back(held.direction[i]);
       check.error.push_back(error);
-      if (std::isnan(error)) continue;
-      sum += error * error;
-      ++counted;
-      if (!(error <= check.max_error)) check.max_error = error, check.worst = held.direction[i];
+      if (std::isnan(error)) continue;  // no point of the sweep there: not counted
+      if (tally.add(error)) check.worst = held.direction[i];
     }
   }
-  check.rms_error = counted > 0 ? std::sqrt(sum / counted) : std::numeric_limits<double>::quiet_NaN();
-  if (counted == 0) check.max_error = std::numeric_limits<double>::quiet_NaN();
+  check.max_error = tally.max_error();
+  check.rms_error = tally.rms_error();
   return check;
 }
 

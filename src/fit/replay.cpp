@@ -6,14 +6,13 @@
 #include <limits>
 #include <map>
 
+#include "core/error_tally.hpp"
 #include "core/strain.hpp"
 #include "fit/fit.hpp"
 
 namespace dualcell::fit {
 
 namespace {
-
-constexpr double nan = std::numeric_limits<double>::quiet_NaN();
 
 // A step at load 0 is the unloaded cell, except on a path with shears along the fibres (the shear
 // alone, its first step).
@@ -23,27 +22,24 @@ bool replayed(const sweep::Step& step) {
 
 // A replay's tally: its limit (1e3 × the sweep's QP tolerance), and per point its error, where it
 // is and whether its breaks differ from the reference's.
+// (A point the law has no answer at counts as +inf: the worst.)
 class ReplayTally {
  public:
-  explicit ReplayTally(double qp_tolerance) {
-    replay_.limit = 1e3 * qp_tolerance;
-    replay_.max_error = 0;
-  }
+  explicit ReplayTally(double qp_tolerance) { replay_.limit = 1e3 * qp_tolerance; }
   void add(double error, int path, int step, bool breaks_differ) {
-    ++replay_.points;
-    sum_ += error * error;
-    if (error > replay_.max_error || std::isnan(error))
-      replay_.max_error = error, replay_.worst_path = path, replay_.worst_step = step;
+    if (errors_.add(error)) replay_.worst_path = path, replay_.worst_step = step;
     replay_.break_mismatches += breaks_differ ? 1 : 0;
   }
   law::CellReplay result() {
-    replay_.rms_error = replay_.points > 0 ? std::sqrt(sum_ / replay_.points) : nan;
+    replay_.points = errors_.count;
+    replay_.max_error = errors_.count > 0 ? errors_.max : 0;
+    replay_.rms_error = errors_.rms_error();
     return replay_;
   }
 
  private:
   law::CellReplay replay_;
-  double sum_ = 0;
+  ErrorTally errors_;
 };
 }  // namespace
 

@@ -8,6 +8,7 @@
 
 #include "core/progress.hpp"
 #include "core/text.hpp"
+#include "fit/levenberg_marquardt.hpp"
 #include "law/reduced.hpp"
 
 namespace dualcell::fit {
@@ -136,54 +137,6 @@ Eigen::VectorXd starting_parameters(const law::CondensedCell& cell, const law::C
   return x;
 }
 
-// Levenberg–Marquardt (Marquardt's scaling by diag JᵀJ) on the problem's weighted residuals,
-// from x, until three accepted steps in a row lower the cost by less than 1e-6 of it or
-// max_iterations; false where the cell at x cannot be evaluated. JᵀJ is p × p (2 272 at m = 64),
-// formed by one symmetric rank update: a general least-squares library's unblocked BLAS made
-// that the whole cost. The matrices are allocated once per call, not per step. `step` is told
-// each step's index (the fit's progress line).
-bool levenberg_marquardt(Problem& problem, Eigen::VectorXd& x, int max_iterations, int& iterations,
-                         const std::function<void(int)>& step) {
-  const Eigen::Index n = problem.layout.nm * static_cast<Eigen::Index>(problem.points.size());
-  const Eigen::Index p = problem.layout.size();
-  Eigen::VectorXd f(n), trial_f(n), g(p), scale(p), candidate(p);
-  Eigen::MatrixXd J(n, p), A(p, p), B(p, p);
-  if (!evaluate(x.data(), problem, f, &J)) return false;
-  double cost = f.squaredNorm(), lambda = 1e-3;
-  int quiet = 0;  // accepted steps in a row that lowered the cost by less than 1e-6 of it
-  for (int it = 0; it < max_iterations && quiet < 3; ++it, ++iterations) {
-    step(it);
-    A.setZero();
-    A.selfadjointView<Eigen::Lower>().rankUpdate(J.transpose());
-    g.noalias() = J.transpose() * f;
-    scale = A.diagonal().cwiseMax(1e-12 * A.diagonal().maxCoeff());
-    bool accepted = false;
-    for (int tries = 0; tries < 20 && !accepted; ++tries) {
-      B = A;
-      B.diagonal() += lambda * scale;
-      const Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>, Eigen::Lower> llt(B);  // in place
-      if (llt.info() != Eigen::Success) {
-        lambda *= 4;
-        continue;
-      }
-      candidate = x - llt.solve(g);
-      if (evaluate(candidate.data(), problem, trial_f, nullptr) && trial_f.squaredNorm() < cost) {
-        const double trial_cost = trial_f.squaredNorm();
-        quiet = cost - trial_cost < 1e-6 * cost ? quiet + 1 : 0;
-        x.swap(candidate);
-        cost = trial_cost;
-        lambda = std::max(lambda / 3, 1e-12);
-        accepted = true;
-      } else {
-        lambda *= 4;
-      }
-    }
-    if (!accepted) break;
-    evaluate(x.data(), problem, f, &J);
-  }
-  return true;
-}
-
 }  // namespace
 
 bool small_cell_residuals(const law::CondensedCell& cell, const law::CellSample& training, int m,
@@ -262,8 +215,14 @@ SmallCell fit_small_cell(const law::CondensedCell& cell, const law::CellSample& 
                  seconds_text(options.progress->seconds());
         });
     };
-    if (!levenberg_marquardt(problem, x, options.max_iterations, out.iterations, tell))
-      return finish(false, "a fitted cell cannot be evaluated");
+    // The small cell's stop: three quiet steps in a row, each below 1e-6 of the cost.
+    const LmEnd end =
+        levenberg_marquardt([&](const Eigen::VectorXd& at, Eigen::VectorXd& f,
+                                Eigen::MatrixXd* J) { return evaluate(at.data(), problem, f, J); },
+                            problem.layout.nm * static_cast<Eigen::Index>(problem.points.size()), x,
+                            {.max_iterations = options.max_iterations, .quiet_steps = 3, .quiet_fraction = 1e-6}, tell);
+    out.iterations += end.iterations;
+    if (!end.evaluated) return finish(false, "a fitted cell cannot be evaluated");
     const law::ConeCheck c = law::check_reduced(cell_of(cell, rows_of(problem.layout, x.data())), training);
     if (c.max_error < best_max) best_max = c.max_error, best = x;
     double mean = 0;

@@ -4,6 +4,9 @@
 #include <cmath>
 #include <limits>
 
+#include "core/error_tally.hpp"
+#include "fit/levenberg_marquardt.hpp"
+
 namespace dualcell::fit {
 
 bool small_ply_residuals(const law::CondensedCell& small, const Eigen::VectorXd& y,
@@ -73,53 +76,32 @@ SmallPlyFit fit_small_ply(law::CondensedCell& small, const law::CondensedCell& c
     out.message = "no points of the exact law to fit the strain along the fibres to";
     return out;
   }
-  // Levenberg–Marquardt with Marquardt's scaling of the normal equations.
-  Eigen::VectorXd y = Eigen::VectorXd::Zero(m), f, f_trial;
-  Eigen::MatrixXd J;
-  if (!small_ply_residuals(small, y, strain, stress, f, &J)) {
+  // The one Levenberg–Marquardt (fit/levenberg_marquardt.hpp), from y33 = 0, until a step lowers
+  // the cost by less than 1e-12 of it.
+  Eigen::VectorXd y = Eigen::VectorXd::Zero(m);
+  const LmEnd end =
+      levenberg_marquardt([&](const Eigen::VectorXd& at, Eigen::VectorXd& f,
+                              Eigen::MatrixXd* J) { return small_ply_residuals(small, at, strain, stress, f, J); },
+                          4 * static_cast<Eigen::Index>(strain.size()), y,
+                          {.max_iterations = 100, .quiet_steps = 1, .quiet_fraction = 1e-12});
+  if (!end.evaluated) {
     out.message = "the small cell could not be evaluated at the exact law's points";
     return out;
   }
-  double cost = f.squaredNorm(), lambda = 1e-3;
-  for (int iteration = 0; iteration < 100; ++iteration) {
-    const Eigen::MatrixXd A = J.transpose() * J;
-    const Eigen::VectorXd g = J.transpose() * f;
-    bool improved = false;
-    for (int tries = 0; tries < 20 && !improved; ++tries) {
-      Eigen::MatrixXd Ad = A;
-      Ad.diagonal() += lambda * (A.diagonal().array() + 1e-12 * A.diagonal().maxCoeff()).matrix();
-      const Eigen::VectorXd step = -Ad.ldlt().solve(g);
-      const Eigen::VectorXd trial = y + step;
-      if (small_ply_residuals(small, trial, strain, stress, f_trial, nullptr) && f_trial.squaredNorm() < cost) {
-        improved = true;
-        const bool converged = cost - f_trial.squaredNorm() <= 1e-12 * cost;
-        y = trial;
-        cost = f_trial.squaredNorm();
-        lambda = std::max(lambda / 3, 1e-12);
-        small_ply_residuals(small, y, strain, stress, f, &J);
-        ++out.iterations;
-        if (converged) iteration = 100;
-      } else {
-        lambda *= 4;
-      }
-    }
-    if (!improved) break;
-  }
+  out.iterations = end.iterations;
   small.y33 = y;
   // The six stresses' error at each point (the shears along the fibres are D0z Γ, not fitted).
   law::CellEvaluator evaluator(small);
   law::CellHistory history = evaluator.unloaded();
-  double sum = 0;
+  ErrorTally tally;
   for (int i = 0; i < out.points; ++i) {
     const law::Vector6d& e = strain[static_cast<std::size_t>(i)];
     const law::CellResponse r = evaluator.at(MacroState::ply_strain(e), history);
     const law::Vector6d& target = stress[static_cast<std::size_t>(i)];
-    const double error =
-        r.ok ? (law::ply_stress(r) - target).norm() / target.norm() : std::numeric_limits<double>::infinity();
-    out.training_max_error = std::max(out.training_max_error, error);
-    sum += error * error;
+    tally.add(r.ok ? (law::ply_stress(r) - target).norm() / target.norm() : std::numeric_limits<double>::infinity());
   }
-  out.training_rms_error = std::sqrt(sum / out.points);
+  out.training_max_error = tally.max_error();
+  out.training_rms_error = tally.rms_error();
   out.ok = true;
   return out;
 }

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "core/directions.hpp"
+#include "core/error_tally.hpp"
 
 namespace dualcell::law {
 
@@ -151,8 +152,7 @@ ConeCheck check_cone(const ConeLaw& cone, const CellSample& sample) {
 ConeCheck check_law(const std::function<Eigen::Vector3d(const Eigen::Vector3d&)>& stress_at, const CellSample& sample) {
   ConeCheck check;
   check.directions = sample.direction;
-  double sum = 0;
-  int counted = 0;
+  ErrorTally tally;
   for (std::size_t i = 0; i < sample.direction.size(); ++i) {
     if (!sample.strain[i].allFinite()) {  // the exact law has no point here: not counted
       check.error.push_back(std::numeric_limits<double>::quiet_NaN());
@@ -162,12 +162,10 @@ ConeCheck check_law(const std::function<Eigen::Vector3d(const Eigen::Vector3d&)>
     double error = (stress_at(sample.strain[i]) - sample.stress[i]).norm() / s;
     if (!std::isfinite(error)) error = std::numeric_limits<double>::infinity();  // the law has none: the worst
     check.error.push_back(error);
-    sum += error * error;
-    ++counted;
-    if (error > check.max_error) check.max_error = error, check.worst = sample.direction[i];
+    if (tally.add(error)) check.worst = sample.direction[i];
   }
-  check.rms_error = counted > 0 ? std::sqrt(sum / counted) : std::numeric_limits<double>::quiet_NaN();
-  if (counted == 0) check.max_error = std::numeric_limits<double>::quiet_NaN();
+  check.max_error = tally.max_error();
+  check.rms_error = tally.rms_error();
   return check;
 }
 

@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/error_tally.hpp"
 #include "law/bond.hpp"
 
 namespace dualcell::law {
@@ -345,8 +346,7 @@ ConeCheck check_along_fuse_paths(const CondensedCell& fused, const CellSample& p
   CellEvaluator evaluator(fused);
   ConeCheck check;
   check.directions = past_fuse.direction;
-  double sum = 0;
-  int counted = 0;
+  ErrorTally tally;
   for (std::size_t i = 0; i < past_fuse.direction.size(); ++i) {
     if (!past_fuse.strain[i].allFinite()) {  // the exact law has no path here: not counted
       check.error.push_back(std::numeric_limits<double>::quiet_NaN());
@@ -363,12 +363,10 @@ ConeCheck check_along_fuse_paths(const CondensedCell& fused, const CellSample& p
       at(past_fuse.path_strain[i][k], past_fuse.path_stress[i][k]);
     at(past_fuse.strain[i], past_fuse.stress[i]);
     check.error.push_back(error);
-    sum += error * error;
-    ++counted;
-    if (error > check.max_error) check.max_error = error, check.worst = past_fuse.direction[i];
+    if (tally.add(error)) check.worst = past_fuse.direction[i];
   }
-  check.rms_error = counted > 0 ? std::sqrt(sum / counted) : std::numeric_limits<double>::quiet_NaN();
-  if (counted == 0) check.max_error = std::numeric_limits<double>::quiet_NaN();
+  check.max_error = tally.max_error();
+  check.rms_error = tally.rms_error();
   return check;
 }
 

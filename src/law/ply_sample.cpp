@@ -6,6 +6,7 @@
 #include <numbers>
 #include <random>
 
+#include "core/error_tally.hpp"
 #include "law/cone_check.hpp"
 
 namespace dualcell::law {
@@ -83,7 +84,7 @@ PlySample sample_ply(const CondensedCell& cell, int n, unsigned seed) {
 PlyCheck check_ply(const CondensedCell& compact, const PlySample& sample) {
   CellEvaluator evaluator(compact);
   PlyCheck check;
-  double sum = 0;
+  ErrorTally tally;
   for (std::size_t i = 0; i < sample.direction.size(); ++i) {
     if (sample.strain[i].empty()) continue;
     CellHistory history = evaluator.unloaded();
@@ -99,12 +100,11 @@ PlyCheck check_ply(const CondensedCell& compact, const PlySample& sample) {
         check.bonded_max_error = std::max(check.bonded_max_error, counted);
       ++check.points;
     }
-    ++check.directions;
-    sum += error * error;
-    if (check.directions == 1 || error > check.max_error) check.max_error = error, check.worst = sample.direction[i];
+    if (tally.add(error)) check.worst = sample.direction[i];
   }
-  check.rms_error = check.directions > 0 ? std::sqrt(sum / check.directions) : std::numeric_limits<double>::quiet_NaN();
-  if (check.directions == 0) check.max_error = std::numeric_limits<double>::quiet_NaN();
+  check.directions = tally.count;
+  check.max_error = tally.max_error();
+  check.rms_error = tally.rms_error();
   return check;
 }
 
