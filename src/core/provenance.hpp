@@ -4,6 +4,7 @@
 // every stage's files; io::write_provenance writes it, io::read_provenance reads it back.
 #include <string>
 
+#include "core/fields.hpp"
 #include "core/version.hpp"
 
 namespace dualcell {
@@ -23,12 +24,8 @@ struct Provenance {
 };
 
 // The root attribute of each text (empty texts are not written).
-struct ProvenanceField {
-  const char* attribute;
-  std::string Provenance::*text;
-};
 
-inline constexpr ProvenanceField provenance_fields[] = {
+inline constexpr Field<Provenance, std::string> provenance_fields[] = {
     {"scene", &Provenance::scene_text},          {"scene_file", &Provenance::scene_file},
     {"material", &Provenance::material_text},    {"mesh_file", &Provenance::mesh_file},
     {"mesh_hash", &Provenance::mesh_hash},       {"sweep_file", &Provenance::sweep_file},

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "core/edge_loads.hpp"
+#include "core/fields.hpp"
 
 namespace dualcell {
 
@@ -209,11 +210,7 @@ Constituents constituents(const Scene& scene);
 std::string solver_options_text(const Scene& scene);
 
 // Their attribute names in sweep.h5 (root) and law.h5 (/law).
-struct ConstituentField {
-  const char* attribute;
-  double Constituents::*value;
-};
-inline constexpr ConstituentField constituent_fields[] = {
+inline constexpr Field<Constituents, double> constituent_fields[] = {
     {"fibre_E", &Constituents::fibre_E},
     {"fibre_nu", &Constituents::fibre_nu},
     {"matrix_E", &Constituents::matrix_E},

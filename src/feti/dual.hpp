@@ -29,6 +29,7 @@
 #include <Eigen/SparseCore>
 #include <vector>
 
+#include "core/fields.hpp"
 #include "feti/constraints.hpp"
 #include "feti/setup.hpp"
 #include "linalg/sparse_cholesky.hpp"
@@ -60,37 +61,23 @@ struct OperatorProfile {
   OperatorProfile& operator+=(const OperatorProfile& other);
   OperatorProfile operator-(const OperatorProfile& before) const;
 };
-// Its members, listed once (exactly one member pointer set): walked by += and −, by solution.h5
-// (the seconds, as /solver seconds_qp_<name>) and by the tests.
-struct OperatorProfileField {
-  const char* name;
-  double OperatorProfile::*seconds = nullptr;  // wall seconds
-  long OperatorProfile::*count = nullptr;
-  double OperatorProfile::*amount = nullptr;  // a quantity that is not seconds (bytes)
-};
-inline constexpr OperatorProfileField operator_profile_fields[] = {
-    {"F", &OperatorProfile::F},
-    {"Q", &OperatorProfile::Q},
-    {"preconditioner", &OperatorProfile::preconditioner},
-    {"communication", &OperatorProfile::communication},
-    {"exchanges", nullptr, &OperatorProfile::exchanges},
-    {"bytes_received", nullptr, nullptr, &OperatorProfile::bytes_received},
+// Its members, listed once (core/fields.hpp): walked by += and −, by solution.h5 (the seconds,
+// unit "s", as /solver seconds_qp_<name>) and by the tests.
+inline constexpr Field<OperatorProfile, double, long> operator_profile_fields[] = {
+    {"F", &OperatorProfile::F, 0, "s"},
+    {"Q", &OperatorProfile::Q, 0, "s"},
+    {"preconditioner", &OperatorProfile::preconditioner, 0, "s"},
+    {"communication", &OperatorProfile::communication, 0, "s"},
+    {"exchanges", &OperatorProfile::exchanges},
+    {"bytes_received", &OperatorProfile::bytes_received, 0, "bytes"},
 };
 inline OperatorProfile& OperatorProfile::operator+=(const OperatorProfile& other) {
-  for (const OperatorProfileField& field : operator_profile_fields) {
-    if (field.seconds) this->*field.seconds += other.*field.seconds;
-    if (field.count) this->*field.count += other.*field.count;
-    if (field.amount) this->*field.amount += other.*field.amount;
-  }
+  add_fields(operator_profile_fields, *this, other);
   return *this;
 }
 inline OperatorProfile OperatorProfile::operator-(const OperatorProfile& before) const {
   OperatorProfile out = *this;
-  for (const OperatorProfileField& field : operator_profile_fields) {
-    if (field.seconds) out.*field.seconds -= before.*field.seconds;
-    if (field.count) out.*field.count -= before.*field.count;
-    if (field.amount) out.*field.amount -= before.*field.amount;
-  }
+  add_fields(operator_profile_fields, out, before, -1);
   return out;
 }
 

@@ -47,29 +47,24 @@ struct Timings {
   // over the ranks of a group (docs/method.md §16) this rank's seconds in the exchanges between
   // ranks, their number and the bytes received (0 alone).
   OperatorProfile in_qp;
-  // Adds another QP's (the members of timing_fields that accumulate per QP, and in_qp) to this
-  // one's.
+  // Adds another QP's (qp_timing_fields and in_qp) to this one's.
   void add_qp(const Timings& other);
 };
-// Timings' seconds, listed once: per_qp marks those a QP accumulates (Timings::add_qp), the
-// others are the solver's setup, once; solution.h5 writes each as /solver seconds_<name>, and
-// in_qp's as seconds_qp_<name>.
-struct TimingField {
-  const char* name;
-  double Timings::*seconds;
-  bool per_qp;
+// Timings' seconds, listed once (core/fields.hpp): the solver's setup, once, and those a QP
+// accumulates (Timings::add_qp); solution.h5 writes each as /solver seconds_<name>, and in_qp's as
+// seconds_qp_<name>.
+inline constexpr Field<Timings, double> setup_timing_fields[] = {
+    {"assembly", &Timings::assembly, 0, "s"},
+    {"factorisation", &Timings::factorisation, 0, "s"},
+    {"explicit_operators", &Timings::explicit_operators, 0, "s"},
+    {"dual_setup", &Timings::dual_setup, 0, "s"},
 };
-inline constexpr TimingField timing_fields[] = {
-    {"assembly", &Timings::assembly, false},
-    {"factorisation", &Timings::factorisation, false},
-    {"explicit_operators", &Timings::explicit_operators, false},
-    {"dual_setup", &Timings::dual_setup, false},
-    {"qp", &Timings::qp, true},
-    {"recovery", &Timings::recovery, true},
+inline constexpr Field<Timings, double> qp_timing_fields[] = {
+    {"qp", &Timings::qp, 0, "s"},
+    {"recovery", &Timings::recovery, 0, "s"},
 };
 inline void Timings::add_qp(const Timings& other) {
-  for (const TimingField& field : timing_fields)
-    if (field.per_qp) this->*field.seconds += other.*field.seconds;
+  add_fields(qp_timing_fields, *this, other);
   in_qp += other.in_qp;
 }
 

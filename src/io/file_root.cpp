@@ -3,6 +3,7 @@
 #include <string_view>
 
 #include "core/error.hpp"
+#include "io/fields_io.hpp"
 
 namespace dualcell::io {
 
@@ -21,27 +22,28 @@ void check_format(const File& file, const char* format) {
 
 void write_provenance(File& file, const char* format, const Provenance& provenance) {
   file.write_attribute("/", "format", std::string(format));
-  for (const auto& field : provenance_fields)
-    if (!(provenance.*field.text).empty()) file.write_attribute("/", field.attribute, provenance.*field.text);
+  // Empty texts are not written.
+  for_each_field(provenance_fields, provenance, [&](const auto& field, const std::string& text) {
+    if (!text.empty()) file.write_attribute("/", field.name, text);
+  });
 }
 
 Provenance read_provenance(const File& file, std::initializer_list<const char*> required) {
   for (const char* attribute : required) file.read_string_attribute("/", attribute);  // "missing attribute ..."
   Provenance provenance;
-  for (const auto& field : provenance_fields)
-    provenance.*field.text =
-        file.has_attribute("/", field.attribute) ? file.read_string_attribute("/", field.attribute) : std::string();
+  for_each_field(provenance_fields, provenance, [&](const auto& field, std::string& text) {
+    text = file.has_attribute("/", field.name) ? file.read_string_attribute("/", field.name) : std::string();
+  });
   return provenance;
 }
 
 void write_constituents(File& file, const std::string& object, const Constituents& constituents) {
-  for (const auto& field : constituent_fields) file.write_attribute(object, field.attribute, constituents.*field.value);
+  write_attributes(file, object, constituent_fields, constituents);
 }
 
 Constituents read_constituents(const File& file, const std::string& object) {
   Constituents constituents;
-  for (const auto& field : constituent_fields)
-    constituents.*field.value = file.read_double_attribute_value(object, field.attribute);
+  read_attributes(file, object, constituent_fields, constituents);
   return constituents;
 }
 

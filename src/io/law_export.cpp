@@ -150,12 +150,7 @@ void add_exact_law(JsonObject& o, const Law& law) {
   o.add("cell", cell_json(*law.cell));
   for (const law::CellReplayMember& m : law::cell_replay_members) {
     if (!law::carries(*law.cell, m)) continue;
-    JsonObject replay;
-    for (const law::CellReplayField& field : law::cell_replay_fields) {
-      if (field.count) replay.add(field.name, std::to_string(law.*m.replay.*field.count));
-      if (field.value) replay.add(field.name, json_number(law.*m.replay.*field.value));
-    }
-    o.add(m.name, replay.str(4));
+    o.add(m.name, JsonObject().add_fields(law::cell_replay_fields, law.*m.replay).str(4));
   }
   // The ply's nine constants per bond state and sign (/law/ply), where the cell carries them.
   if (!law.ply.rows.empty()) {
@@ -164,8 +159,7 @@ void add_exact_law(JsonObject& o, const Law& law) {
       JsonObject row;
       row.add_text("state", law::to_string(c.state)).add("sign", std::to_string(c.sign));
       row.add("broken", std::to_string(c.broken));
-      for (const law::PlyConstantField& field : law::ply_constant_fields)
-        row.add(field.name, json_number(c.*field.value));
+      row.add_fields(law::ply_constant_fields, c);
       rows.push_back(row.add("sigma33_left", json_number(c.sigma33_left)).str(6));
     }
     o.add("ply", JsonObject().add("fuse_stress", json_number(law.ply.fuse_stress)).add("rows", json_list(rows)).str(4));
@@ -191,22 +185,10 @@ void add_small_cell(JsonObject& o, const Law& law) {
   o.add_text("small_note", law.small_note);
   if (!law.small) return;
   o.add("small", cell_json(*law.small));
-  JsonObject fit;
-  for (const law::SmallCellFitField& field : law::small_cell_fit_fields) {
-    if (field.count) fit.add(field.name, std::to_string(law.small_fit.*field.count));
-    if (field.value) fit.add(field.name, json_number(law.small_fit.*field.value));
-  }
-  o.add("small_fit", fit.str(4));
+  o.add("small_fit", JsonObject().add_fields(law::small_cell_fit_fields, law.small_fit).str(4));
   o.add("small_check", check_json(law.small_check).str(4));
-  if (law.small_ply_check.directions > 0) {
-    JsonObject ply;
-    for (const law::PlyCheckField& field : law::ply_check_fields) {
-      if (field.count) ply.add(field.name, std::to_string(law.small_ply_check.*field.count));
-      if (field.value) ply.add(field.name, json_number(law.small_ply_check.*field.value));
-    }
-    const law::Vector6d& w = law.small_ply_check.worst;
-    o.add("small_ply_check", ply.add("worst", json_array(std::vector<double>(w.data(), w.data() + 6))).str(4));
-  }
+  if (law.small_ply_check.directions > 0)
+    o.add("small_ply_check", JsonObject().add_fields(law::ply_check_fields, law.small_ply_check).str(4));
 }
 
 // The onset surface (/law/onset) as a JSON object: facets and their pairs, and the check
@@ -252,20 +234,14 @@ std::string onset_json(const OnsetSurface& onset) {
 std::string law_json(const Law& law) {
   JsonObject o;
   o.add_text("format", format_name);
-  for (const auto& field : provenance_fields)
-    if (!(law.provenance.*field.text).empty()) o.add_text(field.attribute, law.provenance.*field.text);
+  for_each_field(provenance_fields, law.provenance, [&](const auto& field, const std::string& text) {
+    if (!text.empty()) o.add_text(field.name, text);
+  });
   o.add_text("units", law.units);
   o.add_text("stress_state", law.stress_state);
   o.add_text("shear_convention", shear_convention);
-  for (const auto& field : constituent_fields) o.add(field.attribute, json_number(law.constituents.*field.value));
-  for (const auto& c : direction_columns) {
-    std::string values = "[";
-    for (std::size_t i = 0; i < law.directions.size(); ++i) {
-      const auto& d = law.directions[i];
-      values += (i ? ", " : "") + (c.real ? json_number(d.*c.real) : std::to_string(d.*c.count));
-    }
-    o.add(c.name, values + "]");
-  }
+  o.add_fields(constituent_fields, law.constituents);
+  o.add_columns(direction_columns, law.directions);
   for (const auto& m : compliance_members) {
     const ComplianceFit& fit = law.*m.fit;
     const std::string p = m.prefix;
@@ -317,7 +293,12 @@ std::string law_csv(const Law& law) {
   out += "\n";
   for (std::size_t i = 0; i < law.directions.size(); ++i) {
     const auto& d = law.directions[i];
-    for (const auto& c : direction_columns) out += (c.real ? csv_number(d.*c.real) : std::to_string(d.*c.count)) + ",";
+    for_each_field(direction_columns, d, [&](const auto&, const auto& v) {
+      if constexpr (std::is_same_v<std::remove_cvref_t<decltype(v)>, double>)
+        out += csv_number(v) + ",";
+      else
+        out += std::to_string(v) + ",";
+    });
     // The residual vectors hold one entry per direction (write_law and read_law check it).
     out +=
         csv_number(law.tension.direction_residual.at(i)) + "," + csv_number(law.compression.direction_residual.at(i));
@@ -384,8 +365,12 @@ std::string ply_cards(const Law& law, const std::string& name) {
       continue;
     }
     out += "*MATERIAL, NAME=" + material + "\n*ELASTIC, TYPE=ENGINEERING CONSTANTS\n";
-    for (std::size_t k = 0; k < std::size(law::ply_constant_fields); ++k)
-      out += card_number(c.*law::ply_constant_fields[k].value) + (k == 7 ? ",\n" : k == 8 ? "\n" : ", ");
+    // Eight constants on the first line, the ninth (G23) on the next, as *ELASTIC takes them.
+    std::size_t k = 0;
+    for_each_field(law::ply_constant_fields, c, [&](const auto&, double v) {
+      out += card_number(v) + (k == 7 ? ",\n" : k == 8 ? "\n" : ", ");
+      ++k;
+    });
   }
   return out;
 }

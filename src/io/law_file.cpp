@@ -7,6 +7,7 @@
 #include "core/error.hpp"
 #include "io/atomic_output.hpp"
 #include "io/condensed_group.hpp"
+#include "io/fields_io.hpp"
 #include "io/file_root.hpp"
 #include "io/hdf5.hpp"
 #include "io/onset_group.hpp"
@@ -21,7 +22,6 @@ using law::ComplianceFit;
 using law::direction_columns;
 using law::Law;
 using law::ply_constant_fields;
-using law::PlyConstantField;
 using law::PlyConstants;
 using law::PlyState;
 using law::PlyTable;
@@ -53,7 +53,7 @@ void write_ply(File& f, const PlyTable& t) {
     state.push_back(static_cast<std::int64_t>(c.state));
     sign.push_back(c.sign);
     broken.push_back(c.broken);
-    for (const PlyConstantField& field : ply_constant_fields) constants.push_back(c.*field.value);
+    for_each_field(ply_constant_fields, c, [&](const auto&, double v) { constants.push_back(v); });
     left.push_back(c.sigma33_left);
   }
   const hsize_t n = t.rows.size();
@@ -162,8 +162,8 @@ PlyTable read_ply(const Reader& r) {
     c.state = static_cast<PlyState>(state[i]);
     c.sign = static_cast<int>(sign[i]);
     c.broken = static_cast<int>(broken[i]);
-    for (std::size_t k = 0; k < std::size(ply_constant_fields); ++k)
-      c.*ply_constant_fields[k].value = constants[i * std::size(ply_constant_fields) + k];
+    std::size_t k = i * std::size(ply_constant_fields);
+    for_each_field(ply_constant_fields, c, [&](const auto&, double& v) { v = constants[k++]; });
     c.sigma33_left = left[i];
     t.rows.push_back(c);
   }
@@ -281,17 +281,7 @@ void write_law(const std::filesystem::path& file, const Law& law) {
   {
     io::File f = io::File::create(file);
     f.create_group(group);
-    for (const auto& c : direction_columns) {
-      if (c.real) {
-        std::vector<double> v;
-        for (const auto& d : law.directions) v.push_back(d.*c.real);
-        f.write(object(c.name), v, {n});
-      } else {
-        std::vector<std::int64_t> v;
-        for (const auto& d : law.directions) v.push_back(d.*c.count);
-        f.write(object(c.name), v, {n});
-      }
-    }
+    write_columns(f, group, direction_columns, law.directions);
     for (const auto& m : compliance_members) write_compliance(f, m.prefix, law.*m.fit);
     write_scalar(f, "cone_rank_one_ratio", law.cone_rank_one_ratio);
     write_count(f, "cone_wise_linear", law.cone_wise_linear ? 1 : 0);
@@ -305,11 +295,7 @@ void write_law(const std::filesystem::path& file, const Law& law) {
       for (const law::CellReplayMember& m : law::cell_replay_members) {
         if (!law::carries(*law.cell, m)) continue;
         f.create_group(object(m.name));
-        for (const law::CellReplayField& field : law::cell_replay_fields) {
-          const std::string name = std::string(m.name) + "/" + field.name;
-          if (field.count) write_count(f, name, law.*m.replay.*field.count);
-          if (field.value) write_scalar(f, name, law.*m.replay.*field.value);
-        }
+        write_datasets(f, object(m.name), law::cell_replay_fields, law.*m.replay);
       }
     }
     if (!law.ply.rows.empty()) write_ply(f, law.ply);
@@ -319,21 +305,11 @@ void write_law(const std::filesystem::path& file, const Law& law) {
     if (law.small) {
       write_condensed(f, object("small"), *law.small);
       f.create_group(object("small_fit"));
-      for (const law::SmallCellFitField& field : law::small_cell_fit_fields) {
-        const std::string name = std::string("small_fit/") + field.name;
-        if (field.count) write_count(f, name, law.small_fit.*field.count);
-        if (field.value) write_scalar(f, name, law.small_fit.*field.value);
-      }
+      write_datasets(f, object("small_fit"), law::small_cell_fit_fields, law.small_fit);
       write_cone_check(f, "small_check", law.small_check);
       if (law.small_ply_check.directions > 0) {
         f.create_group(object("small_ply_check"));
-        for (const law::PlyCheckField& field : law::ply_check_fields) {
-          const std::string name = std::string("small_ply_check/") + field.name;
-          if (field.count) write_count(f, name, law.small_ply_check.*field.count);
-          if (field.value) write_scalar(f, name, law.small_ply_check.*field.value);
-        }
-        const law::Vector6d& w = law.small_ply_check.worst;
-        f.write(object("small_ply_check/worst"), std::vector<double>(w.data(), w.data() + 6), {6});
+        write_datasets(f, object("small_ply_check"), law::ply_check_fields, law.small_ply_check);
       }
     }
     f.write_attribute(group, "small_note", law.small_note);
@@ -360,19 +336,7 @@ Law read_law(const std::filesystem::path& file) {
   for (double theta : directions)
     if (!std::isfinite(theta)) r.fail(object("direction_deg"), "a direction is not finite");
   law.directions.resize(n);
-  for (const auto& c : direction_columns) {
-    if (c.real) {
-      const auto v = r.doubles(c.name, {n}, " like /law/direction_deg");
-      for (hsize_t i = 0; i < n; ++i) law.directions[i].*c.real = v[i];
-    } else {
-      const auto v = r.ints(c.name, {n}, " like /law/direction_deg");
-      for (hsize_t i = 0; i < n; ++i) {
-        if (v[i] < 0 || v[i] > std::numeric_limits<int>::max())
-          r.fail(object(c.name), "entry " + std::to_string(i) + " = " + std::to_string(v[i]) + " is not a count");
-        law.directions[i].*c.count = static_cast<int>(v[i]);
-      }
-    }
-  }
+  read_columns(f, group, direction_columns, law.directions, "/law/direction_deg");
   for (const auto& m : compliance_members) law.*m.fit = read_compliance(r, m.prefix, n);
   law.cone_rank_one_ratio = r.scalar("cone_rank_one_ratio");
   law.cone_wise_linear = r.count("cone_wise_linear", 0, 1) == 1;
@@ -385,13 +349,7 @@ Law read_law(const std::filesystem::path& file) {
     law.cell = read_condensed(f, object("cell"));
     for (const law::CellReplayMember& m : law::cell_replay_members) {
       if (!law::carries(*law.cell, m)) continue;
-      law::CellReplay& replay = law.*m.replay;
-      for (const law::CellReplayField& field : law::cell_replay_fields) {
-        const std::string name = std::string(m.name) + "/" + field.name;
-        if (field.count)
-          replay.*field.count = static_cast<int>(r.count(name, field.min_count, std::numeric_limits<int>::max()));
-        if (field.value) replay.*field.value = r.scalar(name);
-      }
+      read_datasets(f, object(m.name), law::cell_replay_fields, law.*m.replay);
     }
   }
   if (f.exists(object("ply"))) law.ply = read_ply(r);
@@ -400,21 +358,10 @@ Law read_law(const std::filesystem::path& file) {
     law.cone_after_fuse_check = read_cone_check(f, r, "cone_after_fuse_check");
   if (f.exists(object("small"))) {
     law.small = read_condensed(f, object("small"));
-    for (const law::SmallCellFitField& field : law::small_cell_fit_fields) {
-      const std::string name = std::string("small_fit/") + field.name;
-      if (field.count) law.small_fit.*field.count = static_cast<int>(r.count(name, 0, std::numeric_limits<int>::max()));
-      if (field.value) law.small_fit.*field.value = r.scalar(name);
-    }
+    read_datasets(f, object("small_fit"), law::small_cell_fit_fields, law.small_fit);
     law.small_check = read_cone_check(f, r, "small_check");
     if (f.exists(object("small_ply_check"))) {
-      for (const law::PlyCheckField& field : law::ply_check_fields) {
-        const std::string name = std::string("small_ply_check/") + field.name;
-        if (field.count)
-          law.small_ply_check.*field.count = static_cast<int>(r.count(name, 0, std::numeric_limits<int>::max()));
-        if (field.value) law.small_ply_check.*field.value = r.scalar(name);
-      }
-      const auto worst = r.doubles("small_ply_check/worst", {6});
-      law.small_ply_check.worst = Eigen::Map<const law::Vector6d>(worst.data());
+      read_datasets(f, object("small_ply_check"), law::ply_check_fields, law.small_ply_check);
     }
   }
   // Files of the fit before the small cell have no note.

@@ -4,6 +4,7 @@
 
 #include "core/error.hpp"
 #include "io/atomic_output.hpp"
+#include "io/fields_io.hpp"
 #include "io/file_root.hpp"
 #include "io/hdf5.hpp"
 #include "io/xdmf.hpp"
@@ -15,23 +16,19 @@ namespace {
 std::vector<double> to_vector(const Eigen::VectorXd& v) { return {v.data(), v.data() + v.size()}; }
 
 // /solver: how the solve ended, its counts (qp::counter_fields, solver_count_fields), its seconds
-// (feti::timing_fields, operator_profile_fields) and settings; /kkt: its KKT residuals.
+// (feti::setup_timing_fields, qp_timing_fields, operator_profile_fields) and settings; /kkt: its KKT residuals.
 void write_solver(File& f, const mesh::Mesh& mesh, const Scene& scene, const feti::Solution& s) {
   f.create_group("/solver");
   f.write_attribute("/solver", "status", std::string(qp::to_string(s.qp.status)));
   f.write_attribute("/solver", "message", s.qp.message);
   f.write_attribute("/solver", "primal_ok", std::int64_t{s.primal_ok});
   f.write_attribute("/solver", "primal_message", s.primal_message);
-  for (const qp::CounterField& field : qp::counter_fields)
-    f.write_attribute("/solver", field.name, std::int64_t{s.counters.*field.count});
-  for (const auto& field : solver_count_fields)
-    f.write_attribute("/solver", field.attribute, std::int64_t{s.*field.count});
+  write_attributes(f, "/solver", qp::counter_fields, s.counters);
+  write_attributes(f, "/solver", solver_count_fields, s);
   f.write_attribute("/solver", "dim_u", std::int64_t{mesh.dim_u()});
-  for (const feti::TimingField& field : feti::timing_fields)
-    f.write_attribute("/solver", std::string("seconds_") + field.name, s.seconds.*field.seconds);
-  for (const feti::OperatorProfileField& field : feti::operator_profile_fields)
-    if (field.seconds)
-      f.write_attribute("/solver", std::string("seconds_qp_") + field.name, s.seconds.in_qp.*field.seconds);
+  write_attributes(f, "/solver", feti::setup_timing_fields, s.seconds, "seconds_");
+  write_attributes(f, "/solver", feti::qp_timing_fields, s.seconds, "seconds_");
+  write_attributes(f, "/solver", feti::operator_profile_fields, s.seconds.in_qp, "seconds_qp_", "s");
   f.write_attribute("/solver", "preconditioner", std::string(to_string(scene.solver.preconditioner)));
   f.write_attribute("/solver", "dual_operator", std::string(to_string(scene.solver.dual_operator)));
   f.write_attribute("/solver", "subdomains", std::int64_t{s.subdomains});
@@ -39,25 +36,11 @@ void write_solver(File& f, const mesh::Mesh& mesh, const Scene& scene, const fet
   f.write_attribute("/solver", "tolerance", scene.solver.tolerance);
   f.write_attribute("/solver", "qp_tolerance", s.qp_tolerance);
   f.create_group("/kkt");
-  for (const auto& field : kkt_fields) f.write_attribute("/kkt", field.attribute, s.kkt.*field.value);
+  write_attributes(f, "/kkt", kkt_fields, s.kkt);
 }
 
 // /ranks: one row per rank that shared the solve (rank_columns).
-void write_ranks(File& f, const RankTable& ranks) {
-  const hsize_t R = ranks.size();
-  for (const RankColumn& c : rank_columns) {
-    const std::string name = std::string("/ranks/") + c.name;
-    if (c.count) {
-      std::vector<std::int64_t> column;
-      for (const RankEntry& e : ranks) column.push_back(e.*c.count);
-      f.write(name, column, {R});
-    } else {
-      std::vector<double> column;
-      for (const RankEntry& e : ranks) column.push_back(e.*c.seconds);
-      f.write(name, column, {R});
-    }
-  }
-}
+void write_ranks(File& f, const RankTable& ranks) { write_columns(f, "/ranks", rank_columns, ranks); }
 
 // /steps: the load steps of a block with Boundary::edges.
 void write_steps(File& f, const LoadSteps& steps) {
@@ -176,22 +159,18 @@ void write_solution(const std::filesystem::path& h5, const mesh::Mesh& mesh, con
 
 std::vector<double> pack(const RankEntry& entry) {
   std::vector<double> packed;
-  for (const RankColumn& c : rank_columns)
-    packed.push_back(c.count ? static_cast<double>(entry.*c.count) : entry.*c.seconds);
+  for_each_field(rank_columns, entry, [&](const auto&, const auto& v) { packed.push_back(static_cast<double>(v)); });
   return packed;
 }
 
 RankTable unpack_rank_table(const std::vector<double>& packed) {
   constexpr std::size_t width = std::size(rank_columns);
   RankTable table(packed.size() / width);
-  for (std::size_t r = 0; r < table.size(); ++r)
-    for (std::size_t k = 0; k < width; ++k) {
-      const double v = packed[r * width + k];
-      if (rank_columns[k].count)
-        table[r].*rank_columns[k].count = static_cast<std::int64_t>(v);
-      else
-        table[r].*rank_columns[k].seconds = v;
-    }
+  for (std::size_t r = 0; r < table.size(); ++r) {
+    std::size_t k = r * width;
+    for_each_field(rank_columns, table[r],
+                   [&](const auto&, auto& v) { v = static_cast<std::remove_cvref_t<decltype(v)>>(packed[k++]); });
+  }
   return table;
 }
 

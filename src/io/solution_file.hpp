@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "core/fields.hpp"
 #include "core/provenance.hpp"
 #include "core/scene.hpp"
 #include "feti/macro.hpp"
@@ -17,27 +18,19 @@ namespace dualcell::io {
 
 // The counters of a solve, written as integer attributes of /solver: those of the QPs
 // (Solution::counters, qp::counter_fields) and these of the solve itself.
-struct SolverCountField {
-  const char* attribute;
-  long feti::Solution::*count;
-};
-inline constexpr SolverCountField solver_count_fields[] = {
+inline constexpr Field<feti::Solution, long> solver_count_fields[] = {
     {"debond_rounds", &feti::Solution::debond_rounds},
     {"newly_broken", &feti::Solution::newly_broken},
     {"dim_lambda", &feti::Solution::n_rows},
     {"tightenings", &feti::Solution::tightenings},
 };
 
-// Seconds per phase, as float attributes of /solver: seconds_<name> of feti::timing_fields and
+// Seconds per phase, as float attributes of /solver: seconds_<name> of feti::setup_timing_fields, qp_timing_fields and
 // seconds_qp_<name> of the seconds of feti::operator_profile_fields (Timings::in_qp); the tables
 // are walked, so a new phase reaches the file without an edit here.
 
 // The KKT residuals, as float attributes of /kkt.
-struct KktField {
-  const char* attribute;
-  double feti::KktReport::*value;
-};
-inline constexpr KktField kkt_fields[] = {
+inline constexpr Field<feti::KktReport, double> kkt_fields[] = {
     {"relative_projected_gradient", &feti::KktReport::relative_projected_gradient},
     {"relative_equality_residual", &feti::KktReport::relative_equality_residual},
     {"bound_violation", &feti::KktReport::bound_violation},
@@ -77,20 +70,15 @@ using RankTable = std::vector<RankEntry>;  // one entry per rank, in rank order
 // The columns of /ranks, one member of RankEntry each (exactly one member pointer set): the
 // writer walks it, and so do the packing of an entry into doubles for the one gather over the
 // ranks and its unpacking (counts are exact in a double up to 2^53).
-struct RankColumn {
-  const char* name;
-  std::int64_t RankEntry::*count = nullptr;
-  double RankEntry::*seconds = nullptr;
-};
-inline const RankColumn rank_columns[] = {
+inline constexpr Field<RankEntry, long, double> rank_columns[] = {
     {"first_subdomain", &RankEntry::first_subdomain},
     {"subdomains", &RankEntry::subdomains},
     {"dofs", &RankEntry::dofs},
     {"subdomain_bytes", &RankEntry::subdomain_bytes},
     {"peak_rss_bytes", &RankEntry::peak_rss_bytes},
-    {"seconds_setup", nullptr, &RankEntry::seconds_setup},
-    {"seconds_apply", nullptr, &RankEntry::seconds_apply},
-    {"seconds_communication", nullptr, &RankEntry::seconds_communication},
+    {"seconds_setup", &RankEntry::seconds_setup, 0, "s"},
+    {"seconds_apply", &RankEntry::seconds_apply, 0, "s"},
+    {"seconds_communication", &RankEntry::seconds_communication, 0, "s"},
     {"exchanges", &RankEntry::exchanges},
     {"bytes_received", &RankEntry::bytes_received},
 };

@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "io/atomic_output.hpp"
+#include "io/fields_io.hpp"
 #include "io/file_root.hpp"
 #include "io/hdf5.hpp"
 #include "io/xdmf.hpp"
@@ -48,20 +49,7 @@ void write_structure(const std::filesystem::path& out, const structure::Structur
     // /steps/NNN.
     f.create_group("/steps");
     f.write_attribute("/steps", "first_fuse_factor", first_fuse_factor);
-    for (const StructureStepColumn& c : structure_step_columns) {
-      const std::string name = std::string("/steps/") + c.name;
-      std::vector<double> reals;
-      std::vector<std::int64_t> ints;
-      for (const auto& s : steps) {
-        if (c.real) reals.push_back(s.*c.real);
-        if (c.vector) reals.insert(reals.end(), {(s.*c.vector)(0), (s.*c.vector)(1)});
-        if (c.count) ints.push_back(s.*c.count);
-        if (c.flag) ints.push_back(s.*c.flag ? 1 : 0);
-      }
-      if (c.real) f.write(name, reals, {S});
-      if (c.vector) f.write(name, reals, {S, 2});
-      if (c.count || c.flag) f.write(name, ints, {S});
-    }
+    write_columns(f, "/steps", structure_step_columns, steps);
     std::vector<double> reactions;
     for (const auto& s : steps)
       for (const auto& R : s.reactions) reactions.push_back(R(0)), reactions.push_back(R(1));

@@ -8,6 +8,7 @@
 #include "core/text.hpp"
 #include "io/atomic_output.hpp"
 #include "io/condensed_group.hpp"
+#include "io/fields_io.hpp"
 #include "io/file_root.hpp"
 #include "io/hdf5.hpp"
 #include "io/onset_group.hpp"
@@ -32,23 +33,7 @@ void write_path(File& f, const sweep::PathResult& p) {
   const Eigen::Vector3d N = p.spec.state.in_plane();
   f.write_attribute(g, "unit_stress", std::vector<double>{N(0), N(1), N(2)});
   f.write_attribute(g, "schedule", p.spec.loads);
-  for (const StepColumn& c : step_columns) {
-    const std::string name = g + "/" + c.name;
-    if (c.real || c.vector) {
-      std::vector<double> v;
-      for (const auto& s : p.steps) {
-        if (c.real)
-          v.push_back(s.*c.real);
-        else
-          v.insert(v.end(), (s.*c.vector).data(), (s.*c.vector).data() + 3);
-      }
-      f.write(name, v, c.real ? Shape{n} : Shape{n, 3});
-    } else {
-      std::vector<std::int64_t> v;
-      for (const auto& s : p.steps) v.push_back(c.count ? s.*c.count : std::int64_t{s.*c.flag});
-      f.write(name, v, {n});
-    }
-  }
+  write_columns(f, g, step_columns, p.steps);
   // A path with a strain along the fibres: that strain and σ33 per step (left out of every other
   // path, whose files stay as they were).
   if (p.spec.state.eps33() != 0) {
@@ -64,15 +49,7 @@ void write_path(File& f, const sweep::PathResult& p) {
     for (const auto& s : p.steps) tau.insert(tau.end(), s.shear_stress.data(), s.shear_stress.data() + 2);
     f.write(g + "/shear_stress", tau, {n, 2});
   }
-  if (p.fuse) {
-    for (const FuseField& z : fuse_fields) {
-      const std::string name = g + "/fuse/" + z.name;
-      if (z.real)
-        f.write(name, std::vector<double>{(*p.fuse).*z.real}, {1});
-      else
-        f.write(name, std::vector<double>((*p.fuse.*z.vector).data(), (*p.fuse.*z.vector).data() + 3), {3});
-    }
-  }
+  if (p.fuse) write_datasets(f, g + "/fuse", fuse_fields, *p.fuse);
 }
 
 sweep::PathResult read_path(const File& f, int index) {
@@ -95,26 +72,7 @@ sweep::PathResult read_path(const File& f, int index) {
     throw InputError(where + ": attributes direction_deg, sign or unit_stress out of range (truncated or corrupt?)");
   const hsize_t n = f.read_doubles(g + "/load", {any_extent}).size();
   p.steps.resize(n);
-  for (const StepColumn& c : step_columns) {
-    const std::string name = g + "/" + c.name;
-    if (c.real || c.vector) {
-      const auto v = f.read_doubles(name, c.real ? Shape{n} : Shape{n, 3}, " like " + g + "/load");
-      for (hsize_t i = 0; i < n; ++i) {
-        if (c.real)
-          p.steps[i].*c.real = v[i];
-        else
-          p.steps[i].*c.vector = {v[3 * i], v[3 * i + 1], v[3 * i + 2]};
-      }
-    } else {
-      const auto v = f.read_ints(name, {n}, " like " + g + "/load");
-      for (hsize_t i = 0; i < n; ++i) {
-        if (c.count)
-          p.steps[i].*c.count = v[i];
-        else
-          p.steps[i].*c.flag = v[i] != 0;
-      }
-    }
-  }
+  read_columns(f, g, step_columns, p.steps, g + "/load");
   if (f.has_attribute(g, "eps33")) {
     const double eps33 = f.read_double_attribute_value(g, "eps33");
     if (!std::isfinite(eps33) || eps33 == 0)
@@ -148,14 +106,7 @@ sweep::PathResult read_path(const File& f, int index) {
   }
   if (f.exists(g + "/fuse")) {
     sweep::Fuse z;
-    for (const FuseField& field : fuse_fields) {
-      const std::string name = g + "/fuse/" + field.name;
-      const auto v = f.read_doubles(name, {field.real ? hsize_t{1} : hsize_t{3}});
-      if (field.real)
-        z.*field.real = v[0];
-      else
-        z.*field.vector = {v[0], v[1], v[2]};
-    }
+    read_datasets(f, g + "/fuse", fuse_fields, z);
     p.fuse = z;
   }
   return p;

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "core/fields.hpp"
 #include "core/provenance.hpp"
 #include "core/scene.hpp"
 #include "law/onset.hpp"
@@ -24,37 +25,23 @@ using sweep::SweepHeader;
 std::string inputs_key(const SweepHeader& header);
 
 // One column of /paths/NNN: a member of sweep::Step per row (exactly one member pointer set).
-struct StepColumn {
-  const char* name;
-  double sweep::Step::*real = nullptr;             // float64, n
-  Eigen::Vector3d sweep::Step::*vector = nullptr;  // float64, n×3
-  long sweep::Step::*count = nullptr;              // int64, n
-  bool sweep::Step::*flag = nullptr;               // int64 0/1, n
-};
-inline const StepColumn step_columns[] = {
+inline constexpr Field<sweep::Step, double, Eigen::Vector3d, long, bool> step_columns[] = {
     {"load", &sweep::Step::load},
-    {"stress", nullptr, &sweep::Step::stress},
-    {"strain", nullptr, &sweep::Step::strain},
-    {"broken_bonds", nullptr, nullptr, &sweep::Step::broken_bonds},
-    {"outer_iterations", nullptr, nullptr, &sweep::Step::outer_iterations},
-    {"operator_applications", nullptr, nullptr, &sweep::Step::operator_applications},
-    {"converged", nullptr, nullptr, nullptr, &sweep::Step::converged},
+    {"stress", &sweep::Step::stress},
+    {"strain", &sweep::Step::strain},
+    {"broken_bonds", &sweep::Step::broken_bonds},
+    {"outer_iterations", &sweep::Step::outer_iterations},
+    {"operator_applications", &sweep::Step::operator_applications},
+    {"converged", &sweep::Step::converged},
     {"kkt_residual", &sweep::Step::kkt_residual},
     {"seconds", &sweep::Step::seconds},
 };
 
 // The objects of /paths/NNN/fuse: shape (1) loads and shape (3) strains.
-struct FuseField {
-  const char* name;
-  double sweep::Fuse::*real = nullptr;
-  Eigen::Vector3d sweep::Fuse::*vector = nullptr;
-};
-inline const FuseField fuse_fields[] = {
-    {"onset_load", &sweep::Fuse::onset_load},
-    {"load_before", &sweep::Fuse::load_before},
-    {"load_after", &sweep::Fuse::load_after},
-    {"strain_before", nullptr, &sweep::Fuse::strain_before},
-    {"strain_after", nullptr, &sweep::Fuse::strain_after},
+inline constexpr Field<sweep::Fuse, double, Eigen::Vector3d> fuse_fields[] = {
+    {"onset_load", &sweep::Fuse::onset_load},     {"load_before", &sweep::Fuse::load_before},
+    {"load_after", &sweep::Fuse::load_after},     {"strain_before", &sweep::Fuse::strain_before},
+    {"strain_after", &sweep::Fuse::strain_after},
 };
 
 std::filesystem::path parts_folder(const std::filesystem::path& out);

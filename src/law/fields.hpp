@@ -2,27 +2,23 @@
 // The objects of a Law, named as in law.h5, so that the file writer and reader (io/law_file)
 // and the JSON/CSV exports (io/law_export) walk one list and cannot drift apart. The constituents
 // and the provenance have their own lists (core/scene.hpp, core/provenance.hpp).
+#include "core/fields.hpp"
 #include "law/law.hpp"
 
 namespace dualcell::law {
 
 // One column of /law: either a double or an int member of DirectionLaw (the other is null).
-struct DirectionColumn {
-  const char* name;
-  double DirectionLaw::*real = nullptr;
-  int DirectionLaw::*count = nullptr;
-};
 
-inline constexpr DirectionColumn direction_columns[] = {
+inline constexpr Field<DirectionLaw, double, int> direction_columns[] = {
     {"direction_deg", &DirectionLaw::direction_deg},
     {"E_tension", &DirectionLaw::E_tension},
     {"E_tension_se", &DirectionLaw::E_tension_se},
     {"E_tension_r2", &DirectionLaw::E_tension_r2},
-    {"n_tension", nullptr, &DirectionLaw::n_tension},
+    {"n_tension", &DirectionLaw::n_tension},
     {"E_compression", &DirectionLaw::E_compression},
     {"E_compression_se", &DirectionLaw::E_compression_se},
     {"E_compression_r2", &DirectionLaw::E_compression_r2},
-    {"n_compression", nullptr, &DirectionLaw::n_compression},
+    {"n_compression", &DirectionLaw::n_compression},
     {"nu_tension", &DirectionLaw::nu_tension},
     {"nu_tension_se", &DirectionLaw::nu_tension_se},
     {"nu_compression", &DirectionLaw::nu_compression},

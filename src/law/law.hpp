@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "core/fields.hpp"
 #include "core/provenance.hpp"
 #include "core/scene.hpp"
 #include "law/condensed.hpp"
@@ -66,22 +67,16 @@ struct CellReplay {
   double limit = std::numeric_limits<double>::quiet_NaN();
   bool ok() const { return points > 0 && max_error <= limit; }
 };
-// Its members, listed once (exactly one member pointer set): law.h5's /law/cell_replay (written,
-// and read with counts checked to be at least min_count) and the JSON walk it.
-struct CellReplayField {
-  const char* name;
-  int CellReplay::*count = nullptr;
-  int min_count = 0;  // −1 where "none" is a value (the worst point of a replay without points)
-  double CellReplay::*value = nullptr;
-};
-inline constexpr CellReplayField cell_replay_fields[] = {
+// Its members, listed once (core/fields.hpp): law.h5's /law/cell_replay (written, and read
+// with counts checked to be at least min_count) and the JSON walk it.
+inline constexpr Field<CellReplay, int, double> cell_replay_fields[] = {
     {"points", &CellReplay::points},
-    {"max_error", nullptr, 0, &CellReplay::max_error},
-    {"rms_error", nullptr, 0, &CellReplay::rms_error},
+    {"max_error", &CellReplay::max_error},
+    {"rms_error", &CellReplay::rms_error},
     {"worst_path", &CellReplay::worst_path, -1},
     {"worst_step", &CellReplay::worst_step, -1},
     {"break_mismatches", &CellReplay::break_mismatches},
-    {"limit", nullptr, 0, &CellReplay::limit},
+    {"limit", &CellReplay::limit},
 };
 
 // How the small cell was fitted: the tolerance asked for (the largest stress error over the
@@ -96,20 +91,15 @@ struct SmallCellFit {
   double seconds = 0;
 };
 
-// Its members, listed once as CellReplayField: /law/small_fit in law.h5 and the JSON.
-struct SmallCellFitField {
-  const char* name;
-  int SmallCellFit::*count = nullptr;
-  double SmallCellFit::*value = nullptr;
-};
-inline constexpr SmallCellFitField small_cell_fit_fields[] = {
-    {"tolerance", nullptr, &SmallCellFit::tolerance},
+// Its members, listed once (core/fields.hpp): /law/small_fit in law.h5 and the JSON.
+inline constexpr Field<SmallCellFit, double, int> small_cell_fit_fields[] = {
+    {"tolerance", &SmallCellFit::tolerance},
     {"rows", &SmallCellFit::rows},
     {"training_directions", &SmallCellFit::training_directions},
-    {"training_max_error", nullptr, &SmallCellFit::training_max_error},
-    {"training_rms_error", nullptr, &SmallCellFit::training_rms_error},
+    {"training_max_error", &SmallCellFit::training_max_error},
+    {"training_rms_error", &SmallCellFit::training_rms_error},
     {"iterations", &SmallCellFit::iterations},
-    {"seconds", nullptr, &SmallCellFit::seconds},
+    {"seconds", &SmallCellFit::seconds},
 };
 
 struct Law {

@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "core/fields.hpp"
 #include "law/condensed.hpp"
 
 namespace dualcell::law {
@@ -35,11 +36,7 @@ struct PlyConstants {
 };
 
 // The constants' names in the files' order (E1 … G23) and their members.
-struct PlyConstantField {
-  const char* name;
-  double PlyConstants::*value;
-};
-inline constexpr PlyConstantField ply_constant_fields[] = {
+inline constexpr Field<PlyConstants, double> ply_constant_fields[] = {
     {"E1", &PlyConstants::E1},     {"E2", &PlyConstants::E2},     {"E3", &PlyConstants::E3},
     {"nu12", &PlyConstants::nu12}, {"nu13", &PlyConstants::nu13}, {"nu23", &PlyConstants::nu23},
     {"G12", &PlyConstants::G12},   {"G13", &PlyConstants::G13},   {"G23", &PlyConstants::G23},

@@ -19,6 +19,7 @@
 #include <limits>
 #include <vector>
 
+#include "core/fields.hpp"
 #include "law/condensed.hpp"
 
 namespace dualcell::law {
@@ -49,21 +50,17 @@ struct PlyCheck {
   double training_max_error = std::numeric_limits<double>::quiet_NaN();
   double training_rms_error = std::numeric_limits<double>::quiet_NaN();
 };
-// Its members, listed once (as law::CellReplayField): law.h5's /law/small_ply_check.
-struct PlyCheckField {
-  const char* name;
-  int PlyCheck::*count = nullptr;
-  double PlyCheck::*value = nullptr;
-};
-inline constexpr PlyCheckField ply_check_fields[] = {
+// Its members, listed once (core/fields.hpp): law.h5's /law/small_ply_check and the JSON.
+inline constexpr Field<PlyCheck, int, double, Vector6d> ply_check_fields[] = {
     {"directions", &PlyCheck::directions},
     {"points", &PlyCheck::points},
-    {"max_error", nullptr, &PlyCheck::max_error},
-    {"rms_error", nullptr, &PlyCheck::rms_error},
-    {"bonded_max_error", nullptr, &PlyCheck::bonded_max_error},
+    {"max_error", &PlyCheck::max_error},
+    {"rms_error", &PlyCheck::rms_error},
+    {"bonded_max_error", &PlyCheck::bonded_max_error},
     {"training_points", &PlyCheck::training_points},
-    {"training_max_error", nullptr, &PlyCheck::training_max_error},
-    {"training_rms_error", nullptr, &PlyCheck::training_rms_error},
+    {"training_max_error", &PlyCheck::training_max_error},
+    {"training_rms_error", &PlyCheck::training_rms_error},
+    {"worst", &PlyCheck::worst},
 };
 
 // The compact law `compact` (a cell with the same macro parts) along the sample's paths.

@@ -3,6 +3,8 @@
 
 #include <string>
 
+#include "core/fields.hpp"
+
 namespace dualcell::qp {
 
 enum class Status {
@@ -29,13 +31,9 @@ struct Counters {
   Counters& operator+=(const Counters& other);
 };
 
-// The counters by name, listed once: the adder and every writer (solution.h5's /solver
-// attributes, the benchmark's JSON) walk this table; a new counter is one line here.
-struct CounterField {
-  const char* name;
-  long Counters::*count;
-};
-inline constexpr CounterField counter_fields[] = {
+// The counters by name, listed once (core/fields.hpp): the adder and every writer (solution.h5's
+// /solver attributes, the benchmark's JSON) walk this table; a new counter is one line here.
+inline constexpr Field<Counters, long> counter_fields[] = {
     {"outer_iterations", &Counters::outer_iterations},
     {"operator_applications", &Counters::operator_applications},
     {"cg_steps", &Counters::cg_steps},
@@ -47,7 +45,7 @@ inline constexpr CounterField counter_fields[] = {
 };
 
 inline Counters& Counters::operator+=(const Counters& other) {
-  for (const CounterField& field : counter_fields) this->*field.count += other.*field.count;
+  add_fields(counter_fields, *this, other);
   return *this;
 }
 

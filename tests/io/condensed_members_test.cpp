@@ -16,6 +16,7 @@
 #include "io/hdf5.hpp"
 #include "io/law_export.hpp"
 #include "io/law_file.hpp"
+#include "io/record_walk.hpp"
 #include "law/bond.hpp"
 #include "law/cell_text.hpp"
 #include "law/synthetic_law.hpp"
@@ -227,21 +228,13 @@ TEST(CellReplayFields, EveryMemberReachesLawH5AndTheJson) {
   testing::ScratchDir dir;
   law::Law law = testing::synthetic_law();
   law.cell = distinct_cell();
-  int k = 3;
-  for (const law::CellReplayField& field : law::cell_replay_fields) {
-    if (field.count) law.cell_replay.*field.count = k++;
-    if (field.value) law.cell_replay.*field.value = 0.25 * k++;
-  }
+  testing::set_each_field(law::cell_replay_fields, law.cell_replay, 3);
   write_law(dir / "law.h5", law);
   const law::Law back = read_law(dir / "law.h5");
   const std::string json = law_json(law);
   const std::string replay = json.substr(json.find("\"cell_replay\": {"));
-  for (const law::CellReplayField& field : law::cell_replay_fields) {
-    if (field.count) {
-      EXPECT_EQ(back.cell_replay.*field.count, law.cell_replay.*field.count) << field.name;
-    } else {
-      EXPECT_EQ(back.cell_replay.*field.value, law.cell_replay.*field.value) << field.name;
-    }
+  testing::expect_same_fields(law::cell_replay_fields, back.cell_replay, law.cell_replay, "/law/cell_replay");
+  for (const auto& field : law::cell_replay_fields) {
     const std::string key = std::string(1, '"') + field.name + "\": ";
     EXPECT_NE(replay.find(key), std::string::npos) << field.name;
   }

@@ -345,7 +345,7 @@ TEST(LawFile, TheSmallCellRoundTrips) {
   const io::File f = io::File::open_read(dir / "law.h5");
   EXPECT_EQ(f.shape("/law/small/H"), (std::vector<hsize_t>{2, 2}));
   EXPECT_EQ(f.shape("/law/small_check/error"), (std::vector<hsize_t>{2}));
-  for (const law::SmallCellFitField& field : law::small_cell_fit_fields)
+  for (const auto& field : law::small_cell_fit_fields)
     EXPECT_EQ(f.shape(std::string("/law/small_fit/") + field.name), (std::vector<hsize_t>{1})) << field.name;
 }
 

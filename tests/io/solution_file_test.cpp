@@ -1,6 +1,6 @@
 // solution.h5 written and read back (io/solution_file.hpp): a real solve with adhesion and some
 // bonds broken, every attribute of qp::counter_fields, io::solver_count_fields, the seconds of
-// feti::timing_fields and operator_profile_fields, io::kkt_fields,
+// feti::setup_timing_fields, qp_timing_fields and operator_profile_fields, io::kkt_fields,
 // every column of rank_columns, u, the macro quantities, the fields (feti::solution_fields) and
 // the bond state (io::read_bonds, the reader dualcell-solve --bonds uses) as written, bit for
 // bit. The test walks the tables, so a field added to them is checked without an edit here.
@@ -9,7 +9,9 @@
 #include <gtest/gtest.h>
 
 #include "feti/macro.hpp"
+#include "io/fields_io.hpp"
 #include "io/hdf5.hpp"
+#include "io/record_walk.hpp"
 #include "test_util.hpp"
 
 namespace dualcell::io {
@@ -30,13 +32,8 @@ TEST(SolutionFile, EveryFieldComesBackAsWritten) {
   ASSERT_GT(s.newly_broken, 0) << "the test needs a bond state with breaks";
   const feti::SolutionFields fields = feti::solution_fields(mesh, scene, s.u);
   RankTable ranks(2);
-  for (std::size_t r = 0; r < ranks.size(); ++r) {
-    int k = 1;  // every column its own value
-    for (const RankColumn& c : rank_columns) {
-      if (c.count) ranks[r].*c.count = static_cast<std::int64_t>(100 * r + k++);
-      if (c.seconds) ranks[r].*c.seconds = 0.5 * static_cast<double>(100 * r + k++);
-    }
-  }
+  for (std::size_t r = 0; r < ranks.size(); ++r)
+    testing::set_each_field(rank_columns, ranks[r], 100 * static_cast<int>(r));
   Provenance provenance;
   provenance.mesh_file = "mesh.h5";
   provenance.mesh_hash = "0123456789abcdef";
@@ -45,31 +42,28 @@ TEST(SolutionFile, EveryFieldComesBackAsWritten) {
   write_solution(file, mesh, scene, s, fields, provenance, nullptr, &ranks);
 
   const File f = File::open_read(file);
-  for (const qp::CounterField& field : qp::counter_fields)
-    EXPECT_EQ(f.read_int_attribute_value("/solver", field.name), s.counters.*field.count) << field.name;
-  for (const SolverCountField& field : solver_count_fields)
-    EXPECT_EQ(f.read_int_attribute_value("/solver", field.attribute), s.*field.count) << field.attribute;
-  for (const feti::TimingField& field : feti::timing_fields)
-    EXPECT_EQ(f.read_double_attribute_value("/solver", std::string("seconds_") + field.name), s.seconds.*field.seconds)
-        << field.name;
-  for (const feti::OperatorProfileField& field : feti::operator_profile_fields)
-    if (field.seconds) {
-      EXPECT_EQ(f.read_double_attribute_value("/solver", std::string("seconds_qp_") + field.name),
-                s.seconds.in_qp.*field.seconds)
-          << field.name;
-    }
-  for (const KktField& field : kkt_fields)
-    EXPECT_EQ(f.read_double_attribute_value("/kkt", field.attribute), s.kkt.*field.value) << field.attribute;
-  for (const RankColumn& c : rank_columns) {
-    const std::string name = std::string("/ranks/") + c.name;
-    for (std::size_t r = 0; r < ranks.size(); ++r) {
-      if (c.count) {
-        EXPECT_EQ(f.read_ints(name, {ranks.size()})[r], ranks[r].*c.count) << name;
-      } else {
-        EXPECT_EQ(f.read_doubles(name, {ranks.size()})[r], ranks[r].*c.seconds) << name;
-      }
-    }
-  }
+  // Each table read back through the one reader (io/fields_io.hpp) and compared member by member.
+  qp::Counters counters;
+  read_attributes(f, "/solver", qp::counter_fields, counters);
+  testing::expect_same_fields(qp::counter_fields, counters, s.counters, "/solver");
+  feti::Solution counts;
+  read_attributes(f, "/solver", solver_count_fields, counts);
+  testing::expect_same_fields(solver_count_fields, counts, s, "/solver");
+  feti::Timings seconds;
+  read_attributes(f, "/solver", feti::setup_timing_fields, seconds, "seconds_");
+  read_attributes(f, "/solver", feti::qp_timing_fields, seconds, "seconds_");
+  read_attributes(f, "/solver", feti::operator_profile_fields, seconds.in_qp, "seconds_qp_", "s");
+  testing::expect_same_fields(feti::setup_timing_fields, seconds, s.seconds, "/solver seconds_");
+  testing::expect_same_fields(feti::qp_timing_fields, seconds, s.seconds, "/solver seconds_");
+  testing::expect_same_fields(feti::operator_profile_fields, seconds.in_qp, s.seconds.in_qp, "/solver seconds_qp_",
+                              "s");
+  feti::KktReport kkt;
+  read_attributes(f, "/kkt", kkt_fields, kkt);
+  testing::expect_same_fields(kkt_fields, kkt, s.kkt, "/kkt");
+  RankTable ranks_back(ranks.size());
+  read_columns(f, "/ranks", rank_columns, ranks_back, "/ranks");
+  for (std::size_t r = 0; r < ranks.size(); ++r)
+    testing::expect_same_fields(rank_columns, ranks_back[r], ranks[r], "/ranks row " + std::to_string(r));
   const hsize_t N = static_cast<hsize_t>(mesh.n_nodes()), T = mesh.triangles.size();
   EXPECT_EQ(f.read_doubles("/solution/u", {N, 2}), values(s.u.head(mesh.dim_u())));
   EXPECT_EQ(f.read_doubles("/macro/strain", {3}), values(s.strain));

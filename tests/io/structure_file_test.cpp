@@ -6,7 +6,9 @@
 
 #include <gtest/gtest.h>
 
+#include "io/fields_io.hpp"
 #include "io/hdf5.hpp"
+#include "io/record_walk.hpp"
 #include "test_util.hpp"
 
 namespace dualcell::io {
@@ -23,13 +25,8 @@ TEST(StructureFile, EveryColumnAndFieldComesBackAsWritten) {
   std::vector<structure::StepResult> steps(3);
   for (std::size_t k = 0; k < steps.size(); ++k) {
     structure::StepResult& s = steps[k];
-    double v = 10.0 * static_cast<double>(k);  // every member its own value
-    for (const StructureStepColumn& c : structure_step_columns) {
-      if (c.real) s.*c.real = (v += 1.25);
-      if (c.vector) s.*c.vector = {v + 1.5, v + 3}, v += 3;
-      if (c.count) s.*c.count = static_cast<int>(v += 1);
-      if (c.flag) s.*c.flag = k % 2 == 0;
-    }
+    testing::set_each_field(structure_step_columns, s, 10 * static_cast<int>(k));  // every member its own value
+    double v = 10.0 * static_cast<double>(k) + 20;
     for (auto& R : s.reactions) R = {v + 0.5, v + 1}, v += 1;
     s.u = Eigen::VectorXd::LinSpaced(2 * N, v, v + 1);
     s.stress = Eigen::MatrixXd::Random(T, 3);
@@ -46,24 +43,10 @@ TEST(StructureFile, EveryColumnAndFieldComesBackAsWritten) {
 
   const File f = File::open_read(file);
   const auto S = static_cast<hsize_t>(steps.size());
-  for (const StructureStepColumn& c : structure_step_columns) {
-    const std::string name = std::string("/steps/") + c.name;
-    if (c.real || c.vector) {
-      const auto read = f.read_doubles(name, c.vector ? Shape{S, 2} : Shape{S});
-      for (std::size_t k = 0; k < steps.size(); ++k) {
-        if (c.real) {
-          EXPECT_EQ(read[k], steps[k].*c.real) << name;
-        } else {
-          EXPECT_EQ(read[2 * k], (steps[k].*c.vector)(0)) << name;
-          EXPECT_EQ(read[2 * k + 1], (steps[k].*c.vector)(1)) << name;
-        }
-      }
-    } else {
-      const auto read = f.read_ints(name, {S});
-      for (std::size_t k = 0; k < steps.size(); ++k)
-        EXPECT_EQ(read[k], c.count ? steps[k].*c.count : (steps[k].*c.flag ? 1 : 0)) << name;
-    }
-  }
+  std::vector<structure::StepResult> back(steps.size());
+  read_columns(f, "/steps", structure_step_columns, back, "/steps/factor");
+  for (std::size_t k = 0; k < steps.size(); ++k)
+    testing::expect_same_fields(structure_step_columns, back[k], steps[k], "/steps row " + std::to_string(k));
   const auto reactions = f.read_doubles("/steps/reactions", {S, 10});
   for (std::size_t k = 0; k < steps.size(); ++k)
     for (int e = 0; e < 5; ++e)

@@ -13,6 +13,7 @@
 #include "core/error.hpp"
 #include "feti/condense.hpp"
 #include "feti/solver.hpp"
+#include "io/record_walk.hpp"
 #include "sweep/sweep.hpp"
 #include "test_util.hpp"
 
@@ -43,8 +44,7 @@ Written sweep_of_a_cell_with_adhesion() {
     w.paths.push_back(sweep::run_path(solver, spec, scene.sweep.fuse_tolerance));
   w.paths.front().steps.back().converged = false;  // the flag column must come back as 0
   // Every text of the provenance, each its own (the reader needs those a sweep always has).
-  for (const ProvenanceField& field : provenance_fields)
-    w.header.provenance.*field.text = field.attribute + std::string(" text");
+  testing::set_each_field(provenance_fields, w.header.provenance);
   w.header.provenance.solver_options = solver_options_text(scene);
   w.header.constituents = constituents(scene);
   w.header.onset = solver.onset_surface();
@@ -70,29 +70,17 @@ TEST(SweepFile, EveryColumnAndTheHeaderComeBackAsWritten) {
     EXPECT_EQ(b.spec.loads, a.spec.loads) << i;
     ASSERT_EQ(b.steps.size(), a.steps.size()) << i;
     for (std::size_t k = 0; k < a.steps.size(); ++k)
-      for (const StepColumn& c : step_columns) {
-        const sweep::Step &x = a.steps[k], &y = b.steps[k];
-        const bool equal = c.real     ? same(x.*c.real, y.*c.real)
-                           : c.vector ? same(x.*c.vector, y.*c.vector)
-                           : c.count  ? x.*c.count == y.*c.count
-                                      : x.*c.flag == y.*c.flag;
-        EXPECT_TRUE(equal) << "path " << i << " step " << k << " column " << c.name;
-      }
+      testing::expect_same_fields(step_columns, a.steps[k], b.steps[k],
+                                  "path " + std::to_string(i) + " step " + std::to_string(k));
     ASSERT_EQ(b.fuse.has_value(), a.fuse.has_value()) << i;
     if (!a.fuse) continue;
-    for (const FuseField& field : fuse_fields) {
-      EXPECT_TRUE(field.real ? same(*a.fuse.*field.real, *b.fuse.*field.real)
-                             : same(*a.fuse.*field.vector, *b.fuse.*field.vector))
-          << "path " << i << " fuse " << field.name;
-    }
+    testing::expect_same_fields(fuse_fields, *a.fuse, *b.fuse, "path " + std::to_string(i) + " fuse");
   }
   EXPECT_FALSE(back.front().steps.back().converged);
 
   const SweepHeader h = read_sweep_header(file);
-  for (const ProvenanceField& field : provenance_fields)
-    EXPECT_EQ(h.provenance.*field.text, w.header.provenance.*field.text) << field.attribute;
-  for (const ConstituentField& field : constituent_fields)
-    EXPECT_EQ(h.constituents.*field.value, w.header.constituents.*field.value) << field.attribute;
+  testing::expect_same_fields(provenance_fields, h.provenance, w.header.provenance, "provenance");
+  testing::expect_same_fields(constituent_fields, h.constituents, w.header.constituents, "constituents");
   EXPECT_EQ(h.onset.facets, w.header.onset.facets);
   EXPECT_EQ(h.onset.pair, w.header.onset.pair);
   EXPECT_EQ(h.onset.tangential, w.header.onset.tangential);

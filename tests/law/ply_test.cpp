@@ -66,10 +66,11 @@ TEST(PlyConstants, BondedTheyAreTheInverseOfTheLawsTangentAndTheAntiplaneSolve) 
     const PlyConstants& row = t.rows[i];
     EXPECT_EQ(row.state, PlyState::bonded);
     EXPECT_EQ(row.broken, 0);
-    for (int k = 0; k < 9; ++k) {
-      const double v = row.*ply_constant_fields[k].value;
-      EXPECT_NEAR(v, expected[k], 1e-8 * std::abs(expected[k])) << ply_constant_fields[k].name << " sign " << row.sign;
-    }
+    int k = 0;
+    for_each_field(ply_constant_fields, row, [&](const auto& field, double v) {
+      EXPECT_NEAR(v, expected[k], 1e-8 * std::abs(expected[k])) << field.name << " sign " << row.sign;
+      ++k;
+    });
   }
 }
 

@@ -13,20 +13,20 @@ namespace {
 TEST(Counters, TheAdderAddsEveryCounterOfTheTable) {
   Counters a, b;
   long k = 1;
-  for (const CounterField& field : counter_fields) a.*field.count = k, b.*field.count = 100 * k, ++k;
+  for_each_field(counter_fields, a, b, [&](const auto&, long& x, long& y) { x = k, y = 100 * k, ++k; });
   a += b;
   k = 1;
-  for (const CounterField& field : counter_fields) EXPECT_EQ(a.*field.count, 101 * k++) << field.name;
+  for_each_field(counter_fields, a, [&](const auto& field, long x) { EXPECT_EQ(x, 101 * k++) << field.name; });
 }
 
 TEST(Counters, TheTableNamesEveryCounterOnce) {
   // Every member of Counters is a long: as many table rows as longs in the struct.
   EXPECT_EQ(std::size(counter_fields) * sizeof(long), sizeof(Counters));
   std::set<std::string> names;
-  for (const CounterField& field : counter_fields) names.insert(field.name);
+  for (const auto& field : counter_fields) names.insert(field.name);
   EXPECT_EQ(names.size(), std::size(counter_fields));
-  for (const CounterField& a : counter_fields)
-    for (const CounterField& b : counter_fields) EXPECT_TRUE(&a == &b || a.count != b.count) << a.name << " " << b.name;
+  for (const auto& a : counter_fields)
+    for (const auto& b : counter_fields) EXPECT_TRUE(&a == &b || a.member != b.member) << a.name << " " << b.name;
 }
 
 }  // namespace
