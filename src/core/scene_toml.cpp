@@ -27,6 +27,11 @@ struct SceneReading {
   const std::vector<std::string>& lines;
   TableReader& top;
   Scene& scene;
+
+  // The reader of the scene's table [name] (absent: an empty table; scene.written records each key).
+  TableReader table(const char* name) const {
+    return TableReader(sub_table(root, name, fname), name, fname, lines, &scene.written);
+  }
 };
 
 // `material = "..."` as written (a path with non-ASCII characters decoded), or "".
@@ -115,7 +120,7 @@ void read_geometry(SceneReading& r) {
   const std::vector<std::string>& lines = r.lines;
   Scene& scene = r.scene;
   // [geometry]
-  TableReader g(sub_table(root, "geometry", fname), "geometry", fname, lines, &scene.written);
+  TableReader g = r.table("geometry");
   if (!g.present()) throw InputError(fname + ": missing table [geometry]");
   Geometry& geo = scene.geometry;
   // Integers stored as int: a non-integral or huge value becomes 0, which validate() refuses
@@ -206,13 +211,13 @@ void read_interface_and_load(SceneReading& r) {
   TableReader& top = r.top;
   Scene& scene = r.scene;
   // [interface]
-  TableReader it(sub_table(root, "interface", fname), "interface", fname, lines, &scene.written);
+  TableReader it = r.table("interface");
   scene.interface.normal_strength = it.real("normal_strength", 0);
   scene.interface.tangential_strength = it.real("tangential_strength", 0);
   it.finish();
 
   // [load]
-  TableReader lt(sub_table(root, "load", fname), "load", fname, lines, &scene.written);
+  TableReader lt = r.table("load");
   const std::string boundary = lt.string("boundary", "symmetry", {"symmetry", "traction", "periodic", "edges"});
   scene.load.boundary = boundary == "symmetry"   ? Boundary::symmetry
                         : boundary == "traction" ? Boundary::traction
@@ -236,12 +241,9 @@ void read_interface_and_load(SceneReading& r) {
 }
 
 void read_sweep_and_solver(SceneReading& r) {
-  const toml::table& root = r.root;
-  const std::string& fname = r.fname;
-  const std::vector<std::string>& lines = r.lines;
   Scene& scene = r.scene;
   // [sweep]
-  TableReader st(sub_table(root, "sweep", fname), "sweep", fname, lines, &scene.written);
+  TableReader st = r.table("sweep");
   scene.sweep.directions_deg = st.reals("directions_deg", scene.sweep.directions_deg, 1, 3600);
   scene.sweep.magnitudes = st.reals("magnitudes", scene.sweep.magnitudes, 1, 100000);
   scene.sweep.stress_directions = st.triples("stress_directions");
@@ -252,7 +254,7 @@ void read_sweep_and_solver(SceneReading& r) {
   st.finish();
 
   // [solver]
-  TableReader sv(sub_table(root, "solver", fname), "solver", fname, lines, &scene.written);
+  TableReader sv = r.table("solver");
   SolverSettings& so = scene.solver;
   so.tolerance = sv.real("tolerance", so.tolerance);
   so.max_outer_iterations = sv.integer<int>("max_outer_iterations", so.max_outer_iterations);

@@ -93,20 +93,18 @@ CellSample sample_cell_past_fuse(const CondensedCell& cell, int n, double factor
       history.bonded = cell.bonded;
       // Just past the onset the first bond breaks and the cascade runs; then on to factor·s* in
       // steps, as a path goes (a bond can pass its strength on the way and not at the end).
-      std::vector<Eigen::Vector3d> path_strain, path_stress;
-      const auto at = [&](double s) {
-        const CellResponse r = evaluator.at_stress(s * onset * N, history);
-        path_strain.push_back(r.strain);
-        if (cell.n_macro == 2) path_strain.back()(2) = 0;
-        path_stress.push_back(s * onset * N);
-        return r;
-      };
-      const CellResponse at_fuse = at(1 + 1e-6);
-      CellResponse r = at_fuse;
-      for (int step = 1; r.ok && step <= past_fuse_steps; ++step) r = at(1 + (factor - 1) * step / past_fuse_steps);
-      if (at_fuse.ok && r.ok) {
+      const std::vector<double> loads = past_onset_factors(factor);
+      const std::vector<CellResponse> path =
+          walk_path(evaluator, history, loads, [&](double s) { return MacroState::stress(s * onset * N); });
+      if (path.size() == loads.size() && path.back().ok) {
+        std::vector<Eigen::Vector3d> path_strain, path_stress;
+        for (std::size_t k = 0; k < path.size(); ++k) {
+          path_strain.push_back(path[k].strain);
+          if (cell.n_macro == 2) path_strain.back()(2) = 0;
+          path_stress.push_back(loads[k] * onset * N);
+        }
         e = path_strain.back();
-        sample.forces.push_back(r.forces);
+        sample.forces.push_back(path.back().forces);
         path_strain.pop_back();
         path_stress.pop_back();
         sample.path_strain.push_back(std::move(path_strain));
@@ -122,6 +120,22 @@ CellSample sample_cell_past_fuse(const CondensedCell& cell, int n, double factor
     sample.stress.push_back((std::isfinite(onset) ? factor * onset : 1.0) * N);
   }
   return sample;
+}
+
+std::vector<CellResponse> walk_path(CellEvaluator& evaluator, CellHistory& history, const std::vector<double>& loads,
+                                    const std::function<MacroState(double)>& state_at) {
+  std::vector<CellResponse> path;
+  for (const double t : loads) {
+    path.push_back(evaluator.at(state_at(t), history));
+    if (!path.back().ok) break;
+  }
+  return path;
+}
+
+std::vector<double> past_onset_factors(double factor) {
+  std::vector<double> loads{1 + 1e-6};
+  for (int step = 1; step <= past_fuse_steps; ++step) loads.push_back(1 + (factor - 1) * step / past_fuse_steps);
+  return loads;
 }
 
 const char* checked_against_text(CheckedAgainst against) {
@@ -150,6 +164,12 @@ ConeCheck check_cone(const ConeLaw& cone, const CellSample& sample) {
 }
 
 ConeCheck check_law(const std::function<Eigen::Vector3d(const Eigen::Vector3d&)>& stress_at, const CellSample& sample) {
+  return check_over(sample, [&](std::size_t i) {
+    return (stress_at(sample.strain[i]) - sample.stress[i]).norm() / sample.stress[i].norm();
+  });
+}
+
+ConeCheck check_over(const CellSample& sample, const std::function<double(std::size_t)>& error_at) {
   ConeCheck check;
   check.directions = sample.direction;
   ErrorTally tally;
@@ -158,8 +178,7 @@ ConeCheck check_law(const std::function<Eigen::Vector3d(const Eigen::Vector3d&)>
       check.error.push_back(std::numeric_limits<double>::quiet_NaN());
       continue;
     }
-    const double s = sample.stress[i].norm();
-    double error = (stress_at(sample.strain[i]) - sample.stress[i]).norm() / s;
+    double error = error_at(i);
     if (!std::isfinite(error)) error = std::numeric_limits<double>::infinity();  // the law has none: the worst
     check.error.push_back(error);
     if (tally.add(error)) check.worst = sample.direction[i];

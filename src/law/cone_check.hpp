@@ -82,9 +82,22 @@ inline constexpr double past_fuse_load_ratio = 2;
 inline constexpr int past_fuse_steps = 8;
 CellSample sample_cell_past_fuse(const CondensedCell& cell, int n, double factor, Progress* progress = nullptr);
 
+// The one walk of the samplers (sample_cell_past_fuse here, sample_ply for the whole ply): the
+// exact law at state_at(t) for each load factor t of `loads` in turn, the history carried from
+// point to point; it stops at the first evaluation that fails (the last response, not ok).
+std::vector<CellResponse> walk_path(CellEvaluator& evaluator, CellHistory& history, const std::vector<double>& loads,
+                                    const std::function<MacroState(double)>& state_at);
+// The load factors of a path past the onset, over the onset: just past it (the first break and
+// its cascade), then past_fuse_steps equal steps to `factor`.
+std::vector<double> past_onset_factors(double factor);
+
 // The check over a sample of the exact law (sample_cell) of any compact law, given as its stress at
 // a strain (NaN where it has none); polar_* are left empty.
 ConeCheck check_law(const std::function<Eigen::Vector3d(const Eigen::Vector3d&)>& stress_at, const CellSample& sample);
+// The one check over a sample: error_at(i), the relative error at direction i (non-finite: the
+// law has no answer, the worst), for each direction where the sample has a point of the exact
+// law; NaN where it has none (not counted).
+ConeCheck check_over(const CellSample& sample, const std::function<double(std::size_t)>& error_at);
 // check_law of the cone-wise law.
 ConeCheck check_cone(const ConeLaw& cone, const CellSample& sample);
 // The exact law's apparent moduli around the circle (polar_moduli), each from the intact cell at

@@ -8,7 +8,6 @@
 #include <stdexcept>
 #include <string>
 
-#include "core/error_tally.hpp"
 #include "law/bond.hpp"
 
 namespace dualcell::law {
@@ -344,14 +343,8 @@ FusedCell cell_with_fuse(const CondensedCell& cell, const CondensedCell& after) 
 
 ConeCheck check_along_fuse_paths(const CondensedCell& fused, const CellSample& past_fuse) {
   CellEvaluator evaluator(fused);
-  ConeCheck check;
-  check.directions = past_fuse.direction;
-  ErrorTally tally;
-  for (std::size_t i = 0; i < past_fuse.direction.size(); ++i) {
-    if (!past_fuse.strain[i].allFinite()) {  // the exact law has no path here: not counted
-      check.error.push_back(std::numeric_limits<double>::quiet_NaN());
-      continue;
-    }
+  // A direction's error: the largest along its path, each point from the intact cell on.
+  return check_over(past_fuse, [&](std::size_t i) {
     CellHistory history = evaluator.unloaded();
     double error = 0;
     const auto at = [&](const Eigen::Vector3d& strain, const Eigen::Vector3d& stress) {
@@ -362,12 +355,8 @@ ConeCheck check_along_fuse_paths(const CondensedCell& fused, const CellSample& p
     for (std::size_t k = 0; k < past_fuse.path_strain[i].size(); ++k)
       at(past_fuse.path_strain[i][k], past_fuse.path_stress[i][k]);
     at(past_fuse.strain[i], past_fuse.stress[i]);
-    check.error.push_back(error);
-    if (tally.add(error)) check.worst = past_fuse.direction[i];
-  }
-  check.max_error = tally.max_error();
-  check.rms_error = tally.rms_error();
-  return check;
+    return error;
+  });
 }
 
 }  // namespace dualcell::law

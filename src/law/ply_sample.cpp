@@ -56,23 +56,19 @@ PlySample sample_ply(const CondensedCell& cell, int n, unsigned seed) {
       if (!r.ok || !(r.strength_use > 0)) loads.clear();
       const double onset = r.ok ? 1 / r.strength_use : 0;
       if (!loads.empty()) {
-        loads = {0.5 * onset, (1 + 1e-6) * onset};
-        for (int step = 1; step <= past_fuse_steps; ++step)
-          loads.push_back(onset * (1 + (past_fuse_load_ratio - 1) * step / past_fuse_steps));
+        loads = {0.5 * onset};
+        for (const double s : past_onset_factors(past_fuse_load_ratio)) loads.push_back(onset * s);
       }
     }
     std::vector<Vector6d> strain, stress;
     CellHistory history = evaluator.unloaded();
-    for (const double t : loads) {
-      const Vector6d e = t * d;
-      const CellResponse r = evaluator.at(MacroState::ply_strain(e), history);
-      if (!r.ok) {
-        strain.clear(), stress.clear();
-        break;
+    const std::vector<CellResponse> path =
+        walk_path(evaluator, history, loads, [&](double t) { return MacroState::ply_strain(t * d); });
+    if (path.size() == loads.size() && (path.empty() || path.back().ok))
+      for (std::size_t k = 0; k < path.size(); ++k) {
+        strain.push_back(loads[k] * d);
+        stress.push_back(ply_stress(path[k]));
       }
-      strain.push_back(e);
-      stress.push_back(ply_stress(r));
-    }
     sample.direction.push_back(nu);
     sample.strain.push_back(std::move(strain));
     sample.stress.push_back(std::move(stress));

@@ -196,6 +196,26 @@ Result mprgp(const LinearOperator& A, const Eigen::VectorXd& b, const Eigen::Vec
   const auto negligible_curvature = [&](double dAd, double d_norm2) {
     return dAd <= 64.0 * epsilon * norm_A * d_norm2;
   };
+  // A d into work.Ap and the steps along d: to the first bound (ω_f) and to the minimum of f
+  // along d, ω_cg = gᵀd / dᵀAd (+∞ where the curvature is negligible against ‖d‖² = d_norm2);
+  // `finite` false when dᵀAd is not. The CG and the proportioning steps both take it.
+  struct AlongDirection {
+    bool finite = false;
+    double curvature = 0;
+    FeasibleStep omega_f{0, -1};
+    double omega_cg = 0;
+  };
+  const auto along_direction = [&](const Eigen::VectorXd& d, double g_dot_d, double d_norm2) {
+    AlongDirection out;
+    A(d, work.Ap);
+    ++counters.operator_applications;
+    out.curvature = d.dot(work.Ap);
+    if (!std::isfinite(out.curvature)) return out;
+    out.finite = true;
+    out.omega_f = max_feasible_step(x, d, l, u);
+    out.omega_cg = negligible_curvature(out.curvature, d_norm2) ? infinity : g_dot_d / out.curvature;
+    return out;
+  };
 
   // g ← A x - b through work.Ap, so a failed application leaves g as it was.
   const auto recompute_gradient = [&]() {
@@ -297,14 +317,11 @@ Result mprgp(const LinearOperator& A, const Eigen::VectorXd& b, const Eigen::Vec
         work.p = work.phi;
         g_dot_p = split.phi_norm2;
       }
-      A(work.p, work.Ap);
-      ++counters.operator_applications;
-      const double pAp = work.p.dot(work.Ap);
-      if (!std::isfinite(pAp)) {
-        return fail_non_finite("A p");
-      }
-      const FeasibleStep omega_f = max_feasible_step(x, work.p, l, u);
-      const double omega_cg = negligible_curvature(pAp, work.p.squaredNorm()) ? infinity : g_dot_p / pAp;
+      const AlongDirection along = along_direction(work.p, g_dot_p, work.p.squaredNorm());
+      if (!along.finite) return fail_non_finite("A p");
+      const double pAp = along.curvature;
+      const FeasibleStep omega_f = along.omega_f;
+      const double omega_cg = along.omega_cg;
 
       if (omega_cg <= omega_f.omega) {
         step_within_box(omega_cg, work.p, omega_f, l, u, x);
@@ -337,14 +354,10 @@ Result mprgp(const LinearOperator& A, const Eigen::VectorXd& b, const Eigen::Vec
       }
     } else {
       // Proportioning along the chopped gradient ψ releases active components.
-      A(work.psi, work.Ap);
-      ++counters.operator_applications;
-      const double dAd = work.psi.dot(work.Ap);
-      if (!std::isfinite(dAd)) {
-        return fail_non_finite("A psi");
-      }
-      const FeasibleStep omega_f = max_feasible_step(x, work.psi, l, u);
-      const double omega_cg = negligible_curvature(dAd, split.psi_norm2) ? infinity : split.psi_norm2 / dAd;
+      const AlongDirection along = along_direction(work.psi, split.psi_norm2, split.psi_norm2);
+      if (!along.finite) return fail_non_finite("A psi");
+      const FeasibleStep omega_f = along.omega_f;
+      const double omega_cg = along.omega_cg;
       const double omega = std::min(omega_cg, omega_f.omega);
       if (omega == infinity) {
         result.status = Status::unbounded;

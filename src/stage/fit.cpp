@@ -87,24 +87,17 @@ void print_exact_law_summary(const law::Law& law) {
         c.max_error, c.rms_error, c.limit,
         c.break_mismatches == 0 ? "the same at every point"
                                 : (std::to_string(c.break_mismatches) + " points differ").c_str());
-    if (law.cell->longitudinal == 1) {
-      const law::CellReplay& l = law.cell_longitudinal_replay;
+    // The checks along the fibres: what the exact law meets, and how closely.
+    const auto along = [](const char* what, const char* solves, const law::CellReplay& r) {
       std::printf(
-          "  exact law along the fibres (e33): meets %d full solves of generalised plane strain to max %.2e, rms "
-          "%.2e (limit %.1e), broken pairs %s\n",
-          l.points, l.max_error, l.rms_error, l.limit,
-          l.break_mismatches == 0 ? "the same at every check"
-                                  : (std::to_string(l.break_mismatches) + " checks differ").c_str());
-    }
-    if (law.cell->shear == 2) {
-      const law::CellReplay& z = law.cell_shear_replay;
-      std::printf(
-          "  exact law along the fibres (shear): meets %d one-body antiplane solves to max %.2e, rms %.2e (limit "
-          "%.1e), broken pairs %s\n",
-          z.points, z.max_error, z.rms_error, z.limit,
-          z.break_mismatches == 0 ? "the same at every check"
-                                  : (std::to_string(z.break_mismatches) + " checks differ").c_str());
-    }
+          "  exact law along the fibres (%s): meets %d %s to max %.2e, rms %.2e (limit %.1e), broken pairs %s\n", what,
+          r.points, solves, r.max_error, r.rms_error, r.limit,
+          r.break_mismatches == 0 ? "the same at every check"
+                                  : (std::to_string(r.break_mismatches) + " checks differ").c_str());
+    };
+    if (law.cell->longitudinal == 1)
+      along("e33", "full solves of generalised plane strain", law.cell_longitudinal_replay);
+    if (law.cell->shear == 2) along("shear", "one-body antiplane solves", law.cell_shear_replay);
     if (!law.ply.rows.empty()) {
       std::printf(
           "  the ply's constants from the exact law (axis 1 the fibres; /law/ply)%s:\n",

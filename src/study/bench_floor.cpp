@@ -109,17 +109,11 @@ namespace dualcell::study {
 
 std::string run_floor_only(const BenchOptions& options) {
   const int all = options.threads > 0 ? options.threads : omp_get_max_threads();
-  std::filesystem::create_directories(options.out_dir);
-  io::AtomicOutputs outputs;
-  const auto md_file = options.out_dir / "floor.md", json_file = options.out_dir / "floor.json";
-  outputs.add(md_file);
-  outputs.add(json_file);
-  const bench::Floor floor = bench::run_floor(all, options.quick);
-  outputs.write(md_file, floor.md);
-  outputs.write(json_file,
-                JsonObject().add_text("blas", bench::loaded_blas()).add("floor", json_list(floor.json)).str() + "\n");
-  outputs.commit();
-  return floor.md;
+  return bench::run_section_only(options, "floor", "", [&](std::ostringstream& md, JsonObject& json) {
+    const bench::Floor floor = bench::run_floor(all, options.quick);
+    md << floor.md;
+    json.add_text("blas", bench::loaded_blas()).add("floor", json_list(floor.json));
+  });
 }
 
 }  // namespace dualcell::study
