@@ -228,8 +228,22 @@ void validate_materials_and_interface(const Checker& c, const Scene& scene) {
   for (const auto& [name, m] :
        {std::pair<const char*, const Material*>{"fibre", &scene.fibre}, {"matrix", &scene.matrix}}) {
     c.real(name, "E", m->E, positive, "E > 0");
+    if (!m->axial) {
+      c.real(
+          name, "nu", m->nu, [](double v) { return v > -1 && v < 0.5; }, "-1 < nu < 0.5");
+      continue;
+    }
+    // Transversely isotropic: the compliance positive definite, i.e. E_T, E_L, G_LT > 0,
+    // −1 < ν_TT < 1 and 1 − ν_TT − 2 ν_LT² E_T/E_L > 0.
     c.real(
-        name, "nu", m->nu, [](double v) { return v > -1 && v < 0.5; }, "-1 < nu < 0.5");
+        name, "nu", m->nu, [](double v) { return v > -1 && v < 1; }, "-1 < nu < 1 (nu_TT, the transverse plane's)");
+    c.real(name, "E_L", m->E_L, positive, "E_L > 0");
+    c.real(name, "G_LT", m->G_LT, positive, "G_LT > 0");
+    const double E = m->E, nu = m->nu, E_L = m->E_L;
+    c.real(
+        name, "nu_LT", m->nu_LT,
+        [&](double v) { return std::isfinite(v) && E_L > 0 && 1 - nu - 2 * v * v * E / E_L > 0; },
+        "1 - nu - 2 nu_LT^2 E/E_L > 0 (the phase's compliance positive definite)");
   }
 
   c.real("interface", "normal_strength", scene.interface.normal_strength, non_negative,
@@ -381,7 +395,18 @@ std::vector<std::string> scene_warnings(const Scene& scene) {
 
 Constituents constituents(const Scene& scene) {
   const double r = scene.geometry.fibre_radius, a = scene.geometry.cell_size;
-  return {scene.fibre.E, scene.fibre.nu, scene.matrix.E, scene.matrix.nu, std::numbers::pi * r * r / (a * a), a};
+  Constituents c{scene.fibre.E, scene.fibre.nu, scene.matrix.E, scene.matrix.nu, std::numbers::pi * r * r / (a * a), a};
+  c.fibre_E_L = scene.fibre.axial_E(), c.fibre_nu_LT = scene.fibre.axial_nu(), c.fibre_G_LT = scene.fibre.axial_G();
+  c.matrix_E_L = scene.matrix.axial_E(), c.matrix_nu_LT = scene.matrix.axial_nu(),
+  c.matrix_G_LT = scene.matrix.axial_G();
+  return c;
+}
+
+Constituents with_isotropic_axes(Constituents c) {
+  const Material fibre{c.fibre_E, c.fibre_nu}, matrix{c.matrix_E, c.matrix_nu};
+  c.fibre_E_L = fibre.axial_E(), c.fibre_nu_LT = fibre.axial_nu(), c.fibre_G_LT = fibre.axial_G();
+  c.matrix_E_L = matrix.axial_E(), c.matrix_nu_LT = matrix.axial_nu(), c.matrix_G_LT = matrix.axial_G();
+  return c;
 }
 
 std::string solver_options_text(const Scene& scene) {

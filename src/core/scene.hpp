@@ -17,10 +17,21 @@
 
 namespace dualcell {
 
-// Linear isotropic material, plane strain (docs/method.md §1).
+// A phase's linear elastic material (docs/theory/model.md §1): isotropic (E, ν), or transversely
+// isotropic about the fibres' axis z (`axial`): E and ν are then those of the transverse plane
+// (E_T, ν_TT), and along the axis E_L, ν_LT (the transverse contraction per unit axial strain
+// under an axial stress: S13 = −ν_LT/E_L) and G_LT (the shear modulus of the planes that contain
+// the axis: the shear along the fibres). An isotropic phase is the special case E_L = E,
+// ν_LT = ν, G_LT = E/(2(1 + ν)), which the accessors give.
 struct Material {
   double E = 0;
   double nu = 0;
+  bool axial = false;  // transversely isotropic: E_L, nu_LT, G_LT given
+  double E_L = 0, nu_LT = 0, G_LT = 0;
+
+  double axial_E() const { return axial ? E_L : E; }
+  double axial_nu() const { return axial ? nu_LT : nu; }
+  double axial_G() const { return axial ? G_LT : E / (2 * (1 + nu)); }
 };
 
 // Finite element of the mesh (docs/method.md §3): linear 3-node or quadratic 6-node triangles.
@@ -202,8 +213,13 @@ struct Constituents {
   double fibre_E = 0, fibre_nu = 0, matrix_E = 0, matrix_nu = 0;
   double fibre_volume_fraction = 0;
   double cell_size = 1;
+  // Along the fibres' axis (Material::axial_E, axial_nu, axial_G; an isotropic phase's from E, ν).
+  double fibre_E_L = 0, fibre_nu_LT = 0, fibre_G_LT = 0, matrix_E_L = 0, matrix_nu_LT = 0, matrix_G_LT = 0;
 };
 Constituents constituents(const Scene& scene);
+// The constituents along the axis of two isotropic phases, from their E and ν (a file written
+// before the phases could be transversely isotropic).
+Constituents with_isotropic_axes(Constituents c);
 
 // "tolerance=1e-08; max_outer_iterations=200; ...; fuse_tolerance=0.001": every setting that
 // changes a sweep's numbers, recorded in sweep.h5 and law.h5 and part of the journal's key.
@@ -217,6 +233,13 @@ inline constexpr Field<Constituents, double> constituent_fields[] = {
     {"matrix_nu", &Constituents::matrix_nu},
     {"fibre_volume_fraction", &Constituents::fibre_volume_fraction},
     {"cell_size", &Constituents::cell_size},
+};
+// The constituents along the fibres' axis: written beside them; a file without them (written
+// before the phases could be transversely isotropic) has isotropic phases.
+inline constexpr Field<Constituents, double> axial_constituent_fields[] = {
+    {"fibre_E_L", &Constituents::fibre_E_L},       {"fibre_nu_LT", &Constituents::fibre_nu_LT},
+    {"fibre_G_LT", &Constituents::fibre_G_LT},     {"matrix_E_L", &Constituents::matrix_E_L},
+    {"matrix_nu_LT", &Constituents::matrix_nu_LT}, {"matrix_G_LT", &Constituents::matrix_G_LT},
 };
 
 // Largest mesh a scene may ask for (nodes of all subdomains, dim u = 2 × nodes): 3×3 cells at

@@ -9,10 +9,19 @@ using namespace reading;
 
 namespace {
 
+// E and nu; a transversely isotropic phase adds E_L, nu_LT and G_LT, all three (E, nu are then
+// the transverse plane's).
 Material read_material(TableReader& t) {
   Material m;
   m.E = t.real("E", 0, true, "E > 0");
   m.nu = t.real("nu", 0, true, "-1 < nu < 0.5");
+  m.axial = t.has("E_L") || t.has("nu_LT") || t.has("G_LT");
+  if (m.axial) {
+    const std::string what = "a transversely isotropic phase gives E_L, nu_LT and G_LT";
+    m.E_L = t.real("E_L", 0, true, what);
+    m.nu_LT = t.real("nu_LT", 0, true, what);
+    m.G_LT = t.real("G_LT", 0, true, what);
+  }
   t.finish();
   return m;
 }

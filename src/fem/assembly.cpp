@@ -133,8 +133,7 @@ void add_eigen_stress(const mesh::Mesh& mesh, int s, const Eigen::Vector3d& sigm
 
 ElementStresses element_stresses(const mesh::Mesh& mesh, const Material& fibre, const Material& matrix,
                                  const Eigen::VectorXd& u, double eps33) {
-  const Eigen::Matrix3d D_fibre = plane_strain_D(fibre), D_matrix = plane_strain_D(matrix);
-  const Lame lame_fibre = lame(fibre), lame_matrix = lame(matrix);
+  const PhaseStiffness stiff_fibre = phase_stiffness(fibre), stiff_matrix = phase_stiffness(matrix);
   const std::size_t T = mesh.triangles.size();
   const int n = mesh.triangles.width();
   ElementStresses out{Eigen::MatrixXd(T, 3), Eigen::MatrixXd(T, 3), Eigen::VectorXd(T), Eigen::VectorXd(T)};
@@ -143,15 +142,15 @@ ElementStresses element_stresses(const mesh::Mesh& mesh, const Material& fibre, 
     const auto tri = mesh.triangles[t];
     for (int v = 0; v < n; ++v) ue.segment<2>(2 * v) = u.segment<2>(2 * tri[v]);
     const bool is_fibre = mesh.subdomains[mesh.triangle_subdomain[t]].is_fibre;
-    const Eigen::Matrix3d& D = is_fibre ? D_fibre : D_matrix;
-    const Lame& L = is_fibre ? lame_fibre : lame_matrix;
-    const Eigen::Vector3d sigma0 = L.lambda * eps33 * Eigen::Vector3d(1, 1, 0);
+    const PhaseStiffness& P = is_fibre ? stiff_fibre : stiff_matrix;
+    const Eigen::Matrix3d& D = P.D;
+    const Eigen::Vector3d sigma0 = P.C13 * eps33 * Eigen::Vector3d(1, 1, 0);
     const std::vector<Eigen::Vector2d> x = mesh::triangle_points(mesh, static_cast<int>(t));
     double det_J;
     const Eigen::Vector3d e_centroid = strain_displacement_at(x, 1.0 / 3, 1.0 / 3, det_J) * ue;
     out.centroid.row(t) = (D * e_centroid).transpose();
     if (eps33 != 0) out.centroid.row(t) += sigma0.transpose();
-    const auto zz = [&](const Eigen::Vector3d& e) { return L.lambda * (e(0) + e(1)) + (L.lambda + 2 * L.mu) * eps33; };
+    const auto zz = [&](const Eigen::Vector3d& e) { return P.C13 * (e(0) + e(1)) + P.C33 * eps33; };
     if (n == 3) {
       out.average.row(t) = out.centroid.row(t);
       out.area(t) = std::abs(det_J) / 2;

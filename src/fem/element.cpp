@@ -5,12 +5,29 @@
 
 namespace dualcell::fem {
 
-Eigen::Matrix3d plane_strain_D(const Material& m) {
-  const double nu = m.nu;
-  const double scale = m.E * (1 - nu) / ((1 + nu) * (1 - 2 * nu));
-  Eigen::Matrix3d D;
-  D << 1, nu / (1 - nu), 0, nu / (1 - nu), 1, 0, 0, 0, (1 - 2 * nu) / (2 * (1 - nu));
-  return scale * D;
+PhaseStiffness phase_stiffness(const Material& m) {
+  PhaseStiffness out;
+  if (!m.axial) {
+    const double nu = m.nu;
+    const double scale = m.E * (1 - nu) / ((1 + nu) * (1 - 2 * nu));
+    Eigen::Matrix3d D;
+    D << 1, nu / (1 - nu), 0, nu / (1 - nu), 1, 0, 0, 0, (1 - 2 * nu) / (2 * (1 - nu));
+    out.D = scale * D;
+    const Lame L = lame(m);
+    out.C13 = L.lambda;
+    out.C33 = L.lambda + 2 * L.mu;
+    out.G_L = L.mu;
+    return out;
+  }
+  const double a = -m.nu_LT / m.E_L;
+  Eigen::Matrix3d S;
+  S << 1 / m.E, -m.nu / m.E, a, -m.nu / m.E, 1 / m.E, a, a, a, 1 / m.E_L;
+  const Eigen::Matrix3d C = S.inverse();
+  out.D << C(0, 0), C(0, 1), 0, C(0, 1), C(0, 0), 0, 0, 0, m.E / (2 * (1 + m.nu));
+  out.C13 = C(0, 2);
+  out.C33 = C(2, 2);
+  out.G_L = m.G_LT;
+  return out;
 }
 
 Lame lame(const Material& m) { return {m.E * m.nu / ((1 + m.nu) * (1 - 2 * m.nu)), m.E / (2 * (1 + m.nu))}; }

@@ -23,12 +23,23 @@ using Matrix36 = Eigen::Matrix<double, 3, 6>;
 using Matrix66 = Eigen::Matrix<double, 6, 6>;
 using Vector6 = Eigen::Matrix<double, 6, 1>;
 
-// Plane-strain elasticity matrix D (Voigt, engineering shear).
-Eigen::Matrix3d plane_strain_D(const Material& material);
+// A phase's stiffness in generalised plane strain (a uniform ε33 along the fibres, docs/method.md
+// §3a) and in the shear along them: the in-plane stress is D ε + C13 ε33 (1, 1, 0), σzz =
+// C13 (εxx + εyy) + C33 ε33, and the shear along the fibres τ = G_L ∇w. Isotropic: D the
+// plane-strain matrix, C13 = λ, C33 = λ + 2μ, G_L = μ (Lamé's constants, lame below).
+// Transversely isotropic about z: the inverse of the normal compliance
+//   [1/E, −ν/E, −ν_LT/E_L; −ν/E, 1/E, −ν_LT/E_L; −ν_LT/E_L, −ν_LT/E_L, 1/E_L]
+// gives C11 = C22, C12, C13, C33; D = [C11, C12, 0; C12, C11, 0; 0, 0, E/(2(1+ν))], G_L = G_LT.
+struct PhaseStiffness {
+  Eigen::Matrix3d D = Eigen::Matrix3d::Zero();  // Voigt, engineering shear
+  double C13 = 0, C33 = 0, G_L = 0;
+};
+PhaseStiffness phase_stiffness(const Material& material);
 
-// Lamé's constants of an isotropic material: λ = Eν/((1+ν)(1−2ν)), μ = E/(2(1+ν)). In
-// generalised plane strain (a uniform ε33 along the fibres, docs/method.md §3a) the in-plane
-// stress is D ε + λ ε33 (1, 1, 0) and σzz = λ (εxx + εyy) + (λ + 2μ) ε33.
+// Its plane-strain matrix D alone.
+inline Eigen::Matrix3d plane_strain_D(const Material& material) { return phase_stiffness(material).D; }
+
+// Lamé's constants of an isotropic material: λ = Eν/((1+ν)(1−2ν)), μ = E/(2(1+ν)).
 struct Lame {
   double lambda = 0, mu = 0;
 };

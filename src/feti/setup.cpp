@@ -327,8 +327,8 @@ Eigen::VectorXd FetiSetup::load(const Eigen::Vector3d& sigma, double eps33) cons
     for (int s = 0; s < static_cast<int>(mesh_.subdomains.size()); ++s) fem::add_body_force(mesh_, s, body, f);
   if (eps33 != 0)
     for (int s = 0; s < static_cast<int>(mesh_.subdomains.size()); ++s) {
-      const double lambda = fem::lame(mesh_.subdomains[s].is_fibre ? scene_.fibre : scene_.matrix).lambda;
-      fem::add_eigen_stress(mesh_, s, lambda * eps33 * Eigen::Vector3d(1, 1, 0), f);
+      const double C13 = fem::phase_stiffness(mesh_.subdomains[s].is_fibre ? scene_.fibre : scene_.matrix).C13;
+      fem::add_eigen_stress(mesh_, s, C13 * eps33 * Eigen::Vector3d(1, 1, 0), f);
     }
   return f;
 }

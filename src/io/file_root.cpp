@@ -39,11 +39,17 @@ Provenance read_provenance(const File& file, std::initializer_list<const char*> 
 
 void write_constituents(File& file, const std::string& object, const Constituents& constituents) {
   write_attributes(file, object, constituent_fields, constituents);
+  write_attributes(file, object, axial_constituent_fields, constituents);
 }
 
 Constituents read_constituents(const File& file, const std::string& object) {
   Constituents constituents;
   read_attributes(file, object, constituent_fields, constituents);
+  if (file.has_attribute(object, axial_constituent_fields[0].name)) {
+    read_attributes(file, object, axial_constituent_fields, constituents);
+  } else {  // written before the phases could be transversely isotropic: isotropic phases
+    constituents = with_isotropic_axes(constituents);
+  }
   return constituents;
 }
 

@@ -241,6 +241,7 @@ std::string law_json(const Law& law) {
   o.add_text("stress_state", law.stress_state);
   o.add_text("shear_convention", shear_convention);
   o.add_fields(constituent_fields, law.constituents);
+  o.add_fields(axial_constituent_fields, law.constituents);
   o.add_columns(direction_columns, law.directions);
   for (const auto& m : compliance_members) {
     const ComplianceFit& fit = law.*m.fit;

@@ -19,21 +19,47 @@ void check_constituents(const Law& law, const std::string& file) {
        "> 0");
   need(std::isfinite(law.constituents.matrix_E) && law.constituents.matrix_E > 0, "matrix_E", law.constituents.matrix_E,
        "> 0");
-  need(law.constituents.fibre_nu > -1 && law.constituents.fibre_nu < 0.5, "fibre_nu", law.constituents.fibre_nu,
-       "(-1, 0.5)");
-  need(law.constituents.matrix_nu > -1 && law.constituents.matrix_nu < 0.5, "matrix_nu", law.constituents.matrix_nu,
-       "(-1, 0.5)");
+  // Each phase's compliance positive definite: an isotropic phase (its axial constants those of
+  // its E and ν) has −1 < ν < 0.5; a transversely isotropic one −1 < ν < 1, E_L, G_LT > 0 and
+  // 1 − ν − 2 ν_LT² E/E_L > 0 (ν, E the transverse plane's).
+  const Constituents& c = law.constituents;
+  const Constituents iso = with_isotropic_axes(c);
+  struct Phase {
+    const char* name;
+    double E, nu, E_L, nu_LT, G_LT;
+    bool isotropic;
+  };
+  for (const Phase& p :
+       {Phase{"fibre", c.fibre_E, c.fibre_nu, c.fibre_E_L, c.fibre_nu_LT, c.fibre_G_LT,
+              c.fibre_E_L == iso.fibre_E_L && c.fibre_nu_LT == iso.fibre_nu_LT && c.fibre_G_LT == iso.fibre_G_LT},
+        Phase{"matrix", c.matrix_E, c.matrix_nu, c.matrix_E_L, c.matrix_nu_LT, c.matrix_G_LT,
+              c.matrix_E_L == iso.matrix_E_L && c.matrix_nu_LT == iso.matrix_nu_LT &&
+                  c.matrix_G_LT == iso.matrix_G_LT}}) {
+    const std::string nu = std::string(p.name) + "_nu";
+    if (p.isotropic) {
+      need(p.nu > -1 && p.nu < 0.5, nu.c_str(), p.nu, "(-1, 0.5)");
+      continue;
+    }
+    need(p.nu > -1 && p.nu < 1, nu.c_str(), p.nu, "(-1, 1) (the transverse plane's, a transversely isotropic phase)");
+    const std::string E_L = std::string(p.name) + "_E_L", G_LT = std::string(p.name) + "_G_LT",
+                      nu_LT = std::string(p.name) + "_nu_LT";
+    need(std::isfinite(p.E_L) && p.E_L > 0, E_L.c_str(), p.E_L, "> 0");
+    need(std::isfinite(p.G_LT) && p.G_LT > 0, G_LT.c_str(), p.G_LT, "> 0");
+    need(std::isfinite(p.nu_LT) && 1 - p.nu - 2 * p.nu_LT * p.nu_LT * p.E / p.E_L > 0, nu_LT.c_str(), p.nu_LT,
+         "1 - nu - 2 nu_LT^2 E/E_L > 0");
+  }
   need(law.constituents.fibre_volume_fraction >= 0 && law.constituents.fibre_volume_fraction < 1,
        "fibre_volume_fraction", law.constituents.fibre_volume_fraction, "[0, 1)");
 }
 
 OutOfPlane rule_of_mixtures(const Law& law) {
   const double Vf = law.constituents.fibre_volume_fraction;
-  const double G_f = law.constituents.fibre_E / (2 * (1 + law.constituents.fibre_nu));
-  const double G_m = law.constituents.matrix_E / (2 * (1 + law.constituents.matrix_nu));
-  const double nu = Vf * law.constituents.fibre_nu + (1 - Vf) * law.constituents.matrix_nu;  // ν31 = ν32
-  const double G = 1 / (Vf / G_f + (1 - Vf) / G_m);  // 1/G13 = 1/G23 = Vf/G_f + (1 − Vf)/G_m
-  return {Vf * law.constituents.fibre_E + (1 - Vf) * law.constituents.matrix_E, nu, nu, G, G};
+  // Along the axis: E_L, ν_LT and G_LT of each phase (an isotropic phase's from E, ν).
+  const Constituents& c = law.constituents;
+  const double G_f = c.fibre_G_LT, G_m = c.matrix_G_LT;
+  const double nu = Vf * c.fibre_nu_LT + (1 - Vf) * c.matrix_nu_LT;  // ν31 = ν32
+  const double G = 1 / (Vf / G_f + (1 - Vf) / G_m);                  // 1/G13 = 1/G23 = Vf/G_f + (1 − Vf)/G_m
+  return {Vf * c.fibre_E_L + (1 - Vf) * c.matrix_E_L, nu, nu, G, G};
 }
 
 OutOfPlane out_of_plane(const Law& law, int sign) {

@@ -142,7 +142,7 @@ LongitudinalShear longitudinal_shear(const mesh::Mesh& mesh, const Material& fib
   if (!bonded.empty() && bonded.size() != mesh.interface_pairs.size())
     throw std::invalid_argument("longitudinal_shear: " + std::to_string(bonded.size()) + " bond states for " +
                                 std::to_string(mesh.interface_pairs.size()) + " interface pairs");
-  const double mu_fibre = fem::lame(fibre).mu, mu_matrix = fem::lame(matrix).mu;
+  const double mu_fibre = fem::phase_stiffness(fibre).G_L, mu_matrix = fem::phase_stiffness(matrix).G_L;
   Body body(mesh, mu_fibre, mu_matrix, bonded.empty() ? std::vector<char>(mesh.interface_pairs.size(), 1) : bonded);
   LongitudinalShear out;
   out.w_tilde = unit_shears(body, mesh.n_nodes());
@@ -223,7 +223,7 @@ ShearResponse longitudinal_shear_at(const mesh::Mesh& mesh, const Material& fibr
     throw std::invalid_argument("longitudinal_shear_at: " + std::to_string(bonded.size()) + " bond states and " +
                                 std::to_string(strength.size()) + " strengths for " + std::to_string(P) +
                                 " interface pairs");
-  const double mu_fibre = fem::lame(fibre).mu, mu_matrix = fem::lame(matrix).mu;
+  const double mu_fibre = fem::phase_stiffness(fibre).G_L, mu_matrix = fem::phase_stiffness(matrix).G_L;
   // The active set of the ties' bounds |q| ≤ strength, one change at a time: a slipping pair
   // whose jump opposes its force is tied again (the worst first), else the tie furthest past its
   // strength slips. Each step is one linear solve; with no strengths, the first is the answer.
@@ -260,7 +260,7 @@ ShearResponse longitudinal_shear_at(const mesh::Mesh& mesh, const Material& fibr
 
 CondensedShear condense_longitudinal_shear(const mesh::Mesh& mesh, const Material& fibre, const Material& matrix,
                                            bool rows) {
-  const double mu_fibre = fem::lame(fibre).mu, mu_matrix = fem::lame(matrix).mu;
+  const double mu_fibre = fem::phase_stiffness(fibre).G_L, mu_matrix = fem::phase_stiffness(matrix).G_L;
   Body body(mesh, mu_fibre, mu_matrix, {});  // every pair free: the open cell
   CondensedShear out;
   const Eigen::MatrixXd w_open = unit_shears(body, mesh.n_nodes());

@@ -66,6 +66,18 @@ TEST(Scene, ErrorsNameFileKeyValueAndRange) {
        "[fibre] nu = -1: out of range"},
       {"[geometry]\nfibre_radius = 0.3\n[fibre]\nE = 0\nnu = 0.2\n[matrix]\nE = 1\nnu = 0.3\n",
        "[fibre] E = 0: out of range: E > 0"},
+      // A transversely isotropic phase: all three axial constants, its compliance positive definite.
+      {"[geometry]\nfibre_radius = 0.3\n[fibre]\nE = 15\nnu = 0.07\nE_L = 230\n[matrix]\nE = 1\nnu = 0.3\n",
+       "[fibre] nu_LT: missing; required, a transversely isotropic phase gives E_L, nu_LT and G_LT"},
+      {"[geometry]\nfibre_radius = 0.3\n[fibre]\nE = 15\nnu = 0.07\nE_L = 230\nnu_LT = 0.2\nG_LT = 0\n"
+       "[matrix]\nE = 1\nnu = 0.3\n",
+       "[fibre] G_LT = 0: out of range: G_LT > 0"},
+      {"[geometry]\nfibre_radius = 0.3\n[fibre]\nE = 15\nnu = 0.5\nE_L = 10\nnu_LT = 0.9\nG_LT = 5\n"
+       "[matrix]\nE = 1\nnu = 0.3\n",
+       "[fibre] nu_LT = 0.9: out of range: 1 - nu - 2 nu_LT^2 E/E_L > 0"},
+      {"[geometry]\nfibre_radius = 0.3\n[fibre]\nE = 15\nnu = 1\nE_L = 230\nnu_LT = 0.2\nG_LT = 15\n"
+       "[matrix]\nE = 1\nnu = 0.3\n",
+       "[fibre] nu = 1: out of range: -1 < nu < 1"},
       {scene_text(1, 1, 1, 0.3, "[interface]\nnormal_strenght = 1\n"), "[interface] normal_strenght = 1: unknown key"},
       {scene_text(1, 1, 1, 0.3, "[bogus]\n"), "bogus: unknown table or key"},
       {scene_text(1, 1, 1, 0.3, "[load]\nboundary = \"free\"\n"),

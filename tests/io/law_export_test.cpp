@@ -340,14 +340,16 @@ TEST(Export, JsonIsReadByPythonWithEveryObject) {
       "assert d['scene'].startswith('[geometry]') and '\"quoted\"' in d['scene']\n"
       "assert d['stress_state'] == 'plane strain' and 'engineering shear' in d['shear_convention']\n"
       "assert abs(d['fibre_volume_fraction'] - math.pi * 0.09) < 1e-15\n"
+      "assert d['fibre_E_L'] == 72 and d['matrix_nu_LT'] == 0.35 and d['fibre_G_LT'] == 72 / (2 * 1.22)\n"
       "print(len(d))\n";
   const auto check =
       run_command("/usr/bin/python3 " + dir.write("check.py", script).string() + " " + (dir / "law.json").string());
   ASSERT_EQ(check.exit_code, 0) << check.output;
   // 20 per-direction columns, 7 objects per fit, 4 cone objects, 2 cone-wise fits, the onset
-  // surface, 5 constituents and the cell size, format and 5 provenance texts, 3 /law texts, and
-  // the notes that say why there is no exact law and no small cell (this law has neither).
-  EXPECT_EQ(check.output, "58\n");
+  // surface, 5 constituents and the cell size, the 6 along the fibres' axis, format and 5
+  // provenance texts, 3 /law texts, and the notes that say why there is no exact law and no small
+  // cell (this law has neither).
+  EXPECT_EQ(check.output, "64\n");
 }
 
 TEST(Export, CsvHasAHeaderAndOneRowPerDirection) {

@@ -100,6 +100,7 @@ inline law::Law synthetic_law() {
   law.constituents.matrix_nu = 0.35;
   law.constituents.fibre_volume_fraction = std::numbers::pi * 0.09;
   law.constituents.cell_size = 1.0;
+  law.constituents = with_isotropic_axes(law.constituents);
   law.units = "GPa (the scene's units); strains dimensionless";
   law.provenance.scene_text = "[geometry]\nfibre_radius = 0.3\n# a \"quoted\" comment\twith a tab\n";
   law.provenance.sweep_file = "sweep.h5";

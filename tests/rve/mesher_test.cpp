@@ -301,6 +301,10 @@ TEST(RveMesher, HillsRelationsHoldOnARandomRve) {
   s.geometry.degree = 2;
   s.geometry.random = {0.5, 0.1, 0.005, 0.01, 5, 20000};
   testing::expect_hill_relations(rve_mesh(s), s, 1e-7, "random RVE");
+  // And with a transversely isotropic fibre (carbon-like ratios), the same RVE.
+  s.fibre = {20.0, 0.35, true, 300.0, 0.2, 12.0};
+  validate(s);
+  testing::expect_hill_relations(rve_mesh(s), s, 1e-7, "random RVE, transversely isotropic fibre");
 }
 
 // The exact law of an RVE whose fibres are cut by the sides: the pieces of a cut fibre turn

@@ -111,7 +111,7 @@ TEST(CellUmat, EqualsTheLibraryAlongAPathThroughTheCascade) {
   std::ofstream(dir / io::umat_cell_file(7001)) << text;
   // The card's constants, as dualcell-export writes them.
   Law law;
-  law.constituents = {30.0, 0.22, 1.0, 0.35, 0.28, 1.0};
+  law.constituents = with_isotropic_axes({30.0, 0.22, 1.0, 0.35, 0.28, 1.0});
   law.cell = cell;
   const std::uint64_t hash = text_hash_value(text);
   const std::string card = io::law_umat_cell(law, law::LawForm::cell, "CELL", 7001, hash, "law.h5");
@@ -218,7 +218,7 @@ PlyCard ply_card(const std::filesystem::path& dir, int id, io::UmatBreaks breaks
   write_cell_text(text, out.cell);
   std::ofstream(dir / io::umat_cell_file(id)) << text.str();
   Law law;
-  law.constituents = {30.0, 0.22, 1.0, 0.35, 0.28, 1.0};
+  law.constituents = with_isotropic_axes({30.0, 0.22, 1.0, 0.35, 0.28, 1.0});
   law.cell = out.cell;
   const std::uint64_t hash = text_hash_value(text.str());
   out.card = io::law_umat_cell(law, law::LawForm::cell, "PLY", id, hash, "law.h5", breaks);
@@ -335,7 +335,7 @@ TEST(CellUmat, BetweenIncrementsTheBondsAreHeldAndBreakAtTheNextIncrement) {
   EXPECT_EQ(statev, settled) << "nothing more breaks";
   // Only a whole ply's card breaks between increments (layout 3).
   Law law;
-  law.constituents = {30.0, 0.22, 1.0, 0.35, 0.28, 1.0};
+  law.constituents = with_isotropic_axes({30.0, 0.22, 1.0, 0.35, 0.28, 1.0});
   law.cell = adhesive_cell();
   EXPECT_THROW(io::law_umat_cell(law, law::LawForm::cell, "CELL", 7013, 1, "law.h5", io::UmatBreaks::between),
                InputError);

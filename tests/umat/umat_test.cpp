@@ -25,7 +25,7 @@ using io::umat_constants;
 // onset surface of a few facets; realistic constituents for the out-of-plane constants.
 Law test_law() {
   Law law;
-  law.constituents = {72.0, 0.22, 3.5, 0.35, 0.38, 1.0};
+  law.constituents = with_isotropic_axes({72.0, 0.22, 3.5, 0.35, 0.38, 1.0});
   law.cone.ok = true;
   law.cone.law.C_c << 10.3, 4.3, 0.1, 4.3, 10.1, -0.05, 0.1, -0.05, 2.2;
   law.cone.law.q = {Eigen::Vector3d(-1, 0, 0), Eigen::Vector3d(0, -1, 0),
