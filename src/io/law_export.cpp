@@ -412,12 +412,12 @@ std::string law_calculix(const Law& law, const std::string& name, const std::str
     out +=
         "by the rule of mixtures:\n"
         "**   E3 = Vf Ef + (1 - Vf) Em, nu31 = nu32 = Vf nuf + (1 - Vf) num, 1/G13 = 1/G23 = Vf/Gf + (1 - Vf)/Gm,\n"
-        "**   G = E/(2 (1 + nu)),\n";
+        "**   each phase's along the fibres (E_L, nu_LT, G_LT; isotropic: E, nu, G = E/(2 (1 + nu))),\n";
     out += "** with Vf = " + formatted("%.6g", law.constituents.fibre_volume_fraction) +
-           ", fibre E = " + formatted("%.6g", law.constituents.fibre_E) +
-           ", nu = " + formatted("%.6g", law.constituents.fibre_nu) +
-           ", matrix E = " + formatted("%.6g", law.constituents.matrix_E) +
-           ", nu = " + formatted("%.6g", law.constituents.matrix_nu) + ": E3 = " + formatted("%.6g", z.E3) +
+           ", fibre E = " + formatted("%.6g", law.constituents.fibre_E_L) +
+           ", nu = " + formatted("%.6g", law.constituents.fibre_nu_LT) +
+           ", matrix E = " + formatted("%.6g", law.constituents.matrix_E_L) +
+           ", nu = " + formatted("%.6g", law.constituents.matrix_nu_LT) + ": E3 = " + formatted("%.6g", z.E3) +
            ", nu31 = " + formatted("%.6g", z.nu31) + ", G13 = G23 = " + formatted("%.6g", z.G13) + "\n";
   }
   out += material_cards(name + "_TENSION", "S_tension", tension, law.tension.S);
