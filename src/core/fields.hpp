@@ -60,9 +60,10 @@ void add_fields(const Table& table, Record& a, const Record& b, int sign = 1) {
 // The number of components of a member of type T as a file stores it (1 for a scalar).
 template <class T>
 constexpr int components_of() {
-  if constexpr (std::is_base_of_v<Eigen::MatrixBase<T>, T>)
+  if constexpr (std::is_base_of_v<Eigen::MatrixBase<T>, T>) {
+    static_assert(T::SizeAtCompileTime > 0, "a record's vector member has a fixed size");
     return static_cast<int>(T::SizeAtCompileTime);
-  else
+  } else
     return 1;
 }
 

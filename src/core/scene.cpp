@@ -376,7 +376,15 @@ std::vector<std::string> scene_warnings(const Scene& scene) {
   std::vector<std::string> warnings;
   for (const auto& [name, material] :
        {std::pair<const char*, const Material*>{"fibre", &scene.fibre}, {"matrix", &scene.matrix}}) {
-    if (material->nu >= threshold) {
+    // A transversely isotropic phase locks by the same ratio of its plane-strain bulk modulus to
+    // its transverse shear modulus, k/G_TT = (1 + ν)/(1 − ν − 2 ν_LT² E/E_L), which is
+    // 1/(1 − 2ν) for an isotropic one: warned about where it passes the isotropic phase's at the
+    // threshold.
+    const Material& m = *material;
+    const bool nearly_incompressible =
+        !m.axial ? m.nu >= threshold
+                 : (1 + m.nu) / (1 - m.nu - 2 * m.nu_LT * m.nu_LT * m.E / m.E_L) >= 1 / (1 - 2 * threshold);
+    if (nearly_incompressible) {
       const auto at = scene.written.find(std::string(name) + ".nu");
       std::ostringstream w;
       w << (at != scene.written.end() ? at->second.where

@@ -18,10 +18,7 @@ namespace dualcell::io {
 
 namespace fields_detail {
 
-template <class T>
-constexpr bool is_count = std::is_integral_v<T> && !std::is_same_v<T, bool>;
-
-// A count read from a file, within [min_count, the largest T].
+// A count read from a file, within [min_count, the largest T] (a flag: 0 or 1).
 template <class T>
 T count_in_range(const File& f, const std::string& name, std::int64_t v, int min_count) {
   if (v < min_count || v > static_cast<std::int64_t>(std::numeric_limits<T>::max()))
@@ -62,7 +59,7 @@ void read_attributes(const File& f, const std::string& object, const Table& tabl
     else if constexpr (std::is_same_v<T, std::string>)
       v = f.read_string_attribute(object, name);
     else if constexpr (std::is_same_v<T, bool>)
-      v = fields_detail::count_in_range<int>(f, object + " " + name, f.read_int_attribute_value(object, name), 0) != 0;
+      v = fields_detail::count_in_range<bool>(f, object + " " + name, f.read_int_attribute_value(object, name), 0);
     else if constexpr (std::is_integral_v<T>)
       v = fields_detail::count_in_range<T>(f, object + " " + name, f.read_int_attribute_value(object, name),
                                            field.min_count);
@@ -94,7 +91,7 @@ void read_datasets(const File& f, const std::string& group, const Table& table, 
     if constexpr (std::is_same_v<T, double>)
       v = f.read_doubles(name, {1})[0];
     else if constexpr (std::is_same_v<T, bool>)
-      v = fields_detail::count_in_range<int>(f, name, f.read_ints(name, {1})[0], 0) != 0;
+      v = fields_detail::count_in_range<bool>(f, name, f.read_ints(name, {1})[0], 0);
     else if constexpr (std::is_integral_v<T>)
       v = fields_detail::count_in_range<T>(f, name, f.read_ints(name, {1})[0], field.min_count);
     else

@@ -104,6 +104,17 @@ TEST(Invariance, NearlyIncompressibleMaterialsAreWarnedAbout) {
   EXPECT_NE(stiffening.warnings[0].find("nu = 0.499: nearly incompressible; quadratic triangles stiffen slightly"),
             std::string::npos)
       << stiffening.warnings[0];
+  // A transversely isotropic phase by its k/G_TT = (1 + ν)/(1 − ν − 2 ν_LT² E/E_L), the isotropic
+  // 1/(1 − 2ν): a stiff axis keeps ν_TT = 0.46 far from locking (k/G_TT = 2.7), and ν_LT near its
+  // bound brings ν_TT = 0.3 to it (k/G_TT = 24, above the 10 of ν = 0.45).
+  const std::string transverse =
+      "[geometry]\nfibre_radius = 0.3\nelement = \"p1\"\n[matrix]\nE = 1\nnu = 0.3\n"
+      "[fibre]\nE = 10\nE_L = 150\nG_LT = 5\n";
+  EXPECT_TRUE(parse_scene(transverse + "nu = 0.46\nnu_LT = 0.2\n", "s.toml").warnings.empty());
+  const Scene near_bound = parse_scene(transverse + "nu = 0.3\nnu_LT = 2.2\n", "s.toml");
+  ASSERT_EQ(near_bound.warnings.size(), 1u);
+  EXPECT_NE(near_bound.warnings[0].find("[fibre] nu = 0.3: nearly incompressible"), std::string::npos)
+      << near_bound.warnings[0];
 }
 
 }  // namespace
