@@ -239,10 +239,8 @@ void validate_materials_and_interface(const Checker& c, const Scene& scene) {
         name, "nu", m->nu, [](double v) { return v > -1 && v < 1; }, "-1 < nu < 1 (nu_TT, the transverse plane's)");
     c.real(name, "E_L", m->E_L, positive, "E_L > 0");
     c.real(name, "G_LT", m->G_LT, positive, "G_LT > 0");
-    const double E = m->E, nu = m->nu, E_L = m->E_L;
     c.real(
-        name, "nu_LT", m->nu_LT,
-        [&](double v) { return std::isfinite(v) && E_L > 0 && 1 - nu - 2 * v * v * E / E_L > 0; },
+        name, "nu_LT", m->nu_LT, [m](double) { return m->E_L > 0 && m->compliance_margin() > 0; },
         "1 - nu - 2 nu_LT^2 E/E_L > 0 (the phase's compliance positive definite)");
   }
 
@@ -382,8 +380,7 @@ std::vector<std::string> scene_warnings(const Scene& scene) {
     // threshold.
     const Material& m = *material;
     const bool nearly_incompressible =
-        !m.axial ? m.nu >= threshold
-                 : (1 + m.nu) / (1 - m.nu - 2 * m.nu_LT * m.nu_LT * m.E / m.E_L) >= 1 / (1 - 2 * threshold);
+        !m.axial ? m.nu >= threshold : (1 + m.nu) / m.compliance_margin() >= 1 / (1 - 2 * threshold);
     if (nearly_incompressible) {
       const auto at = scene.written.find(std::string(name) + ".nu");
       std::ostringstream w;
@@ -404,16 +401,17 @@ std::vector<std::string> scene_warnings(const Scene& scene) {
 Constituents constituents(const Scene& scene) {
   const double r = scene.geometry.fibre_radius, a = scene.geometry.cell_size;
   Constituents c{scene.fibre.E, scene.fibre.nu, scene.matrix.E, scene.matrix.nu, std::numbers::pi * r * r / (a * a), a};
-  c.fibre_E_L = scene.fibre.axial_E(), c.fibre_nu_LT = scene.fibre.axial_nu(), c.fibre_G_LT = scene.fibre.axial_G();
-  c.matrix_E_L = scene.matrix.axial_E(), c.matrix_nu_LT = scene.matrix.axial_nu(),
-  c.matrix_G_LT = scene.matrix.axial_G();
+  set_axes(c, scene.fibre, scene.matrix);
   return c;
 }
 
-Constituents with_isotropic_axes(Constituents c) {
-  const Material fibre{c.fibre_E, c.fibre_nu}, matrix{c.matrix_E, c.matrix_nu};
+void set_axes(Constituents& c, const Material& fibre, const Material& matrix) {
   c.fibre_E_L = fibre.axial_E(), c.fibre_nu_LT = fibre.axial_nu(), c.fibre_G_LT = fibre.axial_G();
   c.matrix_E_L = matrix.axial_E(), c.matrix_nu_LT = matrix.axial_nu(), c.matrix_G_LT = matrix.axial_G();
+}
+
+Constituents with_isotropic_axes(Constituents c) {
+  set_axes(c, {c.fibre_E, c.fibre_nu}, {c.matrix_E, c.matrix_nu});
   return c;
 }
 

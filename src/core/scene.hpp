@@ -32,6 +32,11 @@ struct Material {
   double axial_E() const { return axial ? E_L : E; }
   double axial_nu() const { return axial ? nu_LT : nu; }
   double axial_G() const { return axial ? G_LT : E / (2 * (1 + nu)); }
+  // m = 1 − ν − 2 ν_LT² E/E_L. With E, E_L, G_LT > 0 and ν > −1 the compliance is positive
+  // definite exactly when m > 0 (isotropic: m = (1 − 2ν)(1 + ν)), and the plane-strain bulk
+  // modulus over the transverse shear modulus, what locks in a nearly incompressible phase, is
+  // (1 + ν)/m (isotropic: 1/(1 − 2ν)).
+  double compliance_margin() const { return 1 - nu - 2 * axial_nu() * axial_nu() * E / axial_E(); }
 };
 
 // Finite element of the mesh (docs/method.md §3): linear 3-node or quadratic 6-node triangles.
@@ -220,6 +225,8 @@ Constituents constituents(const Scene& scene);
 // The constituents along the axis of two isotropic phases, from their E and ν (a file written
 // before the phases could be transversely isotropic).
 Constituents with_isotropic_axes(Constituents c);
+// The constituents' along-axis constants (fibre_E_L, ...) set from two phases.
+void set_axes(Constituents& c, const Material& fibre, const Material& matrix);
 
 // "tolerance=1e-08; max_outer_iterations=200; ...; fuse_tolerance=0.001": every setting that
 // changes a sweep's numbers, recorded in sweep.h5 and law.h5 and part of the journal's key.

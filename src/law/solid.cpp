@@ -45,7 +45,8 @@ void check_constituents(const Law& law, const std::string& file) {
                       nu_LT = std::string(p.name) + "_nu_LT";
     need(std::isfinite(p.E_L) && p.E_L > 0, E_L.c_str(), p.E_L, "> 0");
     need(std::isfinite(p.G_LT) && p.G_LT > 0, G_LT.c_str(), p.G_LT, "> 0");
-    need(std::isfinite(p.nu_LT) && 1 - p.nu - 2 * p.nu_LT * p.nu_LT * p.E / p.E_L > 0, nu_LT.c_str(), p.nu_LT,
+    const Material phase{p.E, p.nu, true, p.E_L, p.nu_LT, p.G_LT};
+    need(std::isfinite(p.nu_LT) && phase.compliance_margin() > 0, nu_LT.c_str(), p.nu_LT,
          "1 - nu - 2 nu_LT^2 E/E_L > 0");
   }
   need(law.constituents.fibre_volume_fraction >= 0 && law.constituents.fibre_volume_fraction < 1,
