@@ -114,5 +114,32 @@ TEST(Architecture, LayersIncludeOnlyWhatTheTableAllows) {
   EXPECT_GT(checked, 100);  // the scan saw the tree
 }
 
+// Whether MPI is built in is known to one source, src/par/parallel.cpp (the ranks layer's calls,
+// each with its one-rank form): every other object of the build with MPI is the one of the build
+// without it. The serial build's check rests on this (pipelines/Makefile, test-serial: its stages
+// through the pipelines' tools and builds-agree; the unit tests run in the release build).
+TEST(Architecture, OnlyTheRanksLayerKnowsWhetherMpiIsBuiltIn) {
+  const std::string root = testing::source_dir();
+  int scanned = 0;
+  for (const char* tree : {"/src", "/tests"})
+    for (const auto& entry : std::filesystem::recursive_directory_iterator(root + tree)) {
+      const std::string ext = entry.path().extension().string();
+      if (!entry.is_regular_file() || (ext != ".cpp" && ext != ".hpp" && ext != ".c" && ext != ".h")) continue;
+      if (entry.path() == std::filesystem::path(root + "/src/par/parallel.cpp")) continue;
+      ++scanned;
+      std::ifstream in(entry.path());
+      std::string line;
+      int number = 0;
+      while (std::getline(in, line)) {
+        ++number;
+        // The two names spelled apart, so that this file does not name them.
+        for (const std::string& name : {std::string("DUALCELL_") + "HAVE_MPI", std::string("<mpi") + ".h>"})
+          EXPECT_EQ(line.find(name), std::string::npos)
+              << entry.path().string() << ":" << number << " uses " << name << ": only src/par/parallel.cpp may";
+      }
+    }
+  EXPECT_GT(scanned, 150);  // the scan saw both trees
+}
+
 }  // namespace
 }  // namespace dualcell
