@@ -268,11 +268,14 @@ void rank_one_test(law::Law& law) {
 // on the sphere; law::sample_cell).
 constexpr int check_directions = 1000;
 
+// Law::small_note when the fit was asked for no small cell.
+constexpr const char* not_asked = "not asked for (dualcell-fit --no-small-cell)";
+
 // With the exact law: the compact laws measured against it, fitted to it as well, and for each
 // the one that misses it least (measured on directions other than those it was fitted to) kept;
 // the law past the fuse likewise against the exact law past the fuse (with adhesion).
 void check_against_cell(law::Law& law, const std::vector<ConePoint>& bonded, const std::vector<ConePoint>& debonded,
-                        int n_directions, double law_tolerance, Progress* progress) {
+                        int n_directions, const FitOptions& options, Progress* progress) {
   const auto keep_better = [&](law::ConeFit& cone, law::ConeCheck& kept, const law::CellSample& sample,
                                law::ConeFit from_cell) {
     if (cone.ok) kept = law::check_cone(cone.law, sample);
@@ -312,8 +315,11 @@ void check_against_cell(law::Law& law, const std::vector<ConePoint>& bonded, con
         law::sample_cell_past_fuse(cell, std::max(fit_directions, (small_cell_directions + images - 1) / images),
                                    law::past_fuse_load_ratio, progress);
   }
-  fit_small(law, check, past_fuse ? &*past_fuse : nullptr, past_fuse_paths ? &*past_fuse_paths : nullptr, group,
-            law_tolerance, progress);
+  if (options.small_cell)
+    fit_small(law, check, past_fuse ? &*past_fuse : nullptr, past_fuse_paths ? &*past_fuse_paths : nullptr, group,
+              options.law_tolerance, progress);
+  else
+    law.small_note = not_asked;
   if (!law.cone_check.directions.empty()) law.cone_check.polar = law::exact_polar(cell);
   if (cell.adhesion() && law.cone_after_fuse.ok)
     keep_better(law.cone_after_fuse, law.cone_after_fuse_check,
@@ -331,8 +337,8 @@ void check_against_cell(law::Law& law, const std::vector<ConePoint>& bonded, con
 // the basis cell and is fitted to them, and both are measured at the held-out paths' full solves
 // (docs/method.md §16c). False (nothing done) without a basis cell or with too few sphere paths.
 bool check_against_solves(law::Law& law, const std::vector<sweep::PathResult>& paths, const sweep::SweepHeader& header,
-                          const std::vector<double>& directions, const Eigen::Vector3d& guess, double tolerance,
-                          Progress* progress) {
+                          const std::vector<double>& directions, const Eigen::Vector3d& guess,
+                          const FitOptions& options, Progress* progress) {
   std::vector<const sweep::PathResult*> sphere;
   for (const auto& p : paths)
     if (p.spec.sphere) sphere.push_back(&p);
@@ -362,9 +368,14 @@ bool check_against_solves(law::Law& law, const std::vector<sweep::PathResult>& p
     law.cone_check = law::check_cone(law.cone.law, check);
     law.cone_check.against = law::CheckedAgainst::held_out_solves;
   }
+  if (!options.small_cell) {
+    law.small_note = not_asked;
+    return true;
+  }
   const law::CondensedCell& basis = *header.cell_basis;
   const law::CellSample start = law::sample_cell(basis, small_cell_directions, progress);
-  fit_small_ladder(law, basis, training, &start, check, law::CheckedAgainst::held_out_solves, tolerance, {}, progress);
+  fit_small_ladder(law, basis, training, &start, check, law::CheckedAgainst::held_out_solves, options.law_tolerance, {},
+                   progress);
   return true;
 }
 
@@ -422,8 +433,9 @@ law::ConeCheck check_held_out(const std::vector<sweep::PathResult>& paths, const
 
 }  // namespace
 
-law::Law fit_law(const std::vector<sweep::PathResult>& all_paths, const sweep::SweepHeader& header, int checked_rows,
-                 double law_tolerance, Progress* progress) {
+law::Law fit_law(const std::vector<sweep::PathResult>& all_paths, const sweep::SweepHeader& header,
+                 const FitOptions& options, Progress* progress) {
+  const int checked_rows = options.checked_rows;
   law::Law law;
   // The fitted forms are in-plane: the paths with a strain or shears along the fibres check the
   // exact law only (its replay).
@@ -496,8 +508,8 @@ law::Law fit_law(const std::vector<sweep::PathResult>& all_paths, const sweep::S
   // RVE, over 16 min at the ~1500 of a 36-fibre one. Above checked_rows the exact law is
   // kept (replayed above) and the compact law measured on held-out directions instead.
   if (law.cell && law.cell->n_rows() <= checked_rows) {
-    check_against_cell(law, bonded, debonded, n_directions, law_tolerance, progress);
-  } else if (check_against_solves(law, paths, header, directions, guess, law_tolerance, progress)) {
+    check_against_cell(law, bonded, debonded, n_directions, options, progress);
+  } else if (check_against_solves(law, paths, header, directions, guess, options, progress)) {
     if (law.cone_after_fuse.ok) law.cone_after_fuse_check = check_held_out(paths, directions, debonded);
   } else {
     law.small_note = law.cell ? "the exact law has " + std::to_string(law.cell->n_rows()) +

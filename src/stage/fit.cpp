@@ -20,14 +20,14 @@
 
 namespace dualcell::stage {
 
-law::Law run_fit(const std::filesystem::path& sweep_file, const std::filesystem::path& out, double law_tolerance,
-                 bool progress) {
+law::Law run_fit(const std::filesystem::path& sweep_file, const std::filesystem::path& out,
+                 const fit::FitOptions& options, bool progress) {
   io::check_outputs({out}, {sweep_file});
   const io::SweepHeader header = io::read_sweep_header(sweep_file);
   const std::vector<sweep::PathResult> paths = io::read_sweep(sweep_file);
   law::Law law = [&] {
     Progress line("dualcell-fit", progress);
-    return fit::fit_law(paths, header, fit::max_checked_rows, law_tolerance, &line);
+    return fit::fit_law(paths, header, options, &line);
   }();
   // The exact law must give back the sweep it came from, and where it carries the strain along
   // the fibres the sweep's checks of it; one that does not is not written.

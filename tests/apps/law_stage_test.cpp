@@ -222,7 +222,7 @@ TEST(LawStage, AboveTheCheckedRowsTheCompactLawIsMeasuredOnHeldOutDirections) {
   const sweep::SweepHeader header = io::read_sweep_header(run.sweep);
   ASSERT_TRUE(header.cell.has_value());
   const law::Law dense = fit::fit_law(paths, header);
-  const law::Law held = fit::fit_law(paths, header, header.cell->n_rows() - 1);
+  const law::Law held = fit::fit_law(paths, header, {.checked_rows = header.cell->n_rows() - 1});
   ASSERT_TRUE(held.cell.has_value());
   EXPECT_TRUE(held.cell_replay.ok());
   EXPECT_EQ(dense.cone_check.against, law::CheckedAgainst::exact_law);
@@ -262,7 +262,7 @@ TEST(LawStage, AboveTheSampledRowsTheSmallCellIsFittedToFullSolves) {
   EXPECT_LE(summary.basis_rows, sweep::basis_solutions);
   EXPECT_EQ(law::consistency_problem(*header.cell_basis), "");
 
-  const law::Law law = fit::fit_law(io::read_sweep(dir / "sweep.h5"), header, 0);
+  const law::Law law = fit::fit_law(io::read_sweep(dir / "sweep.h5"), header, {.checked_rows = 0});
   ASSERT_TRUE(law.small) << law.small_note;
   const law::ConeCheck& c = law.small_check;
   EXPECT_EQ(c.against, law::CheckedAgainst::held_out_solves);
@@ -296,7 +296,7 @@ TEST(LawStage, AboveTheSampledRowsTheSmallCellIsFittedToFullSolves) {
   ASSERT_TRUE(stage::run_sweep(options).written);
   const sweep::SweepHeader without = io::read_sweep_header(dir / "few.h5");
   EXPECT_FALSE(without.cell_basis);
-  EXPECT_EQ(fit::fit_law(io::read_sweep(dir / "few.h5"), without, 0).cone_check.against,
+  EXPECT_EQ(fit::fit_law(io::read_sweep(dir / "few.h5"), without, {.checked_rows = 0}).cone_check.against,
             law::CheckedAgainst::held_out_directions);
 }
 
