@@ -225,8 +225,9 @@ void validate_geometry(const Checker& c, const Scene& scene) {
 }
 
 void validate_materials_and_interface(const Checker& c, const Scene& scene) {
-  for (const auto& [name, m] :
+  for (const auto& [name, material] :
        {std::pair<const char*, const Material*>{"fibre", &scene.fibre}, {"matrix", &scene.matrix}}) {
+    const Material* m = material;  // a variable, not a binding: lambdas capture it (C++20 and Clang 15)
     c.real(name, "E", m->E, positive, "E > 0");
     if (!m->axial) {
       c.real(
