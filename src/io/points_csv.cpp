@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <stdexcept>
 #include <string_view>
 #include <system_error>
 
@@ -40,8 +41,13 @@ bool number(std::string_view text, double& value) {
 
 }  // namespace
 
-PointsReader::PointsReader(const std::filesystem::path& file, int numbers)
-    : file_(file), line_(max_points_line + 1), numbers_(numbers) {
+PointsReader::PointsReader(const std::filesystem::path& file, MacroState::Mask components)
+    : file_(file), line_(max_points_line + 1) {
+  if ((components & MacroState::in_plane_mask) != MacroState::in_plane_mask)
+    throw std::logic_error("PointsReader: a row always gives the in-plane state");
+  for (int k = 0; k < MacroState::count; ++k)
+    if (components >> k & 1) components_.push_back(static_cast<MacroState::Component>(k));
+  numbers_ = static_cast<int>(components_.size());
   std::error_code ec;
   const auto status = std::filesystem::status(file, ec);
   if (!std::filesystem::exists(status)) throw InputError(file.string() + ": no such file");
@@ -105,10 +111,11 @@ bool PointsReader::next(LawPoint& point) {
       if (!number(field, v) || !std::isfinite(v))
         throw InputError(where + "column " + std::to_string(columns_ - numbers_ + 1 + k) + " = '" +
                          clipped(std::string(field)) + "' is not a finite number");
-      if (k < 3)
-        point.state.value(k) = v;
+      const MacroState::Component c = components_[static_cast<std::size_t>(k)];
+      if (c < 3)
+        point.state.value(c) = v;
       else
-        point.state.hold(static_cast<MacroState::Component>(k), v);
+        point.state.hold(c, v);
     }
     point.path = has_path() ? std::string(f[0]) : std::string();
     point.line = number_of_line_;

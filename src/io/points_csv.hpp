@@ -35,9 +35,9 @@ struct LawPoint {
 class PointsReader {
  public:
   // An InputError naming the file when it is missing, not a regular file or beyond
-  // max_points_bytes. `numbers`: per row 3 (the in-plane state), 4 (and ε33 after it) or 6 (and
-  // γxz, γyz after that).
-  explicit PointsReader(const std::filesystem::path& file, int numbers = 3);
+  // max_points_bytes. `components`: the macro state's components a row gives, one number each in
+  // the law's order (the in-plane three, always; ε33, γxz, γyz held where asked).
+  explicit PointsReader(const std::filesystem::path& file, MacroState::Mask components = MacroState::in_plane_mask);
   // The next row into `point`; false after the last one. An InputError naming the file, the line
   // and what is wrong for a row that is not `numbers` (or, with a path first, one more) finite
   // numbers, a line beyond max_points_line, or a file without rows.
@@ -50,6 +50,7 @@ class PointsReader {
   std::ifstream in_;
   std::vector<char> line_;
   long number_of_line_ = 0, rows_ = 0;
+  std::vector<MacroState::Component> components_;
   int columns_ = 0, numbers_ = 3;
   bool first_row_ = true;
 };

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <map>
 #include <optional>
 #include <sstream>
@@ -47,60 +48,50 @@ ConeResponse cone_at(const law::Law& law, const Eigen::Vector3d& value, bool str
   return r;
 }
 
-// values.csv's header: the path (with that column), the other quantity and the tangent by row;
-// `n`: the components (3 in-plane, 4 with ε33, 6 the whole ply).
-std::string header_line(bool has_path, bool strain_driven, bool cell_form, int n) {
-  std::string out = has_path ? "path," : "";
-  out += strain_driven ? "sxx,syy,sxy" : "exx,eyy,gxy";
-  if (n >= 4) out += ",szz";
-  if (n == 6) out += ",sxz,syz";
-  const int square = n == 6 ? 6 : 3;
+// The components a row carries, in the law's order (core/macro_state.hpp): the in-plane three,
+// ε33 with --eps33, and the shears along the fibres too with --full.
+std::vector<MacroState::Component> carried_components(MacroState::Mask carried) {
+  std::vector<MacroState::Component> out;
+  for (int k = 0; k < MacroState::count; ++k)
+    if (carried >> k & 1) out.push_back(static_cast<MacroState::Component>(k));
+  return out;
+}
+
+// values.csv's header: the path (with that column), the other quantity per component carried (the
+// in-plane one the strain where the rows are stresses; σ33, τxz, τyz), the tangent over the
+// components carried by row (C11, C12, …, numbered 1 … k in that order) and the bond column.
+std::string header_line(bool has_path, bool strain_driven, bool cell_form,
+                        const std::vector<MacroState::Component>& carried) {
+  static constexpr const char* stress_names[] = {"sxx", "syy", "sxy", "szz", "sxz", "syz"};
+  static constexpr const char* strain_names[] = {"exx", "eyy", "gxy"};
+  std::string out = has_path ? "path" : "";
+  for (const MacroState::Component k : carried) {
+    if (!out.empty()) out.push_back(',');
+    out.append(k < 3 && !strain_driven ? strain_names[k] : stress_names[k]);
+  }
+  const int square = static_cast<int>(carried.size());
   for (int i = 1; i <= square; ++i)
-    for (int j = 1; j <= square; ++j) {
-      out.append(",C");
-      out.push_back(static_cast<char>('0' + i));
-      out.push_back(static_cast<char>('0' + j));
-    }
-  if (n == 4) out += ",C14,C24,C34,C44";
+    for (int j = 1; j <= square; ++j) out.append(",C").append(std::to_string(i)).append(std::to_string(j));
   out += cell_form ? ",broken_pairs\n" : ",fused\n";
   return out;
 }
 
-// One row's answer: the other quantity (3 in-plane, then σ33, τxz, τyz where asked) and the
-// tangent's entries in the header's order.
+// One row's answer in the law's order (core/macro_state.hpp): the other quantity (the in-plane
+// one, then σ33, τxz, τyz) and the tangent (6 × 6, NaN where the form has no entry).
 struct RowValues {
-  Eigen::Matrix<double, 6, 1> other = Eigen::Matrix<double, 6, 1>::Zero();
-  std::vector<double> tangent;
+  Eigen::Matrix<double, 6, 1> other = Eigen::Matrix<double, 6, 1>::Constant(std::numeric_limits<double>::quiet_NaN());
+  Eigen::Matrix<double, 6, 6> tangent = Eigen::Matrix<double, 6, 6>::Constant(std::numeric_limits<double>::quiet_NaN());
   long broken = 0;
 };
 
-// The tangent entries of a cell's response for n components: the 3 × 3 by row, then (n = 4) the
-// ε33 column with dσ33/dε33; or (n = 6) the 6 × 6 by row, in-plane and ε33 coupled, the shears
-// along the fibres on their own (no stiffness couples them to the rest).
-std::vector<double> tangent_entries(const law::CellResponse& r, int n) {
-  std::vector<double> out;
-  if (n == 6) {
-    const Eigen::Matrix<double, 6, 6> D = law::ply_tangent(r);
-    for (int a = 0; a < 6; ++a)
-      for (int b = 0; b < 6; ++b) out.push_back(D(a, b));
-    return out;
-  }
-  for (int a = 0; a < 3; ++a)
-    for (int b = 0; b < 3; ++b) out.push_back(r.tangent(a, b));
-  if (n == 4) {
-    for (int k = 0; k < 3; ++k) out.push_back(r.tangent_zz(k));
-    out.push_back(r.tangent_zz_zz);
-  }
-  return out;
-}
-
-// One row of values.csv, appended piece by piece (GCC 12 warns falsely on chains of string
-// concatenation).
-void append_row(std::string& out, const std::string* path, const RowValues& v, int n) {
+// One row of values.csv over the components carried, appended piece by piece (GCC 12 warns
+// falsely on chains of string concatenation).
+void append_row(std::string& out, const std::string* path, const RowValues& v,
+                const std::vector<MacroState::Component>& carried) {
   if (path) out.append(*path).push_back(',');
-  const int others = n == 6 ? 6 : n == 4 ? 4 : 3;
-  for (int k = 0; k < others; ++k) out.append(csv_number(v.other(k))).push_back(',');
-  for (const double t : v.tangent) out.append(csv_number(t)).push_back(',');
+  for (const MacroState::Component k : carried) out.append(csv_number(v.other(k))).push_back(',');
+  for (const MacroState::Component a : carried)
+    for (const MacroState::Component b : carried) out.append(csv_number(v.tangent(a, b))).push_back(',');
   out.append(std::to_string(v.broken)).push_back('\n');
 }
 
@@ -140,10 +131,13 @@ LawPointsSummary evaluate_law(const LawPointsOptions& options) {
   io::check_outputs({options.out}, {options.law_file, options.points_file});
   const law::Law law = io::read_law(options.law_file);
   if (options.full && options.eps33) throw InputError("--full has ε33 already: leave out --eps33");
-  const int n = options.full ? 6 : options.eps33 ? 4 : 3;
+  const MacroState::Mask carried_mask = MacroState::in_plane_mask |
+                                        (options.full || options.eps33 ? MacroState::along_mask : 0) |
+                                        (options.full ? MacroState::shear_mask : 0);
+  const std::vector<MacroState::Component> carried = carried_components(carried_mask);
   const law::LawForm form = law::pick_form(law, options.form, options.law_file.string());
   const law::CondensedCell* cell = chosen_cell(law, options, form);
-  io::PointsReader points(options.points_file, n);
+  io::PointsReader points(options.points_file, carried_mask);
   const bool cell_form = cell != nullptr;
 
   io::AtomicOutputs outputs;
@@ -163,13 +157,19 @@ LawPointsSummary evaluate_law(const LawPointsOptions& options) {
   std::size_t held_bytes = 0;
   std::map<std::string, law::CellHistory> histories;
   std::map<std::string, bool> fused_paths;
-  // The stress (strain) and tangent entries a cell without shear leaves NaN (n_macro = 2).
-  const int n_finite = cell_form ? cell->n_macro : 3;
+  // The components whose answer must be finite: a cell without shear (n_macro = 2) leaves γxy
+  // and its tangent entries NaN.
+  const MacroState::Mask finite_mask =
+      carried_mask & static_cast<MacroState::Mask>(cell_form && cell->n_macro == 2 ? ~(1 << MacroState::xy) : ~0);
+  // And the tangent's: with ε33 held and the in-plane part a stress, the ε33 entries are NaN by
+  // definition.
+  const MacroState::Mask finite_tangent_mask =
+      finite_mask & static_cast<MacroState::Mask>(options.strain_driven ? ~0 : ~MacroState::along_mask);
   double seconds = 0;
   io::LawPoint point;
   while (points.next(point)) {
     // After the first row: whether the file has the path column is known then.
-    if (summary.rows == 0) out = header_line(points.has_path(), options.strain_driven, cell_form, n);
+    if (summary.rows == 0) out = header_line(points.has_path(), options.strain_driven, cell_form, carried);
     const auto where = [&] { return options.points_file.string() + ":" + std::to_string(point.line) + ": "; };
     // The row's state: its in-plane part a stress where the points are stresses.
     if (!options.strain_driven) point.state.stress_driven = MacroState::in_plane_mask;
@@ -192,7 +192,7 @@ LawPointsSummary evaluate_law(const LawPointsOptions& options) {
       if (!r.ok) throw InputError(where() + r.message);
       row.other = law::ply_stress(r);
       if (!options.strain_driven) row.other.head<3>() = r.strain;
-      row.tangent = tangent_entries(r, n);
+      row.tangent = law::ply_tangent(r);
       row.broken = r.broken;
       summary.qp_iterations += r.iterations;
       summary.qp_factorisations += r.factorisations;
@@ -202,19 +202,19 @@ LawPointsSummary evaluate_law(const LawPointsOptions& options) {
       bool& fused = points.has_path() ? fused_paths[point.path] : fresh;
       const ConeResponse r = cone_at(law, v, options.strain_driven, fused);
       row.other.head<3>() = options.strain_driven ? r.stress : r.strain;
-      row.tangent.assign(r.tangent.data(), r.tangent.data() + 9);  // symmetric: by row as by column
+      row.tangent.topLeftCorner<3, 3>() = r.tangent;
       row.broken = fused ? 1 : 0;
     }
     seconds += seconds_since(t0);
-    // No NaN or Inf leaves with exit 0: an input this large overflows the law's answer. A cell
-    // without shear (n_macro = 2) leaves its shear entries NaN.
-    // With ε33 stress-driven the tangent's ε33 entries are NaN by definition (not checked).
-    bool finite = row.other.head(n_finite).allFinite() && (n == 3 || row.other.segment(3, n - 3).allFinite());
-    const int square = n == 6 ? 6 : 3;
-    for (int a = 0; a < square; ++a)
-      for (int b = 0; b < square; ++b)
-        if ((a < n_finite || a >= 3) && (b < n_finite || b >= 3))
-          finite = finite && std::isfinite(row.tangent[static_cast<std::size_t>(square * a + b)]);
+    // No NaN or Inf leaves with exit 0: an input this large overflows the law's answer.
+    bool finite = true;
+    for (const MacroState::Component a : carried) {
+      if (!(finite_mask >> a & 1)) continue;
+      finite = finite && std::isfinite(row.other(a));
+      for (const MacroState::Component b : carried)
+        if (finite_tangent_mask >> a & 1 && finite_tangent_mask >> b & 1)
+          finite = finite && std::isfinite(row.tangent(a, b));
+    }
     if (!finite)
       throw InputError(
           where() + "the law's answer at (" + shortest(v(0)) + ", " + shortest(v(1)) + ", " + shortest(v(2)) + ")" +
@@ -224,7 +224,7 @@ LawPointsSummary evaluate_law(const LawPointsOptions& options) {
                : ", gamma (" + shortest(point.state.gamma()(0)) + ", " + shortest(point.state.gamma()(1)) + ")") +
           " is not finite (the input is beyond what the law carries in doubles)");
     ++summary.rows;
-    append_row(out, points.has_path() ? &point.path : nullptr, row, n);
+    append_row(out, points.has_path() ? &point.path : nullptr, row, carried);
     if (out.size() >= output_piece) {
       outputs.append(options.out, out);
       out.clear();

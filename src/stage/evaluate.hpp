@@ -34,11 +34,11 @@ struct LawPointsSummary {
   long qp_factorisations = 0;  // of which needed a new factorisation
   long qp_updates = 0;         // and of which were solved by bordering a kept one
 };
-// Writes `out` atomically: per input row the other quantity, dσ/dε (9 entries, row by row,
-// engineering shear) and the broken bonds (cell: pairs broken; cone: 1 once fused); with eps33
-// also σ33 after the other quantity and, after the 9 entries, dσ/dε33 and dσ33/dε33 (C14, C24,
-// C34, C44; strain-driven only, NaN stress-driven); with full the six stresses, the 36 entries
-// C11 … C66 by row (1 … 6: xx, yy, xy, zz, xz, yz) and the broken bonds.
+// Writes `out` atomically: per input row, over the components it carries (the in-plane three;
+// with eps33 and ε33; with full and γxz, γyz, in the law's order), the other quantity (in the plane
+// the strain where the rows are stresses; σ33, τxz, τyz), the tangent over the same components by
+// row (C11 … Ckk, engineering shear; the ε33 entries strain-driven only, NaN stress-driven) and the
+// broken bonds (cell: pairs broken; cone: 1 once fused).
 LawPointsSummary evaluate_law(const LawPointsOptions& options);
 
 }  // namespace dualcell::stage

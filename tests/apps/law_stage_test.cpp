@@ -116,7 +116,7 @@ TEST(LawStage, DualcellLawEvaluatesTheStrainAlongTheFibres) {
   ASSERT_EQ(a.exit_code, exit_ok) << a.output;
   std::string header;
   const auto rows = read_csv(run.dir / "a.csv", &header);
-  EXPECT_EQ(header, "exx,eyy,gxy,szz,C11,C12,C13,C21,C22,C23,C31,C32,C33,C14,C24,C34,C44,broken_pairs");
+  EXPECT_EQ(header, "exx,eyy,gxy,szz,C11,C12,C13,C14,C21,C22,C23,C24,C31,C32,C33,C34,C41,C42,C43,C44,broken_pairs");
   ASSERT_EQ(rows.size(), 2u);
   EXPECT_NEAR(rows[0][0], nu_m * e, 1e-9 * e);
   EXPECT_NEAR(rows[0][1], nu_m * e, 1e-9 * e);
