@@ -229,6 +229,12 @@ void validate_materials_and_interface(const Checker& c, const Scene& scene) {
        {std::pair<const char*, const Material*>{"fibre", &scene.fibre}, {"matrix", &scene.matrix}}) {
     const Material* m = material;  // a variable, not a binding: lambdas capture it (C++20 and Clang 15)
     c.real(name, "E", m->E, positive, "E > 0");
+    // Expansion coefficients of real solids lie within ±1e-4 per kelvin (polymers about 6e-5,
+    // carbon fibres about −1e-6 along and 1e-5 across); ±1e-3 leaves room and refuses a
+    // coefficient given in ppm or percent.
+    const auto expansion = [](double v) { return std::abs(v) <= 1e-3; };
+    c.real(name, "alpha", m->alpha, expansion, "|alpha| <= 1e-3 per kelvin (a strain per kelvin, not ppm)");
+    c.real(name, "alpha_L", m->alpha_L, expansion, "|alpha_L| <= 1e-3 per kelvin (a strain per kelvin, not ppm)");
     if (!m->axial) {
       c.real(
           name, "nu", m->nu, [](double v) { return v > -1 && v < 0.5; }, "-1 < nu < 0.5");
@@ -252,6 +258,15 @@ void validate_materials_and_interface(const Checker& c, const Scene& scene) {
 }
 
 void validate_load(const Checker& c, const Scene& scene) {
+  c.real(
+      "load", "delta_T", scene.load.delta_T, [](double v) { return std::abs(v) <= 1000; },
+      "|delta_T| <= 1000 (kelvin, from the stress-free temperature)");
+  if (scene.load.delta_T != 0)
+    for (const auto& [name, material] :
+         {std::pair<const char*, const Material*>{"fibre", &scene.fibre}, {"matrix", &scene.matrix}})
+      if (!material->expands)
+        c.fail("load", "delta_T", shortest(scene.load.delta_T),
+               std::string("a temperature change needs both phases' expansion: give [") + name + "] alpha");
   const auto& bf = scene.load.body_force;
   c.reals("load", "body_force", {bf[0], bf[1]}, finite, "an array of 2 numbers, each a finite number");
   // A body force is carried only by the symmetry edges' reactions, and the debond onset formula

@@ -28,6 +28,10 @@ struct Material {
   double nu = 0;
   bool axial = false;  // transversely isotropic: E_L, nu_LT, G_LT given
   double E_L = 0, nu_LT = 0, G_LT = 0;
+  // Thermal expansion (strain per kelvin): alpha across the fibres (the transverse plane's),
+  // alpha_L along them (= alpha unless the phase is transversely isotropic and gives its own).
+  bool expands = false;  // alpha given
+  double alpha = 0, alpha_L = 0;
 
   double axial_E() const { return axial ? E_L : E; }
   double axial_nu() const { return axial ? nu_LT : nu; }
@@ -129,6 +133,9 @@ struct Load {
   Boundary boundary = Boundary::symmetry;
   Macro macro = Macro::transverse;
   std::array<double, 2> body_force{0, 0};  // force per unit area, both materials
+  // The temperature change ΔT (kelvin) from the stress-free state (the cure), applied before
+  // any load and held along every path; needs both phases' alpha (docs/theory/model.md §1a).
+  double delta_T = 0;
   EdgeLoads edge_loads;                    // Boundary::edges only
 };
 

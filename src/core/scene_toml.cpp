@@ -22,6 +22,16 @@ Material read_material(TableReader& t) {
     m.nu_LT = t.real("nu_LT", 0, true, what);
     m.G_LT = t.real("G_LT", 0, true, what);
   }
+  m.expands = t.has("alpha");
+  if (m.expands) {
+    m.alpha = t.real("alpha", 0);
+    m.alpha_L = m.axial ? t.real("alpha_L", m.alpha) : m.alpha;
+  }
+  if (!m.axial && t.has("alpha_L"))
+    t.fail(t.node("alpha_L"), "alpha_L", "",
+           "only for a transversely isotropic phase (with E_L, nu_LT, G_LT); an isotropic one has alpha alone");
+  if (!m.expands && t.has("alpha_L"))
+    t.fail(t.node("alpha_L"), "alpha_L", "", "needs alpha, the expansion across the fibres, beside it");
   t.finish();
   return m;
 }
@@ -242,6 +252,7 @@ void read_interface_and_load(SceneReading& r) {
   }
   const auto bf = lt.reals("body_force", {0, 0}, 2, 2);
   scene.load.body_force = {bf[0], bf[1]};
+  scene.load.delta_T = lt.real("delta_T", 0);
   const std::string macro = lt.string("macro", "transverse", {"transverse", "full"});
   scene.load.macro = macro == "full" ? Macro::full : Macro::transverse;
   if (scene.load.macro == Macro::full && scene.load.boundary == Boundary::edges)

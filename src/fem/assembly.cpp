@@ -132,7 +132,7 @@ void add_eigen_stress(const mesh::Mesh& mesh, int s, const Eigen::Vector3d& sigm
 }
 
 ElementStresses element_stresses(const mesh::Mesh& mesh, const Material& fibre, const Material& matrix,
-                                 const Eigen::VectorXd& u, double eps33) {
+                                 const Eigen::VectorXd& u, const Uniform& z) {
   const PhaseStiffness stiff_fibre = phase_stiffness(fibre), stiff_matrix = phase_stiffness(matrix);
   const std::size_t T = mesh.triangles.size();
   const int n = mesh.triangles.width();
@@ -144,13 +144,13 @@ ElementStresses element_stresses(const mesh::Mesh& mesh, const Material& fibre, 
     const bool is_fibre = mesh.subdomains[mesh.triangle_subdomain[t]].is_fibre;
     const PhaseStiffness& P = is_fibre ? stiff_fibre : stiff_matrix;
     const Eigen::Matrix3d& D = P.D;
-    const Eigen::Vector3d sigma0 = P.C13 * eps33 * Eigen::Vector3d(1, 1, 0);
+    const Eigen::Vector3d sigma0 = eigen_stress(P, z);
     const std::vector<Eigen::Vector2d> x = mesh::triangle_points(mesh, static_cast<int>(t));
     double det_J;
     const Eigen::Vector3d e_centroid = strain_displacement_at(x, 1.0 / 3, 1.0 / 3, det_J) * ue;
     out.centroid.row(t) = (D * e_centroid).transpose();
-    if (eps33 != 0) out.centroid.row(t) += sigma0.transpose();
-    const auto zz = [&](const Eigen::Vector3d& e) { return P.C13 * (e(0) + e(1)) + P.C33 * eps33; };
+    if (!z.zero()) out.centroid.row(t) += sigma0.transpose();
+    const auto zz = [&](const Eigen::Vector3d& e) { return stress_zz(P, e, z); };
     if (n == 3) {
       out.average.row(t) = out.centroid.row(t);
       out.area(t) = std::abs(det_J) / 2;
@@ -167,7 +167,7 @@ ElementStresses element_stresses(const mesh::Mesh& mesh, const Material& fibre, 
       area += q.weight * std::abs(det_J);
     }
     out.average.row(t) = (integral / area).transpose();
-    if (eps33 != 0) out.average.row(t) += sigma0.transpose();
+    if (!z.zero()) out.average.row(t) += sigma0.transpose();
     out.area(t) = area;
     out.zz_average(t) = zz(strain / area);
   }

@@ -9,6 +9,7 @@
 #include <span>
 
 #include "core/scene.hpp"
+#include "fem/element.hpp"
 #include "mesh/mesh.hpp"
 
 namespace dualcell::fem {
@@ -55,6 +56,6 @@ struct ElementStresses {
   Eigen::VectorXd zz_average;  // T
 };
 ElementStresses element_stresses(const mesh::Mesh& mesh, const Material& fibre, const Material& matrix,
-                                 const Eigen::VectorXd& u, double eps33 = 0);
+                                 const Eigen::VectorXd& u, const Uniform& z = {});
 
 }  // namespace dualcell::fem

@@ -17,6 +17,8 @@ PhaseStiffness phase_stiffness(const Material& m) {
     out.C13 = L.lambda;
     out.C33 = L.lambda + 2 * L.mu;
     out.G_L = L.mu;
+    out.beta = (3 * L.lambda + 2 * L.mu) * m.alpha;
+    out.beta33 = out.beta;
     return out;
   }
   const double a = -m.nu_LT / m.E_L;
@@ -27,6 +29,8 @@ PhaseStiffness phase_stiffness(const Material& m) {
   out.C13 = C(0, 2);
   out.C33 = C(2, 2);
   out.G_L = m.G_LT;
+  out.beta = (C(0, 0) + C(0, 1)) * m.alpha + C(0, 2) * m.alpha_L;
+  out.beta33 = 2 * C(0, 2) * m.alpha + C(2, 2) * m.alpha_L;
   return out;
 }
 

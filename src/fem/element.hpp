@@ -30,11 +30,30 @@ using Vector6 = Eigen::Matrix<double, 6, 1>;
 // Transversely isotropic about z: the inverse of the normal compliance
 //   [1/E, −ν/E, −ν_LT/E_L; −ν/E, 1/E, −ν_LT/E_L; −ν_LT/E_L, −ν_LT/E_L, 1/E_L]
 // gives C11 = C22, C12, C13, C33; D = [C11, C12, 0; C12, C11, 0; 0, 0, E/(2(1+ν))], G_L = G_LT.
+// A temperature change ΔT adds the thermal strain (α_T, α_T, 0 | α_L) to be subtracted: the
+// in-plane stress gains −ΔT β (1, 1, 0) and σzz gains −ΔT β33, with β = (C11 + C12) α_T + C13 α_L
+// and β33 = 2 C13 α_T + C33 α_L (isotropic: both 3Kα, K the bulk modulus; docs/theory/model.md §1a).
 struct PhaseStiffness {
   Eigen::Matrix3d D = Eigen::Matrix3d::Zero();  // Voigt, engineering shear
   double C13 = 0, C33 = 0, G_L = 0;
+  double beta = 0, beta33 = 0;  // the thermal stress per kelvin, in the plane and along z
 };
 PhaseStiffness phase_stiffness(const Material& material);
+
+// What a cell's phases feel uniformly besides the in-plane strain: the strain ε33 along the
+// fibres (generalised plane strain, docs/method.md §3a) and the temperature change ΔT.
+struct Uniform {
+  double eps33 = 0, delta_T = 0;
+  bool zero() const { return eps33 == 0 && delta_T == 0; }
+};
+// The phase's in-plane eigen-stress σ0 = (C13 ε33 − β ΔT)(1, 1, 0) (the stress of ε = 0) and its σzz
+// at the in-plane strain e: C13 (exx + eyy) + C33 ε33 − β33 ΔT.
+inline Eigen::Vector3d eigen_stress(const PhaseStiffness& P, const Uniform& z) {
+  return (P.C13 * z.eps33 - P.beta * z.delta_T) * Eigen::Vector3d(1, 1, 0);
+}
+inline double stress_zz(const PhaseStiffness& P, const Eigen::Vector3d& e, const Uniform& z) {
+  return P.C13 * (e(0) + e(1)) + P.C33 * z.eps33 - P.beta33 * z.delta_T;
+}
 
 // Its plane-strain matrix D alone.
 inline Eigen::Matrix3d plane_strain_D(const Material& material) { return phase_stiffness(material).D; }

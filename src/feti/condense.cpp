@@ -60,7 +60,7 @@ MacroLoad macro_load(const FetiSetup& setup, const DualProblem& dual, int n_macr
   for (int k = 0; k < n_load; ++k) {
     const bool eps33 = k == n_macro;
     const Eigen::Vector3d unit = eps33 ? Eigen::Vector3d::Zero() : Eigen::Vector3d::Unit(k).eval();
-    load.f[k] = setup.load(unit, eps33 ? 1.0 : 0.0);
+    load.f[k] = setup.load(unit, {eps33 ? 1.0 : 0.0});
     load.D.col(k) = dual.d(load.f[k], eps33 ? 0.0 : setup.load_factor(unit));
     load.e.col(k) = dual.e(load.f[k]);
   }
@@ -312,7 +312,7 @@ double set_longitudinal(const FetiSetup& setup, const Eigen::MatrixXd& Y, const 
   const double volume = setup.volume();
   double zz = 0;  // ⟨λ + 2μ⟩: σ33 of ε33 = 1 with u = 0
   average_stress(setup.mesh(), setup.scene().fibre, setup.scene().matrix, Eigen::VectorXd::Zero(setup.mesh().dim_u()),
-                 1.0, &zz);
+                 {1.0}, &zz);
   const Eigen::VectorXd a = S0.col(m).head(m), b = S0.row(m).head(m).transpose();
   const Eigen::VectorXd y = Y.col(m), g = volume * E_p.row(m).transpose();
   cell.longitudinal = 1;

@@ -39,17 +39,18 @@ Eigen::MatrixXd boundary_strain_matrix(const mesh::Mesh& mesh, int n_dofs) {
 }
 
 Eigen::Vector3d average_stress(const mesh::Mesh& mesh, const Material& fibre, const Material& matrix,
-                               const Eigen::VectorXd& u, double eps33, double* zz) {
-  const fem::ElementStresses stress = fem::element_stresses(mesh, fibre, matrix, u, eps33);
+                               const Eigen::VectorXd& u, const fem::Uniform& z, double* zz) {
+  const fem::ElementStresses stress = fem::element_stresses(mesh, fibre, matrix, u, z);
   const double volume = mesh.block_width() * mesh.block_height();
   if (zz) *zz = stress.zz_average.dot(stress.area) / volume;
   const Eigen::Vector3d sum = stress.average.transpose() * stress.area;  // Σ_t ∫_t σ dA
   return sum / volume;
 }
 
-SolutionFields solution_fields(const mesh::Mesh& mesh, const Scene& scene, const Eigen::VectorXd& u, double eps33) {
+SolutionFields solution_fields(const mesh::Mesh& mesh, const Scene& scene, const Eigen::VectorXd& u,
+                               const fem::Uniform& z) {
   SolutionFields out;
-  out.stress = fem::element_stresses(mesh, scene.fibre, scene.matrix, u, eps33);
+  out.stress = fem::element_stresses(mesh, scene.fibre, scene.matrix, u, z);
   out.opening.reserve(mesh.interface_pairs.size());
   for (std::size_t p = 0; p < mesh.interface_pairs.size(); ++p) {
     const auto [fn, mn] = mesh.interface_pairs[p];

@@ -19,11 +19,11 @@ Eigen::Vector3d boundary_strain(const mesh::Mesh& mesh, const Eigen::VectorXd& u
 Eigen::MatrixXd boundary_strain_matrix(const mesh::Mesh& mesh, int n_dofs);
 
 // (1/|Ω|) Σ_e ∫_e σ dA over all triangles: equals the applied σ̄ when the forces are in
-// equilibrium (Hill–Mandel); returns (σxx, σyy, σxy). With a longitudinal strain eps33 the
-// stresses of generalised plane strain (fem::element_stresses), and `zz`, when given, receives
-// the average of σzz.
+// equilibrium (Hill–Mandel); returns (σxx, σyy, σxy). With a longitudinal strain ε33 or a
+// temperature change (z) the stresses of generalised plane strain and the thermal stresses
+// (fem::element_stresses), and `zz`, when given, receives the average of σzz.
 Eigen::Vector3d average_stress(const mesh::Mesh& mesh, const Material& fibre, const Material& matrix,
-                               const Eigen::VectorXd& u, double eps33 = 0, double* zz = nullptr);
+                               const Eigen::VectorXd& u, const fem::Uniform& z = {}, double* zz = nullptr);
 
 // The fields a solution shows besides u and the pairs' forces (solution.h5, computed here so that
 // its writer only writes): every element's stress, at its centroid and its volume average, and
@@ -32,6 +32,7 @@ struct SolutionFields {
   fem::ElementStresses stress;
   std::vector<double> opening;
 };
-SolutionFields solution_fields(const mesh::Mesh& mesh, const Scene& scene, const Eigen::VectorXd& u, double eps33 = 0);
+SolutionFields solution_fields(const mesh::Mesh& mesh, const Scene& scene, const Eigen::VectorXd& u,
+                               const fem::Uniform& z = {});
 
 }  // namespace dualcell::feti

@@ -7,6 +7,8 @@
 #include <memory>
 #include <stdexcept>
 
+#include "core/error.hpp"
+#include "core/text.hpp"
 #include "feti/projected.hpp"
 #include "feti/solver.hpp"
 #include "law/bond.hpp"
@@ -49,6 +51,20 @@ ContactSolver::Lifted& ContactSolver::lifted() {
         lifted_bonded(setup_.mesh(), setup_.scene(), intact(), lifted_.lower, lifted_.upper, lifted_.linear);
     lifted_.dual = std::make_unique<DualProblem>(setup_, std::move(con));
     lifted_.norm_PFP = estimate_norm_PFP(*lifted_.dual);
+    const double delta_T = setup_.scene().load.delta_T;
+    if (delta_T != 0 && !lifted_.linear) {
+      lifted_.thermal_message =
+          "a temperature change with normal rows that have no normal strength (contact rows): the bonded forces are "
+          "not affine in the load, so there is no onset by superposition";
+    } else if (delta_T != 0) {
+      const Solution s = solve_problem(*lifted_.dual, lifted_.norm_PFP,
+                                       MacroState::stress(Eigen::Vector3d::Zero()).hold(MacroState::dT, delta_T),
+                                       nullptr, nullptr, std::min(onset_qp_tolerance, setup_.scene().solver.tolerance));
+      if (s.converged())
+        lifted_.thermal = s.lambda.cwiseQuotient(lifted_.dual->constraints().weight);
+      else
+        lifted_.thermal_message = "the cool-down's bonded solve did not converge: " + s.qp.message;
+    }
   }
   return lifted_;
 }
@@ -58,12 +74,19 @@ double ContactSolver::debond_onset(const Eigen::Vector3d& sigma, std::vector<int
   if (!setup_.scene().interface.has_adhesion()) return std::numeric_limits<double>::infinity();
   Lifted& lifted = this->lifted();
   const Eigen::VectorXd &lower = lifted.lower, &upper = lifted.upper;
+  const bool thermal = setup_.scene().load.delta_T != 0;
+  if (thermal && lifted.thermal.size() == 0) {
+    if (!lifted.linear) throw InputError(setup_.scene().file.string() + ": [load] delta_T: " + lifted.thermal_message);
+    return std::numeric_limits<double>::quiet_NaN();
+  }
   const Solution s = solve_problem(*lifted.dual, lifted.norm_PFP, MacroState::stress(sigma), nullptr, nullptr,
                                    std::min(onset_qp_tolerance, setup_.scene().solver.tolerance));
   if (!s.converged()) return std::numeric_limits<double>::quiet_NaN();
   // The load factor at which row r reaches its bound (+inf where it never does along σ̄).
   const Constraints& c = lifted.dual->constraints();
-  const auto reach = [&](int r) { return law::bond::reach(s.lambda(r) / c.weight(r), {lower(r), upper(r)}); };
+  const auto reach = [&](int r) {
+    return law::bond::reach(s.lambda(r) / c.weight(r), {lower(r), upper(r)}, thermal ? lifted.thermal(r) : 0.0);
+  };
   double onset = std::numeric_limits<double>::infinity();
   for (int r = 0; r < c.n_rows(); ++r)
     if (is_interface(c.kind[r])) onset = std::min(onset, reach(r));
@@ -94,6 +117,11 @@ law::OnsetSurface ContactSolver::onset_surface() {
         "so the onset set is no polytope (use the onset per direction)";
     return out;
   }
+  const bool thermal = setup_.scene().load.delta_T != 0;
+  if (thermal && lifted.thermal.size() == 0) {
+    out.message = lifted.thermal_message;
+    return out;
+  }
   const Constraints& c = lifted.dual->constraints();
   // Row forces per unit stress: column j = λ(e_j) in force units.
   const int n_unit = setup_.scene().load.boundary == Boundary::symmetry ? 2 : 3;
@@ -112,7 +140,18 @@ law::OnsetSurface ContactSolver::onset_surface() {
     if (!is_interface(c.kind[r])) continue;
     for (const double bound : {lower(r), upper(r)}) {
       if (!std::isfinite(bound) || bound == 0) continue;
-      rows.push_back(a.row(r).transpose() / bound);  // a·σ̄ ≥ ℓ (ℓ < 0) and a·σ̄ ≤ υ (υ > 0) alike: g·σ̄ ≤ 1
+      // With the cool-down's force p0 the facet a·σ̄ ≤ υ − p0 (a·σ̄ ≥ ℓ − p0): g = a/(bound − p0), the
+      // polytope shifted and contracted, still g·σ̄ ≤ 1 while the cool-down leaves the row below
+      // its strength.
+      const double room = thermal ? bound - lifted.thermal(r) : bound;
+      if (room == 0 || (room > 0) != (bound > 0)) {
+        out.message = "the cool-down alone (delta_T " + shortest(setup_.scene().load.delta_T) + ") brings pair " +
+                      std::to_string(c.pair[r]) + " to its strength: no onset surface around 0";
+        out.pair.clear();
+        out.tangential.clear();
+        return out;
+      }
+      rows.push_back(a.row(r).transpose() / room);  // a·σ̄ ≥ ℓ (ℓ < 0) and a·σ̄ ≤ υ (υ > 0) alike: g·σ̄ ≤ 1
       out.pair.push_back(c.pair[r]);
       out.tangential.push_back(c.kind[r] == RowKind::tangential ? 1 : 0);
     }

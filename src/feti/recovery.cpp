@@ -215,7 +215,8 @@ void ContactSolver::report(const DualProblem& dual, const Eigen::VectorXd& f, co
   check(kkt.complementarity, tolerance * u_scale * lambda_scale, "complementarity");
 
   out.strain = boundary_strain(mesh, out.u);
-  out.average_stress = average_stress(mesh, scene.fibre, scene.matrix, out.u, out.eps33, &out.average_stress_zz);
+  out.average_stress =
+      average_stress(mesh, scene.fibre, scene.matrix, out.u, {out.eps33, out.delta_T}, &out.average_stress_zz);
   // No answer with a non-finite number passes (a load beyond what doubles carry).
   if (!out.u.allFinite() || !out.lambda.allFinite() || !out.strain.allFinite() || !out.average_stress.allFinite() ||
       !std::isfinite(out.average_stress_zz)) {

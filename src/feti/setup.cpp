@@ -282,7 +282,7 @@ Eigen::SparseMatrix<double, Eigen::RowMajor> FetiSetup::set_boundaries() {
   return rows.B;
 }
 
-Eigen::VectorXd FetiSetup::load(const Eigen::Vector3d& sigma, double eps33) const {
+Eigen::VectorXd FetiSetup::load(const Eigen::Vector3d& sigma, const fem::Uniform& z) const {
   Eigen::VectorXd f = Eigen::VectorXd::Zero(n_dofs_);
   Eigen::Matrix2d sigma_bar;
   sigma_bar << sigma(0), sigma(2), sigma(2), sigma(1);
@@ -325,10 +325,11 @@ Eigen::VectorXd FetiSetup::load(const Eigen::Vector3d& sigma, double eps33) cons
   const Eigen::Vector2d body(scene_.load.body_force[0], scene_.load.body_force[1]);
   if (body.squaredNorm() > 0)
     for (int s = 0; s < static_cast<int>(mesh_.subdomains.size()); ++s) fem::add_body_force(mesh_, s, body, f);
-  if (eps33 != 0)
+  if (!z.zero())
     for (int s = 0; s < static_cast<int>(mesh_.subdomains.size()); ++s) {
-      const double C13 = fem::phase_stiffness(mesh_.subdomains[s].is_fibre ? scene_.fibre : scene_.matrix).C13;
-      fem::add_eigen_stress(mesh_, s, C13 * eps33 * Eigen::Vector3d(1, 1, 0), f);
+      const fem::PhaseStiffness P =
+          fem::phase_stiffness(mesh_.subdomains[s].is_fibre ? scene_.fibre : scene_.matrix);
+      fem::add_eigen_stress(mesh_, s, fem::eigen_stress(P, z), f);
     }
   return f;
 }

@@ -22,6 +22,7 @@
 
 #include "core/progress.hpp"
 #include "core/scene.hpp"
+#include "fem/element.hpp"
 #include "feti/operator_cost.hpp"
 #include "linalg/fixing_node_inverse.hpp"
 #include "mesh/mesh.hpp"
@@ -102,10 +103,11 @@ class FetiSetup {
   // With Boundary::edges the load is one pattern, the edge tractions and point loads, scaled by
   // the load factor t = p(0) of the load coordinates p = (t, 0, 0) that take σ̄'s place; the
   // prescribed displacements scale with it (B u = t·c).
-  // eps33: a uniform longitudinal strain (generalised plane strain, docs/method.md §3a): each
-  // subdomain's eigen-stress λ ε33 (1, 1, 0) adds −∫ Bᵀ λ ε33 (1, 1, 0) dA; σ̄ is then the
-  // average of the whole in-plane stress. 0: plane strain, the load unchanged bit for bit.
-  Eigen::VectorXd load(const Eigen::Vector3d& sigma, double eps33 = 0) const;
+  // z: a uniform longitudinal strain ε33 (generalised plane strain, docs/method.md §3a) and a
+  // temperature change ΔT: each subdomain's eigen-stress σ0 = (C13 ε33 − β ΔT)(1, 1, 0)
+  // (fem::eigen_stress) adds −∫ Bᵀ σ0 dA; σ̄ is then the average of the whole in-plane stress.
+  // Both 0: plane strain, the load unchanged bit for bit.
+  Eigen::VectorXd load(const Eigen::Vector3d& sigma, const fem::Uniform& z = {}) const;
   // t of B u = t·c: p(0) with Boundary::edges; 1 otherwise (c = 0 there).
   double load_factor(const Eigen::Vector3d& p) const { return scene_.load.boundary == Boundary::edges ? p(0) : 1.0; }
   double volume() const { return mesh_.block_width() * mesh_.block_height(); }

@@ -147,8 +147,10 @@ const DualProblem& ContactSolver::problem(const BondState& bonds) { return *cach
 
 Solution ContactSolver::solve_fixed(const MacroState& state, const BondState& bonds, const Eigen::VectorXd* warm_lambda,
                                     const Eigen::VectorXd* warm_multiplier) {
-  if (!state.in_plane_stress() || state.delta_T() != 0)
-    throw std::invalid_argument("the full solver takes the in-plane macro stress, ε33 and Γ (no temperature change)");
+  if (!state.in_plane_stress())
+    throw std::invalid_argument("the full solver takes the in-plane macro stress, ε33, Γ and ΔT");
+  if (state.delta_T() != 0 && !(setup_.scene().fibre.expands && setup_.scene().matrix.expands))
+    throw std::invalid_argument("a temperature change on a scene whose phases have no expansion coefficients");
   const Eigen::Vector3d sigma = state.in_plane();
   if (setup_.scene().load.boundary == Boundary::symmetry && sigma(2) != 0)
     throw InputError("the symmetry boundary carries only sxx and syy (sxy must be 0)");
@@ -191,6 +193,7 @@ Solution ContactSolver::solve_problem(const DualProblem& dual, double norm_PFP, 
   const Eigen::Vector3d sigma = state.in_plane();
   out.sigma = sigma;
   out.eps33 = state.eps33();
+  out.delta_T = state.delta_T();
   out.seconds.assembly = setup_.seconds_assembly;
   out.seconds.factorisation = setup_.seconds_factorisation;
   out.seconds.explicit_operators = setup_.seconds_explicit;
@@ -202,7 +205,7 @@ Solution ContactSolver::solve_problem(const DualProblem& dual, double norm_PFP, 
 
   const auto t_qp = Clock::now();
   const DualProblem::Profile profile_before = dual.profile();
-  const Eigen::VectorXd f = setup_.load(sigma, out.eps33);
+  const Eigen::VectorXd f = setup_.load(sigma, {out.eps33, out.delta_T});
   const Eigen::VectorXd e = dual.e(f);
   const Eigen::VectorXd lambda0 = dual.lambda_0(e);
   const Eigen::VectorXd d = dual.d(f, setup_.load_factor(sigma));

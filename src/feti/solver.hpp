@@ -75,6 +75,7 @@ struct Solution {
   // Generalised plane strain (docs/method.md §3a): the longitudinal strain ε33 the solve had and
   // the volume average of σzz (plane strain, ε33 = 0: ν's share of the in-plane stresses).
   double eps33 = 0, average_stress_zz = 0;
+  double delta_T = 0;  // the temperature change it was solved at (fem::Uniform)
   // With shears Γ = (γxz, γyz) along the fibres (a macro state holding them, ContactSolver::solve): Γ and the
   // average shear stress ⟨τ⟩ = (τxz, τyz) of the final bond state; zero (Γ) and NaN (τ) without.
   Eigen::Vector2d gamma = Eigen::Vector2d::Zero();
@@ -168,8 +169,10 @@ class ContactSolver {
   // `critical`, when given, receives the pairs whose bond reaches its strength at s* (within
   // the relative at-strength tolerance): a solve at exactly s*·σ̄ cannot tell them from the
   // QP's multipliers at the scene's tolerance, so a caller stepping onto the onset breaks them.
-  // Refuses (std::logic_error) a longitudinal strain ε33 ≠ 0: the onset needs a load linear in its
-  // factor, and ε33 is a fixed part of every load.
+  // With the scene's temperature change ΔT (held along every path, docs/theory/model.md §1a) the
+  // bonded forces are affine in t, p0 + t·p, and s* the least t ≥ 0 at which one reaches its
+  // strength (0: the cool-down alone breaks it); an InputError where the lifted problem keeps
+  // contact rows (then not affine). NaN when the thermal solve did not converge.
   double debond_onset(const Eigen::Vector3d& sigma, std::vector<int>* critical = nullptr);
 
   // The exact onset surface (law/onset.hpp): the bonded rows' forces per unit stress from
@@ -215,6 +218,11 @@ class ContactSolver {
   struct Lifted : Cached {
     Eigen::VectorXd lower, upper;
     bool linear = false;
+    // With the scene's temperature change ΔT: the rows' forces of ΔT alone (force units), the
+    // affine part of every path's bonded forces p0 + t·p; empty without ΔT. `thermal_message`:
+    // why there are none although ΔT ≠ 0 (the solve did not converge, or contact rows).
+    Eigen::VectorXd thermal;
+    std::string thermal_message;
   };
   Lifted& lifted();
 

@@ -120,8 +120,10 @@ void write_solution(const std::filesystem::path& h5, const mesh::Mesh& mesh, con
       f.write("/solution/longitudinal_w_xz", to_vector(longitudinal_shear->w_tilde.col(0)), {N});
       f.write("/solution/longitudinal_w_yz", to_vector(longitudinal_shear->w_tilde.col(1)), {N});
     }
-    if (s.eps33 != 0) {  // generalised plane strain only: a plane-strain file stays as it was
-      f.write("/macro/eps33", std::vector<double>{s.eps33}, {1});
+    // Generalised plane strain or a temperature change only: a plane-strain file stays as it was.
+    if (s.eps33 != 0 || s.delta_T != 0) {
+      if (s.eps33 != 0) f.write("/macro/eps33", std::vector<double>{s.eps33}, {1});
+      if (s.delta_T != 0) f.write("/macro/delta_T", std::vector<double>{s.delta_T}, {1});
       f.write("/macro/average_stress_zz", std::vector<double>{s.average_stress_zz}, {1});
       f.write("/solution/element_stress_zz_average", to_vector(stress.zz_average), {T});
     }
@@ -147,7 +149,7 @@ void write_solution(const std::filesystem::path& h5, const mesh::Mesh& mesh, con
                      {"stress", "/solution/element_stress", true, {T, 3}, false},
                      {"stress_average", "/solution/element_stress_average", true, {T, 3}, false},
                      {"displacement", "/solution/displacement", false, {N, 3}, false}};
-  if (s.eps33 != 0)
+  if (s.eps33 != 0 || s.delta_T != 0)
     deformed.fields.push_back({"stress_zz_average", "/solution/element_stress_zz_average", true, {T}, false});
   if (longitudinal_shear)
     for (const char* c : {"xz", "yz"})

@@ -39,9 +39,12 @@ double strength_use(double p, Bounds intact) {
   return 0;
 }
 
-double reach(double p, Bounds intact) {
-  if (p < 0 && std::isfinite(intact.lower) && intact.lower < 0) return intact.lower / p;
-  if (p > 0 && std::isfinite(intact.upper) && intact.upper > 0) return intact.upper / p;
+double reach(double p, Bounds intact, double p0) {
+  const bool lower = std::isfinite(intact.lower) && intact.lower < 0;
+  const bool upper = std::isfinite(intact.upper) && intact.upper > 0;
+  if ((lower && p0 <= intact.lower) || (upper && p0 >= intact.upper)) return 0;
+  if (p < 0 && lower) return (intact.lower - p0) / p;
+  if (p > 0 && upper) return (intact.upper - p0) / p;
   return inf;
 }
 

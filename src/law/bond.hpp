@@ -76,8 +76,11 @@ double strength_use(double p, Bounds intact);
 // The load factor at which a lifted row's force p (at load factor 1) reaches its intact strength
 // bound: ℓ/p or υ/p, +inf where it never does; 1/strength_use up to one rounding (the full
 // solver's onset takes the least reach, the exact law's 1/(the largest use): the rounding of
-// each is what the files have always held).
-double reach(double p, Bounds intact);
+// each is what the files have always held). Along an affine load, the row's force p0 + t·p (p0:
+// the force of a state held along the path, a cool-down's), the t ≥ 0 at which it reaches a
+// bound: (ℓ − p0)/p or (υ − p0)/p; 0 where p0 is at or beyond a bound already. p0 = 0 gives ℓ/p,
+// υ/p bit for bit.
+double reach(double p, Bounds intact, double p0 = 0);
 
 // Whether a row that reaches its strength at load factor `row_reach` breaks at the onset s*
 // (the least reach of all rows) as well, within at_strength_tolerance: a solve at exactly s*

@@ -50,7 +50,8 @@ feti::Solution solve_steps(feti::ContactSolver& solver, const Scene& scene, feti
   const int watch = feti::node_at(solver.setup().mesh(), loads.watch, loads.watch_where, "[output] watch");
   steps.first_break_factor = solver.debond_onset(Eigen::Vector3d(1, 0, 0));
   const feti::BondState intact = solver.intact();
-  sweep::LoadWalk walk(solver, MacroState::stress(Eigen::Vector3d(1, 0, 0)), std::move(bonds));
+  sweep::LoadWalk walk(solver, MacroState::stress(Eigen::Vector3d(1, 0, 0)).hold(MacroState::dT, scene.load.delta_T),
+                       std::move(bonds));
   feti::Solution s;
   for (std::size_t k = 0; k < loads.factors.size(); ++k) {
     const double t = loads.factors[k];
@@ -139,15 +140,32 @@ SolveOutcome run_solve(const SolveOptions& options) {
   Progress progress("dualcell-solve", options.progress && par::rank() == 0);
   feti::ContactSolver solver(in.mesh, in.scene, options.threads, feti::FetiSetup::default_min_dofs_per_thread,
                              par::Group::world(), &progress);
-  const feti::BondState bonds = bonds_read ? *bonds_read : solver.intact();
+  feti::BondState bonds = bonds_read ? *bonds_read : solver.intact();
   SolveOutcome outcome;
   feti::Timings work;
-  if (edges) {
+  const double delta_T = in.scene.load.delta_T;
+  bool cooled = true;
+  if (delta_T != 0) {
+    // The cure's cool-down first, at zero macro stress (docs/theory/model.md §1a).
+    progress.message("cool-down, delta_T " + shortest(delta_T));
+    const feti::Solution cool =
+        solver.solve(MacroState::stress(Eigen::Vector3d::Zero()).hold(MacroState::dT, delta_T), bonds);
+    outcome.cool_down_broken = sweep::count_broken(bonds, cool.bonds);
+    work.add_qp(cool.seconds);
+    bonds = cool.bonds;
+    // A cool-down that did not converge is the answer, written and marked (exit 4), not a start.
+    cooled = cool.converged();
+    if (!cooled) outcome.solution = cool;
+  }
+  if (!cooled) {
+    progress.message("the cool-down did not converge: no load applied");
+  } else if (edges) {
     outcome.steps.emplace();
     outcome.solution = solve_steps(solver, in.scene, bonds, *outcome.steps, work, progress);
   } else {
-    outcome.solution = solver.solve(MacroState::stress(sigma).hold(MacroState::zz, options.eps33), bonds);
-    work = outcome.solution.seconds;
+    outcome.solution = solver.solve(
+        MacroState::stress(sigma).hold(MacroState::zz, options.eps33).hold(MacroState::dT, delta_T), bonds);
+    work.add_qp(outcome.solution.seconds);
   }
   outcome.ranks = io::unpack_rank_table(solver.setup().group().gather(io::pack(rank_entry(solver, work))));
   std::optional<primal::LongitudinalShear> shear;
@@ -162,8 +180,8 @@ SolveOutcome run_solve(const SolveOptions& options) {
     Provenance provenance;
     provenance.mesh_file = in.mesh_file;
     provenance.mesh_hash = in.mesh_hash;
-    const feti::SolutionFields fields =
-        feti::solution_fields(in.mesh, in.scene, outcome.solution.u, outcome.solution.eps33);
+    const feti::SolutionFields fields = feti::solution_fields(in.mesh, in.scene, outcome.solution.u,
+                                                              {outcome.solution.eps33, outcome.solution.delta_T});
     io::write_solution(options.out, in.mesh, in.scene, outcome.solution, fields, provenance,
                        outcome.steps ? &*outcome.steps : nullptr, &outcome.ranks, shear ? &*shear : nullptr);
     outcome.written = true;
@@ -207,6 +225,9 @@ void print_solve_summary(const SolveOptions& options, const SolveOutcome& outcom
   if (s.tightenings > 0)
     std::printf("  the primal check asked for more accuracy: dual tolerance tightened %ld time(s) to %.0e\n",
                 s.tightenings, s.qp_tolerance);
+  if (outcome.cool_down_broken)
+    std::printf("  cool-down     delta_T %g K at zero macro stress, solved first: %ld bonds broken by it\n", s.delta_T,
+                *outcome.cool_down_broken);
   if (scene.interface.has_adhesion())
     std::printf("  bonds: %ld debond rounds, %ld broken now, %ld broken in all of %zu\n", s.debond_rounds,
                 s.newly_broken, broken, s.bonds.size());
@@ -214,7 +235,8 @@ void print_solve_summary(const SolveOptions& options, const SolveOutcome& outcom
     std::printf("  macro strain  exx %.6e  eyy %.6e  exy %.6e\n", s.strain(0), s.strain(1), s.strain(2));
     std::printf("  Hill-Mandel   <s> - s_applied = (%.2e, %.2e, %.2e)\n", s.average_stress(0) - sigma(0),
                 s.average_stress(1) - sigma(1), s.average_stress(2) - sigma(2));
-    if (s.eps33 != 0) std::printf("  longitudinal  e33 %.6e (given), <szz> %.6e\n", s.eps33, s.average_stress_zz);
+    if (s.eps33 != 0 || s.delta_T != 0)
+      std::printf("  longitudinal  e33 %.6e (given), <szz> %.6e\n", s.eps33, s.average_stress_zz);
   }
   if (outcome.longitudinal_shear) {
     const Eigen::Matrix2d& G = *outcome.longitudinal_shear;

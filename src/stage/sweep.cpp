@@ -12,6 +12,7 @@
 
 #include "core/error.hpp"
 #include "core/progress.hpp"
+#include "core/text.hpp"
 #include "feti/condense.hpp"
 #include "feti/solver.hpp"
 #include "io/atomic_output.hpp"
@@ -52,6 +53,10 @@ SceneAndMesh load_inputs(const SweepOptions& options) {
                        ": boundary = \"edges\" is a structure of resolved cells, not a cell to sweep: solve its load "
                        "steps with dualcell-solve (a sweep needs boundary = \"symmetry\", \"traction\" or "
                        "\"periodic\")");
+    if (loaded->scene.load.delta_T != 0)
+      throw InputError(loaded->scene.file.string() + ": [load] delta_T = " + shortest(loaded->scene.load.delta_T) +
+                       ": the sweep and its exact law do not carry a temperature change yet (dualcell-solve does: "
+                       "the cool-down first, then the load)");
     if (par::rank() == 0) io::check_outputs({options.out}, inputs);
   } catch (const InputError& e) {
     problem = e.what();

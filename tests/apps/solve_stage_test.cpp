@@ -147,6 +147,45 @@ TEST(SolveStage, ALongitudinalStrainWritesTheLongitudinalStress) {
   EXPECT_FALSE(std::filesystem::exists(p.dir / "bad.h5"));
 }
 
+// A scene with a temperature change (docs/theory/model.md §1a): dualcell-solve cools it first at
+// zero macro stress and says how many bonds that broke (here the matrix, expanding ten times
+// more than the fibre, shrinks onto it: a square cell's rim carries shear, which breaks the
+// weakest tangential bonds), then loads it from there; the file holds ΔT and σzz. A tie of the
+// same cell with ΔT = 0 is the plane-strain file it always was; the sweep refuses ΔT in one line.
+TEST(SolveStage, ATemperatureChangeIsSolvedFirstThenTheLoad) {
+  Prepared p;
+  const std::string thermal =
+      "[interface]\nnormal_strength = 0.05\ntangential_strength = 0.0002\n[load]\nboundary = "
+      "\"periodic\"\ndelta_T = -100\n";
+  std::string text = testing::scene_text(2, 1, 2, 0.3, thermal);
+  text.replace(text.find("nu = 0.2\n"), 9, "nu = 0.2\nalpha = 5e-6\n");
+  text.replace(text.find("nu = 0.35\n"), 10, "nu = 0.35\nalpha = 6e-5\n");
+  p.scene = p.dir.write("s.toml", text);
+  p.mesh = p.dir / "mesh.h5";
+  ASSERT_EQ(run_command(bin("dualcell-mesh") + " --quiet --config " + p.scene.string() + " --out " + p.mesh.string())
+                .exit_code,
+            0);
+  const std::string cfg = " --config " + p.scene.string() + " --mesh " + p.mesh.string();
+  const auto out = p.dir / "solution.h5";
+  const auto r = run_command(bin("dualcell-solve") + cfg + " --stress 0.001,0,0 --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto at = r.output.find("cool-down     delta_T -100 K at zero macro stress, solved first: ");
+  ASSERT_NE(at, std::string::npos) << r.output;
+  EXPECT_GT(std::stol(r.output.substr(r.output.find(':', at + 20) + 2)), 0) << r.output;
+  const io::File f = io::File::open_read(out);
+  EXPECT_EQ(f.read_doubles("/macro/delta_T", {1})[0], -100);
+  EXPECT_FALSE(f.exists("/macro/eps33"));
+  // Plane strain along z: the matrix, held at ε33 = 0 while it would shrink most, pulls along z.
+  EXPECT_GT(f.read_doubles("/macro/average_stress_zz", {1})[0], 0);
+  const auto sweep = run_command(bin("dualcell-sweep") + cfg + " --out " + (p.dir / "sweep.h5").string());
+  EXPECT_EQ(sweep.exit_code, exit_input_error) << sweep.output;
+  EXPECT_NE(
+      sweep.output.find("[load] delta_T = -100: the sweep and its exact law do not carry a temperature change yet"),
+      std::string::npos)
+      << sweep.output;
+  EXPECT_FALSE(std::filesystem::exists(p.dir / "sweep.h5"));
+}
+
 // A load is an ordinary load however small, and one whose answer cannot be finite in doubles is
 // refused before the work, with one line and exit 1: a 1 × 1 p1 cell with adhesion.
 TEST(SolveStage, ALoadBeyondDoublesIsRefusedAndATinyOneIsAnOrdinaryLoad) {

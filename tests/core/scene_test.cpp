@@ -78,6 +78,22 @@ TEST(Scene, ErrorsNameFileKeyValueAndRange) {
       {"[geometry]\nfibre_radius = 0.3\n[fibre]\nE = 15\nnu = 1\nE_L = 230\nnu_LT = 0.2\nG_LT = 15\n"
        "[matrix]\nE = 1\nnu = 0.3\n",
        "[fibre] nu = 1: out of range: -1 < nu < 1"},
+      // Expansion: per kelvin (a value in ppm is refused), alpha_L only beside alpha on a transversely
+      // isotropic phase, and a temperature change only with both phases' alpha.
+      {"[geometry]\nfibre_radius = 0.3\n[fibre]\nE = 70\nnu = 0.2\nalpha = 5\n[matrix]\nE = 3\nnu = 0.35\n",
+       "[fibre] alpha = 5: out of range: |alpha| <= 1e-3 per kelvin (a strain per kelvin, not ppm)"},
+      {"[geometry]\nfibre_radius = 0.3\n[fibre]\nE = 70\nnu = 0.2\nalpha = 5e-6\nalpha_L = 1e-6\n[matrix]\nE = "
+       "3\nnu = 0.35\n",
+       "[fibre] alpha_L: only for a transversely isotropic phase"},
+      {"[geometry]\nfibre_radius = 0.3\n[fibre]\nE = 15\nnu = 0.07\nE_L = 230\nnu_LT = 0.2\nG_LT = 15\nalpha_L = "
+       "-5e-7\n[matrix]\nE = 3\nnu = 0.35\n",
+       "[fibre] alpha_L: needs alpha, the expansion across the fibres, beside it"},
+      {"[geometry]\nfibre_radius = 0.3\n[fibre]\nE = 70\nnu = 0.2\nalpha = 5e-6\n[matrix]\nE = 3\nnu = 0.35\n[load]\n"
+       "delta_T = -100\n",
+       "[load] delta_T = -100: a temperature change needs both phases' expansion: give [matrix] alpha"},
+      {"[geometry]\nfibre_radius = 0.3\n[fibre]\nE = 70\nnu = 0.2\nalpha = 5e-6\n[matrix]\nE = 3\nnu = 0.35\nalpha = "
+       "6e-5\n[load]\ndelta_T = -2000\n",
+       "[load] delta_T = -2000: out of range: |delta_T| <= 1000"},
       {scene_text(1, 1, 1, 0.3, "[interface]\nnormal_strenght = 1\n"), "[interface] normal_strenght = 1: unknown key"},
       {scene_text(1, 1, 1, 0.3, "[bogus]\n"), "bogus: unknown table or key"},
       {scene_text(1, 1, 1, 0.3, "[load]\nboundary = \"free\"\n"),

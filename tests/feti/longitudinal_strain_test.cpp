@@ -46,7 +46,7 @@ TEST(GeneralisedPlaneStrain, TheDualSolveIsTheOneBodySolveOfTheLoadWithItsEigenS
     const Solution s = solver.solve_fixed(MacroState::stress(sigma).hold(MacroState::zz, 0.02), solver.intact());
     ASSERT_TRUE(s.converged()) << to_string(boundary) << ": " << s.qp.message;
     EXPECT_EQ(s.eps33, 0.02);
-    const Eigen::VectorXd f = solver.setup().load(sigma, 0.02);
+    const Eigen::VectorXd f = solver.setup().load(sigma, {0.02});
     EXPECT_GT((f - solver.setup().load(sigma)).norm(), 1e-3 * f.norm()) << "the eigen-stress loads the block";
     const Eigen::VectorXd u_ref = primal::solve_one_body(m, scene, f);
     EXPECT_LE((s.u - u_ref).norm(), 1e-8 * u_ref.norm()) << to_string(boundary);
@@ -131,9 +131,10 @@ TEST(GeneralisedPlaneStrain, WithoutBondsTheFibreStopsPullingTheMatrixInWhenShor
   EXPECT_GT(E1, mixture * (1 + 1e-4)) << "bonded, Hill's correction stiffens";
 }
 
-// The solver takes the in-plane stress with ε33 and Γ held (the onset, which needs a load linear
-// in its factor, takes the in-plane stress alone, by its type); a temperature change it cannot
-// take yet is refused, not ignored.
+// The solver takes the in-plane stress with ε33, Γ and ΔT held (the onset takes the in-plane
+// stress alone, by its type, and the scene's ΔT); a temperature change on phases without
+// expansion coefficients (a scene built in code, past validate()'s check of [load] delta_T) is
+// refused, not taken as no expansion, and so is a strain-driven in-plane state.
 TEST(GeneralisedPlaneStrain, TheSolverRefusesAStateItCannotTake) {
   Scene scene = bonded_scene(Boundary::periodic);
   scene.interface.normal_strength = scene.interface.tangential_strength = 0.05;
