@@ -136,7 +136,7 @@ struct Load {
   // The temperature change ΔT (kelvin) from the stress-free state (the cure), applied before
   // any load and held along every path; needs both phases' alpha (docs/theory/model.md §1a).
   double delta_T = 0;
-  EdgeLoads edge_loads;                    // Boundary::edges only
+  EdgeLoads edge_loads;  // Boundary::edges only
 };
 
 struct SweepSettings {

@@ -327,8 +327,7 @@ Eigen::VectorXd FetiSetup::load(const Eigen::Vector3d& sigma, const fem::Uniform
     for (int s = 0; s < static_cast<int>(mesh_.subdomains.size()); ++s) fem::add_body_force(mesh_, s, body, f);
   if (!z.zero())
     for (int s = 0; s < static_cast<int>(mesh_.subdomains.size()); ++s) {
-      const fem::PhaseStiffness P =
-          fem::phase_stiffness(mesh_.subdomains[s].is_fibre ? scene_.fibre : scene_.matrix);
+      const fem::PhaseStiffness P = fem::phase_stiffness(mesh_.subdomains[s].is_fibre ? scene_.fibre : scene_.matrix);
       fem::add_eigen_stress(mesh_, s, fem::eigen_stress(P, z), f);
     }
   return f;

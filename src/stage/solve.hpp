@@ -30,7 +30,7 @@ struct SolveOutcome {
   // carries no shear along z).
   std::optional<Eigen::Matrix2d> longitudinal_shear;
   int dim_u = 0, threads_used = 1;
-  feti::Solution solution;             // the last step's with boundary = "edges"
+  feti::Solution solution;  // the last step's with boundary = "edges"
   // With the scene's temperature change ΔT: the cool-down (ΔT alone, σ̄ = 0) is solved first, with
   // contact and bonds, and the load starts from its bond state; the pairs it broke.
   std::optional<long> cool_down_broken;
