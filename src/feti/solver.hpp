@@ -22,6 +22,7 @@
 #include "feti/dual.hpp"
 #include "feti/setup.hpp"
 #include "law/onset.hpp"
+#include "law/ply.hpp"
 #include "qp/result.hpp"
 
 namespace dualcell::feti {
@@ -180,6 +181,11 @@ class ContactSolver {
   // strength bound. Not linear (no facets, `message` says why) without adhesion or when some
   // normal row has no normal strength and stays a contact row.
   law::OnsetSurface onset_surface();
+
+  // The bonded cell's thermal expansion per kelvin (law::PlyExpansion): two solves of the bonded
+  // problem with the strengths lifted, at the scene's tolerance. Empty (ok 0, no note) where the
+  // phases have no expansion coefficients.
+  law::PlyExpansion bonded_expansion();
 
   // The dual problems are cached: the intact bond state's, the last other one's and the onset's
   // (bonds lifted), each with its ‖PFP‖ estimate. Each is a function of its bond state alone

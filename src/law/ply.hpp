@@ -42,8 +42,27 @@ inline constexpr Field<PlyConstants, double> ply_constant_fields[] = {
     {"G12", &PlyConstants::G12},   {"G13", &PlyConstants::G13},   {"G23", &PlyConstants::G23},
 };
 
+// The bonded ply's thermal expansion per kelvin (docs/theory/model.md §1a): the macro strain of
+// the bonded cell (strengths lifted) under ΔT alone at zero macro stress, σ̄ = 0 and ⟨σ33⟩ = 0,
+// from two full solves (ΔT = 1 and ε33 = 1, ⟨σ33⟩ = 0 by superposition): α1 along the fibres, α2,
+// α3 across them (the cell's x and y), α23 the engineering shear γxy per kelvin (0 for a cell
+// symmetric about its axes; a random RVE's is its anisotropy). Only where both phases have their
+// expansion; `ok` false and `note` saying why where the bonded cell has none (no adhesion, or
+// normal rows that stay contact rows).
+struct PlyExpansion {
+  double alpha1 = 0, alpha2 = 0, alpha3 = 0, alpha23 = 0;
+  int ok = 0;
+  std::string note;
+  bool asked() const { return ok || !note.empty(); }
+};
+inline constexpr Field<PlyExpansion, double, int, std::string> ply_expansion_fields[] = {
+    {"alpha1", &PlyExpansion::alpha1},   {"alpha2", &PlyExpansion::alpha2}, {"alpha3", &PlyExpansion::alpha3},
+    {"alpha23", &PlyExpansion::alpha23}, {"ok", &PlyExpansion::ok},         {"note", &PlyExpansion::note},
+};
+
 struct PlyTable {
   std::vector<PlyConstants> rows;  // empty: the cell does not carry the whole ply
+  PlyExpansion expansion;          // the bonded ply's, where the phases have expansion coefficients
   double fuse_stress = 0;          // σxx of the after-fuse state: 4 × the onset along x (0 without adhesion)
   std::string note;                // why there are no rows, or why a state is missing
 };

@@ -13,10 +13,13 @@
 
 #include "fem/assembly.hpp"
 #include "fem/element.hpp"
+#include "feti/condense.hpp"
 #include "feti/solver.hpp"
 #include "hill_relations.hpp"
+#include "law/condensed.hpp"
 #include "law/onset.hpp"
 #include "primal/one_body.hpp"
+#include "rve/mesher.hpp"
 #include "test_util.hpp"
 
 namespace dualcell::feti {
@@ -234,6 +237,62 @@ TEST(Thermal, ACoolDownThatBreaksBondsHasNoOnsetAroundZero) {
   const law::OnsetSurface polytope = solver.onset_surface();
   EXPECT_FALSE(polytope.linear);
   EXPECT_NE(polytope.message.find("the cool-down alone"), std::string::npos) << polytope.message;
+}
+
+// The bonded ply's expansion (ContactSolver::bonded_expansion: two full solves with the bonds'
+// strengths lifted) against Levin's relation evaluated with the cell's exact law, an independent
+// route: C* the exact law's bonded tangent in (εxx, εyy, γxy, ε33), β* = ⟨β⟩ + (C* − ⟨C⟩)(C_f −
+// C_m)⁻¹(β_f − β_m) and α* = C*⁻¹ β*. On an RVE of two fibres of different radii, one cut by the
+// cell's sides (gmsh mesh), so nothing is symmetric and α23 ≠ 0. Asked 1e-7 relative to |α*|: the
+// full solves' 1e-13 and the condensation's round-off, amplified by the relation's differences.
+TEST(Thermal, TheBondedPlysExpansionIsLevinsOfItsExactLaw) {
+  Scene s = thermal_scene(Boundary::periodic);
+  s.geometry.layout = FibreLayout::list;
+  s.geometry.size = {1.0, 1.0};
+  s.geometry.fibres = {{{0.0, 0.5}, 0.2}, {{0.55, 0.42}, 0.25}};
+  s.load.macro = Macro::full;
+  s.load.delta_T = 0;
+  s.interface.normal_strength = s.interface.tangential_strength = 0.05;
+  s.solver.subdomain_dofs = 300;
+  validate(s);
+  const mesh::Mesh m = rve::build_rve_mesh(s.geometry, s.solver.subdomain_dofs, "test");
+  ContactSolver solver(m, s);
+  const law::PlyExpansion alpha = solver.bonded_expansion();
+  ASSERT_TRUE(alpha.ok) << alpha.note;
+  const law::CondensedCell cell = condense(solver.setup());
+  ASSERT_EQ(cell.longitudinal, 1);
+  law::CellEvaluator evaluator(cell);
+  law::CellHistory h = evaluator.unloaded();
+  Eigen::Matrix<double, 6, 1> e;
+  e << 1e-6, -4e-7, 3e-7, 2e-7, 0, 0;
+  const law::CellResponse r = evaluator.at(MacroState::ply_strain(e), h, law::BondMode::lifted);
+  ASSERT_TRUE(r.ok) << r.message;
+  const Eigen::Matrix4d C_eff = law::ply_tangent(r).topLeftCorner<4, 4>();
+  const auto phase = [](const Material& material, Eigen::Matrix4d& C, Eigen::Vector4d& beta) {
+    const fem::PhaseStiffness P = fem::phase_stiffness(material);
+    C.setZero();
+    C.topLeftCorner<3, 3>() = P.D;
+    C(0, 3) = C(3, 0) = C(1, 3) = C(3, 1) = P.C13;
+    C(3, 3) = P.C33;
+    beta << P.beta, P.beta, 0, P.beta33;
+  };
+  Eigen::Matrix4d C_f, C_m;
+  Eigen::Vector4d beta_f, beta_m;
+  phase(s.fibre, C_f, beta_f);
+  phase(s.matrix, C_m, beta_m);
+  const double vf = testing::fibre_fraction(m);
+  const Eigen::Vector4d beta_eff =
+      vf * beta_f + (1 - vf) * beta_m +
+      (C_eff - (vf * C_f + (1 - vf) * C_m)) * (C_f - C_m).fullPivLu().solve(beta_f - beta_m);
+  const Eigen::Vector4d levin = C_eff.fullPivLu().solve(beta_eff);
+  const Eigen::Vector4d solved(alpha.alpha2, alpha.alpha3, alpha.alpha23, alpha.alpha1);
+  EXPECT_LE((solved - levin).norm(), 1e-7 * levin.norm())
+      << "solved " << solved.transpose() << "\nLevin  " << levin.transpose();
+  EXPECT_GT(std::abs(alpha.alpha23), 1e-4 * levin.norm()) << "this RVE shears when heated";
+  // Between the phases: across the fibres above the matrix's own (the stiff fibres hold it along
+  // z, so it swells more across), along them near the fibres' (they carry the axial stiffness).
+  EXPECT_LT(alpha.alpha1, 0.2 * s.matrix.alpha);
+  EXPECT_GT(alpha.alpha1, s.fibre.alpha_L);
 }
 
 }  // namespace
