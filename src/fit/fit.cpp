@@ -487,6 +487,7 @@ law::Law fit_law(const std::vector<sweep::PathResult>& all_paths, const sweep::S
 
   law.cell = header.cell;
   law.cell_note = header.cell_note;
+  law.ply.expansion = header.expansion;
   if (law.cell) {
     try {
       law.cell_replay = replay_cell(*law.cell, all_paths, header.qp_tolerance,
@@ -496,6 +497,7 @@ law::Law fit_law(const std::vector<sweep::PathResult>& all_paths, const sweep::S
       if (law.cell->shear == 2)
         law.cell_shear_replay = replay_shear(*law.cell, header.shear_points, header.qp_tolerance);
       law.ply = law::ply_constants(*law.cell);
+      law.ply.expansion = header.expansion;
     } catch (const ExactLawFailed& e) {
       // The condensation may be right and its QP still beyond the dense method (an RVE of many
       // hundred interface rows): the law is not kept, and the file says why.

@@ -242,6 +242,9 @@ std::string law_json(const Law& law) {
   o.add_text("shear_convention", shear_convention);
   o.add_fields(constituent_fields, law.constituents);
   o.add_fields(axial_constituent_fields, law.constituents);
+  // The bonded ply's thermal expansion (/law/expansion), where the phases have theirs.
+  if (law.ply.expansion.asked())
+    o.add("expansion", JsonObject().add_fields(law::ply_expansion_fields, law.ply.expansion).str(4));
   o.add_columns(direction_columns, law.directions);
   for (const auto& m : compliance_members) {
     const ComplianceFit& fit = law.*m.fit;
@@ -372,6 +375,15 @@ std::string ply_cards(const Law& law, const std::string& name) {
       out += card_number(v) + (k == 7 ? ",\n" : k == 8 ? "\n" : ", ");
       ++k;
     });
+    // The bonded ply's expansion (/law/expansion, docs/theory/model.md §1a), in the same axes;
+    // the thermal strain is α (T − T0), T0 the stress-free (cure) temperature of the analysis's
+    // *INITIAL CONDITIONS, TYPE=TEMPERATURE. A broken state has no expansion of its own (the
+    // contact's response to ΔT depends on its sign).
+    const law::PlyExpansion& a = law.ply.expansion;
+    if (c.state == law::PlyState::bonded && a.ok)
+      out += "*EXPANSION, TYPE=ORTHO\n" + card_number(a.alpha1) + ", " + card_number(a.alpha2) + ", " +
+             card_number(a.alpha3) + "\n** (the cell's alpha23 = " + formatted("%.3g", a.alpha23) +
+             " per K, a shear, has no place in TYPE=ORTHO)\n";
   }
   return out;
 }

@@ -299,6 +299,10 @@ void write_law(const std::filesystem::path& file, const Law& law) {
       }
     }
     if (!law.ply.rows.empty()) write_ply(f, law.ply);
+    if (law.ply.expansion.asked()) {
+      f.create_group(object("expansion"));
+      write_attributes(f, object("expansion"), law::ply_expansion_fields, law.ply.expansion);
+    }
     if (!law.cone_check.directions.empty()) write_cone_check(f, "cone_check", law.cone_check);
     if (!law.cone_after_fuse_check.directions.empty())
       write_cone_check(f, "cone_after_fuse_check", law.cone_after_fuse_check);
@@ -353,6 +357,8 @@ Law read_law(const std::filesystem::path& file) {
     }
   }
   if (f.exists(object("ply"))) law.ply = read_ply(r);
+  if (f.exists(object("expansion")))
+    read_attributes(f, object("expansion"), law::ply_expansion_fields, law.ply.expansion);
   if (f.exists(object("cone_check"))) law.cone_check = read_cone_check(f, r, "cone_check");
   if (f.exists(object("cone_after_fuse_check")))
     law.cone_after_fuse_check = read_cone_check(f, r, "cone_after_fuse_check");

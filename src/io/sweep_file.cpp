@@ -221,6 +221,10 @@ void write_header(File& f, const SweepHeader& header, std::size_t n_paths) {
   if (!header.cell_basis_note.empty()) f.write_attribute("/", "cell_basis_note", header.cell_basis_note);
   if (!header.longitudinal_points.empty()) write_longitudinal_points(f, header.longitudinal_points);
   if (!header.shear_points.empty()) write_shear_points(f, header.shear_points);
+  if (header.expansion.asked()) {
+    f.create_group("/expansion");
+    write_attributes(f, "/expansion", law::ply_expansion_fields, header.expansion);
+  }
   f.write_attribute("/", "qp_tolerance", header.qp_tolerance);
 }
 
@@ -291,6 +295,7 @@ SweepHeader read_sweep_header(const std::filesystem::path& file) {
   if (f.has_attribute("/", "cell_basis_note")) header.cell_basis_note = f.read_string_attribute("/", "cell_basis_note");
   if (f.exists("/longitudinal_check")) header.longitudinal_points = read_longitudinal_points(f);
   if (f.exists("/shear_check")) header.shear_points = read_shear_points(f);
+  if (f.exists("/expansion")) read_attributes(f, "/expansion", law::ply_expansion_fields, header.expansion);
   if (f.has_attribute("/", "qp_tolerance")) header.qp_tolerance = f.read_double_attribute_value("/", "qp_tolerance");
   return header;
 }

@@ -176,6 +176,14 @@ void print_fit_summary(const std::filesystem::path& sweep_file, const std::files
                               : (fit->symmetric_positive_definite ? "SPD" : "NOT positive definite"));
     for (int i = 0; i < 3; ++i) std::printf("    %14.6e %14.6e %14.6e\n", fit->S(i, 0), fit->S(i, 1), fit->S(i, 2));
   }
+  const law::PlyExpansion& a = law.ply.expansion;
+  if (a.ok)
+    std::printf(
+        "  bonded ply's thermal expansion per K (axis 1 the fibres; /law/expansion): alpha1 %.5g  alpha2 %.5g  "
+        "alpha3 %.5g  alpha23 %.3g\n",
+        a.alpha1, a.alpha2, a.alpha3, a.alpha23);
+  else if (!a.note.empty())
+    std::printf("  bonded ply's thermal expansion: none (%s)\n", a.note.c_str());
   if (!std::isnan(law.cone_rank_one_ratio))
     std::printf("  cone-wise linear (Curnier-He-Zysset): rank-one ratio %.3f -> %s\n", law.cone_rank_one_ratio,
                 law.cone_wise_linear ? "yes" : "no (the stiffness jump is not rank-one)");

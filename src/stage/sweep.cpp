@@ -172,6 +172,7 @@ SweepSummary run_sweep(const SweepOptions& options) {
     if (header.cell && header.cell->longitudinal == 1)
       header.longitudinal_points = sweep::longitudinal_points(solver, scene, specs, header.onset);
     if (header.cell && header.cell->shear == 2) header.shear_points = sweep::shear_points(in.mesh, scene);
+    header.expansion = solver.bonded_expansion();
     if (needs_basis(scene, header, options))
       sweep::build_basis(solver, scene, header, options.progress && par::rank() == 0);
   }

@@ -118,6 +118,8 @@ struct SweepHeader {
   std::vector<LongitudinalPoint> longitudinal_points;
   // Where it carries the shears along the fibres: its checks against the one-body solve.
   std::vector<ShearPoint> shear_points;
+  // The bonded cell's thermal expansion, where both phases have theirs (/expansion).
+  law::PlyExpansion expansion;
   double qp_tolerance = std::numeric_limits<double>::quiet_NaN();  // [solver] tolerance of the paths' QPs
 };
 

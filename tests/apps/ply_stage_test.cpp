@@ -11,6 +11,7 @@
 #include <iterator>
 
 #include "core/exit_codes.hpp"
+#include "core/text.hpp"
 #include "io/hdf5.hpp"
 #include "io/law_export.hpp"
 #include "io/law_file.hpp"
@@ -27,6 +28,59 @@ using testing::q;
 using testing::read_csv;
 using testing::run_command;
 using testing::StagesRun;
+
+// A ply whose phases have their expansion (docs/theory/model.md §1a): the sweep computes the
+// bonded ply's α (two full solves, checked against Levin's relation in tests/feti/thermal_test.cpp),
+// sweep.h5 keeps it, the fit carries it to law.h5 and its summary, and the export to the JSON and
+// to the bonded ply's card as *EXPANSION, TYPE=ORTHO. Glass-like in epoxy-like: α1 lies between
+// the phases' and near the fibre's (the fibres carry the axial stiffness), α2 = α3 near the
+// matrix's (the square cell is symmetric: α23 round-off).
+TEST(PlyStage, TheBondedPlysExpansionGoesFromTheSweepToTheCards) {
+  testing::ScratchDir dir;
+  std::string text = testing::scene_text(
+      1, 1, 2, 0.35,
+      "[interface]\nnormal_strength = 1e6\ntangential_strength = 1e6\n[load]\nboundary = \"periodic\"\nmacro = "
+      "\"full\"\n[sweep]\ndirections_deg = [0, 45, 90]\nmagnitudes = [-0.02, 0.02]\n");
+  text.replace(text.find("nu = 0.2\n"), 9, "nu = 0.2\nalpha = 5e-6\n");
+  text.replace(text.find("nu = 0.35\n"), 10, "nu = 0.35\nalpha = 6e-5\n");
+  const auto scene = dir.write("s.toml", text);
+  const std::string cfg = " --quiet --config " + q(scene);
+  ASSERT_EQ(run_command(bin("dualcell-mesh") + cfg + " --out " + q(dir / "mesh.h5")).exit_code, exit_ok);
+  const auto sweep =
+      run_command(bin("dualcell-sweep") + cfg + " --mesh " + q(dir / "mesh.h5") + " --out " + q(dir / "sweep.h5"));
+  ASSERT_EQ(sweep.exit_code, exit_ok) << sweep.output;
+  const auto fit = run_command(bin("dualcell-fit") + " --no-small-cell --sweep " + q(dir / "sweep.h5") + " --out " +
+                               q(dir / "law.h5"));
+  ASSERT_EQ(fit.exit_code, exit_ok) << fit.output;
+  EXPECT_NE(fit.output.find("bonded ply's thermal expansion per K (axis 1 the fibres; /law/expansion): alpha1 "),
+            std::string::npos)
+      << fit.output;
+  const law::PlyExpansion swept = io::read_sweep_header(dir / "sweep.h5").expansion;
+  const law::PlyExpansion a = io::read_law(dir / "law.h5").ply.expansion;
+  ASSERT_TRUE(swept.ok) << swept.note;
+  EXPECT_EQ(a.alpha1, swept.alpha1);
+  EXPECT_EQ(a.alpha2, swept.alpha2);
+  EXPECT_EQ(a.alpha3, swept.alpha3);
+  EXPECT_EQ(a.alpha23, swept.alpha23);
+  EXPECT_GT(a.alpha1, 5e-6);
+  EXPECT_LT(a.alpha1, 0.25 * 6e-5);
+  EXPECT_GT(a.alpha2, 0.5 * 6e-5);
+  // The square cell's symmetry, to the sweep's dual tolerance (1e-8, the scene's default) with
+  // cond(PFP)'s margin: measured 1.7e-9 and 7e-9 of α2.
+  EXPECT_NEAR(a.alpha3, a.alpha2, 1e-7 * a.alpha2);
+  EXPECT_LE(std::abs(a.alpha23), 1e-7 * a.alpha2);
+  const law::Law fitted = io::read_law(dir / "law.h5");
+  EXPECT_NE(io::law_json(fitted).find("\"expansion\": {"), std::string::npos);
+  const std::string cards = io::law_calculix(fitted, "GLASS", "law.h5");
+  EXPECT_NE(cards.find("*EXPANSION, TYPE=ORTHO\n" + formatted("%.12e", a.alpha1) + ", " + formatted("%.12e", a.alpha2)),
+            std::string::npos)
+      << cards;
+  // Once per bonded card (tension and compression), on no other.
+  std::size_t count = 0;
+  for (std::size_t at = cards.find("*EXPANSION"); at != std::string::npos; at = cards.find("*EXPANSION", at + 1))
+    ++count;
+  EXPECT_EQ(count, 2u);
+}
 
 // The whole ply (dualcell-law --full): rows of six strains, the six stresses and the 6 × 6
 // tangent. Bonded and sheared along the fibres a little, C55, C56, C66 are the cell's longitudinal
