@@ -61,6 +61,32 @@ double largest_stress(const mesh::Mesh& m, const Scene& scene, const Solution& s
       {e.centroid.cwiseAbs().maxCoeff(), e.average.cwiseAbs().maxCoeff(), e.zz_average.cwiseAbs().maxCoeff()});
 }
 
+// Levin's relation in generalised plane strain's four components (εxx, εyy, γxy, ε33): the
+// effective thermal stress per kelvin of two bonded phases of any geometry from the effective
+// stiffness C*, β* = ⟨β⟩ + (C* − ⟨C⟩)(C_f − C_m)⁻¹(β_f − β_m), each phase's C and β from
+// fem::phase_stiffness; vf the fibres' area fraction. Also ⟨β⟩, what it corrects.
+struct Levin {
+  Eigen::Vector4d beta, beta_mean;
+};
+Levin levin_beta(const Eigen::Matrix4d& C_eff, const Scene& scene, double vf) {
+  const auto phase = [](const Material& material, Eigen::Matrix4d& C, Eigen::Vector4d& beta) {
+    const fem::PhaseStiffness P = fem::phase_stiffness(material);
+    C.setZero();
+    C.topLeftCorner<3, 3>() = P.D;
+    C(0, 3) = C(3, 0) = C(1, 3) = C(3, 1) = P.C13;
+    C(3, 3) = P.C33;
+    beta << P.beta, P.beta, 0, P.beta33;
+  };
+  Eigen::Matrix4d C_f, C_m;
+  Eigen::Vector4d beta_f, beta_m;
+  phase(scene.fibre, C_f, beta_f);
+  phase(scene.matrix, C_m, beta_m);
+  Levin out;
+  out.beta_mean = vf * beta_f + (1 - vf) * beta_m;
+  out.beta = out.beta_mean + (C_eff - (vf * C_f + (1 - vf) * C_m)) * (C_f - C_m).fullPivLu().solve(beta_f - beta_m);
+  return out;
+}
+
 // Both phases with the same expansion (α_T across, α_L along, whatever their stiffness), and a
 // homogeneous cell (fibre = matrix, transversely isotropic with α_T ≠ α_L): held at ε33 = α_L ΔT
 // and zero macro stress, the strain α_T ΔT (1, 1, 0) is compatible and stress-free, so the solve
@@ -165,27 +191,12 @@ TEST(Thermal, LevinsRelationHoldsOnAnyGeometry) {
     Vector4 beta_eff;
     beta_eff.head<3>() = Ainv * t;
     beta_eff(3) = b.dot(Ainv * t) - t33;
-    // The phases' C and β in the same four components.
-    const auto phase = [](const Material& material, Matrix4& C, Vector4& beta) {
-      const fem::PhaseStiffness P = fem::phase_stiffness(material);
-      C.setZero();
-      C.topLeftCorner<3, 3>() = P.D;
-      C(0, 3) = C(3, 0) = C(1, 3) = C(3, 1) = P.C13;
-      C(3, 3) = P.C33;
-      beta << P.beta, P.beta, 0, P.beta33;
-    };
-    Matrix4 C_f, C_m;
-    Vector4 beta_f, beta_m;
-    phase(scene.fibre, C_f, beta_f);
-    phase(scene.matrix, C_m, beta_m);
-    const double vf = testing::fibre_fraction(m);
-    const Matrix4 C_mean = vf * C_f + (1 - vf) * C_m;
-    const Vector4 beta_mean = vf * beta_f + (1 - vf) * beta_m;
-    const Vector4 levin = beta_mean + (C_eff - C_mean) * (C_f - C_m).fullPivLu().solve(beta_f - beta_m);
-    EXPECT_LE((beta_eff - levin).norm(), 1e-7 * beta_eff.norm())
-        << "offset " << offset.transpose() << "\nsolved " << beta_eff.transpose() << "\nLevin  " << levin.transpose();
+    const Levin levin = levin_beta(C_eff, scene, testing::fibre_fraction(m));
+    EXPECT_LE((beta_eff - levin.beta).norm(), 1e-7 * beta_eff.norm())
+        << "offset " << offset.transpose() << "\nsolved " << beta_eff.transpose() << "\nLevin  "
+        << levin.beta.transpose();
     // And not the mean: the relation's correction is what is checked.
-    EXPECT_GT((beta_eff - beta_mean).norm(), 1e-3 * beta_eff.norm());
+    EXPECT_GT((beta_eff - levin.beta_mean).norm(), 1e-3 * beta_eff.norm());
   }
 }
 
@@ -268,22 +279,7 @@ TEST(Thermal, TheBondedPlysExpansionIsLevinsOfItsExactLaw) {
   const law::CellResponse r = evaluator.at(MacroState::ply_strain(e), h, law::BondMode::lifted);
   ASSERT_TRUE(r.ok) << r.message;
   const Eigen::Matrix4d C_eff = law::ply_tangent(r).topLeftCorner<4, 4>();
-  const auto phase = [](const Material& material, Eigen::Matrix4d& C, Eigen::Vector4d& beta) {
-    const fem::PhaseStiffness P = fem::phase_stiffness(material);
-    C.setZero();
-    C.topLeftCorner<3, 3>() = P.D;
-    C(0, 3) = C(3, 0) = C(1, 3) = C(3, 1) = P.C13;
-    C(3, 3) = P.C33;
-    beta << P.beta, P.beta, 0, P.beta33;
-  };
-  Eigen::Matrix4d C_f, C_m;
-  Eigen::Vector4d beta_f, beta_m;
-  phase(s.fibre, C_f, beta_f);
-  phase(s.matrix, C_m, beta_m);
-  const double vf = testing::fibre_fraction(m);
-  const Eigen::Vector4d beta_eff =
-      vf * beta_f + (1 - vf) * beta_m +
-      (C_eff - (vf * C_f + (1 - vf) * C_m)) * (C_f - C_m).fullPivLu().solve(beta_f - beta_m);
+  const Eigen::Vector4d beta_eff = levin_beta(C_eff, s, testing::fibre_fraction(m)).beta;
   const Eigen::Vector4d levin = C_eff.fullPivLu().solve(beta_eff);
   const Eigen::Vector4d solved(alpha.alpha2, alpha.alpha3, alpha.alpha23, alpha.alpha1);
   EXPECT_LE((solved - levin).norm(), 1e-7 * levin.norm())
