@@ -34,6 +34,10 @@ int main(int argc, char** argv) {
   app.add_flag("--longitudinal-shear", options.longitudinal_shear,
                "also the cell's longitudinal shear moduli Gxz, Gyz with the bonds this load left (periodic "
                "boundary; docs/method.md §3b)");
+  app.add_flag("--onset", options.onset,
+               "also the debond onset along this stress: the factor s at which the first bond of the intact "
+               "interface reaches its strength under s*stress, from the cool-down where the scene has delta_T "
+               "(docs/method.md §1a, §11; a scene with adhesion, without --eps33)");
   app.add_option("--out", options.out, "output HDF5 file; the XDMF file is written beside it")->required();
   app.add_option("--bonds", options.bonds_file,
                  "solution.h5 whose /interface/bonded is the bond state before this load (default: intact)");

@@ -121,6 +121,12 @@ SolveOutcome run_solve(const SolveOptions& options) {
     if (options.longitudinal_shear && scene.load.boundary != Boundary::periodic)
       throw InputError("--longitudinal-shear: " + scene.file.string() + " has boundary = \"" +
                        to_string(scene.load.boundary) + "\"; the longitudinal shear of a cell needs \"periodic\"");
+    if (options.onset && (edges || !scene.interface.has_adhesion() || options.eps33 != 0))
+      throw InputError(std::string("--onset: ") +
+                       (edges ? "boundary = \"edges\" prints its first break by itself"
+                        : options.eps33 != 0
+                            ? "not with --eps33 (the onset is along a stress, with the scene's delta_T held)"
+                            : scene.file.string() + " has no adhesion: nothing to break"));
     if (edges) feti::check_positions(loaded->mesh, scene.load.edge_loads);
     if (!edges) sigma = parse_stress(options.stress_text);
     check_load_strain(scene, sigma.lpNorm<Eigen::Infinity>(), "--stress " + options.stress_text);
@@ -167,6 +173,7 @@ SolveOutcome run_solve(const SolveOptions& options) {
         MacroState::stress(sigma).hold(MacroState::zz, options.eps33).hold(MacroState::dT, delta_T), bonds);
     work.add_qp(outcome.solution.seconds);
   }
+  if (options.onset) outcome.onset = solver.debond_onset(sigma);
   outcome.ranks = io::unpack_rank_table(solver.setup().group().gather(io::pack(rank_entry(solver, work))));
   std::optional<primal::LongitudinalShear> shear;
   if (options.longitudinal_shear && par::rank() == 0) {
@@ -228,6 +235,9 @@ void print_solve_summary(const SolveOptions& options, const SolveOutcome& outcom
   if (outcome.cool_down_broken)
     std::printf("  cool-down     delta_T %g K at zero macro stress, solved first: %ld bonds broken by it\n", s.delta_T,
                 *outcome.cool_down_broken);
+  if (outcome.onset)
+    std::printf("  debond onset  s* = %.9g along this stress (first break of the intact interface at s* x stress%s)\n",
+                *outcome.onset, s.delta_T != 0 ? ", from the cool-down" : "");
   if (scene.interface.has_adhesion())
     std::printf("  bonds: %ld debond rounds, %ld broken now, %ld broken in all of %zu\n", s.debond_rounds,
                 s.newly_broken, broken, s.bonds.size());

@@ -19,6 +19,7 @@ struct SolveOptions {
   std::string bonds_file;           // a solution.h5 whose bond state is the start; empty: intact
   double eps33 = 0;                 // longitudinal strain ε33 (generalised plane strain); 0: plane strain
   bool longitudinal_shear = false;  // also the cell's longitudinal shear moduli in the solution's bond state
+  bool onset = false;               // also the debond onset factor along the stress (feti::debond_onset)
   int threads = 0;
   bool progress = true;  // phases, QP iterations and load steps on stderr (rank 0); --quiet: none
 };
@@ -34,6 +35,8 @@ struct SolveOutcome {
   // With the scene's temperature change ΔT: the cool-down (ΔT alone, σ̄ = 0) is solved first, with
   // contact and bonds, and the load starts from its bond state; the pairs it broke.
   std::optional<long> cool_down_broken;
+  // With SolveOptions::onset: s* along the stress, from the intact interface (and the cool-down).
+  std::optional<double> onset;
   std::optional<io::LoadSteps> steps;  // boundary = "edges" only
   io::RankTable ranks;                 // one entry per rank that shared the solve
   bool written = false;                // this rank wrote the output (rank 0)

@@ -167,8 +167,17 @@ TEST(SolveStage, ATemperatureChangeIsSolvedFirstThenTheLoad) {
             0);
   const std::string cfg = " --config " + p.scene.string() + " --mesh " + p.mesh.string();
   const auto out = p.dir / "solution.h5";
-  const auto r = run_command(bin("dualcell-solve") + cfg + " --stress 0.001,0,0 --out " + out.string());
+  const auto r = run_command(bin("dualcell-solve") + cfg + " --stress 0.001,0,0 --onset --out " + out.string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
+  // The cool-down broke bonds already: the onset along any stress from it is 0.
+  EXPECT_NE(r.output.find("debond onset  s* = 0 along this stress (first break of the intact interface at s* x "
+                          "stress, from the cool-down)"),
+            std::string::npos)
+      << r.output;
+  const auto with_eps33 = run_command(bin("dualcell-solve") + cfg + " --stress 0.001,0,0 --eps33 1e-3 --onset --out " +
+                                      (p.dir / "e.h5").string());
+  EXPECT_EQ(with_eps33.exit_code, exit_input_error) << with_eps33.output;
+  EXPECT_NE(with_eps33.output.find("--onset: not with --eps33"), std::string::npos) << with_eps33.output;
   const auto at = r.output.find("cool-down     delta_T -100 K at zero macro stress, solved first: ");
   ASSERT_NE(at, std::string::npos) << r.output;
   EXPECT_GT(std::stol(r.output.substr(r.output.find(':', at + 20) + 2)), 0) << r.output;
