@@ -225,6 +225,7 @@ void write_header(File& f, const SweepHeader& header, std::size_t n_paths) {
     f.create_group("/expansion");
     write_attributes(f, "/expansion", law::ply_expansion_fields, header.expansion);
   }
+  if (header.delta_T != 0) f.write_attribute("/", "delta_T", header.delta_T);
   f.write_attribute("/", "qp_tolerance", header.qp_tolerance);
 }
 
@@ -296,6 +297,7 @@ SweepHeader read_sweep_header(const std::filesystem::path& file) {
   if (f.exists("/longitudinal_check")) header.longitudinal_points = read_longitudinal_points(f);
   if (f.exists("/shear_check")) header.shear_points = read_shear_points(f);
   if (f.exists("/expansion")) read_attributes(f, "/expansion", law::ply_expansion_fields, header.expansion);
+  if (f.has_attribute("/", "delta_T")) header.delta_T = f.read_double_attribute_value("/", "delta_T");
   if (f.has_attribute("/", "qp_tolerance")) header.qp_tolerance = f.read_double_attribute_value("/", "qp_tolerance");
   return header;
 }

@@ -24,6 +24,11 @@ law::Law run_fit(const std::filesystem::path& sweep_file, const std::filesystem:
                  const fit::FitOptions& options, bool progress) {
   io::check_outputs({out}, {sweep_file});
   const io::SweepHeader header = io::read_sweep_header(sweep_file);
+  if (header.delta_T != 0)
+    throw InputError(sweep_file.string() + ": delta_T = " + shortest(header.delta_T) +
+                     ": the fit does not carry a temperature change yet (its secants would take the cool-down's "
+                     "strain for a load's); the paths, their onsets from the cool-down and the cool-down's breaks are "
+                     "in the file");
   const std::vector<sweep::PathResult> paths = io::read_sweep(sweep_file);
   law::Law law = [&] {
     Progress line("dualcell-fit", progress);

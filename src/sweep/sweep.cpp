@@ -115,7 +115,9 @@ std::vector<PathSpec> plan_paths(const Scene& scene) {
   for (double m : scene.sweep.magnitudes) sphere_loads.push_back(std::abs(m));
   std::sort(sphere_loads.begin(), sphere_loads.end());
   sphere_loads.erase(std::unique(sphere_loads.begin(), sphere_loads.end()), sphere_loads.end());
-  if (!scene.interface.has_adhesion() && !sphere_loads.empty()) sphere_loads = {sphere_loads.back()};
+  // (Positively homogeneous only without a temperature change: ΔT is a fixed part of every load.)
+  if (!scene.interface.has_adhesion() && scene.load.delta_T == 0 && !sphere_loads.empty())
+    sphere_loads = {sphere_loads.back()};
   for (const Eigen::Vector3d& unit : sphere_directions(scene.sweep.sphere)) {
     PathSpec spec;
     spec.index = static_cast<int>(paths.size());
@@ -145,6 +147,9 @@ std::vector<PathSpec> plan_paths(const Scene& scene) {
         spec.state.hold_shear(Eigen::Vector2d(gamma[0], gamma[1]));
         paths.push_back(spec);
       }
+  // Every path holds the scene's temperature change: the cool-down is where each starts.
+  if (scene.load.delta_T != 0)
+    for (PathSpec& spec : paths) spec.state.hold(MacroState::dT, scene.load.delta_T);
   return paths;
 }
 
@@ -169,7 +174,8 @@ PathResult run_path(feti::ContactSolver& solver, const PathSpec& spec, double fu
   std::vector<int> critical;  // the bonds at their strength at the onset
   if (adhesion && spec.in_plane()) {
     onset = spec.sign * solver.debond_onset(spec.sign * spec.state.in_plane(), &critical);
-    if (std::isfinite(onset) && std::abs(onset) <= std::abs(loads.back()) &&
+    // (0: the cool-down broke bonds by itself, before any load.)
+    if (std::isfinite(onset) && onset != 0 && std::abs(onset) <= std::abs(loads.back()) &&
         std::find(loads.begin(), loads.end(), onset) == loads.end()) {
       loads.push_back(onset);
       std::sort(loads.begin(), loads.end(), [](double a, double b) { return std::abs(a) < std::abs(b); });
@@ -189,9 +195,9 @@ PathResult run_path(feti::ContactSolver& solver, const PathSpec& spec, double fu
   // max_events_per_step brackets per scheduled load; a progressive debonding beyond that is
   // recorded at the scheduled loads only).
   constexpr int max_events_per_step = 20;
-  if (!spec.state.gamma().isZero(0)) {
-    // The shear alone first: the bonds it breaks by itself are broken before any in-plane load,
-    // as a bisection from load 0 could not bracket.
+  if (!spec.state.gamma().isZero(0) || spec.state.delta_T() != 0) {
+    // The shear alone, or the cure's cool-down, first: the bonds it breaks by itself are broken
+    // before any in-plane load, as a bisection from load 0 could not bracket.
     const auto t0 = Clock::now();
     feti::Solution s = walk.solve(0.0);
     record(0.0, s, seconds_since(t0));

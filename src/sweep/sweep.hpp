@@ -35,12 +35,15 @@ struct PathSpec {
   int sign = 1;              // +1 tension, −1 compression
   // The path's macro state at load factor 1 (core/macro_state.hpp): its in-plane stress N
   // (σxx, σyy, σxy), unit Frobenius norm, and what it holds along the fibres, the strain ε33
-  // ([sweep] eps33) or the shears Γ ([sweep] gamma). At load s the state is state.at_factor(s):
-  // σ̄ = s·N with the held part unchanged.
+  // ([sweep] eps33) or the shears Γ ([sweep] gamma), and the scene's temperature change ΔT
+  // ([load] delta_T, every path). At load s the state is state.at_factor(s): σ̄ = s·N with the held
+  // part unchanged.
   MacroState state;
   std::vector<double> loads;  // signed loads s, |s| increasing
   bool sphere = false;        // one of [sweep] sphere's directions (sign +1, direction_deg NaN)
-  bool in_plane() const { return !state.beyond_plane(); }
+  // Nothing held along the fibres (ε33, Γ); the scene's ΔT, which every path holds, does not count
+  // (the onset from the cool-down is affine, feti::ContactSolver::debond_onset).
+  bool in_plane() const { return (state.nonzero() & (MacroState::along_mask | MacroState::shear_mask)) == 0; }
 };
 
 // The N directions of [sweep] sphere: a Fibonacci point set on the unit sphere of
@@ -120,6 +123,8 @@ struct SweepHeader {
   std::vector<ShearPoint> shear_points;
   // The bonded cell's thermal expansion, where both phases have theirs (/expansion).
   law::PlyExpansion expansion;
+  // The scene's temperature change, held along every path (root attribute delta_T where ≠ 0).
+  double delta_T = 0;
   double qp_tolerance = std::numeric_limits<double>::quiet_NaN();  // [solver] tolerance of the paths' QPs
 };
 

@@ -150,8 +150,9 @@ TEST(SolveStage, ALongitudinalStrainWritesTheLongitudinalStress) {
 // A scene with a temperature change (docs/theory/model.md §1a): dualcell-solve cools it first at
 // zero macro stress and says how many bonds that broke (here the matrix, expanding ten times
 // more than the fibre, shrinks onto it: a square cell's rim carries shear, which breaks the
-// weakest tangential bonds), then loads it from there; the file holds ΔT and σzz. A tie of the
-// same cell with ΔT = 0 is the plane-strain file it always was; the sweep refuses ΔT in one line.
+// weakest tangential bonds), then loads it from there; the file holds ΔT and σzz. The sweep
+// starts every path from the cool-down and records ΔT; the fit, which does not carry it yet,
+// refuses that sweep in one line and writes nothing.
 TEST(SolveStage, ATemperatureChangeIsSolvedFirstThenTheLoad) {
   Prepared p;
   const std::string thermal =
@@ -186,13 +187,15 @@ TEST(SolveStage, ATemperatureChangeIsSolvedFirstThenTheLoad) {
   EXPECT_FALSE(f.exists("/macro/eps33"));
   // Plane strain along z: the matrix, held at ε33 = 0 while it would shrink most, pulls along z.
   EXPECT_GT(f.read_doubles("/macro/average_stress_zz", {1})[0], 0);
-  const auto sweep = run_command(bin("dualcell-sweep") + cfg + " --out " + (p.dir / "sweep.h5").string());
-  EXPECT_EQ(sweep.exit_code, exit_input_error) << sweep.output;
-  EXPECT_NE(
-      sweep.output.find("[load] delta_T = -100: the sweep and its exact law do not carry a temperature change yet"),
-      std::string::npos)
-      << sweep.output;
-  EXPECT_FALSE(std::filesystem::exists(p.dir / "sweep.h5"));
+  const auto sweep = run_command(bin("dualcell-sweep") + cfg + " --quiet --out " + (p.dir / "sweep.h5").string());
+  ASSERT_EQ(sweep.exit_code, 0) << sweep.output;
+  EXPECT_EQ(io::File::open_read(p.dir / "sweep.h5").read_double_attribute_value("/", "delta_T"), -100);
+  const auto fit = run_command(bin("dualcell-fit") + " --sweep " + (p.dir / "sweep.h5").string() + " --out " +
+                               (p.dir / "law.h5").string());
+  EXPECT_EQ(fit.exit_code, exit_input_error) << fit.output;
+  EXPECT_NE(fit.output.find("delta_T = -100: the fit does not carry a temperature change yet"), std::string::npos)
+      << fit.output;
+  EXPECT_FALSE(std::filesystem::exists(p.dir / "law.h5"));
 }
 
 // A load is an ordinary load however small, and one whose answer cannot be finite in doubles is

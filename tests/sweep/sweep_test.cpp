@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "core/error.hpp"
+#include "feti/solver.hpp"
 #include "test_util.hpp"
 
 namespace dualcell::sweep {
@@ -183,6 +184,66 @@ TEST_P(SweepOrders, AdhesionBondedBelowOnsetThenAFuse) {
       << "before " << f.strain_before(0) << " after " << f.strain_after(0);
   // Loads along the path never decrease (history is monotone).
   for (std::size_t i = 1; i < r.steps.size(); ++i) EXPECT_GE(r.steps[i].load, r.steps[i - 1].load);
+}
+
+}  // namespace
+}  // namespace dualcell::sweep
+
+namespace dualcell::sweep {
+namespace {
+
+// A scene with the cure's temperature change (docs/theory/model.md §1a): every path holds ΔT and
+// starts with the cool-down (its first step, at load 0: the strain of the cool-down solved alone,
+// bit for bit), its onset is the affine one from the cool-down (feti::ContactSolver::debond_onset,
+// exact there: tests/feti/thermal_test.cpp) and inserted as a step, and the path is bonded below
+// it: every step's strain minus the cool-down's is the bonded compliance times the load, to the
+// solver's 1e-9 amplified (asked 1e-7).
+TEST(SweepThermal, EveryPathStartsFromTheCoolDownAndBreaksAtTheAffineOnset) {
+  Scene scene = parse_scene(testing::scene_text(1, 1, 2, 0.3), "test.toml");
+  scene.fibre = {20.0, 0.25};
+  scene.matrix = {3.5, 0.35};
+  scene.fibre.expands = scene.matrix.expands = true;
+  scene.fibre.alpha = scene.fibre.alpha_L = 6e-6;
+  scene.matrix.alpha = scene.matrix.alpha_L = 6e-5;
+  scene.load.boundary = Boundary::periodic;
+  scene.load.delta_T = -20;
+  scene.interface = {0.02, 0.05};
+  scene.sweep.directions_deg = {0, 90};
+  scene.sweep.magnitudes = {-0.2, -0.05, 0.05, 0.2};
+  scene.solver.tolerance = 1e-9;
+  validate(scene);
+  const mesh::Mesh m = mesh::build_mesh(scene.geometry);
+  feti::ContactSolver solver(m, scene);
+  const feti::Solution cool =
+      solver.solve(MacroState::stress(Eigen::Vector3d::Zero()).hold(MacroState::dT, -20), solver.intact());
+  ASSERT_TRUE(cool.converged());
+  ASSERT_EQ(cool.newly_broken, 0) << "this cool-down breaks nothing";
+  Scene bonded = scene;
+  bonded.interface = {1e12, 1e12};
+  feti::ContactSolver bonded_solver(m, bonded);
+  int fuses = 0;
+  for (const PathSpec& spec : plan_paths(scene)) {
+    EXPECT_EQ(spec.state.delta_T(), -20);
+    EXPECT_TRUE(spec.in_plane()) << "the held ΔT is every path's, not a component along the fibres";
+    const PathResult r = run_path(solver, spec, scene.sweep.fuse_tolerance);
+    ASSERT_FALSE(r.steps.empty());
+    EXPECT_EQ(r.steps[0].load, 0);
+    EXPECT_EQ(r.steps[0].strain, cool.strain) << "the cool-down, bit for bit";
+    const double onset = spec.sign * solver.debond_onset(spec.sign * spec.state.in_plane());
+    ASSERT_TRUE(std::isfinite(onset) && onset != 0);
+    const Eigen::Vector3d compliance =
+        bonded_solver.solve_fixed(spec.state.in_plane(), bonded_solver.intact()).strain;  // per unit load
+    for (const Step& step : r.steps) {
+      if (step.broken_bonds > 0) continue;
+      const Eigen::Vector3d expected = cool.strain + step.load * compliance;
+      EXPECT_LE((step.strain - expected).norm(), 1e-7 * expected.norm()) << "load " << step.load;
+    }
+    if (r.fuse) {
+      ++fuses;
+      EXPECT_EQ(r.fuse->onset_load, onset);
+    }
+  }
+  EXPECT_GE(fuses, 1) << "the loads pass the onset on some path";
 }
 
 }  // namespace
