@@ -264,6 +264,14 @@ def build_scene_cases():
          "needs boundary = \"symmetry\""),
         ("body-force-with-adhesion", scene(tail="[interface]\nnormal_strength = 1\n[load]\nbody_force = [0, -1]\n"),
          "cannot be combined with adhesion"),
+        # Expansion per kelvin (a value in ppm is refused), and a temperature change only with it.
+        ("alpha-in-ppm", scene(fibre={"alpha": "5"}), "[fibre] alpha = 5: out of range"),
+        ("alpha-L-on-isotropic", scene(fibre={"alpha": "5e-6", "alpha_L": "1e-6"}),
+         "alpha_L: only for a transversely isotropic phase"),
+        ("delta-T-without-alpha", scene(tail="[load]\ndelta_T = -100\n"),
+         "a temperature change needs both phases' expansion"),
+        ("delta-T-huge", scene(fibre={"alpha": "5e-6"}, matrix={"alpha": "6e-5"}, tail="[load]\ndelta_T = 1e5\n"),
+         "delta_T = 1e5: out of range"),
     ]
     for name, content, substring in ranges:
         case("range-" + name, content, "input", substring, "out of range: " + name.replace("-", " "))
