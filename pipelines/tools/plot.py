@@ -19,6 +19,10 @@ usage:
   plot.py scaling MODEL.csv OUTBASE          one solve over MPI ranks, weak scaling (bench_mpi.py's
                                              model): seconds per solve by part and the efficiency,
                                              replicated lambda (dualcell) and partitioned (projected)
+  plot.py cure SWEEP.h5 OUTBASE --warm WARM.h5
+                                             the debond onset |s*| under uniaxial stress along θ
+                                             from the onset surfaces of a sweep without and with
+                                             the cure's temperature change, side by side
   plot.py last-stress SWEEP.h5               prints "sxx,syy,sxy" of the last step of path 000
 
 Writes OUTBASE.png and OUTBASE.svg, each to a temporary name first and renamed when complete.
@@ -83,6 +87,43 @@ def stress_strain(sweep, outbase):
               "set ylabel 'load s (macro stress σ̄ = s·N)'\nset grid\nset key outside right\nset xzeroaxis\nset yzeroaxis\n"
               "plot " + ", \\\n  ".join(plots) + "\n")
     gnuplot(script, outbase, data)
+
+
+def onset_surface_curve(facets, sign):
+    """|s*| of uniaxial stress sign·n⊗n along θ = 0 … 180° from an onset surface's facets
+    (s* = 1/max_k g_k·N), as data rows; NaN where no facet is reached."""
+    rows = []
+    for t in range(0, 181):
+        c, s_ = math.cos(math.radians(t)), math.sin(math.radians(t))
+        reach = max(sign * (g[0] * c * c + g[1] * s_ * s_ + g[2] * c * s_) for g in facets)
+        rows.append("{} {:.10g}\n".format(t, 1 / reach if reach > 0 else float("nan")))
+    return "".join(rows)
+
+
+def cure(sweep, outbase, warm):
+    """The onset surfaces of `warm` (no temperature change) and `sweep` (with the scene's
+    delta_T, from the cool-down) side by side, on the same axes."""
+    panels, data, top = [], {}, 0.0
+    for tag, path in (("warm", warm), ("cooled", sweep)):
+        with h5py.File(path, "r") as f:
+            if int(f["onset"].attrs["linear"]) != 1:
+                sys.exit(f"plot.py: {path}: no onset surface ({common.text(f['onset'].attrs.get('message', ''))})")
+            facets = f["onset/facets"][:]
+            delta_T = float(f.attrs["delta_T"]) if "delta_T" in f.attrs else 0.0
+        for sign, name in ((1, "t"), (-1, "c")):
+            text = onset_surface_curve(facets, sign)
+            data[f"{tag}_{name}.dat"] = text
+            top = max([top] + [float(r.split()[1]) for r in text.splitlines() if r.split()[1] != "nan"])
+        panels.append((tag, delta_T))
+    script = ("set multiplot layout 1,2 title 'Debond onset |s*| under uniaxial stress along θ' noenhanced\n"
+              "set grid\nset xrange [0:180]\nset xlabel 'θ (deg)'\nset ylabel '|s*|' noenhanced\n")
+    script += f"set yrange [0:{1.1 * top:.6g}]\nset key below vertical maxrows 2 font ',9'\n"
+    for tag, delta_T in panels:
+        title = "no temperature change" if delta_T == 0 else f"cured: ΔT = {delta_T:g} K, from the cool-down"
+        script += (f"set title '{title}' noenhanced\n"
+                   f"plot '{tag}_t.dat' using 1:2 with lines lw 2 lc rgb '#009060' title 'tension', \\\n"
+                   f"  '{tag}_c.dat' using 1:2 with lines lw 2 lc rgb '#8000c0' title 'compression'\n")
+    gnuplot(script + "unset multiplot\n", outbase, data)
 
 
 def polar(law, outbase):
@@ -161,12 +202,7 @@ def polar(law, outbase):
         plots = []
         if facets is not None:
             for name, sign in (("surface_t.dat", 1.0), ("surface_c.dat", -1.0)):
-                rows = []
-                for t in range(0, 181):
-                    c, s_ = math.cos(math.radians(t)), math.sin(math.radians(t))
-                    reach = max(sign * (g[0] * c * c + g[1] * s_ * s_ + g[2] * c * s_) for g in facets)
-                    rows.append("{} {:.10g}\n".format(t, 1 / reach if reach > 0 else float("nan")))
-                data[name] = "".join(rows)
+                data[name] = onset_surface_curve(facets, sign)
             plots += ["'surface_t.dat' using 1:2 with lines lw 1 dt 2 lc rgb '#009060' title 'onset surface, tension'",
                       "'surface_c.dat' using 1:2 with lines lw 1 dt 2 lc rgb '#8000c0' "
                       "title 'onset surface, compression'"]
@@ -370,7 +406,7 @@ def scaling(table, outbase):
 PICTURES = {"stress-strain": (stress_strain, "SWEEP.h5"), "polar": (polar, "LAW.h5"),
             "deformed": (deformed, "SOLUTION.h5"), "work-precision": (work_precision, "TABLE.csv"),
             "accuracy": (accuracy, "TABLE.csv"), "structure": (structure, "STRUCTURE.h5"),
-            "scaling": (scaling, "MODEL.csv")}
+            "scaling": (scaling, "MODEL.csv"), "cure": (cure, "SWEEP.h5")}
 
 
 def main(argv):
@@ -382,12 +418,17 @@ def main(argv):
         p.add_argument("outbase", metavar="OUTBASE")
         if kind == "deformed":
             p.add_argument("--mesh", metavar="MESH.h5", help="the mesh.h5 of the solution (fibres, rim pairs)")
+        if kind == "cure":
+            p.add_argument("--warm", metavar="WARM.h5", required=True,
+                           help="the sweep of the same cell without the temperature change")
     kinds.add_parser("last-stress").add_argument("source", metavar="SWEEP.h5")
     args = parser.parse_args(argv[1:])
     if args.kind == "last-stress":
         return last_stress(args.source)
     if args.kind == "deformed":
         return deformed(args.source, args.outbase, args.mesh)
+    if args.kind == "cure":
+        return cure(args.source, args.outbase, args.warm)
     PICTURES[args.kind][0](args.source, args.outbase)
 
 

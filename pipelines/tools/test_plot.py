@@ -5,12 +5,15 @@ default chain drawn from real stage outputs of a small cell, as PNG and SVG file
 The outputs come from the stages themselves (mesh, sweep, fit, solve), so a change of a file
 layout that plot.py reads fails here, not in a pipeline run hours later.
 """
+import csv
 import os
 import subprocess
 import sys
 import tempfile
 import unittest
 import xml.etree.ElementTree as ElementTree
+
+import h5py
 
 import plot
 
@@ -103,6 +106,36 @@ class Pictures(unittest.TestCase):
         svg = open(debonded + ".svg").read()
         self.assertIn("broken bond", svg)
         self.assertIn("open gap", svg)
+
+    def test_cure_tool_compares_the_onsets_of_its_two_sweeps(self):
+        # cure_onset.py on a cell with adhesion and a cool-down: its table's onsets are the two
+        # sweeps' own (fuse/onset_load), the cool-down's sweep records delta_T, and the picture opens.
+        d = os.path.join(self.tmp.name, "cure")
+        os.makedirs(d)
+        scene = os.path.join(d, "cure.toml")
+        with open(scene, "w") as f:
+            f.write(SCENE.replace("nu = 0.2\n", "nu = 0.2\nalpha = 5e-6\n", 1)
+                    .replace("nu = 0.3\n", "nu = 0.3\nalpha = 6e-5\n", 1)
+                    .replace("[interface]\nnormal_strength = 0.05\n",
+                             "[interface]\nnormal_strength = 0.05\ntangential_strength = 0.05\n")
+                    .replace('boundary = "periodic"\n', 'boundary = "periodic"\ndelta_T = -50\n'))
+        here = os.path.dirname(os.path.abspath(__file__))
+        subprocess.run([sys.executable, os.path.join(here, "cure_onset.py"), BIN, scene, d], check=True,
+                       stdout=subprocess.DEVNULL)
+        self.assert_picture(os.path.join(d, "onset"))
+        with open(os.path.join(d, "table.csv")) as f:
+            rows = list(csv.DictReader(f))
+        self.assertEqual(len(rows), 10)
+        with h5py.File(os.path.join(d, "sweep-cooled.h5"), "r") as cooled, \
+                h5py.File(os.path.join(d, "sweep-warm.h5"), "r") as warm:
+            self.assertEqual(float(cooled.attrs["delta_T"]), -50)
+            self.assertNotIn("delta_T", warm.attrs)
+            for r in rows:
+                for kind, f in (("onset_cured", cooled), ("onset_warm", warm)):
+                    solved = float(f["paths"][r["path"]]["fuse/onset_load"][0])
+                    self.assertAlmostEqual(float(r[kind]) / solved, 1, delta=5e-4)  # printed to 4 digits
+            # The cure moves the onset: the uniaxial tension along x differs by more than 1 %.
+            self.assertGreater(abs(float(rows[0]["change_percent"])), 1)
 
 
 if __name__ == "__main__":
