@@ -53,6 +53,14 @@ SceneAndMesh load_inputs(const SweepOptions& options) {
                        ": boundary = \"edges\" is a structure of resolved cells, not a cell to sweep: solve its load "
                        "steps with dualcell-solve (a sweep needs boundary = \"symmetry\", \"traction\" or "
                        "\"periodic\")");
+    // Every path's onset from the cool-down is affine only where every interface row has a
+    // strength; shear-only adhesion keeps the normal rows contact rows (docs/theory/model.md §1a).
+    const Scene& scene = loaded->scene;
+    if (scene.load.delta_T != 0 && scene.interface.has_adhesion() && scene.interface.normal_strength == 0)
+      throw InputError(
+          scene.file.string() + ": [load] delta_T = " + shortest(scene.load.delta_T) +
+          " with adhesion in shear only ([interface] normal_strength = 0): the onset from the cool-down is "
+          "not affine there; give normal_strength too, or sweep without delta_T");
     if (par::rank() == 0) io::check_outputs({options.out}, inputs);
   } catch (const InputError& e) {
     problem = e.what();

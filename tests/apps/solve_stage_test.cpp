@@ -196,6 +196,16 @@ TEST(SolveStage, ATemperatureChangeIsSolvedFirstThenTheLoad) {
   EXPECT_NE(fit.output.find("delta_T = -100: the fit does not carry a temperature change yet"), std::string::npos)
       << fit.output;
   EXPECT_FALSE(std::filesystem::exists(p.dir / "law.h5"));
+  // Adhesion in shear only keeps the normal rows contact rows: no affine onset, refused before any path.
+  std::string shear_only = text;
+  shear_only.replace(shear_only.find("normal_strength = 0.05"), 22, "normal_strength = 0");
+  const auto shear_scene = p.dir.write("shear.toml", shear_only);
+  const auto refused = run_command(bin("dualcell-sweep") + " --config " + shear_scene.string() + " --mesh " +
+                                   p.mesh.string() + " --out " + (p.dir / "shear.h5").string());
+  EXPECT_EQ(refused.exit_code, exit_input_error) << refused.output;
+  EXPECT_NE(refused.output.find("with adhesion in shear only ([interface] normal_strength = 0)"), std::string::npos)
+      << refused.output;
+  EXPECT_FALSE(std::filesystem::exists(p.dir / "shear.h5"));
 }
 
 // A load is an ordinary load however small, and one whose answer cannot be finite in doubles is
