@@ -6,7 +6,8 @@ cool-down broke by itself; and the onset surfaces side by side (plot.py cure).
 
 usage: cure_onset.py BIN_DIR SCENE OUT_DIR
 
-Writes OUT_DIR/table.md (and table.csv), onset.png, onset.svg; the sweeps stay in OUT_DIR.
+Writes OUT_DIR/table.md (and table.csv), onset.png, onset.svg; the sweeps and the scene without the
+temperature change (scene-warm.toml) stay in OUT_DIR.
 """
 import math
 import os
@@ -47,21 +48,20 @@ def main(argv):
         text = f.read()
     if not re.search(r"^delta_T\s*=", text, re.M):
         sys.exit(f"cure_onset.py: {args.scene}: no [load] delta_T to compare against")
-    # The same scene without the temperature change, beside it (its relative paths still hold).
-    warm_scene = os.path.join(os.path.dirname(os.path.abspath(args.scene)), f".warm-{os.getpid()}.toml")
+    # The same scene without the temperature change, in OUT_DIR: a material file named relative to
+    # the scene is named by its absolute path there.
+    warm_scene = os.path.join(args.out_dir, "scene-warm.toml")
+    scene_dir = os.path.dirname(os.path.abspath(args.scene))
+    text_warm = re.sub(r'^(material\s*=\s*)"([^"]*)"',
+                       lambda m: m.group(1) + '"' + os.path.join(scene_dir, m.group(2)) + '"', text, flags=re.M)
     stage = lambda name: os.path.join(args.bin_dir, f"dualcell-{name}")  # noqa: E731
     mesh = os.path.join(args.out_dir, "mesh.h5")
     sweeps = {k: os.path.join(args.out_dir, f"sweep-{k}.h5") for k in ("cooled", "warm")}
-    try:
-        with open(warm_scene, "w") as f:
-            f.write(re.sub(r"^delta_T\s*=.*$", "delta_T = 0", text, flags=re.M))
-        common.run_stage([stage("mesh"), "--quiet", "--config", args.scene, "--out", mesh], mesh)
-        for kind, scene in (("cooled", args.scene), ("warm", warm_scene)):
-            common.run_stage([stage("sweep"), "--quiet", "--config", scene, "--mesh", mesh, "--out", sweeps[kind]],
-                             sweeps[kind])
-    finally:
-        if os.path.exists(warm_scene):
-            os.remove(warm_scene)
+    common.write_atomic(warm_scene, re.sub(r"^delta_T\s*=.*$", "delta_T = 0", text_warm, flags=re.M))
+    common.run_stage([stage("mesh"), "--quiet", "--config", args.scene, "--out", mesh], mesh)
+    for kind, scene in (("cooled", args.scene), ("warm", warm_scene)):
+        common.run_stage([stage("sweep"), "--quiet", "--config", scene, "--mesh", mesh, "--out", sweeps[kind]],
+                         sweeps[kind])
     delta_T, cooled = paths_of(sweeps["cooled"])
     _, warm = paths_of(sweeps["warm"])
     rows = []

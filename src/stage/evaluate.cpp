@@ -95,6 +95,34 @@ void append_row(std::string& out, const std::string* path, const RowValues& v,
   out.append(std::to_string(v.broken)).push_back('\n');
 }
 
+// Whether a row's answer is finite on the components that must be: the other quantity where
+// `finite` has the component, the tangent's entries where `finite_tangent` has both.
+bool answer_finite(const RowValues& row, const std::vector<MacroState::Component>& carried, MacroState::Mask finite,
+                   MacroState::Mask finite_tangent) {
+  for (const MacroState::Component a : carried) {
+    if (!(finite >> a & 1)) continue;
+    if (!std::isfinite(row.other(a))) return false;
+    for (const MacroState::Component b : carried)
+      if (finite_tangent >> a & 1 && finite_tangent >> b & 1 && !std::isfinite(row.tangent(a, b))) return false;
+  }
+  return true;
+}
+
+// "the law's answer at (…), eps33 …, gamma (…)": the row's state as a message names it.
+std::string not_finite(const MacroState& state) {
+  const Eigen::Vector3d v = state.in_plane();
+  std::string out = "the law's answer at (";
+  out.append(shortest(v(0))).append(", ").append(shortest(v(1))).append(", ").append(shortest(v(2))).append(")");
+  if (state.eps33() != 0) out.append(", eps33 ").append(shortest(state.eps33()));
+  if (!state.gamma().isZero(0))
+    out.append(", gamma (")
+        .append(shortest(state.gamma()(0)))
+        .append(", ")
+        .append(shortest(state.gamma()(1)))
+        .append(")");
+  return out;
+}
+
 // The histories of the paths held at once (one per path value seen): at most this many bytes.
 constexpr std::size_t max_history_bytes = std::size_t{1} << 30;
 // Output is appended in pieces of about this size, so it is never held whole.
@@ -207,22 +235,9 @@ LawPointsSummary evaluate_law(const LawPointsOptions& options) {
     }
     seconds += seconds_since(t0);
     // No NaN or Inf leaves with exit 0: an input this large overflows the law's answer.
-    bool finite = true;
-    for (const MacroState::Component a : carried) {
-      if (!(finite_mask >> a & 1)) continue;
-      finite = finite && std::isfinite(row.other(a));
-      for (const MacroState::Component b : carried)
-        if (finite_tangent_mask >> a & 1 && finite_tangent_mask >> b & 1)
-          finite = finite && std::isfinite(row.tangent(a, b));
-    }
-    if (!finite)
-      throw InputError(
-          where() + "the law's answer at (" + shortest(v(0)) + ", " + shortest(v(1)) + ", " + shortest(v(2)) + ")" +
-          (point.state.eps33() != 0 ? ", eps33 " + shortest(point.state.eps33()) : "") +
-          (point.state.gamma().isZero(0)
-               ? ""
-               : ", gamma (" + shortest(point.state.gamma()(0)) + ", " + shortest(point.state.gamma()(1)) + ")") +
-          " is not finite (the input is beyond what the law carries in doubles)");
+    if (!answer_finite(row, carried, finite_mask, finite_tangent_mask))
+      throw InputError(where() + not_finite(point.state) +
+                       " is not finite (the input is beyond what the law carries in doubles)");
     ++summary.rows;
     append_row(out, points.has_path() ? &point.path : nullptr, row, carried);
     if (out.size() >= output_piece) {

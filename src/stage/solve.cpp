@@ -74,6 +74,39 @@ feti::Solution solve_steps(feti::ContactSolver& solver, const Scene& scene, feti
   return s;
 }
 
+// The load of one solve into `outcome.solution` (or `outcome.steps`): with the scene's ΔT the
+// cool-down first at zero macro stress, from `bonds`, then the load from its bond state with ΔT
+// held (docs/theory/model.md §1a); `work` gets every solve's QP time.
+void solve_load(feti::ContactSolver& solver, const Scene& scene, const SolveOptions& options,
+                const Eigen::Vector3d& sigma, feti::BondState bonds, SolveOutcome& outcome, feti::Timings& work,
+                Progress& progress) {
+  const bool edges = scene.load.boundary == Boundary::edges;
+  const double delta_T = scene.load.delta_T;
+  if (delta_T != 0) {
+    // The cure's cool-down first, at zero macro stress (docs/theory/model.md §1a).
+    progress.message("cool-down, delta_T " + shortest(delta_T));
+    const feti::Solution cool =
+        solver.solve(MacroState::stress(Eigen::Vector3d::Zero()).hold(MacroState::dT, delta_T), bonds);
+    outcome.cool_down_broken = sweep::count_broken(bonds, cool.bonds);
+    work.add_qp(cool.seconds);
+    bonds = cool.bonds;
+    // A cool-down that did not converge is the answer, written and marked (exit 4), not a start.
+    if (!cool.converged()) {
+      outcome.solution = cool;
+      progress.message("the cool-down did not converge: no load applied");
+      return;
+    }
+  }
+  if (edges) {
+    outcome.steps.emplace();
+    outcome.solution = solve_steps(solver, scene, bonds, *outcome.steps, work, progress);
+  } else {
+    outcome.solution = solver.solve(
+        MacroState::stress(sigma).hold(MacroState::zz, options.eps33).hold(MacroState::dT, delta_T), bonds);
+    work.add_qp(outcome.solution.seconds);
+  }
+}
+
 // This rank's entry of the rank table; `t` holds the QP work of the whole run (every load step's).
 io::RankEntry rank_entry(const feti::ContactSolver& solver, const feti::Timings& t) {
   const feti::FetiSetup& setup = solver.setup();
@@ -141,38 +174,14 @@ SolveOutcome run_solve(const SolveOptions& options) {
   }
   par::agree_on_error(problem);
   SceneAndMesh& in = *loaded;
-  const bool edges = in.scene.load.boundary == Boundary::edges;
   // The phases and the QP's outer iterations on stderr while it works (rank 0 only).
   Progress progress("dualcell-solve", options.progress && par::rank() == 0);
   feti::ContactSolver solver(in.mesh, in.scene, options.threads, feti::FetiSetup::default_min_dofs_per_thread,
                              par::Group::world(), &progress);
-  feti::BondState bonds = bonds_read ? *bonds_read : solver.intact();
+  const feti::BondState bonds = bonds_read ? *bonds_read : solver.intact();
   SolveOutcome outcome;
   feti::Timings work;
-  const double delta_T = in.scene.load.delta_T;
-  bool cooled = true;
-  if (delta_T != 0) {
-    // The cure's cool-down first, at zero macro stress (docs/theory/model.md §1a).
-    progress.message("cool-down, delta_T " + shortest(delta_T));
-    const feti::Solution cool =
-        solver.solve(MacroState::stress(Eigen::Vector3d::Zero()).hold(MacroState::dT, delta_T), bonds);
-    outcome.cool_down_broken = sweep::count_broken(bonds, cool.bonds);
-    work.add_qp(cool.seconds);
-    bonds = cool.bonds;
-    // A cool-down that did not converge is the answer, written and marked (exit 4), not a start.
-    cooled = cool.converged();
-    if (!cooled) outcome.solution = cool;
-  }
-  if (!cooled) {
-    progress.message("the cool-down did not converge: no load applied");
-  } else if (edges) {
-    outcome.steps.emplace();
-    outcome.solution = solve_steps(solver, in.scene, bonds, *outcome.steps, work, progress);
-  } else {
-    outcome.solution = solver.solve(
-        MacroState::stress(sigma).hold(MacroState::zz, options.eps33).hold(MacroState::dT, delta_T), bonds);
-    work.add_qp(outcome.solution.seconds);
-  }
+  solve_load(solver, in.scene, options, sigma, bonds, outcome, work, progress);
   if (options.onset) outcome.onset = solver.debond_onset(sigma);
   outcome.ranks = io::unpack_rank_table(solver.setup().group().gather(io::pack(rank_entry(solver, work))));
   std::optional<primal::LongitudinalShear> shear;
