@@ -136,17 +136,18 @@ def run_ccx(ccx, folder, job, env=None):
     return done
 
 
-def law_chain(bin_dir, scene, folder):
+def law_chain(bin_dir, scene, folder, fit_options=()):
     """mesh -> sweep -> fit of `scene` (a scene file) into `folder`: mesh.h5, sweep.h5 and law.h5,
     the stages run --quiet from `bin_dir`, a sweep that did not converge everywhere kept
-    (run_stage). The one spelling of the chain (make's law_chain, the RVE study). Returns the
-    stages' Finished by name: mesh, sweep, fit."""
+    (run_stage), `fit_options` passed to dualcell-fit. The one spelling of the chain (make's
+    law_chain, the RVE study, the lamina table). Returns the stages' Finished by name: mesh,
+    sweep, fit."""
     stage = lambda name: os.path.join(bin_dir, f"dualcell-{name}")  # noqa: E731
     mesh, sweep, law = (os.path.join(folder, name) for name in ("mesh.h5", "sweep.h5", "law.h5"))
     return {"mesh": run_stage([stage("mesh"), "--quiet", "--config", scene, "--out", mesh], mesh),
             "sweep": run_stage([stage("sweep"), "--quiet", "--config", scene, "--mesh", mesh, "--out", sweep], sweep,
                                unconverged_kept=True),
-            "fit": run_stage([stage("fit"), "--quiet", "--sweep", sweep, "--out", law], law)}
+            "fit": run_stage([stage("fit"), "--quiet", *fit_options, "--sweep", sweep, "--out", law], law)}
 
 
 def write_atomic(path, content):

@@ -23,11 +23,16 @@ usage:
                                              the debond onset |s*| under uniaxial stress along θ
                                              from the onset surfaces of a sweep without and with
                                              the cure's temperature change, side by side
+  plot.py lamina TABLE.csv OUTBASE           the bonded RVE against the measured lamina: the
+                                             difference per constant and material system
+                                             (lamina_table.py's CSV), the constants not compared
+                                             and alpha1 (near zero for carbon) left out
   plot.py last-stress SWEEP.h5               prints "sxx,syy,sxy" of the last step of path 000
 
 Writes OUTBASE.png and OUTBASE.svg, each to a temporary name first and renamed when complete.
 Debian's python3-h5py reads the files; gnuplot draws.
 """
+import csv
 import math
 import os
 import sys
@@ -124,6 +129,29 @@ def cure(sweep, outbase, warm):
                    f"plot '{tag}_t.dat' using 1:2 with lines lw 2 lc rgb '#009060' title 'tension', \\\n"
                    f"  '{tag}_c.dat' using 1:2 with lines lw 2 lc rgb '#8000c0' title 'compression'\n")
     gnuplot(script + "unset multiplot\n", outbase, data)
+
+
+def lamina(table, outbase):
+    """Bars of the difference (%) of the RVE from the measured lamina, clustered by constant, one
+    colour per material system; only the rows the table compares, and not alpha1 (near zero for
+    carbon: its relative difference says nothing)."""
+    with open(table, newline="") as f:
+        rows = [r for r in csv.DictReader(f) if r["compared"] == "yes" and r["constant"] != "alpha1"]
+    if not rows:
+        sys.exit(f"plot.py: {table}: no compared constant")
+    systems = list(dict.fromkeys(r["system"] for r in rows))
+    constants = list(dict.fromkeys(r["constant"] for r in rows))
+    value = {(r["system"], r["constant"]): r["difference_percent"] for r in rows}
+    text = "constant " + " ".join(f'"{s}"' for s in systems) + "\n"
+    for c in constants:
+        text += f'"{c}" ' + " ".join(value.get((s, c), "NaN").lstrip("+") for s in systems) + "\n"
+    script = ("set title 'Bonded RVE from the constituents against the measured lamina' noenhanced\n"
+              "set style data histograms\nset style histogram clustered gap 1\nset style fill solid 0.8 border -1\n"
+              "set ylabel 'difference from the measured lamina (%)'\nset grid ytics\nset xzeroaxis lt -1\n"
+              "set key below noenhanced\n")
+    script += "plot " + ", ".join(f"'lamina.dat' using {i + 2}:xtic(1) title columnheader({i + 2})"
+                                  for i in range(len(systems))) + "\n"
+    gnuplot(script, outbase, {"lamina.dat": text})
 
 
 def polar(law, outbase):
@@ -406,7 +434,8 @@ def scaling(table, outbase):
 PICTURES = {"stress-strain": (stress_strain, "SWEEP.h5"), "polar": (polar, "LAW.h5"),
             "deformed": (deformed, "SOLUTION.h5"), "work-precision": (work_precision, "TABLE.csv"),
             "accuracy": (accuracy, "TABLE.csv"), "structure": (structure, "STRUCTURE.h5"),
-            "scaling": (scaling, "MODEL.csv"), "cure": (cure, "SWEEP.h5")}
+            "scaling": (scaling, "MODEL.csv"), "cure": (cure, "SWEEP.h5"),
+            "lamina": (lamina, "TABLE.csv")}
 
 
 def main(argv):

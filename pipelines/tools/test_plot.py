@@ -137,6 +137,54 @@ class Pictures(unittest.TestCase):
             # The cure moves the onset: the uniaxial tension along x differs by more than 1 %.
             self.assertGreater(abs(float(rows[0]["change_percent"])), 1)
 
+    def test_lamina_tool_reads_the_fits_constants_and_resumes(self):
+        # lamina_table.py on a system whose law.h5 is already there (the resume path: the stages'
+        # folder given is empty, so a chain run would fail): the RVE's E2 is the mean of its E2 and
+        # E3, its spread their difference, the difference from the measured lamina in per cent, the
+        # rule of mixtures from the material file, and nu23 is shown but not compared.
+        import lamina_table
+        d = os.path.join(self.tmp.name, "lamina")
+        os.makedirs(os.path.join(d, "out", "x-y"))
+        with open(os.path.join(d, "m.toml"), "w") as f:
+            f.write("[fibre]\nE = 10.0\nnu = 0.2\nE_L = 200.0\nnu_LT = 0.2\nG_LT = 20.0\nalpha = 1e-5\n"
+                    "[matrix]\nE = 4.0\nnu = 0.35\nalpha = 5e-5\n")
+        data = os.path.join(d, "data.csv")
+        with open(data, "w") as f:
+            f.write("system,material,v_f,E1,E2,G12,nu12,nu23,alpha1,alpha2\nX/Y,m.toml,0.5,100,8,4,0.25,0.4,1e-6,3e-5\n")
+        folder = os.path.join(d, "out", "x-y")
+        with open(os.path.join(folder, "scene.toml"), "w") as f:
+            f.write(lamina_table.SCENE.format(system="X/Y", v_f="0.5", material="m.toml",
+                                              material_path=os.path.join(d, "m.toml"), size="8", seed=1, degree=2))
+        with h5py.File(os.path.join(folder, "law.h5"), "w") as f:
+            f["law/ply/constants"] = [[102.0, 9.0, 7.0, 0.26, 0.24, 0.3, 4.2, 3.8, 3.0]]
+            f["law/ply/broken"] = [0]
+            expansion = f.create_group("law/expansion")
+            for k, v in (("alpha1", 2e-6), ("alpha2", 3.3e-5), ("alpha3", 2.7e-5), ("alpha23", 1e-7)):
+                expansion.attrs[k] = v
+        run = lambda *extra: subprocess.run(  # noqa: E731
+            [sys.executable, os.path.join(os.path.dirname(os.path.abspath(__file__)), "lamina_table.py"),
+             os.path.join(d, "no-stages"), data, d, os.path.join(d, "out"), *extra],
+            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+        done = run()
+        self.assertEqual(done.returncode, 0, done.stderr)
+        self.assertIn("law.h5 kept", done.stderr)
+        self.assert_picture(os.path.join(d, "out", "lamina"))
+        with open(os.path.join(d, "out", "table.csv")) as f:
+            rows = {r["constant"]: r for r in csv.DictReader(f)}
+        self.assertEqual(float(rows["E1"]["rve"]), 102)
+        self.assertEqual(rows["E1"]["difference_percent"], "+2.0")
+        self.assertAlmostEqual(float(rows["E1"]["rule_of_mixtures"]), 0.5 * 200 + 0.5 * 4)
+        self.assertEqual(float(rows["E2"]["rve"]), 8)  # (9 + 7) / 2
+        self.assertEqual(rows["E2"]["spread_percent"], "25.0")  # |9 - 7| / 8
+        self.assertEqual(float(rows["G12"]["rve"]), 4)
+        self.assertEqual(float(rows["nu12"]["rve"]), 0.25)
+        self.assertEqual(float(rows["alpha2"]["rve"]), 3e-5)
+        self.assertEqual(rows["alpha2"]["spread_percent"], "20.0")
+        self.assertEqual(rows["nu23"]["compared"], "no")
+        self.assertEqual(rows["E2"]["compared"], "yes")
+        # Another seed is another RVE: the tool runs the chain (and fails here, without stages).
+        self.assertNotEqual(run("--seed", "2").returncode, 0)
+
 
 if __name__ == "__main__":
     if len(sys.argv) < 2:

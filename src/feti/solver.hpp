@@ -173,8 +173,10 @@ class ContactSolver {
   // With the scene's temperature change ΔT (held along every path, docs/theory/model.md §1a) the
   // bonded forces are affine in t, p0 + t·p, and s* the least t ≥ 0 at which one reaches its
   // strength (0: the cool-down alone breaks it); an InputError where the lifted problem keeps
-  // contact rows (then not affine). NaN when the thermal solve did not converge.
+  // contact rows (then not affine). NaN when the thermal solve did not converge; onset_note then
+  // says why (empty after an onset that is a number).
   double debond_onset(const Eigen::Vector3d& sigma, std::vector<int>* critical = nullptr);
+  const std::string& onset_note() const { return onset_note_; }
 
   // The exact onset surface (law/onset.hpp): the bonded rows' forces per unit stress from
   // three unit solves (two on the symmetry boundary, which carries no shear), one facet per
@@ -236,6 +238,7 @@ class ContactSolver {
   Progress* progress_ = nullptr;
   Cached intact_, other_;
   Lifted lifted_;
+  std::string onset_note_;              // why the last debond_onset is NaN
   std::vector<double> shear_strength_;  // per pair, s_t L (shear_strengths), at the first solve with Γ
 };
 

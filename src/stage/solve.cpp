@@ -182,7 +182,10 @@ SolveOutcome run_solve(const SolveOptions& options) {
   SolveOutcome outcome;
   feti::Timings work;
   solve_load(solver, in.scene, options, sigma, bonds, outcome, work, progress);
-  if (options.onset) outcome.onset = solver.debond_onset(sigma);
+  if (options.onset) {
+    outcome.onset = solver.debond_onset(sigma);
+    outcome.onset_note = solver.onset_note();
+  }
   outcome.ranks = io::unpack_rank_table(solver.setup().group().gather(io::pack(rank_entry(solver, work))));
   std::optional<primal::LongitudinalShear> shear;
   if (options.longitudinal_shear && par::rank() == 0) {
@@ -245,8 +248,10 @@ void print_solve_summary(const SolveOptions& options, const SolveOutcome& outcom
     std::printf("  cool-down     delta_T %g K at zero macro stress, solved first: %ld bonds broken by it\n", s.delta_T,
                 *outcome.cool_down_broken);
   if (outcome.onset)
-    std::printf("  debond onset  s* = %.9g along this stress (first break of the intact interface at s* x stress%s)\n",
-                *outcome.onset, s.delta_T != 0 ? ", from the cool-down" : "");
+    std::printf("  debond onset  s* = %.9g along this stress (%s)\n", *outcome.onset,
+                !outcome.onset_note.empty() ? outcome.onset_note.c_str()
+                : s.delta_T != 0            ? "first break of the intact interface at s* x stress, from the cool-down"
+                                            : "first break of the intact interface at s* x stress");
   if (scene.interface.has_adhesion())
     std::printf("  bonds: %ld debond rounds, %ld broken now, %ld broken in all of %zu\n", s.debond_rounds,
                 s.newly_broken, broken, s.bonds.size());

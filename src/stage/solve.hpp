@@ -37,6 +37,7 @@ struct SolveOutcome {
   std::optional<long> cool_down_broken;
   // With SolveOptions::onset: s* along the stress, from the intact interface (and the cool-down).
   std::optional<double> onset;
+  std::string onset_note;              // why the onset is NaN (feti::ContactSolver::onset_note)
   std::optional<io::LoadSteps> steps;  // boundary = "edges" only
   io::RankTable ranks;                 // one entry per rank that shared the solve
   bool written = false;                // this rank wrote the output (rank 0)
