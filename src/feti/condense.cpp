@@ -43,48 +43,58 @@ std::vector<int> all(Eigen::Index n) {
   return v;
 }
 
+// The load columns beyond the macro stress: a uniform eigen-stress each, held, not a stress
+// (docs/theory/model.md §1a). Column n_macro is ε33's when the cell has it, the last ΔT's when it
+// has that.
+struct Extras {
+  bool longitudinal = false, thermal = false;
+  int count() const { return int{longitudinal} + int{thermal}; }
+  // The uniform part of extra column j (0-based beyond n_macro): ε33 = 1 or ΔT = 1.
+  fem::Uniform unit(int j) const { return longitudinal && j == 0 ? fem::Uniform{1.0, 0.0} : fem::Uniform{0.0, 1.0}; }
+};
+
 // The macro load per unit stress component k: the load f_k, the dual right-hand sides d_k and
-// e_k of §6; with the strain along the fibres, one more column k = n_macro: the load of ε33 = 1
-// at σ̄ = 0 (its eigen-stress, §3a; no prescribed displacement scales with it).
+// e_k of §6; beyond them one column per extra (Extras): the load of ε33 = 1 or of ΔT = 1 at
+// σ̄ = 0 (its eigen-stress, §3a, §1a; no prescribed displacement scales with it).
 struct MacroLoad {
   std::vector<Eigen::VectorXd> f;
   Eigen::MatrixXd D, e;  // columns k
 };
 
-MacroLoad macro_load(const FetiSetup& setup, const DualProblem& dual, int n_macro, bool longitudinal) {
-  const int n_load = n_macro + (longitudinal ? 1 : 0);
+MacroLoad macro_load(const FetiSetup& setup, const DualProblem& dual, int n_macro, const Extras& extras) {
+  const int n_load = n_macro + extras.count();
   MacroLoad load;
   load.f.resize(n_load);
   load.D.resize(dual.constraints().n_rows(), n_load);
   load.e.resize(dual.G().rows(), n_load);
   for (int k = 0; k < n_load; ++k) {
-    const bool eps33 = k == n_macro;
-    const Eigen::Vector3d unit = eps33 ? Eigen::Vector3d::Zero() : Eigen::Vector3d::Unit(k).eval();
-    load.f[k] = setup.load(unit, {eps33 ? 1.0 : 0.0});
-    load.D.col(k) = dual.d(load.f[k], eps33 ? 0.0 : setup.load_factor(unit));
+    const bool extra = k >= n_macro;
+    const Eigen::Vector3d unit = extra ? Eigen::Vector3d::Zero() : Eigen::Vector3d::Unit(k).eval();
+    load.f[k] = setup.load(unit, extra ? extras.unit(k - n_macro) : fem::Uniform{});
+    load.D.col(k) = dual.d(load.f[k], extra ? 0.0 : setup.load_factor(unit));
     load.e.col(k) = dual.e(load.f[k]);
   }
   return load;
 }
 
 // ε̄ = W u (engineering shear) as coefficients: per component k, on λ (−B K⁺ wₖ), on α (R̂ᵀwₖ)
-// and on the load columns (wₖᵀK⁺f). With the strain along the fibres one more row: the part of
-// σ33 that u gives, ⟨λ (εxx + εyy)⟩ = −f₃₃ᵀu/|Ω| (f₃₃ the load of ε33 = 1, which is −∫Bᵀλ(1, 1, 0)
-// dA); the rest of σ33, ⟨λ + 2μ⟩ ε33, is added after the elimination.
+// and on the load columns (wₖᵀK⁺f). Per extra column k one more row, −fₖᵀu/|Ω|: for ε33 the part
+// of σ33 that u gives, ⟨λ (εxx + εyy)⟩ (f₃₃ the load of ε33 = 1, which is −∫Bᵀλ(1, 1, 0) dA; the
+// rest of σ33, ⟨λ + 2μ⟩ ε33, is added after the elimination); for ΔT its work conjugate in the
+// same sense, −⟨β (εxx + εyy)⟩, whose only use is reciprocity: its dependence on σ̄ is minus
+// ε̄'s on ΔT, and on p the openings' on ΔT.
 struct StrainMap {
   Eigen::MatrixXd lambda, alpha, sigma;
 };
 
 StrainMap strain_map(const FetiSetup& setup, const DualProblem& dual, const MacroLoad& load, int n_macro) {
   const int m = dual.constraints().n_rows(), n_load = static_cast<int>(load.f.size());
-  const bool longitudinal = n_load > n_macro;
   Eigen::MatrixXd W = boundary_strain_matrix(setup.mesh(), setup.n_dofs());
   W.row(2) *= 2;  // the boundary formula gives tensor shear; the law's is engineering (core/strain.hpp)
   StrainMap T{Eigen::MatrixXd(n_load, m), Eigen::MatrixXd(n_load, dual.G().rows()), Eigen::MatrixXd(n_load, n_load)};
   const Eigen::VectorXd no_lambda = Eigen::VectorXd::Zero(m);
   for (int k = 0; k < n_load; ++k) {
-    const Eigen::VectorXd w =
-        longitudinal && k == n_macro ? (-load.f[n_macro] / setup.volume()).eval() : W.row(k).transpose().eval();
+    const Eigen::VectorXd w = k >= n_macro ? (-load.f[k] / setup.volume()).eval() : W.row(k).transpose().eval();
     const Eigen::VectorXd v = dual.K_plus_residual(w, no_lambda);
     T.lambda.row(k) = -dual.d(w, 0.0).transpose();
     T.alpha.row(k) = dual.e(w).transpose();
@@ -238,14 +248,14 @@ struct Prepared {
   StrainMap T;
   Modes modes;
   int n_macro = 3;
-  // The load columns: n_macro, and the strain along the fibres (a scene's [load] macro = "full",
-  // not on a basis: condense only).
-  bool longitudinal = false;
+  // The load columns: n_macro, and the strain along the fibres (a scene's [load] macro = "full")
+  // and the temperature change (both phases expand) beyond them, condense only (not on a basis).
+  Extras extras;
   int n_load = 3;
   BondState intact;
 };
 
-Prepared prepare(const FetiSetup& setup, int max_rows, bool longitudinal) {
+Prepared prepare(const FetiSetup& setup, int max_rows, const Extras& extras) {
   const Scene& scene = setup.scene();
   const mesh::Mesh& mesh = setup.mesh();
   if (scene.load.boundary == Boundary::edges)
@@ -254,7 +264,7 @@ Prepared prepare(const FetiSetup& setup, int max_rows, bool longitudinal) {
     throw InputError("a cell with a body force has no homogeneous law: set [load] body_force = [0, 0]");
   Prepared p;
   p.n_macro = scene.load.boundary == Boundary::symmetry ? 2 : 3;
-  p.longitudinal = longitudinal;
+  p.extras = extras;
   p.intact = intact_bonds(mesh, scene.interface);
   p.dual = std::make_unique<DualProblem>(setup, build_constraints(mesh, scene, p.intact));
   const Constraints& con = p.dual->constraints();
@@ -263,7 +273,7 @@ Prepared prepare(const FetiSetup& setup, int max_rows, bool longitudinal) {
     throw InputError("the cell has " + std::to_string(m) + " constraint rows, more than the " +
                      std::to_string(max_rows) + " a dense condensation pays for");
   for (int r = 0; r < m; ++r) (is_interface(con.kind[r]) ? p.I : p.E).push_back(r);
-  p.load = macro_load(setup, *p.dual, p.n_macro, p.longitudinal);
+  p.load = macro_load(setup, *p.dual, p.n_macro, p.extras);
   p.n_load = static_cast<int>(p.load.f.size());
   p.T = strain_map(setup, *p.dual, p.load, p.n_macro);
   // The rigid-body modes' rows of G scaled to unit length, D = diag(1/‖G_g‖), with their loads e
@@ -324,6 +334,35 @@ double set_longitudinal(const FetiSetup& setup, const Eigen::MatrixXd& Y, const 
                   (y - g).norm() / std::max({y.norm(), Y.leftCols(m).norm(), 1e-300}));
 }
 
+// The temperature change (docs/theory/model.md §1a): from the eliminated system's ΔT column and
+// row (index t, after ε33's where the cell has it), AT, yT and, with ε33, CT into `cell`, each
+// symmetrised by its reciprocity, which is measured (relative) and returned, as ε33's: the open
+// cell's ε̄ per kelvin against minus its ΔT row per unit σ̄, the openings per kelvin against
+// |Ω| times the row's dependence on p, and σ33 per kelvin (u's part both ways, plus the phases'
+// own −⟨β33⟩ at u = 0).
+double set_thermal(const FetiSetup& setup, const Eigen::MatrixXd& Y, const Eigen::MatrixXd& E_p,
+                   const Eigen::MatrixXd& S0, int m, bool longitudinal, law::CondensedCell& cell) {
+  const double volume = setup.volume();
+  const int t = m + (longitudinal ? 1 : 0);
+  const Eigen::VectorXd a = S0.col(t).head(m), b = S0.row(t).head(m).transpose();
+  const Eigen::VectorXd y = Y.col(t), g = volume * E_p.row(t).transpose();
+  cell.thermal = 1;
+  cell.AT = 0.5 * (a - b);
+  cell.yT = 0.5 * (y + g);
+  double error = std::max((a + b).norm() / std::max({a.norm(), S0.topLeftCorner(m, m).norm(), 1e-300}),
+                          (y - g).norm() / std::max({y.norm(), Y.leftCols(m).norm(), 1e-300}));
+  if (longitudinal) {
+    double zz = 0;  // −⟨β33⟩: σ33 of ΔT = 1 with u = 0
+    average_stress(setup.mesh(), setup.scene().fibre, setup.scene().matrix, Eigen::VectorXd::Zero(setup.mesh().dim_u()),
+                   {0.0, 1.0}, &zz);
+    cell.CT = Eigen::MatrixXd::Constant(1, 1, 0.5 * (S0(m, t) + S0(t, m)) + zz);
+    error = std::max(error, std::abs(S0(m, t) - S0(t, m)) / std::max({std::abs(zz), std::abs(S0(m, m)), 1e-300}));
+  } else {
+    cell.CT.resize(0, 1);
+  }
+  return error;
+}
+
 // The shear along the fibres (docs/method.md §16a): the antiplane problem condensed onto the
 // pairs (primal::condense_longitudinal_shear), with a row per pair where bonds carry shear (the
 // tangential strength s_t > 0); a pair's strength along z is its in-plane tangential row's, s_t L
@@ -349,7 +388,10 @@ void set_shear(const FetiSetup& setup, law::CondensedCell& cell) {
 
 law::CondensedCell condense(const FetiSetup& setup, int max_rows) {
   const auto start = std::chrono::steady_clock::now();
-  const Prepared p = prepare(setup, max_rows, setup.scene().load.macro == Macro::full);
+  const Scene& scene = setup.scene();
+  const Prepared p = prepare(
+      setup, max_rows,
+      {.longitudinal = scene.load.macro == Macro::full, .thermal = scene.fibre.expands && scene.matrix.expands});
   const Constraints& con = p.dual->constraints();
   const std::vector<int>& I = p.I;
   const int n_macro = p.n_macro, n_load = p.n_load;
@@ -376,9 +418,12 @@ law::CondensedCell condense(const FetiSetup& setup, int max_rows) {
   law::CondensedCell cell;
   cell.operator_applications = 2 * n_load;  // d and the strain map; F comes from the subdomains' blocks
   cell.reciprocity_error = reciprocity(H, Y, E_p, S0, volume);
-  if (p.longitudinal)
+  if (p.extras.longitudinal)
     cell.reciprocity_error =
         std::max(cell.reciprocity_error, set_longitudinal(setup, Y_all, E_p_all, x.S0, n_macro, cell));
+  if (p.extras.thermal)
+    cell.reciprocity_error = std::max(cell.reciprocity_error,
+                                      set_thermal(setup, Y_all, E_p_all, x.S0, n_macro, p.extras.longitudinal, cell));
   cell.n_macro = n_macro;
   cell.volume = volume;
   cell.S0 = 0.5 * (S0 + S0.transpose());
@@ -388,14 +433,14 @@ law::CondensedCell condense(const FetiSetup& setup, int max_rows) {
   cell.n_pairs = static_cast<int>(setup.mesh().interface_pairs.size());
   cell.bonded = p.intact;
   set_rows(cell, con, I);
-  if (p.longitudinal && setup.scene().load.boundary == Boundary::periodic) set_shear(setup, cell);
+  if (p.extras.longitudinal && scene.load.boundary == Boundary::periodic) set_shear(setup, cell);
   cell.seconds = seconds_since(start);
   return cell;
 }
 
 law::CondensedCell condense_on_solutions(const FetiSetup& setup, const std::vector<Eigen::VectorXd>& lambdas) {
   const auto start = std::chrono::steady_clock::now();
-  const Prepared p = prepare(setup, std::numeric_limits<int>::max(), false);
+  const Prepared p = prepare(setup, std::numeric_limits<int>::max(), {});
   const Constraints& con = p.dual->constraints();
   const DualProblem& dual = *p.dual;
   if (setup.scene().interface.has_adhesion())

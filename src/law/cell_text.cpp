@@ -15,10 +15,13 @@ namespace dualcell::law {
 namespace {
 
 // 2: the strain along the fibres (longitudinal, A33, C33, y33); 4: the shear along them (shear …
-// pair_z), written only by a cell that has it, so that a cell without it reads as before. 3 was
-// the shear with a row per pair (no pair_z): refused, the card is exported again.
+// pair_z), written only by a cell that has it, so that a cell without it reads as before; 5: the
+// temperature change too (thermal, AT, CT, yT, after the shear's members, which it writes with
+// shear 0 where the cell has none), written only by a cell that has it. 3 was the shear with a
+// row per pair (no pair_z): refused, the card is exported again.
 constexpr const char* header = "dualcell cell law 2";
 constexpr const char* header_shear = "dualcell cell law 4";
+constexpr const char* header_thermal = "dualcell cell law 5";
 constexpr const char* header_shear_3 = "dualcell cell law 3";
 
 std::string number(double v) {
@@ -97,12 +100,12 @@ bool read_list(std::istream& in, const char* key, Eigen::Index n, std::vector<T>
 }  // namespace
 
 void write_cell_text(std::ostream& out, const CondensedCell& cell) {
-  const bool shear = cell.shear != 0;
-  out << (shear ? header_shear : header) << '\n';
+  const bool thermal = cell.thermal != 0, shear = cell.shear != 0 || thermal;
+  out << (thermal ? header_thermal : shear ? header_shear : header) << '\n';
   for_each_member(cell, [&](const Member& m, const auto& value) {
     using T = std::remove_cvref_t<decltype(value)>;
     const char* key = m.text ? m.text : m.name;
-    if (m.measured || (!shear && of_shear(m))) return;
+    if (m.measured || (!shear && of_shear(m)) || (!thermal && of_thermal(m))) return;
     if constexpr (CountMember<T>)
       out << key << ' ' << value << '\n';
     else if constexpr (std::is_same_v<T, TextSize>)
@@ -120,7 +123,7 @@ std::uintmax_t max_cell_text_bytes() {
   // A number as number() prints it, sign, 17 digits, point and a three-digit exponent, and its
   // separator; a count or a list entry is shorter.
   constexpr std::uintmax_t number_bytes = 25;
-  std::uintmax_t bytes = std::strlen(header_shear) + 1;
+  std::uintmax_t bytes = std::strlen(header_thermal) + 1;
   const CondensedCell cell;
   for_each_member(cell, [&](const Member& m, const auto&) {
     if (m.measured) return;
@@ -138,18 +141,18 @@ CondensedCell read_cell_text(std::istream& in, std::string& error) {
             "': the shear along the fibres with a row per pair and no pair_z, an older layout: export the law again";
     return {};
   }
-  if (!in || (line != header && line != header_shear)) {
-    error = "the first line is not '" + std::string(header) + "' or '" + header_shear + "'";
+  if (!in || (line != header && line != header_shear && line != header_thermal)) {
+    error = "the first line is not '" + std::string(header) + "', '" + header_shear + "' or '" + header_thermal + "'";
     return {};
   }
-  const bool shear = line == header_shear;
+  const bool thermal = line == header_thermal, shear = line == header_shear || thermal;
   // The extents as the text states them, before the arrays.
   Eigen::Index size[n_extents] = {1};
   bool ok = true;
   for_each_member(cell, [&](const Member& m, auto&& value) {
     using T = std::remove_cvref_t<decltype(value)>;
     const char* key = m.text ? m.text : m.name;
-    if (!ok || m.measured || (!shear && of_shear(m))) return;
+    if (!ok || m.measured || (!shear && of_shear(m)) || (!thermal && of_thermal(m))) return;
     if constexpr (CountMember<T> || std::is_same_v<T, TextSize>) {
       double count = 0;
       ok = read_values(in, key, &count, 1, error);

@@ -121,7 +121,8 @@ void CellEvaluator::check_inputs(const MacroState& s, CellResponse& out) const {
     out.message = "an in-plane state part stress, part strain: the cell takes σ̄ or ε̄";
   if ((s.stress_driven & ~MacroState::in_plane_mask) != 0)
     out.message = "a stress along the fibres: the cell takes the strain ε33 and the shears Γ along them";
-  if (s.delta_T() != 0) out.message = "a temperature change: the cell carries none";
+  if (s.delta_T() != 0 && cell_.thermal == 0)
+    out.message = "the cell has no temperature change (its phases have no expansion coefficients): delta_T must be 0";
 }
 
 CellResponse CellEvaluator::at(const MacroState& s, CellHistory& h, BondMode bonds) {
@@ -133,9 +134,9 @@ CellResponse CellEvaluator::at(const MacroState& s, CellHistory& h, BondMode bon
       out.message = "a stress-driven state runs the bonds' cascade (held or lifted bonds: strain-driven only)";
       return out;
     }
-    return stress_driven(s.in_plane(), h, s.eps33(), s.gamma());
+    return stress_driven(s.in_plane(), h, {s.eps33(), s.gamma(), s.delta_T()});
   }
-  return strain_driven(s.in_plane(), h, bonds, s.eps33(), s.gamma());
+  return strain_driven(s.in_plane(), h, bonds, {s.eps33(), s.gamma(), s.delta_T()});
 }
 
 bool CellEvaluator::solve_shear(const Eigen::Vector2d& gamma, CellHistory& h, bool lifted, CellResponse& r) {
@@ -172,11 +173,12 @@ bool CellEvaluator::solve_shear(const Eigen::Vector2d& gamma, CellHistory& h, bo
   return true;
 }
 
-void CellEvaluator::set_stress_zz(double eps33, CellResponse& out) const {
+void CellEvaluator::set_stress_zz(const Held& held, CellResponse& out) const {
   if (cell_.longitudinal == 0) return;
   const int m = cell_.n_macro;
-  out.stress_zz = -cell_.A33.col(0).dot(out.stress.head(m)) + cell_.C33(0, 0) * eps33 +
+  out.stress_zz = -cell_.A33.col(0).dot(out.stress.head(m)) + cell_.C33(0, 0) * held.eps33 +
                   cell_.y33.col(0).dot(out.forces) / cell_.volume;
+  if (held.delta_T != 0) out.stress_zz += cell_.CT(0, 0) * held.delta_T;
 }
 
 // Solve, break the bonded rows that end at their strength, solve again: the debond cascade
@@ -224,23 +226,24 @@ bool CellEvaluator::solve_qp(qp::DenseActiveSet& qp, const Eigen::VectorXd& b, c
   return true;
 }
 
-CellResponse CellEvaluator::stress_driven(const Eigen::Vector3d& sigma, CellHistory& h, double eps33,
-                                          const Eigen::Vector2d& gamma) {
+CellResponse CellEvaluator::stress_driven(const Eigen::Vector3d& sigma, CellHistory& h, const Held& held) {
   CellResponse out;
   const int m = cell_.n_macro, n = cell_.n_rows();
   if (h.active.size() != static_cast<std::size_t>(n)) h.active.clear();
   Eigen::Matrix3d compliance = Eigen::Matrix3d::Zero();
-  out = cascade(h, BondMode::cascade, gamma, [&](CellResponse& r) {
+  out = cascade(h, BondMode::cascade, held.gamma, [&](CellResponse& r) {
     set_bounds(h.bonded, 0);
     b_ = cell_.Y * sigma.head(m);
-    if (eps33 != 0) b_ += cell_.y33.col(0) * eps33;
+    if (held.eps33 != 0) b_ += cell_.y33.col(0) * held.eps33;
+    if (held.delta_T != 0) b_ += cell_.yT.col(0) * held.delta_T;
     return solve_qp(stress_qp_, b_, lower_, upper_, h.active, r, r.forces);
   });
   if (!out.ok) return out;
   out.stress.head(m) = sigma.head(m);
   out.strain.head(m) = cell_.S0 * sigma.head(m) - cell_.Y.transpose() * out.forces / cell_.volume;
-  if (eps33 != 0) out.strain.head(m) += cell_.A33.col(0) * eps33;
-  set_stress_zz(eps33, out);
+  if (held.eps33 != 0) out.strain.head(m) += cell_.A33.col(0) * held.eps33;
+  if (held.delta_T != 0) out.strain.head(m) += cell_.AT.col(0) * held.delta_T;
+  set_stress_zz(held, out);
   // Compliance tangent dε̄/dσ̄ = S₀ − Yᵀ (dp/dσ̄)/|Ω| on the final active set; the stiffness
   // tangent is its inverse.
   if (stress_tangent_of_ != stress_qp_.generation()) {
@@ -256,21 +259,27 @@ CellResponse CellEvaluator::stress_driven(const Eigen::Vector3d& sigma, CellHist
   return out;
 }
 
-CellResponse CellEvaluator::strain_driven(const Eigen::Vector3d& strain, CellHistory& h, BondMode bonds, double eps33,
-                                          const Eigen::Vector2d& gamma) {
+CellResponse CellEvaluator::strain_driven(const Eigen::Vector3d& strain, CellHistory& h, BondMode bonds,
+                                          const Held& held) {
   CellResponse out;
   const int m = cell_.n_macro, n = cell_.n_rows();
   if (h.active.size() != static_cast<std::size_t>(m + n)) h.active.clear();
   Eigen::VectorXd z;
+  const double eps33 = held.eps33, dT = held.delta_T;
+  const Eigen::Vector2d& gamma = held.gamma;
   out = cascade(h, bonds, gamma, [&](CellResponse& r) {
     set_bounds(h.bonded, m, bonds == BondMode::lifted);
     // With ε33 the mixed energy gains ε33 (|Ω| A33·σ̄ − y33·p) − ½ |Ω| C33 ε33² (docs/method.md
-    // §16a): the linear term moves, 𝓗 stays.
+    // §16a), and ΔT the same with AT, yT: the linear term moves, 𝓗 stays.
     b_ = Eigen::VectorXd::Zero(m + n);
     b_.head(m) = cell_.volume * strain.head(m);
     if (eps33 != 0) {
       b_.head(m) -= cell_.volume * cell_.A33.col(0) * eps33;
       b_.tail(n) = cell_.y33.col(0) * eps33;
+    }
+    if (dT != 0) {
+      b_.head(m) -= cell_.volume * cell_.AT.col(0) * dT;
+      b_.tail(n) += cell_.yT.col(0) * dT;
     }
     if (!solve_qp(strain_qp_, b_, lower_, upper_, h.active, r, z)) return false;
     r.forces = z.tail(n);
@@ -283,6 +292,12 @@ CellResponse CellEvaluator::strain_driven(const Eigen::Vector3d& strain, CellHis
   if (eps33 != 0)
     out.energy -= eps33 * (cell_.A33.col(0).dot(z.head(m)) - cell_.y33.col(0).dot(z.tail(n)) / cell_.volume) -
                   0.5 * cell_.C33(0, 0) * eps33 * eps33;
+  // ΔT's part likewise, and CT ε33 ΔT, so that ∂W/∂ε33 = σ33 (a function of ΔT alone, the heat's,
+  // is left out).
+  if (dT != 0) {
+    out.energy -= dT * (cell_.AT.col(0).dot(z.head(m)) - cell_.yT.col(0).dot(z.tail(n)) / cell_.volume);
+    if (eps33 != 0) out.energy += cell_.CT(0, 0) * eps33 * dT;
+  }
   // The shear along the fibres adds ½ ΓᵀD0zΓ + (qᵀYzΓ − ½ qᵀHz q)/|Ω| (docs/method.md §16a).
   if (cell_.shear == 2) {
     out.energy += 0.5 * gamma.dot(cell_.D0z * gamma);
@@ -290,7 +305,7 @@ CellResponse CellEvaluator::strain_driven(const Eigen::Vector3d& strain, CellHis
       out.energy +=
           (out.forces_z.dot(cell_.Yz * gamma) - 0.5 * out.forces_z.dot(cell_.Hz * out.forces_z)) / cell_.volume;
   }
-  set_stress_zz(eps33, out);
+  set_stress_zz(held, out);
   // dσ̄/dε̄: the σ̄ rows of dz/db for db = (|Ω| I, 0), symmetric as the KKT system is.
   if (strain_tangent_of_ != strain_qp_.generation()) {
     Eigen::MatrixXd db = Eigen::MatrixXd::Zero(m + n, m);

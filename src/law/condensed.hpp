@@ -59,6 +59,13 @@ struct CondensedCell {
   // are empty: plane strain only (a scene's [load] macro = "transverse", a cell on a basis).
   int longitudinal = 0;
   Eigen::MatrixXd A33, C33, y33;
+  // A temperature change ΔT from the stress-free state (docs/theory/model.md §1a): with
+  // thermal = 1 (both phases expand) the law is affine in it, a column like ε33's. AT (n_macro ×
+  // 1) is the open cell's ε̄ per kelvin (σ̄ = 0), yT (n_rows × 1) the rows' opening per kelvin,
+  // CT (longitudinal × 1) σ33 per kelvin at ε33 = 0: the rows' right-hand side gains yT ΔT, ε̄
+  // gains AT ΔT and σ33 gains CT ΔT. With 0 they are empty (phases without expansion).
+  int thermal = 0;
+  Eigen::MatrixXd AT, CT, yT;
   // Longitudinal shear (docs/method.md §16a, "The shear along the fibres"): with shear = 2 the
   // cell also takes the macro shears Γ = (γxz, γyz) along the fibres, the antiplane problem
   // condensed onto the pairs. D0z (2 × 2) is ⟨τ⟩ = (τxz, τyz) per unit Γ of the open cell (every
@@ -172,9 +179,9 @@ class CellEvaluator {
   // cascade) or a macro strain ε̄ (strain-driven, engineering shear, with `bonds`); with a strain
   // ε33 along the fibres (the cell must carry its longitudinal data when ε33 ≠ 0) and the shears
   // Γ = (γxz, γyz) along them (the cell's shear data when Γ ≠ 0; with it the shear rows join the
-  // cascade: a pair at its strength along z breaks as a whole too). A state the cell cannot take
-  // (a mixed in-plane part, a stress along the fibres, a temperature change) is not ok, with the
-  // reason.
+  // cascade: a pair at its strength along z breaks as a whole too), and with a temperature
+  // change ΔT (the cell's thermal data when ΔT ≠ 0). A state the cell cannot take (a mixed
+  // in-plane part, a stress along the fibres, data it does not have) is not ok, with the reason.
   CellResponse at(const MacroState& s, CellHistory& h, BondMode bonds = BondMode::cascade);
   // The in-plane state alone: at(MacroState::stress(sigma)), at(MacroState::strain(strain)).
   CellResponse at_stress(const Eigen::Vector3d& sigma, CellHistory& h) { return at(MacroState::stress(sigma), h); }
@@ -191,6 +198,12 @@ class CellEvaluator {
   double bonded_load(const Eigen::Vector3d& sigma);
 
  private:
+  // What a state holds beside its in-plane part: ε33, the shears Γ along the fibres and ΔT.
+  struct Held {
+    double eps33 = 0;
+    Eigen::Vector2d gamma = Eigen::Vector2d::Zero();
+    double delta_T = 0;
+  };
   template <class Solve>
   CellResponse cascade(CellHistory& h, BondMode bonds, const Eigen::Vector2d& gamma, Solve&& solve);
   void set_bounds(const std::vector<std::uint8_t>& bonded, int offset, bool lifted = false);
@@ -198,14 +211,13 @@ class CellEvaluator {
   double strength_use(const Eigen::VectorXd& forces, const Eigen::VectorXd& forces_z,
                       const std::vector<std::uint8_t>& bonded) const;
   void check_inputs(const MacroState& s, CellResponse& out) const;
-  CellResponse stress_driven(const Eigen::Vector3d& sigma, CellHistory& h, double eps33, const Eigen::Vector2d& gamma);
-  CellResponse strain_driven(const Eigen::Vector3d& strain, CellHistory& h, BondMode bonds, double eps33,
-                             const Eigen::Vector2d& gamma);
+  CellResponse stress_driven(const Eigen::Vector3d& sigma, CellHistory& h, const Held& held);
+  CellResponse strain_driven(const Eigen::Vector3d& strain, CellHistory& h, BondMode bonds, const Held& held);
   // The shear along the fibres at gamma for the bonds of h: the shear rows' QP (where the cell
   // has them), ⟨τ⟩ and its tangent into r; false, with r.message, when the QP did not converge.
   bool solve_shear(const Eigen::Vector2d& gamma, CellHistory& h, bool lifted, CellResponse& r);
-  // σ33 of a solution (σ̄, p) at eps33, when the cell has the data.
-  void set_stress_zz(double eps33, CellResponse& out) const;
+  // σ33 of a solution (σ̄, p) at the held ε33 and ΔT, when the cell has the data.
+  void set_stress_zz(const Held& held, CellResponse& out) const;
   // One QP of the cascade with its linear term b and bounds: its counts into r, its solution into
   // x; false, with r.message, when it did not converge.
   bool solve_qp(qp::DenseActiveSet& qp, const Eigen::VectorXd& b, const Eigen::VectorXd& lower,

@@ -55,6 +55,7 @@ long extent_limit(Extent e) {
     case Extent::shear_modes:
       return max_cell_rows;
     case Extent::longitudinal:
+    case Extent::thermal:
       return 1;
     case Extent::shear:
       return 2;
@@ -62,11 +63,19 @@ long extent_limit(Extent e) {
   return 0;
 }
 
-bool optional_extent(Extent e) { return e == Extent::longitudinal || e == Extent::shear || e == Extent::shear_rows; }
+bool optional_extent(Extent e) {
+  return e == Extent::longitudinal || e == Extent::shear || e == Extent::shear_rows || e == Extent::thermal;
+}
 
 bool of_shear(const Member& m) {
   for (const Extent e : {m.sizes, m.rows, m.cols})
     if (e == Extent::shear || e == Extent::shear_rows || e == Extent::shear_modes) return true;
+  return false;
+}
+
+bool of_thermal(const Member& m) {
+  for (const Extent e : {m.sizes, m.rows, m.cols})
+    if (e == Extent::thermal) return true;
   return false;
 }
 
@@ -96,6 +105,8 @@ long extent(const CondensedCell& cell, Extent e) {
       return cell.shear_rows;
     case Extent::shear_modes:
       return cell.Gz.rows();
+    case Extent::thermal:
+      return cell.thermal;
   }
   return 0;
 }
@@ -120,6 +131,8 @@ const char* extent_name(Extent e) {
       return "shear_rows";
     case Extent::shear_modes:
       return "shear_modes";
+    case Extent::thermal:
+      return "thermal";
   }
   return "";
 }

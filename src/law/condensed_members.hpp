@@ -19,10 +19,11 @@ namespace dualcell::law {
 // The sizes of the cell's arrays: one (a scalar), m = n_macro, n = n_rows(), P = n_pairs,
 // k = G.rows(), which only G has (free), L = longitudinal (0 or 1: the ε33 column), and the
 // longitudinal shear's: its macro shears (shear: 0 or 2), its rows (shear_rows)
-// and Gz's rows (shear_modes, free as G's). An extent of the optional parts (longitudinal,
-// shear, shear_rows) may be 0: its members are then left out of the files (left_out).
-enum class Extent { one, macro, rows, pairs, fibre_modes, longitudinal, shear, shear_rows, shear_modes };
-inline constexpr int n_extents = 9;
+// and Gz's rows (shear_modes, free as G's), T = thermal (0 or 1: the ΔT column). An extent of
+// the optional parts (longitudinal, shear, shear_rows, thermal) may be 0: its members are then
+// left out of the files (left_out).
+enum class Extent { one, macro, rows, pairs, fibre_modes, longitudinal, shear, shear_rows, shear_modes, thermal };
+inline constexpr int n_extents = 10;
 
 // What a member's values must satisfy besides their shape (consistency_problem). The matrix
 // rules include the ones before them: symmetric is finite too.
@@ -95,6 +96,10 @@ void for_each_member(Cell& cell, Visit&& visit) {
   visit(Member{.name = "Gz", .rows = shear_modes, .cols = shear_rows, .values = Values::finite}, cell.Gz);
   visit(Member{.name = "strength_z", .rows = shear_rows, .values = Values::at_least_zero}, cell.strength_z);
   visit(Member{.name = "pair_z", .rows = shear_rows, .values = Values::pair_index}, cell.pair_z);
+  visit(Member{.name = "thermal", .hi = 1, .sizes = thermal, .optional = true}, cell.thermal);
+  visit(Member{.name = "AT", .rows = macro, .cols = thermal, .values = Values::finite}, cell.AT);
+  visit(Member{.name = "CT", .rows = longitudinal, .cols = thermal, .values = Values::finite}, cell.CT);
+  visit(Member{.name = "yT", .rows = rows, .cols = thermal, .values = Values::finite}, cell.yT);
   visit(Member{.name = "reciprocity_error", .measured = true}, cell.reciprocity_error);
   visit(Member{.name = "seconds", .measured = true}, cell.seconds);
   visit(Member{.name = "operator_applications", .measured = true}, cell.operator_applications);
@@ -128,9 +133,11 @@ bool left_out(const CondensedCell& cell, const Member& m);
 bool optional_extent(Extent e);
 // Whether a member is of the longitudinal shear (the cell's text has it from version 3 on).
 bool of_shear(const Member& m);
+// Whether a member is of the temperature change (the cell's text has it from version 5 on).
+bool of_thermal(const Member& m);
 
 // The largest value an extent may take (rows, pairs, fibre modes: max_cell_rows; n_macro: 3;
-// longitudinal: 1; shear: 2).
+// longitudinal, thermal: 1; shear: 2).
 long extent_limit(Extent e);
 // The value of an extent for the cell as it stands (fibre_modes: G's rows).
 long extent(const CondensedCell& cell, Extent e);

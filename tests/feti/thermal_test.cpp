@@ -10,7 +10,9 @@
 #include <Eigen/Dense>
 #include <cmath>
 #include <string>
+#include <tuple>
 
+#include "core/strain.hpp"
 #include "fem/assembly.hpp"
 #include "fem/element.hpp"
 #include "feti/condense.hpp"
@@ -310,6 +312,97 @@ TEST(Thermal, TheBondedPlysExpansionIsLevinsOfItsExactLaw) {
   // z, so it swells more across), along them near the fibres' (they carry the axial stiffness).
   EXPECT_LT(alpha.alpha1, 0.2 * s.matrix.alpha);
   EXPECT_GT(alpha.alpha1, s.fibre.alpha_L);
+}
+
+// The exact law with its ΔT column (docs/theory/model.md §1a) against the full solve of the same
+// state (solve_fixed: bonds held; the bonds here are far from their strength), on the off-centre
+// cell: with the strain along the fibres (macro = "full": ε̄ and σ33) and without it (plane
+// strain: ε̄), under ΔT alone and with in-plane stresses and ε33 of both signs. Asked 1e-7
+// relative, the solver's 1e-10 amplified by the dual problem's conditioning, as the ε33 column's
+// test (condense_longitudinal_test.cpp); reciprocity (AT, yT, CT against the ΔT row) to the
+// elimination's round-off, 1e-9 as there. Strain-driven, the stress-driven strain gives its σ̄
+// back, and σ33 is the energy's derivative in ε33 with ΔT held (the CT ε33 ΔT term).
+TEST(Thermal, TheExactLawCarriesTheTemperatureChange) {
+  for (const Macro macro : {Macro::full, Macro::transverse}) {
+    Scene scene = thermal_scene(Boundary::periodic, Eigen::Vector2d(0.07, -0.04));
+    scene.load.macro = macro;
+    scene.load.delta_T = 0;
+    validate(scene);
+    const mesh::Mesh m = mesh::build_mesh(scene.geometry);
+    ContactSolver solver(m, scene);
+    const law::CondensedCell cell = condense(solver.setup());
+    ASSERT_EQ(cell.thermal, 1);
+    ASSERT_EQ(cell.longitudinal, macro == Macro::full ? 1 : 0);
+    EXPECT_EQ(law::consistency_problem(cell), "");
+    EXPECT_LE(cell.reciprocity_error, 1e-9);
+    law::CellEvaluator law(cell);
+    const double eps33_max = macro == Macro::full ? 2e-3 : 0.0;
+    for (const auto& [sigma, eps33, delta_T] : {std::tuple{Eigen::Vector3d::Zero().eval(), 0.0, -100.0},
+                                                std::tuple{Eigen::Vector3d(0.01, -0.004, 0.003), eps33_max, -100.0},
+                                                std::tuple{Eigen::Vector3d(-0.006, 0.002, -0.001), -eps33_max, 50.0}}) {
+      const MacroState state = cooled(sigma, delta_T, eps33);
+      const Solution s = solver.solve_fixed(state, solver.intact());
+      ASSERT_TRUE(s.converged()) << s.qp.message;
+      law::CellHistory h = law.unloaded();
+      const law::CellResponse r = law.at(state, h);
+      ASSERT_TRUE(r.ok) << r.message;
+      const Eigen::Vector3d expected = engineering_from_tensor(s.strain);
+      EXPECT_LE((r.strain - expected).norm(), 1e-7 * expected.norm()) << sigma.transpose() << " ΔT " << delta_T;
+      EXPECT_EQ(r.broken, 0);
+      if (macro == Macro::full) {
+        EXPECT_NEAR(r.stress_zz, s.average_stress_zz, 1e-7 * std::abs(s.average_stress_zz));
+        law::CellHistory h2 = law.unloaded();
+        const law::CellResponse back =
+            law.at(MacroState::strain(r.strain).hold(MacroState::zz, eps33).hold(MacroState::dT, delta_T), h2);
+        ASSERT_TRUE(back.ok) << back.message;
+        EXPECT_LE((back.stress - sigma).norm(), 1e-9 * (sigma.norm() + std::abs(r.stress_zz)));
+        const double step = 1e-7;
+        law::CellHistory hp = law.unloaded(), hm = law.unloaded();
+        const auto at_eps33 = [&](double e, law::CellHistory& hh) {
+          return law.at(MacroState::strain(r.strain).hold(MacroState::zz, e).hold(MacroState::dT, delta_T), hh);
+        };
+        EXPECT_NEAR((at_eps33(eps33 + step, hp).energy - at_eps33(eps33 - step, hm).energy) / (2 * step),
+                    back.stress_zz, 1e-6 * std::abs(back.stress_zz));
+      }
+    }
+  }
+}
+
+// The cool-down and a load past the onset through the exact law's cascade and the full solver's,
+// from the same states: the cool-down (ΔT alone) breaks nothing, the load then breaks bonds;
+// after each, the broken pairs are the same and ε̄ agrees to 1e-7 (as above).
+TEST(Thermal, TheExactLawsCascadeFromTheCoolDownIsTheSolvers) {
+  Scene scene = thermal_scene(Boundary::periodic, Eigen::Vector2d(0.07, -0.04));
+  scene.interface.normal_strength = 0.02;
+  scene.interface.tangential_strength = 0.05;
+  scene.load.delta_T = -20;
+  validate(scene);
+  const mesh::Mesh m = mesh::build_mesh(scene.geometry);
+  ContactSolver solver(m, scene);
+  const law::CondensedCell cell = condense(solver.setup());
+  law::CellEvaluator law(cell);
+  law::CellHistory h = law.unloaded();
+  const Eigen::Vector3d N(1, 0.2, 0);
+  const double onset = solver.debond_onset(N);
+  ASSERT_TRUE(std::isfinite(onset) && onset > 0);
+  feti::BondState bonds = solver.intact();
+  for (const double t : {0.0, 1.5 * onset, 3 * onset}) {
+    const Solution s = solver.solve(cooled(t * N, scene.load.delta_T), bonds);
+    ASSERT_TRUE(s.converged()) << s.qp.message;
+    bonds = s.bonds;
+    const law::CellResponse r = law.at(cooled(t * N, scene.load.delta_T), h);
+    ASSERT_TRUE(r.ok) << r.message;
+    int solver_broken = 0;
+    for (std::size_t p = 0; p < s.bonds.size(); ++p) solver_broken += !s.bonds[p];
+    EXPECT_EQ(r.broken, solver_broken) << "t = " << t;
+    if (t == 0) {
+      EXPECT_EQ(r.broken, 0);
+    } else {
+      EXPECT_GE(r.broken, 1);
+    }
+    const Eigen::Vector3d expected = engineering_from_tensor(s.strain);
+    EXPECT_LE((r.strain - expected).norm(), 1e-7 * expected.norm()) << "t = " << t;
+  }
 }
 
 }  // namespace

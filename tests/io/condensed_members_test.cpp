@@ -28,7 +28,8 @@ namespace {
 using law::CondensedCell;
 
 // A small consistent cell: 2 macro components (3 is the default), 2 pairs of a normal and a tangential row, one
-// fibre mode, the strain and the shear along the fibres; every member set, none to its default.
+// fibre mode, the strain and the shear along the fibres, the temperature change; every member set,
+// none to its default.
 CondensedCell distinct_cell() {
   CondensedCell c;
   c.n_macro = 2;
@@ -64,6 +65,10 @@ CondensedCell distinct_cell() {
   c.Gz = Eigen::RowVector2d{1, 1};
   c.strength_z = Eigen::Vector2d{0.75, 1.75};
   c.pair_z = {1, 0};
+  c.thermal = 1;
+  c.AT = Eigen::Vector2d{2.5e-5, 2.7e-5};
+  c.CT = Eigen::MatrixXd::Constant(1, 1, -1.2e-4);
+  c.yT = Eigen::Vector4d{1e-6, -2e-6, 3e-6, 0.5e-6};
   c.reciprocity_error = 3e-13;
   c.seconds = 0.125;
   c.operator_applications = 17;
@@ -138,6 +143,7 @@ TEST(CondensedMembers, ACellWithoutTheStrainAlongTheFibresLeavesItsMembersOut) {
   CondensedCell cell = distinct_cell();
   cell.longitudinal = 0;
   cell.A33.resize(0, 0), cell.C33.resize(0, 0), cell.y33.resize(0, 0);
+  cell.CT.resize(0, 1);  // σ33 per kelvin: none without ε33
   ASSERT_EQ(law::consistency_problem(cell), "");
   testing::ScratchDir dir;
   law::Law law = testing::synthetic_law();
@@ -161,6 +167,47 @@ TEST(CondensedMembers, ACellWithoutTheStrainAlongTheFibresLeavesItsMembersOut) {
   EXPECT_NE(law::consistency_problem(cell).find("A33"), std::string::npos) << law::consistency_problem(cell);
 }
 
+// The temperature change is left out of every format where the cell has none (law.h5, JSON; the
+// text keeps its version 2 or 4), and a cell with it writes the text's version 5, which has the
+// shear's members too (shear 0 where it has none) and reads back; its count is checked.
+TEST(CondensedMembers, ACellWithoutTheTemperatureChangeLeavesItsMembersOut) {
+  testing::ScratchDir dir;
+  law::Law law = testing::synthetic_law();
+  CondensedCell cell = distinct_cell();
+  cell.thermal = 0;
+  cell.AT.resize(0, 0), cell.CT.resize(0, 0), cell.yT.resize(0, 0);
+  ASSERT_EQ(law::consistency_problem(cell), "");
+  law.cell = cell;
+  write_law(dir / "cold.h5", law);
+  EXPECT_FALSE(File::open_read(dir / "cold.h5").exists("/law/cell/thermal"));
+  EXPECT_FALSE(File::open_read(dir / "cold.h5").exists("/law/cell/AT"));
+  EXPECT_EQ(read_law(dir / "cold.h5").cell->thermal, 0);
+  EXPECT_EQ(law_json(law).find("\"yT\""), std::string::npos);
+  std::ostringstream out;
+  law::write_cell_text(out, cell);
+  EXPECT_EQ(out.str().rfind("dualcell cell law 4\n", 0), 0u);
+  EXPECT_EQ(out.str().find("\nAT"), std::string::npos);
+  // With ΔT and without the shear along the fibres (plane strain): version 5, shear 0.
+  cell = distinct_cell();
+  cell.shear = cell.shear_rows = 0;
+  cell.D0z.resize(0, 0), cell.Yz.resize(0, 0), cell.Hz.resize(0, 0), cell.Gz.resize(0, 0);
+  cell.strength_z.resize(0), cell.pair_z.clear();
+  ASSERT_EQ(law::consistency_problem(cell), "");
+  std::ostringstream text;
+  law::write_cell_text(text, cell);
+  ASSERT_EQ(text.str().rfind("dualcell cell law 5\n", 0), 0u);
+  std::istringstream in(text.str());
+  std::string error;
+  const CondensedCell back = law::read_cell_text(in, error);
+  ASSERT_EQ(error, "");
+  EXPECT_EQ(back.shear, 0);
+  EXPECT_EQ(back.thermal, 1);
+  EXPECT_EQ(back.AT, cell.AT);
+  EXPECT_EQ(back.yT, cell.yT);
+  cell.thermal = 2;
+  EXPECT_EQ(law::consistency_problem(cell), "thermal is 2, not in [0, 1]");
+}
+
 // The shear along the fibres is left out of every format where the cell has none (law.h5, JSON;
 // the text stays version 2, as such a cell's always was), and its rows where no bond carries
 // shear (no adhesion: ⟨τ⟩ = D0z Γ); its counts are checked.
@@ -182,6 +229,8 @@ TEST(CondensedMembers, ACellWithoutTheShearAlongTheFibresLeavesItsMembersOut) {
   EXPECT_EQ(rows.D0z, cell.D0z);
   cell.shear = 0;
   cell.D0z.resize(0, 0);
+  cell.thermal = 0;  // (a cell with ΔT writes the text's version 5: below)
+  cell.AT.resize(0, 0), cell.CT.resize(0, 0), cell.yT.resize(0, 0);
   ASSERT_EQ(law::consistency_problem(cell), "");
   law.cell = cell;
   write_law(dir / "none.h5", law);
@@ -199,7 +248,10 @@ TEST(CondensedMembers, ACellWithoutTheShearAlongTheFibresLeavesItsMembersOut) {
   EXPECT_EQ(law::consistency_problem(cell), "pair_z: 2 is not a pair index (row 1)");
   // The text of the shear with a row per pair and no pair_z (version 3) is refused, not misread.
   std::ostringstream text;
-  law::write_cell_text(text, distinct_cell());
+  CondensedCell no_thermal = distinct_cell();
+  no_thermal.thermal = 0;
+  no_thermal.AT.resize(0, 0), no_thermal.CT.resize(0, 0), no_thermal.yT.resize(0, 0);
+  law::write_cell_text(text, no_thermal);
   ASSERT_EQ(text.str().rfind("dualcell cell law 4\n", 0), 0u);
   std::istringstream older("dualcell cell law 3\n" + text.str().substr(text.str().find('\n') + 1));
   std::string error;
