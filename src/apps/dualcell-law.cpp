@@ -7,7 +7,8 @@
 // tangent dσ/dε (9 entries, row by row) and the broken bonds; with --eps33 each row has the strain
 // ε33 along the fibres fourth, and σ33 and the tangent's ε33 column come out too; with --full each row
 // is the whole ply's strain (εxx, εyy, γxy, ε33, γxz, γyz) and the six stresses and the 6 × 6
-// tangent come out. --form cell (the default) is the
+// tangent come out. With --delta-T the cell carries a temperature change, held, each path starting
+// from the cooled cell. --form cell (the default) is the
 // exact law, the cell condensed onto its interface rows; --form small its small cell (the same form
 // with few rows, fitted to it); --form cone the compact cone-wise law.
 //
@@ -46,6 +47,10 @@ int main(int argc, char** argv) {
                "each row has six numbers, exx, eyy, gxy, e33, gxz, gyz (a law fitted with [load] macro = \"full\" "
                "on the periodic boundary; strain-driven): the output is sxx, syy, sxy, szz, sxz, syz and the 6 x 6 "
                "tangent");
+  app.add_option("--delta-T", options.delta_T,
+                 "a temperature change held at every row, kelvin from the stress-free state (a cure's cool-down is "
+                 "negative; the cell form of a law whose phases expand): each path starts from the cooled cell")
+      ->check(dualcell::number_in(-1000, 1000));
   app.add_flag("--factorise-each", options.factorise_each,
                "the exact law's QP factorises every new free set instead of bordering the kept factorisation "
                "(the reference the bordered solves are measured against; slower)");

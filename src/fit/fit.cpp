@@ -498,6 +498,15 @@ law::Law fit_law(const std::vector<sweep::PathResult>& all_paths, const sweep::S
         law.cell_shear_replay = replay_shear(*law.cell, header.shear_points, header.qp_tolerance);
       law.ply = law::ply_constants(*law.cell);
       law.ply.expansion = header.expansion;
+      // A temperature change the sweep checked (the bonded ply's expansion from full solves,
+      // which needs bonds and the strain along the fibres) is kept with its check; one it could
+      // not check (a contact or a transverse cell) is left out of the law (the summary says so).
+      if (law.cell->thermal == 1 && law.cell->longitudinal == 1 && header.expansion.ok) {
+        law.cell_thermal_replay = replay_expansion(*law.cell, header.expansion, header.qp_tolerance);
+      } else if (law.cell->thermal == 1) {
+        law.cell->thermal = 0;
+        law.cell->AT.resize(0, 0), law.cell->CT.resize(0, 0), law.cell->yT.resize(0, 0);
+      }
     } catch (const ExactLawFailed& e) {
       // The condensation may be right and its QP still beyond the dense method (an RVE of many
       // hundred interface rows): the law is not kept, and the file says why.

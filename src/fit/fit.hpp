@@ -74,6 +74,12 @@ law::CellReplay replay_longitudinal(const law::CondensedCell& cell, const std::v
 // (worst_path the check's path, worst_step its index) and the points whose broken pairs differ.
 law::CellReplay replay_shear(const law::CondensedCell& cell, const std::vector<sweep::ShearPoint>& points,
                              double qp_tolerance);
+// The exact law's temperature change (a cell with thermal = 1 and longitudinal = 1) against the
+// sweep's full solves of the bonded ply's expansion (feti::ContactSolver::bonded_expansion): the
+// law at zero strain and ΔT = 1 with the bonds lifted gives σ_T and the bonded tangent C over
+// (εxx, εyy, γxy, ε33), so α = −C⁻¹σ_T; one point, ‖α − α_solve‖/‖α_solve‖ (γxy left out on the
+// symmetry boundary); limit 1e3 × the QP tolerance, as the others.
+law::CellReplay replay_expansion(const law::CondensedCell& cell, const law::PlyExpansion& solved, double qp_tolerance);
 
 // Above checked_rows every point of the replay is a dense QP of the cell's size (0.1–1 s at
 // 1 500 rows): the replay then takes every k-th path, k the least that leaves at most

@@ -85,6 +85,33 @@ law::CellReplay replay_shear(const law::CondensedCell& cell, const std::vector<s
   return tally.result();
 }
 
+law::CellReplay replay_expansion(const law::CondensedCell& cell, const law::PlyExpansion& solved, double qp_tolerance) {
+  ReplayTally tally(qp_tolerance);
+  law::CellEvaluator evaluator(cell);
+  law::CellHistory history = evaluator.unloaded();
+  const law::CellResponse r =
+      evaluator.at(MacroState::ply_strain(Eigen::Matrix<double, 6, 1>::Zero()).hold(MacroState::dT, 1.0), history,
+                   law::BondMode::lifted);
+  if (!r.ok) throw ExactLawFailed("not kept: its QP failed at the check of the temperature change: " + r.message);
+  // The components the cell has, in (εxx, εyy, γxy, ε33): γxy not on the symmetry boundary.
+  std::vector<int> k = {0, 1, 3};
+  if (cell.n_macro == 3) k = {0, 1, 2, 3};
+  const Eigen::Matrix<double, 6, 6> D = law::ply_tangent(r);
+  const Eigen::Matrix<double, 6, 1> sigma = law::ply_stress(r);
+  const Eigen::Vector4d all_solved(solved.alpha2, solved.alpha3, solved.alpha23, solved.alpha1);
+  const auto n = static_cast<Eigen::Index>(k.size());
+  Eigen::MatrixXd C(n, n);
+  Eigen::VectorXd s(n), expected(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    s(i) = sigma(k[i]);
+    expected(i) = all_solved(k[i]);
+    for (Eigen::Index j = 0; j < n; ++j) C(i, j) = D(k[i], k[j]);
+  }
+  const Eigen::VectorXd alpha = -C.fullPivLu().solve(s);
+  tally.add((alpha - expected).norm() / expected.norm(), 0, -1, false);
+  return tally.result();
+}
+
 law::CellReplay replay_cell(const law::CondensedCell& cell, const std::vector<sweep::PathResult>& paths,
                             double qp_tolerance, int path_stride) {
   ReplayTally tally(qp_tolerance);

@@ -131,6 +131,11 @@ struct Law {
   // Where the cell carries the shears along the fibres: its replay of the sweep's one-body checks
   // of them (sweep::ShearPoint). Empty (0 points) otherwise.
   CellReplay cell_shear_replay;
+  // Where the cell carries a temperature change (and the strain along the fibres): the bonded
+  // ply's expansion from the exact law (its ΔT column, bonds lifted) against the sweep's full
+  // solves of it (/expansion); one point, the relative error of (α2, α3, α23, α1). Empty
+  // otherwise.
+  CellReplay cell_thermal_replay;
   // Where the cell carries the whole ply (the strain and the shears along the fibres): its nine
   // engineering constants per bond state and sign, from the exact law (law/ply.hpp); empty
   // otherwise (ply.note says why).
@@ -175,12 +180,14 @@ inline constexpr CellReplayMember cell_replay_members[] = {
     {"cell_replay", &Law::cell_replay},
     {"cell_longitudinal_replay", &Law::cell_longitudinal_replay},
     {"cell_shear_replay", &Law::cell_shear_replay},
+    {"cell_thermal_replay", &Law::cell_thermal_replay},
 };
 // Whether the cell carries what replay m checks (the in-plane replay always; the others with
 // their part of the cell: longitudinal, shear).
 inline bool carries(const CondensedCell& cell, const CellReplayMember& m) {
   if (m.replay == &Law::cell_longitudinal_replay) return cell.longitudinal == 1;
   if (m.replay == &Law::cell_shear_replay) return cell.shear == 2;
+  if (m.replay == &Law::cell_thermal_replay) return cell.thermal == 1;
   return true;
 }
 

@@ -114,6 +114,7 @@ std::string not_finite(const MacroState& state) {
   std::string out = "the law's answer at (";
   out.append(shortest(v(0))).append(", ").append(shortest(v(1))).append(", ").append(shortest(v(2))).append(")");
   if (state.eps33() != 0) out.append(", eps33 ").append(shortest(state.eps33()));
+  if (state.delta_T() != 0) out.append(", delta_T ").append(shortest(state.delta_T()));
   if (!state.gamma().isZero(0))
     out.append(", gamma (")
         .append(shortest(state.gamma()(0)))
@@ -150,6 +151,11 @@ const law::CondensedCell* chosen_cell(const law::Law& law, const LawPointsOption
                           ? std::string("its cell has no strain along the fibres (fit a scene with [load] macro = "
                                         "\"full\" and boundary = \"periodic\" for a small cell)")
                           : std::string("the cone-wise law has no strain along the fibres (use --form cell)")));
+  if (options.delta_T != 0 && (!cell_form || cell->thermal == 0))
+    throw InputError(options.law_file.string() + ": --delta-T: " +
+                     (cell_form ? std::string("its cell has no temperature change (fit a sweep of phases that both "
+                                              "have alpha: the exact law carries it, the small cell not yet)")
+                                : std::string("the cone-wise law has no temperature change (use --form cell)")));
   return cell;
 }
 
@@ -199,8 +205,10 @@ LawPointsSummary evaluate_law(const LawPointsOptions& options) {
     // After the first row: whether the file has the path column is known then.
     if (summary.rows == 0) out = header_line(points.has_path(), options.strain_driven, cell_form, carried);
     const auto where = [&] { return options.points_file.string() + ":" + std::to_string(point.line) + ": "; };
-    // The row's state: its in-plane part a stress where the points are stresses.
+    // The row's state: its in-plane part a stress where the points are stresses; the temperature
+    // change held.
     if (!options.strain_driven) point.state.stress_driven = MacroState::in_plane_mask;
+    if (options.delta_T != 0) point.state.hold(MacroState::dT, options.delta_T);
     const Eigen::Vector3d v = point.state.in_plane();
     if (points.has_path() && !(cell_form ? histories.count(point.path) : fused_paths.count(point.path))) {
       held_bytes += history_bytes + point.path.size();
@@ -214,8 +222,16 @@ LawPointsSummary evaluate_law(const LawPointsOptions& options) {
     const auto t0 = std::chrono::steady_clock::now();
     if (cell_form) {
       law::CellHistory fresh;
-      law::CellHistory& h = points.has_path() ? histories.try_emplace(point.path, evaluator->unloaded()).first->second
-                                              : (fresh = evaluator->unloaded());
+      const auto [it, new_path] = points.has_path() ? histories.try_emplace(point.path, evaluator->unloaded())
+                                                    : std::pair{histories.end(), true};
+      law::CellHistory& h = points.has_path() ? it->second : (fresh = evaluator->unloaded());
+      // A path (or a row without one) starts from the cooled cell: the cool-down at zero stress
+      // first, its breaks the history's first round (docs/theory/model.md §1a).
+      if (new_path && options.delta_T != 0) {
+        const law::CellResponse cool =
+            evaluator->at(MacroState::stress(Eigen::Vector3d::Zero()).hold(MacroState::dT, options.delta_T), h);
+        if (!cool.ok) throw InputError(where() + "the cool-down: " + cool.message);
+      }
       const law::CellResponse r = evaluator->at(point.state, h);
       if (!r.ok) throw InputError(where() + r.message);
       row.other = law::ply_stress(r);

@@ -22,6 +22,10 @@ struct LawPointsOptions {
   // (a cell with the strain and the shear along the fibres, [load] macro = "full" and periodic);
   // the output is (σxx, σyy, σxy, σ33, τxz, τyz) and the 6 × 6 tangent in that order.
   bool full = false;
+  // A temperature change held at every row (kelvin from the stress-free state; the cell form of a
+  // law whose cell carries it, docs/theory/model.md §1a): each path, and each row without one,
+  // starts from the cooled cell (the cool-down at zero stress first).
+  double delta_T = 0;
   // Every new free set of the exact law's QP factorised, none bordered (qp/dense_qp.hpp): the
   // reference the bordered solves are measured against.
   bool factorise_each = false;

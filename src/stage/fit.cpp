@@ -68,6 +68,9 @@ law::Law run_fit(const std::filesystem::path& sweep_file, const std::filesystem:
     refuse(law.cell_shear_replay,
            "check " + std::to_string(law.cell_shear_replay.worst_step) + " of the shear along the fibres",
            ("; " + std::to_string(law.cell_shear_replay.points) + " checks)").c_str());
+  if (law.cell && law.cell->thermal == 1 && !law.cell_thermal_replay.ok())
+    refuse(law.cell_thermal_replay, "bonded expansion (/expansion)",
+           "): its temperature change is wrong for this cell");
   law.provenance.sweep_file = sweep_file.string();
   law.provenance.sweep_hash = file_hash(sweep_file);
   io::write_law(out, law);
@@ -103,6 +106,15 @@ void print_exact_law_summary(const law::Law& law) {
     if (law.cell->longitudinal == 1)
       along("e33", "full solves of generalised plane strain", law.cell_longitudinal_replay);
     if (law.cell->shear == 2) along("shear", "one-body antiplane solves", law.cell_shear_replay);
+    if (law.cell->thermal == 0 && law.ply.expansion.asked())
+      std::printf(
+          "  exact law with a temperature change: not kept (the sweep checks the delta_T column through the bonded "
+          "ply's expansion, which needs adhesion and [load] macro = \"full\")\n");
+    if (law.cell->thermal == 1)
+      std::printf(
+          "  exact law with a temperature change (its delta_T column): the bonded expansion meets the sweep's full "
+          "solves (/expansion) to %.2e (limit %.1e)\n",
+          law.cell_thermal_replay.max_error, law.cell_thermal_replay.limit);
     if (!law.ply.rows.empty()) {
       std::printf(
           "  the ply's constants from the exact law (axis 1 the fibres; /law/ply)%s:\n",

@@ -148,6 +148,71 @@ TEST(LawStage, DualcellLawEvaluatesTheStrainAlongTheFibres) {
       << overflow.output;
 }
 
+// A law whose phases expand, swept and fitted without a temperature change (its exact law carries
+// ΔT all the same, checked by the fit against the sweep's bonded expansion, docs/theory/model.md
+// §1a), evaluated with --delta-T against dualcell-solve of
+// the same cell with that [load] delta_T, an independent full solve (its cool-down first, then the
+// load, with the bonds' cascade): at zero stress the cooled cell's strain, in transverse tension
+// past the onset and in compression with shear; the strain and the broken pairs. Asked 1e-7 of the strain: the solver's
+// tolerance 1e-10 amplified by the dual problem's conditioning, as the replay's. The cone-wise
+// form refuses --delta-T in one line.
+TEST(LawStage, DualcellLawCarriesATemperatureChangeAsTheSolverDoes) {
+  std::string scene = testing::scene_text(
+      1, 1, 2, 0.35,
+      "[load]\nboundary = \"periodic\"\nmacro = \"full\"\n[sweep]\ndirections_deg = [0, 90]\nmagnitudes = [-0.05, "
+      "0.05]\n[solver]\ntolerance = 1e-10\n[interface]\nnormal_strength = 0.03\ntangential_strength = 0.03\n");
+  scene.replace(scene.find("nu = 0.2\n"), 9, "nu = 0.2\nalpha = 5e-6\n");
+  scene.replace(scene.find("nu = 0.35\n"), 10, "nu = 0.35\nalpha = 6e-5\n");
+  StagesRun run(scene);
+  const law::Law law = io::read_law(run.law);
+  ASSERT_TRUE(law.cell.has_value()) << law.cell_note;
+  ASSERT_EQ(law.cell->thermal, 1);
+  // The fit checked the ΔT column against the sweep's full solves of the bonded expansion.
+  EXPECT_EQ(law.cell_thermal_replay.points, 1);
+  EXPECT_LE(law.cell_thermal_replay.max_error, law.cell_thermal_replay.limit);
+  EXPECT_NE(run.fit_output.find("the bonded expansion meets the sweep's full solves"), std::string::npos)
+      << run.fit_output;
+  std::string cooled = scene;
+  cooled.replace(cooled.find("boundary = \"periodic\"\n"), 22, "boundary = \"periodic\"\ndelta_T = -100\n");
+  const auto cooled_scene = run.dir.write("cooled.toml", cooled);
+  const std::vector<Eigen::Vector3d> loads = {Eigen::Vector3d::Zero(), {0.06, 0, 0}, {-0.02, 0.005, 0.004}};
+  std::ostringstream points;
+  points << std::setprecision(17) << "sxx,syy,sxy\n";
+  for (const Eigen::Vector3d& s : loads) points << s(0) << ',' << s(1) << ',' << s(2) << '\n';
+  const auto stresses = run.dir.write("t.csv", points.str());
+  const auto r = run_command(bin("dualcell-law") + " --quiet --law " + q(run.law) + " --stress " + q(stresses) +
+                             " --delta-T -100 --out " + q(run.dir / "t-out.csv"));
+  ASSERT_EQ(r.exit_code, exit_ok) << r.output;
+  const auto rows = read_csv(run.dir / "t-out.csv");
+  ASSERT_EQ(rows.size(), loads.size());
+  for (std::size_t i = 0; i < loads.size(); ++i) {
+    const auto out = run.dir / ("solve" + std::to_string(i) + ".h5");
+    std::ostringstream stress;
+    stress << std::setprecision(17) << loads[i](0) << ',' << loads[i](1) << ',' << loads[i](2);
+    const auto solve = run_command(bin("dualcell-solve") + " --quiet --config " + q(cooled_scene) + " --mesh " +
+                                   q(run.dir / "mesh.h5") + " --stress " + stress.str() + " --out " + q(out));
+    ASSERT_EQ(solve.exit_code, exit_ok) << solve.output;
+    const io::File solved = io::File::open_read(out);
+    const auto strain = solved.read_doubles("/macro/strain", {3});
+    const auto bonded = solved.read_ints("/interface/bonded", {io::any_extent});
+    EXPECT_EQ(rows[i].back(), static_cast<double>(std::count(bonded.begin(), bonded.end(), 0))) << i;
+    const Eigen::Vector3d expected = engineering_from_tensor(Eigen::Vector3d(strain[0], strain[1], strain[2]));
+    const Eigen::Vector3d got(rows[i][0], rows[i][1], rows[i][2]);
+    EXPECT_LE((got - expected).norm(), 1e-7 * expected.norm())
+        << i << ": " << got.transpose() << " against " << expected.transpose();
+  }
+  // The cool-down alone shrinks the cell (the matrix's expansion dominates) and breaks nothing;
+  // the transverse tension breaks bonds from it.
+  EXPECT_LT(rows[0][0], 0);
+  EXPECT_EQ(rows[0].back(), 0);
+  EXPECT_GT(rows[1].back(), 0);
+  const auto cone = run_command(bin("dualcell-law") + " --quiet --law " + q(run.law) + " --stress " + q(stresses) +
+                                " --form cone --delta-T -100 --out " + q(run.dir / "c.csv"));
+  EXPECT_EQ(cone.exit_code, exit_input_error);
+  EXPECT_NE(cone.output.find("--delta-T: the cone-wise law has no temperature change"), std::string::npos)
+      << cone.output;
+}
+
 TEST(LawStage, DualcellLawRefusesBadPointsWithTheLine) {
   StagesRun run(contact_scene);
   const auto try_points = [&](const std::string& text, const std::string& flag = " --stress ") {
