@@ -61,19 +61,21 @@ TEST(GeneralisedPlaneStrain, TheDualSolveIsTheOneBodySolveOfTheLoadWithItsEigenS
 }
 
 // Hill's exact relations (hill_relations.hpp) on a centred and an off-centre cell. Tolerance
-// 1e-7: the QP's 1e-10 amplified by cond(PFP) and by the relations' differences of like terms.
+// 1e-8, issue 55's target: the QP's 1e-10 amplified by cond(PFP) and by the relations' differences
+// of like terms (measured at most 4.2e-10 over every cell of these tests, the uniform state's
+// strain; E1 and ν12 within 3e-11).
 TEST(GeneralisedPlaneStrain, HillsRelationsHoldOnAnyGeometry) {
   for (const Eigen::Vector2d& offset : {Eigen::Vector2d(0, 0), Eigen::Vector2d(0.12, -0.07)}) {
     const Scene scene = bonded_scene(Boundary::periodic, offset);
     const mesh::Mesh m = mesh::build_mesh(scene.geometry);
-    testing::expect_hill_relations(m, scene, 1e-7,
+    testing::expect_hill_relations(m, scene, 1e-8,
                                    "offset (" + std::to_string(offset.x()) + ", " + std::to_string(offset.y()) + ")");
   }
 }
 
 // The same with a transversely isotropic fibre (carbon-like ratios: E_L/E_T = 15, ν_LT = 0.2,
 // ν_TT = 0.4, G_LT = E_T/2): the relations hold with E_L, ν_LT and the phases' plane-strain bulk
-// moduli, to the same 1e-7; and E1 is the axial rule of mixtures ⟨E_L⟩ within 1 % (Hill's
+// moduli, to the same 1e-8; and E1 is the axial rule of mixtures ⟨E_L⟩ within 1 % (Hill's
 // correction is 5e-4 of it here), more than five times what the transverse E alone would give
 // (the carbon ply's thirteen-fold error of an isotropic fibre).
 TEST(GeneralisedPlaneStrain, HillsRelationsHoldWithATransverselyIsotropicFibre) {
@@ -85,7 +87,7 @@ TEST(GeneralisedPlaneStrain, HillsRelationsHoldWithATransverselyIsotropicFibre) 
   scene.fibre.G_LT = 0.5 * scene.fibre.E;
   validate(scene);
   const mesh::Mesh m = mesh::build_mesh(scene.geometry);
-  testing::expect_hill_relations(m, scene, 1e-7, "transversely isotropic fibre");
+  testing::expect_hill_relations(m, scene, 1e-8, "transversely isotropic fibre");
   feti::ContactSolver solver(m, scene);
   const Solution axial =
       solver.solve_fixed(MacroState::stress(Eigen::Vector3d::Zero()).hold(MacroState::zz, 1), solver.intact());
