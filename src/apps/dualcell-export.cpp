@@ -59,6 +59,12 @@ int main(int argc, char** argv) {
                  "what its cascade breaks at the increment's end breaks at the start of the next (a response a "
                  "Newton method converges on; repeat an increment at the same load to finish the cascade)")
       ->check(CLI::IsMember({"within", "between"}));
+  double stress_free_temperature = 0;
+  auto* t0 = app.add_option("--stress-free-temperature", stress_free_temperature,
+                            "umat --form cell of a whole ply's law that carries a temperature change (layout 3): the "
+                            "temperature at which the cell is stress-free, in the analysis' scale; the umat evaluates "
+                            "each point at dT = T - T0 (the card's 6th constant)")
+                 ->check(dualcell::number_in(-1e6, 1e6));
   app.add_flag("--quiet", quiet, "do not print what was written");
   if (const auto stop = dualcell::parse_options(app, argc, argv)) return *stop;
 
@@ -74,6 +80,7 @@ int main(int argc, char** argv) {
     options.form = form;
     options.cell_id = cell_id;
     options.breaks = breaks;
+    if (t0->count() > 0) options.stress_free_temperature = stress_free_temperature;
     const std::string written = stage::export_law(options);
     if (!quiet) std::printf("dualcell-export: %s -> %s (%s)\n", law_file.c_str(), out.c_str(), written.c_str());
   });

@@ -518,8 +518,13 @@ namespace {
 
 // Layout 3: the whole ply's exact law or its small cell, every component from the cell.
 std::string law_umat_ply(const Law& law, const law::CondensedCell& cell, bool small, const std::string& name, int id,
-                         std::uint64_t cell_hash, const std::string& source, UmatBreaks breaks) {
+                         std::uint64_t cell_hash, const std::string& source, UmatBreaks breaks,
+                         std::optional<double> stress_free_temperature) {
   const bool between = breaks == UmatBreaks::between;
+  if (stress_free_temperature && cell.thermal == 0)
+    throw InputError(source + ": --stress-free-temperature: the " + (small ? "small cell" : "cell") +
+                     " carries no temperature change (the exact law of phases that both have alpha, fitted with "
+                     "adhesion and [load] macro = \"full\", does)");
   const int depvar = 1 + cell.n_pairs + cell.n_macro + cell.n_rows() + cell.shear_rows;
   std::string out = card_header(
       law, source,
@@ -545,10 +550,15 @@ std::string law_umat_ply(const Law& law, const law::CondensedCell& cell, bool sm
                             "** (held within one; the pairs its cascade breaks at its end break at the start of the "
                             "next: repeat\n** an increment at the same load until none does).\n"
                           : ".\n");
+  if (stress_free_temperature)
+    out +=
+        "** 6th constant: the stress-free temperature T0; each point at dT = T - T0 with the total strain\n"
+        "** (give the temperatures: *INITIAL CONDITIONS, TYPE=TEMPERATURE and *TEMPERATURE; no *EXPANSION).\n";
   out += "*MATERIAL, NAME=ABAQUS_" + name + "\n";
-  out += std::string("*USER MATERIAL, CONSTANTS=") + (between ? "5" : "4") + "\n";
+  out += std::string("*USER MATERIAL, CONSTANTS=") + (stress_free_temperature ? "6" : between ? "5" : "4") + "\n";
   out += card_number(3) + ", " + card_number(id) + ", " + umat_cell_hash_constants(cell_hash) +
-         (between ? ", " + card_number(1) : "") + "\n";
+         (between || stress_free_temperature ? ", " + card_number(between ? 1 : 0) : "") +
+         (stress_free_temperature ? ", " + card_number(*stress_free_temperature) : "") + "\n";
   out += "*DEPVAR\n" + std::to_string(depvar) + "\n";
   return out;
 }
@@ -556,12 +566,16 @@ std::string law_umat_ply(const Law& law, const law::CondensedCell& cell, bool sm
 }  // namespace
 
 std::string law_umat_cell(const Law& law, law::LawForm form, const std::string& name, int id, std::uint64_t cell_hash,
-                          const std::string& source, UmatBreaks breaks) {
+                          const std::string& source, UmatBreaks breaks, std::optional<double> stress_free_temperature) {
   check_name(name);
   const bool small = form == law::LawForm::small;
   const law::CondensedCell& cell = umat_cell(law, form, source);
   if (cell.longitudinal == 1 && cell.shear == 2)
-    return law_umat_ply(law, cell, small, name, id, cell_hash, source, breaks);
+    return law_umat_ply(law, cell, small, name, id, cell_hash, source, breaks, stress_free_temperature);
+  if (stress_free_temperature)
+    throw InputError(source +
+                     ": --stress-free-temperature: only for a cell of the whole ply (the umat's layout 3: [load] "
+                     "macro = \"full\", periodic)");
   if (breaks == UmatBreaks::between)
     throw InputError(source +
                      ": --breaks between: only for a cell of the whole ply (the umat's layout 3: [load] "

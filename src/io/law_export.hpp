@@ -3,6 +3,7 @@
 // row per direction, CalculiX/Abaqus material cards (the 3D materials of law/solid.hpp) and the
 // constants of dualcell's umat.
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -48,10 +49,13 @@ std::string law_umat(const law::Law& law, const std::string& name, const std::st
 const law::CondensedCell& umat_cell(const law::Law& law, law::LawForm form, const std::string& source);
 // Where a material point's bonds break (umat/cell_umat.h): within each increment (its debond
 // cascade at every strain), or between increments (held within one, the cascade's breaks at its
-// end taking effect in the next: a 5th constant 1, layout 3 only).
+// end taking effect in the next: a 5th constant 1, layout 3 only). `stress_free_temperature`: the
+// temperature T0 at which the cell is stress-free, in the analysis' scale (layout 3 of a cell that
+// carries a temperature change only: a 6th constant; the umat evaluates at ΔT = T − T0).
 enum class UmatBreaks { within, between };
 std::string law_umat_cell(const law::Law& law, law::LawForm form, const std::string& name, int id,
-                          std::uint64_t cell_hash, const std::string& source, UmatBreaks breaks = UmatBreaks::within);
+                          std::uint64_t cell_hash, const std::string& source, UmatBreaks breaks = UmatBreaks::within,
+                          std::optional<double> stress_free_temperature = std::nullopt);
 std::string umat_cell_file(int id);
 // The card's hash constants as written (6 and 7 of layout 2, 3 and 4 of layout 3): the cell
 // file's hash, high and low 32 bits.

@@ -83,6 +83,8 @@ std::string export_law(const ExportOptions& options) {
   const bool small = umat && form == law::LawForm::small;
   if (!options.breaks.empty() && (!umat || form == law::LawForm::cone))
     throw InputError("--breaks " + options.breaks + ": only for --format umat of a cell (--form cell or small)");
+  if (options.stress_free_temperature && (!umat || form == law::LawForm::cone))
+    throw InputError("--stress-free-temperature: only for --format umat of a cell (--form cell)");
   const ErrorLimit limit = error_limit(options, law);
   // The small cell is vouched for by its check against the exact law, as the cone-wise law is.
   if (small) refuse_over_error(options, limit, "the small cell", law.small_check);
@@ -118,7 +120,8 @@ std::string export_law(const ExportOptions& options) {
     }
     const std::string card =
         io::law_umat_cell(law, form, options.name, options.cell_id, cell_hash, options.law_file.string(),
-                          options.breaks == "between" ? io::UmatBreaks::between : io::UmatBreaks::within);
+                          options.breaks == "between" ? io::UmatBreaks::between : io::UmatBreaks::within,
+                          options.stress_free_temperature);
     io::AtomicOutputs outputs;
     outputs.add(options.out);
     outputs.add(cell_file);

@@ -3,6 +3,7 @@
 // umat's card (conversions in io/law_export.hpp).
 #include <filesystem>
 #include <limits>
+#include <optional>
 #include <string>
 
 #include "io/law_export.hpp"
@@ -25,6 +26,9 @@ struct ExportOptions {
   int cell_id = 1;
   // umat of a cell: where its bonds break ("within" each increment, the default, or "between").
   std::string breaks;
+  // umat of a whole ply's cell that carries a temperature change: the stress-free temperature T0
+  // (the card's 6th constant; io::law_umat_cell).
+  std::optional<double> stress_free_temperature;
 };
 
 // Reads law_file, converts, writes `out` atomically (nothing is left behind on any error) and

@@ -145,8 +145,8 @@ void write_active(const std::vector<dualcell::qp::Bound>& active, int n, double*
 
 // The law at the in-plane strain (n = 3: ε11, ε22, γ12) or the whole ply's (n = 6, Abaqus's
 // order), σ and D (n × n, row by row) in the same order.
-int cell_law(int id, const double hash_constants[2], int n, const double* e, double* statev, int nstatv, double* s,
-             double* D, double* W, bool between) {
+int cell_law(int id, const double hash_constants[2], int n, const double* e, double delta_T, double* statev, int nstatv,
+             double* s, double* D, double* W, bool between) {
   const Loaded& law = load(id);
   if (!law.cell) return 1;
   std::uint64_t expected = 0;
@@ -204,6 +204,7 @@ int cell_law(int id, const double hash_constants[2], int n, const double* e, dou
     else
       state.hold(static_cast<MacroState::Component>(k), e[i]);
   }
+  if (delta_T != 0) state.hold(MacroState::dT, delta_T);
   // Within the increment (the default) the point's debond cascade at this strain; between
   // increments the bonds held (a bonded row at its strength carries its strength), and the pairs
   // the cascade at this strain would break are only marked, to break at the start of the next
@@ -249,10 +250,10 @@ int cell_law(int id, const double hash_constants[2], int n, const double* e, dou
 // Nothing escapes into the calling code (C or Fortran, which cannot catch it: an exception there
 // would abort the whole analysis): every failure is a line and a return of 1, and the umat asks
 // for a smaller increment.
-int guarded(int id, const double hash[2], int n, const double* e, double* statev, int nstatv, double* s, double* D,
-            double* W, int between) {
+int guarded(int id, const double hash[2], int n, const double* e, double delta_T, double* statev, int nstatv, double* s,
+            double* D, double* W, int between) {
   try {
-    return cell_law(id, hash, n, e, statev, nstatv, s, D, W, between != 0);
+    return cell_law(id, hash, n, e, delta_T, statev, nstatv, s, D, W, between != 0);
   } catch (const std::bad_alloc&) {
     tell_once(id, "memory", "law " + std::to_string(id) + ": out of memory");
   } catch (const std::exception& error) {
@@ -275,10 +276,10 @@ extern "C" void dualcell_umat_refuse(const char* message) {
 
 extern "C" int dualcell_cell_law(int id, const double hash[2], const double e[3], double* statev, int nstatv,
                                  double s[3], double D[9], double* W, int between) {
-  return guarded(id, hash, 3, e, statev, nstatv, s, D, W, between);
+  return guarded(id, hash, 3, e, 0.0, statev, nstatv, s, D, W, between);
 }
 
-extern "C" int dualcell_cell_law6(int id, const double hash[2], const double e[6], double* statev, int nstatv,
-                                  double s[6], double D[36], double* W, int between) {
-  return guarded(id, hash, 6, e, statev, nstatv, s, D, W, between);
+extern "C" int dualcell_cell_law6(int id, const double hash[2], const double e[6], double delta_T, double* statev,
+                                  int nstatv, double s[6], double D[36], double* W, int between) {
+  return guarded(id, hash, 6, e, delta_T, statev, nstatv, s, D, W, between);
 }

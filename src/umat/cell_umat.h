@@ -45,11 +45,13 @@ int dualcell_cell_is_ply(int id);
 
 /* The whole ply's law `id` (a cell with the strain and the shears along the fibres) at the 3D
  * strain e = (ε11, ε22, ε33, γ12, γ13, γ23), Abaqus's order with engineering shears, the
- * material axes 1 = x, 2 = y in the plane of the cells and 3 = z along the fibres; as
+ * material axes 1 = x, 2 = y in the plane of the cells and 3 = z along the fibres, and the
+ * temperature change delta_T from the stress-free state (0: none; otherwise the cell must carry
+ * it, docs/theory/model.md §1a: e is then the total strain, thermal part included); as
  * dualcell_cell_law otherwise. Writes σ = (σ11, σ22, σ33, σ12, σ13, σ23), the 6 × 6 tangent
  * D = dσ/dε row by row (symmetric) and W. */
-int dualcell_cell_law6(int id, const double hash[2], const double e[6], double* statev, int nstatv, double s[6],
-                       double D[36], double* W, int between);
+int dualcell_cell_law6(int id, const double hash[2], const double e[6], double delta_T, double* statev, int nstatv,
+                       double s[6], double D[36], double* W, int between);
 
 /* A card the user material refuses before any law is evaluated (too few constants, an unknown
  * layout, too few state variables): `message` on stderr once per process and message, as every

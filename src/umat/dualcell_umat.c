@@ -15,7 +15,10 @@
  *
  * Constants (*USER MATERIAL, CONSTANTS = n, written by dualcell-export --format umat):
  * layout 3 takes a 5th constant: 1 where bonds break between increments (cell_umat.h,
- *   `between`), 0 or absent where the cascade runs within each.
+ *   `between`), 0 or absent where the cascade runs within each; and a 6th, the stress-free
+ *   temperature T0 of a cell that carries a temperature change (docs/theory/model.md §1a): the
+ *   point is evaluated at ΔT = temp + dtemp − T0 with the total strain (no *EXPANSION: the cell
+ *   has its own); absent, ΔT = 0.
  * layout 3, the whole ply's exact law (a cell with the strain and the shears along the fibres,
  *   docs/method.md §16a): 1: 3   2: id, the law's file   3–4: its hash; σ and the 6 × 6 tangent
  *   from the cell in the material axes 1 = x, 2 = y (the plane of the cells), 3 = z (the
@@ -78,7 +81,7 @@ void umat_(double* stress, double* statev, double* ddsdde, double* sse, double* 
            double* pnewdt, const double* celent, const double* dfgrd0, const double* dfgrd1, const int* noel,
            const int* npt, const int* layer, const int* kspt, const int* kstep, const int* kinc,
            size_t cmname_length) {
-  (void)scd, (void)rpl, (void)ddsddt, (void)drplde, (void)drpldt, (void)time, (void)dtime, (void)temp, (void)dtemp;
+  (void)scd, (void)rpl, (void)ddsddt, (void)drplde, (void)drpldt, (void)time, (void)dtime;
   (void)predef, (void)dpred, (void)cmname, (void)ndi, (void)nshr, (void)coords, (void)drot, (void)celent;
   (void)dfgrd0, (void)dfgrd1, (void)noel, (void)npt, (void)layer, (void)kspt, (void)kstep, (void)kinc;
   (void)cmname_length;
@@ -90,13 +93,16 @@ void umat_(double* stress, double* statev, double* ddsdde, double* sse, double* 
   if (n == 6 && props[0] == 3) {
     double D36[36];
     const int between = *nprops >= 5 && props[4] != 0;
+    /* The temperature change from the stress-free state: the code's temperature at the end of the
+     * increment less the card's 6th constant (none: 0). */
+    const double delta_T = *nprops >= 6 ? *temp + *dtemp - props[5] : 0;
     if (*nprops < 4) {
       dualcell_umat_refuse("a layout-3 card (the whole ply's exact law) with fewer than 4 constants (3, id and the "
                            "cell file's hash): export the law again");
       *pnewdt = 0.25; /* a smaller increment, failing visibly */
       return;
     }
-    if (dualcell_cell_law6((int)props[1], props + 2, e6, statev, *nstatv, stress, D36, sse, between) != 0) {
+    if (dualcell_cell_law6((int)props[1], props + 2, e6, delta_T, statev, *nstatv, stress, D36, sse, between) != 0) {
       *pnewdt = 0.25; /* no law or a failed QP (told by the law): a smaller increment, failing visibly */
       return;
     }

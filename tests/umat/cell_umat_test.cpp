@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
 #include "core/hash.hpp"
@@ -173,9 +174,12 @@ struct Call6 {
   Eigen::Matrix<double, 6, 6> tangent;
   double energy, pnewdt;
 };
-Call6 call6(const std::vector<double>& props, const Eigen::Matrix<double, 6, 1>& e, std::vector<double>& statev) {
+// `temperature`: the code's temperature at the start of the increment (its change over it 0).
+Call6 call6(const std::vector<double>& props, const Eigen::Matrix<double, 6, 1>& e, std::vector<double>& statev,
+            double temperature = 0) {
   double stress[6] = {}, ddsdde[36], sse = 0, spd = 0, scd = 0, rpl = 0, ddsddt[6], drplde[6];
-  double drpldt = 0, time[2] = {}, dtime = 1, temp = 0, dtemp = 0, predef = 0, dpred = 0, coords[3] = {}, drot[9] = {};
+  double drpldt = 0, time[2] = {}, dtime = 1, temp = temperature, dtemp = 0, predef = 0, dpred = 0, coords[3] = {};
+  double drot[9] = {};
   double pnewdt = 1, celent = 1, dfgrd0[9] = {}, dfgrd1[9] = {};
   double stran[6], dstran[6];
   for (int i = 0; i < 6; ++i) stran[i] = dstran[i] = 0.5 * e(i);
@@ -201,12 +205,19 @@ struct PlyCard {
   int depvar = 0;
   std::string card;
 };
-PlyCard ply_card(const std::filesystem::path& dir, int id, io::UmatBreaks breaks) {
+// `stress_free_temperature`: phases that expand (the cell carries ΔT) and the card's 6th constant.
+PlyCard ply_card(const std::filesystem::path& dir, int id, io::UmatBreaks breaks,
+                 std::optional<double> stress_free_temperature = std::nullopt) {
   setenv("DUALCELL_CELL_DIR", dir.c_str(), 1);
   Scene s = parse_scene(testing::scene_text(1, 1, 2, 0.3), "test.toml");
   s.geometry.element = Element::p1;
   s.fibre = {30.0, 0.22};
   s.matrix = {1.0, 0.35};
+  if (stress_free_temperature) {
+    s.fibre.expands = s.matrix.expands = true;
+    s.fibre.alpha = 5e-6;
+    s.matrix.alpha = 6e-5;
+  }
   s.load.boundary = Boundary::periodic;
   s.load.macro = Macro::full;
   s.interface.normal_strength = s.interface.tangential_strength = 0.01;
@@ -221,11 +232,13 @@ PlyCard ply_card(const std::filesystem::path& dir, int id, io::UmatBreaks breaks
   law.constituents = with_isotropic_axes({30.0, 0.22, 1.0, 0.35, 0.28, 1.0});
   law.cell = out.cell;
   const std::uint64_t hash = text_hash_value(text.str());
-  out.card = io::law_umat_cell(law, law::LawForm::cell, "PLY", id, hash, "law.h5", breaks);
+  out.card = io::law_umat_cell(law, law::LawForm::cell, "PLY", id, hash, "law.h5", breaks, stress_free_temperature);
   out.depvar = 1 + out.cell.n_pairs + 3 + out.cell.n_rows() + out.cell.shear_rows;
   const double high = static_cast<double>(hash >> 32), low = static_cast<double>(hash & 0xffffffffULL);
   out.props = {3, static_cast<double>(id), high, low};
-  if (breaks == io::UmatBreaks::between) out.props.push_back(1);
+  if (breaks == io::UmatBreaks::between || stress_free_temperature)
+    out.props.push_back(breaks == io::UmatBreaks::between ? 1 : 0);
+  if (stress_free_temperature) out.props.push_back(*stress_free_temperature);
   return out;
 }
 
@@ -283,6 +296,76 @@ TEST(CellUmat, TheWholePlyGivesAllSixComponentsFromTheCell) {
   // A ply cell under a layout-2 card, and an in-plane cell under a layout-3 card: refused.
   std::vector<double> state(depvar, 0.0);
   EXPECT_EQ(call({2, 7011, 1, 1, 1, high, low}, Eigen::Vector3d(1e-4, 0, 0), state).pnewdt, 0.25);
+}
+
+// A whole ply's cell that carries a temperature change, its card with the stress-free temperature
+// T0 = 20 (dualcell-export --stress-free-temperature, the 6th constant): at the code's temperature
+// −80 the umat is the library at ΔT = −100, along a path from the cooled cell whose loads break
+// pairs (the first call at zero strain: the free cell contracts, its stress is not zero); a card
+// without the 6th constant is the library at ΔT = 0; the export refuses the constant for a cell
+// without ΔT, and the umat a temperature change for such a cell.
+TEST(CellUmat, TheWholePlyTakesTheTemperatureItIsGiven) {
+  testing::ScratchDir dir;
+  const PlyCard ply = ply_card(dir.path(), 7031, io::UmatBreaks::within, 20.0);
+  const CondensedCell& cell = ply.cell;
+  ASSERT_EQ(cell.thermal, 1);
+  ASSERT_NE(ply.card.find("CONSTANTS=6"), std::string::npos) << ply.card;
+  ASSERT_NE(ply.card.find(", 0.000000000000e+00, 2.000000000000e+01\n"), std::string::npos) << ply.card;
+  std::vector<double> statev(ply.depvar, 0.0);
+  CellEvaluator library(cell);
+  CellHistory h = library.unloaded();
+  Eigen::Matrix<double, 6, 1> direction;  // (ε11, ε22, ε33, γ12, γ13, γ23)
+  direction << 0.3, -0.1, 0.2, 0.1, 0.4, 0.2;
+  const int law_of[6] = {0, 1, 3, 2, 4, 5};
+  int broken_seen = 0;
+  for (const double scale : {0.0, 1e-3, 5e-3, 2e-2}) {
+    const Eigen::Matrix<double, 6, 1> e = scale * direction;
+    const Call6 c = call6(ply.props, e, statev, -80.0);
+    ASSERT_EQ(c.pnewdt, 1) << scale;
+    const CellResponse r = library.at(MacroState::strain(Eigen::Vector3d(e(0), e(1), e(3)))
+                                          .hold(MacroState::zz, e(2))
+                                          .hold_shear(Eigen::Vector2d(e(4), e(5)))
+                                          .hold(MacroState::dT, -100.0),
+                                      h);
+    ASSERT_TRUE(r.ok) << r.message;
+    const Eigen::Matrix<double, 6, 1> sigma = ply_stress(r);
+    for (int i = 0; i < 6; ++i)
+      EXPECT_NEAR(c.stress(i), sigma(law_of[i]), 1e-12 * std::max(sigma.norm(), 1e-300)) << scale << " " << i;
+    if (scale == 0) {
+      EXPECT_GT(sigma.norm(), 0) << "held at zero strain, the cooled cell is stressed";
+    }
+    EXPECT_EQ(statev[0], r.broken) << scale;
+    broken_seen = std::max(broken_seen, r.broken);
+  }
+  EXPECT_GT(broken_seen, 0) << "the path must reach past the first break";
+  // Without the 6th constant: ΔT = 0, whatever the code's temperature.
+  std::vector<double> cold(ply.depvar, 0.0);
+  const std::vector<double> four(ply.props.begin(), ply.props.begin() + 4);
+  const Call6 c = call6(four, 1e-3 * direction, cold, -80.0);
+  CellHistory h0 = library.unloaded();
+  const Eigen::Matrix<double, 6, 1> e = 1e-3 * direction;
+  const CellResponse r = library.at(MacroState::strain(Eigen::Vector3d(e(0), e(1), e(3)))
+                                        .hold(MacroState::zz, e(2))
+                                        .hold_shear(Eigen::Vector2d(e(4), e(5))),
+                                    h0);
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_NEAR(c.stress(0), ply_stress(r)(0), 1e-12 * ply_stress(r).norm());
+  // A cell without ΔT: the export refuses the constant, the umat a temperature change.
+  testing::ScratchDir other;
+  const PlyCard plain = ply_card(other.path(), 7032, io::UmatBreaks::within);
+  Law law;
+  law.constituents = with_isotropic_axes({30.0, 0.22, 1.0, 0.35, 0.28, 1.0});
+  law.cell = plain.cell;
+  try {
+    io::law_umat_cell(law, law::LawForm::cell, "PLY", 7032, 1, "law.h5", io::UmatBreaks::within, 20.0);
+    ADD_FAILURE() << "a cell without a temperature change took --stress-free-temperature";
+  } catch (const InputError& error) {
+    EXPECT_NE(std::string(error.what()).find("carries no temperature change"), std::string::npos) << error.what();
+  }
+  std::vector<double> props = plain.props, state(plain.depvar, 0.0);
+  props.push_back(0);
+  props.push_back(20);
+  EXPECT_EQ(call6(props, 1e-3 * direction, state, -80.0).pnewdt, 0.25);
 }
 
 // Bonds breaking between increments (dualcell-export --breaks between, a 5th constant 1): within
