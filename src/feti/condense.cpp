@@ -349,14 +349,16 @@ double set_thermal(const FetiSetup& setup, const Eigen::MatrixXd& Y, const Eigen
   cell.thermal = 1;
   cell.AT = 0.5 * (a - b);
   cell.yT = 0.5 * (y + g);
-  double error = std::max((a + b).norm() / std::max({a.norm(), S0.topLeftCorner(m, m).norm(), 1e-300}),
-                          (y - g).norm() / std::max({y.norm(), Y.leftCols(m).norm(), 1e-300}));
+  // Each relative to its own pair (kelvin's units: the in-plane columns' are another scale).
+  double error = std::max((a + b).norm() / std::max({a.norm(), b.norm(), 1e-300}),
+                          (y - g).norm() / std::max({y.norm(), g.norm(), 1e-300}));
   if (longitudinal) {
     double zz = 0;  // −⟨β33⟩: σ33 of ΔT = 1 with u = 0
     average_stress(setup.mesh(), setup.scene().fibre, setup.scene().matrix, Eigen::VectorXd::Zero(setup.mesh().dim_u()),
                    {0.0, 1.0}, &zz);
     cell.CT = Eigen::MatrixXd::Constant(1, 1, 0.5 * (S0(m, t) + S0(t, m)) + zz);
-    error = std::max(error, std::abs(S0(m, t) - S0(t, m)) / std::max({std::abs(zz), std::abs(S0(m, m)), 1e-300}));
+    error = std::max(error, std::abs(S0(m, t) - S0(t, m)) /
+                                std::max({std::abs(zz), std::abs(S0(m, t)), std::abs(S0(t, m)), 1e-300}));
   } else {
     cell.CT.resize(0, 1);
   }
