@@ -76,12 +76,19 @@ def slug(system):
 
 
 def predicted(law):
-    """The RVE's constants by name: (value, spread) from law.h5 (bonded state, first row)."""
+    """The RVE's constants by name: (value, spread) from law.h5 (bonded state, first row); exits
+    naming the file where the fit wrote no constants or no expansion (ok 0: its note says why)."""
     with h5py.File(law, "r") as f:
+        if "law/ply/constants" not in f or "law/expansion" not in f:
+            sys.exit(f"lamina_table.py: {law}: no /law/ply or /law/expansion (a fit without the exact law's ply "
+                     "constants, or phases without alpha)")
+        expansion = f["law/expansion"].attrs
+        if int(expansion.get("ok", 0)) != 1:
+            sys.exit(f"lamina_table.py: {law}: the bonded expansion failed: {common.text(expansion.get('note', ''))}")
         ply = f["law/ply/constants"][0]
         if int(f["law/ply/broken"][0]) != 0:
             sys.exit(f"lamina_table.py: {law}: the first row of /law/ply is not the bonded state")
-        alpha = {k: float(v) for k, v in f["law/expansion"].attrs.items() if k.startswith("alpha")}
+        alpha = {k: float(v) for k, v in expansion.items() if k.startswith("alpha")}
     out = {}
     for name, (source, a, b) in CONSTANTS:
         x, y = (float(ply[a]), float(ply[b])) if source == "ply" else (alpha[a], alpha[b])

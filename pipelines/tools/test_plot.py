@@ -159,7 +159,7 @@ class Pictures(unittest.TestCase):
             f["law/ply/constants"] = [[102.0, 9.0, 7.0, 0.26, 0.24, 0.3, 4.2, 3.8, 3.0]]
             f["law/ply/broken"] = [0]
             expansion = f.create_group("law/expansion")
-            for k, v in (("alpha1", 2e-6), ("alpha2", 3.3e-5), ("alpha3", 2.7e-5), ("alpha23", 1e-7)):
+            for k, v in (("alpha1", 2e-6), ("alpha2", 3.3e-5), ("alpha3", 2.7e-5), ("alpha23", 1e-7), ("ok", 1)):
                 expansion.attrs[k] = v
         run = lambda *extra: subprocess.run(  # noqa: E731
             [sys.executable, os.path.join(os.path.dirname(os.path.abspath(__file__)), "lamina_table.py"),

@@ -256,6 +256,7 @@ FusedCell cell_with_fuse(const CondensedCell& cell, const CondensedCell& after) 
     in_plane = cell;
     in_plane.longitudinal = 0;
     in_plane.A33.resize(0, 0), in_plane.C33.resize(0, 0), in_plane.y33.resize(0, 0);
+    in_plane.CT.resize(0, in_plane.CT.cols());  // σ33 per kelvin: none without ε33
   }
   const BondedCell bonded = bonded_cell(L != cell.longitudinal ? in_plane : cell);
   FusedCell out;

@@ -153,8 +153,9 @@ const law::CondensedCell* chosen_cell(const law::Law& law, const LawPointsOption
                           : std::string("the cone-wise law has no strain along the fibres (use --form cell)")));
   if (options.delta_T != 0 && (!cell_form || cell->thermal == 0))
     throw InputError(options.law_file.string() + ": --delta-T: " +
-                     (cell_form ? std::string("its cell has no temperature change (fit a sweep of phases that both "
-                                              "have alpha: the exact law carries it, the small cell not yet)")
+                     (cell_form ? std::string("its cell has no temperature change (the exact law keeps one where "
+                                              "both phases have alpha and the fit could check it: adhesion and "
+                                              "[load] macro = \"full\"; the small cell not yet)")
                                 : std::string("the cone-wise law has no temperature change (use --form cell)")));
   return cell;
 }

@@ -109,7 +109,8 @@ void print_exact_law_summary(const law::Law& law) {
     if (law.cell->thermal == 0 && law.ply.expansion.asked())
       std::printf(
           "  exact law with a temperature change: not kept (the sweep checks the delta_T column through the bonded "
-          "ply's expansion, which needs adhesion and [load] macro = \"full\")\n");
+          "ply's expansion, with adhesion and [load] macro = \"full\"%s)\n",
+          law.ply.expansion.ok ? "" : (": " + law.ply.expansion.note).c_str());
     if (law.cell->thermal == 1)
       std::printf(
           "  exact law with a temperature change (its delta_T column): the bonded expansion meets the sweep's full "

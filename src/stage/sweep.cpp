@@ -171,7 +171,9 @@ SweepSummary run_sweep(const SweepOptions& options) {
   if (par::rank() < std::max(1, options.ranks_per_path)) {
     if (scene.load.delta_T != 0) {
       header.cell_note =
-          "a temperature change ([load] delta_T): the exact law does not carry it yet (its column is issue 55's)";
+          "a temperature change ([load] delta_T): the fit does not take such a sweep yet (the compact forms' apex "
+          "is off the origin), so no exact law is kept with it; the exact law of a sweep at delta_T = 0 carries any "
+          "temperature change (dualcell-law --delta-T)";
     } else {
       try {
         header.cell = feti::condense(solver.setup());
