@@ -160,6 +160,14 @@ const law::CondensedCell* chosen_cell(const law::Law& law, const LawPointsOption
   return cell;
 }
 
+// A path (or a row without one) starts from the cooled cell: the cool-down at zero stress first,
+// its breaks the history's first round (docs/theory/model.md §1a).
+void cool_down(law::CellEvaluator& evaluator, double delta_T, law::CellHistory& h, const std::string& where) {
+  const law::CellResponse cool =
+      evaluator.at(MacroState::stress(Eigen::Vector3d::Zero()).hold(MacroState::dT, delta_T), h);
+  if (!cool.ok) throw InputError(where + "the cool-down: " + cool.message);
+}
+
 }  // namespace
 
 LawPointsSummary evaluate_law(const LawPointsOptions& options) {
@@ -226,13 +234,7 @@ LawPointsSummary evaluate_law(const LawPointsOptions& options) {
       const auto [it, new_path] = points.has_path() ? histories.try_emplace(point.path, evaluator->unloaded())
                                                     : std::pair{histories.end(), true};
       law::CellHistory& h = points.has_path() ? it->second : (fresh = evaluator->unloaded());
-      // A path (or a row without one) starts from the cooled cell: the cool-down at zero stress
-      // first, its breaks the history's first round (docs/theory/model.md §1a).
-      if (new_path && options.delta_T != 0) {
-        const law::CellResponse cool =
-            evaluator->at(MacroState::stress(Eigen::Vector3d::Zero()).hold(MacroState::dT, options.delta_T), h);
-        if (!cool.ok) throw InputError(where() + "the cool-down: " + cool.message);
-      }
+      if (new_path && options.delta_T != 0) cool_down(*evaluator, options.delta_T, h, where());
       const law::CellResponse r = evaluator->at(point.state, h);
       if (!r.ok) throw InputError(where() + r.message);
       row.other = law::ply_stress(r);
